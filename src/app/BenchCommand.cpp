@@ -1,0 +1,128 @@
+/// `masse bench`: how fast the engine steps a sheet, as one JSON line. "steps" are steps of --dt, each split into
+/// "substeps" by the explicit integrators; "spring_steps_per_second" (springs times substeps, divided by wall time)
+/// is the figure to compare across sizes, integrators and machines. Each figure is the median of --repeat rounds.
+
+#include "Commands.h"
+
+#include "core/Damping.h"
+#include "core/InputError.h"
+#include "core/Lattice.h"
+#include "core/Simulator.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <vector>
+
+namespace masse::app
+{
+namespace
+{
+struct BenchOptions
+{
+    std::string structure = "trimm";
+    std::string size = "256x2x256";
+    std::string integrator = "symplectic";
+    int steps = 5;
+    int repeat = 5;
+    double dt = 0.03; // the paper's step; explicit integrators split it into stable substeps
+};
+
+void runBench(const BenchOptions& options)
+{
+    LatticeSpec spec;
+    spec.structure = parseStructure(options.structure);
+    parseSize(options.size, spec);
+    const IntegratorKind kind = parseIntegrator(options.integrator);
+    if (options.steps < 1)
+    {
+        throw InputError("--steps: must be >= 1 (got " + std::to_string(options.steps) + ")");
+    }
+    if (options.repeat < 1)
+    {
+        throw InputError("--repeat: must be >= 1 (got " + std::to_string(options.repeat) + ")");
+    }
+    if (!(options.dt > 0))
+    {
+        throw InputError("--dt: must be > 0 seconds (got " + std::to_string(options.dt) + ")");
+    }
+
+    MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
+    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
+    SimulatorSettings settings;
+    settings.integrator = kind;
+    Simulator simulator(std::move(sheet), settings);
+
+    const Real dt = options.dt;
+    simulator.step(dt); // warm-up: first-touch of arrays, the implicit solver's pattern
+
+    // Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander.
+    std::vector<double> rates;
+    std::vector<double> walls;
+    std::uint64_t substeps = 0;
+    long long solverIterations = 0;
+    const double springs = double(simulator.system().springCount());
+    for (int round = 0; round < options.repeat; ++round)
+    {
+        const std::uint64_t substepsBefore = simulator.substepCount();
+        const auto start = std::chrono::steady_clock::now();
+        for (int i = 0; i < options.steps; ++i)
+        {
+            solverIterations += simulator.step(dt).solverIterations;
+        }
+        const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        substeps = simulator.substepCount() - substepsBefore;
+        walls.push_back(wall);
+        rates.push_back(springs * double(substeps) / wall);
+    }
+    std::vector<double> sortedWalls = walls;
+    std::sort(sortedWalls.begin(), sortedWalls.end());
+    const double wall = sortedWalls[sortedWalls.size() / 2];
+    const double bestWall = sortedWalls.front();
+
+    nlohmann::json out = {
+        {"structure", structureName(spec.structure)},
+        {"size", options.size},
+        {"integrator", integratorName(kind)},
+        {"masses", simulator.system().massCount()},
+        {"springs", simulator.system().springCount()},
+        {"steps", options.steps},
+        {"substeps", substeps},
+        {"dt", dt},
+        {"repeat", options.repeat},
+        {"wall_seconds", wall},
+        {"steps_per_second", double(options.steps) / wall},
+        {"spring_steps_per_second", springs * double(substeps) / wall},
+        {"spring_steps_per_second_best", springs * double(substeps) / bestWall},
+        {"realtime_factor", double(options.steps) * dt / wall},
+        {"round_wall_seconds", walls},
+    };
+    if (!isExplicit(kind))
+    {
+        out["solver_iterations_per_step"] = double(solverIterations) / double(options.steps * options.repeat);
+    }
+    std::cout << out.dump() << std::endl;
+}
+} // namespace
+
+void addBenchCommand(CLI::App& app)
+{
+    auto options = std::make_shared<BenchOptions>();
+    CLI::App* command = app.add_subcommand("bench", "Time the engine on a sheet falling freely; prints one JSON line");
+    command->add_option("--structure", options->structure, "square2d, samm, slamm or trimm")->capture_default_str();
+    command->add_option("--size", options->size, "NxLxN")->capture_default_str();
+    command->add_option("--integrator", options->integrator, "euler, symplectic, verlet or implicit")
+        ->capture_default_str();
+    command->add_option("--steps", options->steps, "Steps per timed round (after one warm-up step)")
+        ->capture_default_str();
+    command->add_option("--repeat", options->repeat, "Timed rounds; figures are the median round (and the best)")
+        ->capture_default_str();
+    command->add_option("--dt", options->dt, "Step in seconds (explicit integrators substep it)")
+        ->capture_default_str();
+    command->callback([options] { runBench(*options); });
+}
+} // namespace masse::app

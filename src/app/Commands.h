@@ -1,0 +1,14 @@
+#pragma once
+/// The subcommands of the `masse` program; each registers its options and its action on the parent app.
+
+namespace CLI
+{
+class App;
+}
+
+namespace masse::app
+{
+void addLatticeCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
+void addDemoCommand(CLI::App& app);
+} // namespace masse::app

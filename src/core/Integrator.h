@@ -1,0 +1,55 @@
+#pragma once
+/// Time integrators. The three explicit ones are conditionally stable and are substepped by the Simulator from a
+/// stability estimate; implicit Euler is stable at any step.
+
+#include "MassSpringSystem.h"
+
+#include <memory>
+#include <string_view>
+
+namespace masse
+{
+enum class IntegratorKind
+{
+    ExplicitEuler,   ///< the paper's: x += h v, v += h a (both from the old state); needs damping to be stable
+    SymplecticEuler, ///< v += h a, x += h v (new velocity); conserves energy on average
+    VelocityVerlet,  ///< second order; forces re-evaluated at the new positions
+    ImplicitEuler,   ///< backward Euler, linearised (Baraff and Witkin 1998), solved by conjugate gradient
+};
+
+/// Parses "euler", "symplectic", "verlet" or "implicit"; throws InputError naming the allowed names.
+IntegratorKind parseIntegrator(std::string_view name);
+std::string_view integratorName(IntegratorKind kind);
+bool isExplicit(IntegratorKind kind);
+
+/// Settings of the implicit solver.
+struct ImplicitSettings
+{
+    Real tolerance = 1e-7;    ///< relative residual of the conjugate gradient
+    int maxIterations = 1000; ///< per step
+};
+
+/// What one step of an integrator reports.
+struct IntegratorStats
+{
+    int solverIterations = 0; ///< conjugate-gradient iterations (implicit only)
+    Real solverResidual = 0;  ///< relative residual reached (implicit only)
+};
+
+class Integrator
+{
+public:
+    virtual ~Integrator() = default;
+    /// Advances the system by one step of h seconds.
+    virtual IntegratorStats step(MassSpringSystem& system, Real h) = 0;
+    virtual IntegratorKind kind() const = 0;
+};
+
+std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSettings& implicit = {});
+
+// Factories of each integrator, defined in their own files.
+std::unique_ptr<Integrator> makeExplicitEuler();
+std::unique_ptr<Integrator> makeSymplecticEuler();
+std::unique_ptr<Integrator> makeVelocityVerlet();
+std::unique_ptr<Integrator> makeImplicitEuler(const ImplicitSettings& settings);
+} // namespace masse

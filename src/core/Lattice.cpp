@@ -1,0 +1,167 @@
+#include "Lattice.h"
+
+#include "InputError.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <limits>
+
+namespace masse
+{
+namespace
+{
+struct StructureName
+{
+    Structure structure;
+    std::string_view name;
+};
+constexpr StructureName structureNames[] = {
+    {Structure::Square2D, "square2d"},
+    {Structure::SaMM, "samm"},
+    {Structure::SLaMM, "slamm"},
+    {Structure::TRiMM, "trimm"},
+};
+
+// The largest count per side: 4096 x 4096 x 2 is about 33 million masses, far past interactive use, and keeps every
+// index inside 32 bits.
+constexpr int maxCount = 4096;
+constexpr int maxLayers = 64;
+} // namespace
+
+Structure parseStructure(std::string_view name)
+{
+    std::string lower(name);
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const StructureName& entry : structureNames)
+    {
+        if (entry.name == lower)
+        {
+            return entry.structure;
+        }
+    }
+    throw InputError("structure: unknown structure '" + std::string(name) +
+                     "' (expected one of square2d, samm, slamm, trimm)");
+}
+
+std::string_view structureName(Structure structure)
+{
+    for (const StructureName& entry : structureNames)
+    {
+        if (entry.structure == structure)
+        {
+            return entry.name;
+        }
+    }
+    return "unknown";
+}
+
+void parseSize(std::string_view text, LatticeSpec& spec)
+{
+    int values[3] = {0, 0, 0};
+    std::size_t pos = 0;
+    for (int part = 0; part < 3; ++part)
+    {
+        if (part > 0)
+        {
+            if (pos >= text.size() || (text[pos] != 'x' && text[pos] != 'X'))
+            {
+                throw InputError("size: expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
+            }
+            ++pos;
+        }
+        const char* first = text.data() + pos;
+        const char* last = text.data() + text.size();
+        auto [end, error] = std::from_chars(first, last, values[part]);
+        if (error != std::errc() || end == first)
+        {
+            throw InputError("size: expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
+        }
+        pos = std::size_t(end - text.data());
+    }
+    if (pos != text.size())
+    {
+        throw InputError("size: expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
+    }
+    spec.countX = values[0];
+    spec.layers = values[1];
+    spec.countZ = values[2];
+}
+
+void validate(const LatticeSpec& spec)
+{
+    const std::string sizeText =
+        std::to_string(spec.countX) + "x" + std::to_string(spec.layers) + "x" + std::to_string(spec.countZ);
+    if (spec.structure == Structure::Square2D)
+    {
+        if (spec.layers != 1)
+        {
+            throw InputError("size: square2d has exactly 1 layer (got " + sizeText + ", use Nx1xN)");
+        }
+    }
+    else if (spec.layers < 2 || spec.layers > maxLayers)
+    {
+        throw InputError("size: " + std::string(structureName(spec.structure)) + " needs 2 to " +
+                         std::to_string(maxLayers) + " layers (got " + sizeText + ")");
+    }
+    // Layer l has N - l masses per side: the top layer (l = L - 1) needs at least one, the bottom at least two.
+    const int minCount = std::max(2, spec.layers);
+    if (spec.countX < minCount || spec.countZ < minCount)
+    {
+        throw InputError("size: expected NxLxN with N >= " + std::to_string(minCount) + " for " +
+                         std::to_string(spec.layers) + " layer(s) (got " + sizeText + ")");
+    }
+    if (spec.countX > maxCount || spec.countZ > maxCount)
+    {
+        throw InputError("size: N must be <= " + std::to_string(maxCount) + " (got " + sizeText + ")");
+    }
+    for (int axis = 0; axis < 3; ++axis)
+    {
+        if (!std::isfinite(spec.minCorner[axis]) || !std::isfinite(spec.maxCorner[axis]))
+        {
+            throw InputError("extents: corners must be finite numbers");
+        }
+    }
+    if (!(spec.maxCorner.x() > spec.minCorner.x()) || !(spec.maxCorner.z() > spec.minCorner.z()))
+    {
+        throw InputError("extents: max must exceed min along x and z");
+    }
+    if (spec.layers > 1 && !(spec.maxCorner.y() > spec.minCorner.y()))
+    {
+        throw InputError("extents: a multi-layer sheet needs max.y > min.y (the layers are stacked along y)");
+    }
+}
+
+std::vector<Index> Lattice::bottomCorners() const
+{
+    const int lastRow = spec.countZ - 1;
+    const int lastColumn = spec.countX - 1;
+    return {index(0, 0, 0), index(0, 0, lastColumn), index(0, lastRow, 0), index(0, lastRow, lastColumn)};
+}
+
+Real Lattice::minRestLength() const
+{
+    Real shortest = std::numeric_limits<Real>::infinity();
+    for (Real length : springs.restLength)
+    {
+        shortest = std::min(shortest, length);
+    }
+    return shortest;
+}
+
+Lattice buildLattice(const LatticeSpec& spec)
+{
+    validate(spec);
+    Lattice lattice;
+    lattice.spec = spec;
+    if (spec.structure == Structure::TRiMM)
+    {
+        buildTriangularLattice(lattice);
+    }
+    else
+    {
+        buildSquareLattice(lattice);
+    }
+    return lattice;
+}
+} // namespace masse

@@ -1,0 +1,67 @@
+#include "MassSpringSystem.h"
+
+#include "Damping.h"
+#include "InputError.h"
+
+#include <cmath>
+#include <string>
+
+namespace masse
+{
+namespace
+{
+const char* springClassKey(int cls)
+{
+    return cls == int(SpringClass::Planar) ? "planar" : "inter_layer";
+}
+} // namespace
+
+void validate(const SheetParams& params)
+{
+    if (!(params.massPerMass > 0) || !std::isfinite(params.massPerMass))
+    {
+        throw InputError("mass: must be a positive number of kg (got " + std::to_string(params.massPerMass) + ")");
+    }
+    for (int cls = 0; cls < springClassCount; ++cls)
+    {
+        const SpringClassParams& p = params.springClasses[std::size_t(cls)];
+        if (!(p.stiffness > 0) || !std::isfinite(p.stiffness))
+        {
+            throw InputError(std::string("stiffness.") + springClassKey(cls) +
+                             ": must be a positive number of N/m (got " + std::to_string(p.stiffness) + ")");
+        }
+        if (!(p.dampingRatio >= 0) || !std::isfinite(p.dampingRatio))
+        {
+            throw InputError(std::string("damping.") + springClassKey(cls) + ": damping ratio must be >= 0 (got " +
+                             std::to_string(p.dampingRatio) + ")");
+        }
+    }
+}
+
+MassSpringSystem makeSheet(const Lattice& lattice, const SheetParams& params)
+{
+    validate(params);
+    MassSpringSystem system;
+    for (const Vec3& x : lattice.position)
+    {
+        system.particles.add(x, params.massPerMass);
+    }
+    system.springs = lattice.springs;
+    applySpringClasses(system, params.springClasses);
+    return system;
+}
+
+void applySpringClasses(MassSpringSystem& system, const std::array<SpringClassParams, springClassCount>& classes)
+{
+    SpringSet& springs = system.springs;
+    const std::vector<Real>& mass = system.particles.mass;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringClassParams& p = classes[std::size_t(springs.springClass[s])];
+        const SpringEnds e = springs.ends[s];
+        springs.stiffness[s] = p.stiffness;
+        springs.damping[s] = springDampingCoefficient(p.stiffness, p.dampingRatio, mass[e.a], mass[e.b]);
+    }
+    system.markChanged();
+}
+} // namespace masse

@@ -1,0 +1,97 @@
+#include "Simulator.h"
+
+#include "InputError.h"
+
+#include <cmath>
+#include <string>
+
+namespace masse
+{
+Simulator::Simulator(MassSpringSystem system, const SimulatorSettings& settings)
+    : m_system(std::move(system)), m_settings(settings),
+      m_integrator(makeIntegrator(settings.integrator, settings.implicit))
+{
+}
+
+void Simulator::setIntegrator(IntegratorKind kind)
+{
+    m_settings.integrator = kind;
+    m_integrator = makeIntegrator(kind, m_settings.implicit);
+    m_system.markChanged();
+}
+
+const StabilityEstimate& Simulator::stability() const
+{
+    if (m_stabilityRevision != m_system.revision || m_system.forces.repulsion > 0)
+    {
+        m_stability = estimateStability(m_system, m_settings.integrator, m_settings.stabilitySafety);
+        m_stabilityRevision = m_system.revision;
+    }
+    return m_stability;
+}
+
+int Simulator::substepsFor(Real dt) const
+{
+    if (!(dt > 0) || !std::isfinite(dt))
+    {
+        throw InputError("dt: must be a positive number of seconds (got " + std::to_string(dt) + ")");
+    }
+    const StabilityEstimate& estimate = stability();
+    if (!std::isfinite(estimate.stableStep))
+    {
+        return 1;
+    }
+    const Real needed = std::ceil(dt / estimate.stableStep);
+    if (needed > Real(m_settings.maxSubsteps))
+    {
+        throw InputError("dt: the " + std::string(integratorName(m_settings.integrator)) + " integrator needs " +
+                         std::to_string(std::llround(needed)) + " substeps of at most " +
+                         std::to_string(estimate.stableStep) + " s for dt = " + std::to_string(dt) +
+                         " s, over the limit of " + std::to_string(m_settings.maxSubsteps) +
+                         "; use the implicit integrator or softer springs");
+    }
+    return std::max(1, int(needed));
+}
+
+StepReport Simulator::step(Real dt)
+{
+    StepReport report;
+    report.substeps = substepsFor(dt);
+    report.substep = dt / Real(report.substeps);
+    for (int i = 0; i < report.substeps; ++i)
+    {
+        const IntegratorStats stats = m_integrator->step(m_system, report.substep);
+        report.solverIterations += stats.solverIterations;
+        report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
+    }
+    m_substepCount += std::uint64_t(report.substeps);
+    m_time += dt;
+    checkFinite();
+    return report;
+}
+
+void Simulator::checkFinite() const
+{
+    // A NaN or infinity anywhere makes the sum non-finite; the sum vectorises, the search below runs only on failure.
+    const Particles& p = m_system.particles;
+    Real sum = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        sum += p.position[i].sum() + p.velocity[i].sum();
+    }
+    if (std::isfinite(sum))
+    {
+        return;
+    }
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        if (!p.position[i].allFinite() || !p.velocity[i].allFinite())
+        {
+            throw NumericalError("the simulation diverged at t = " + std::to_string(m_time) + " s: mass " +
+                                 std::to_string(i) + " has a non-finite position or velocity");
+        }
+    }
+    throw NumericalError("the simulation diverged at t = " + std::to_string(m_time) +
+                         " s: positions or velocities grew beyond the range of double precision");
+}
+} // namespace masse

@@ -1,0 +1,70 @@
+#pragma once
+/// Advances a sheet in time: splits each requested step into stable substeps for the explicit integrators, keeps the
+/// clock, and refuses to go on silently with a non-finite state.
+
+#include "Integrator.h"
+#include "StabilityEstimate.h"
+
+#include <memory>
+#include <stdexcept>
+
+namespace masse
+{
+/// Thrown when the state stops being finite (a diverged run); the message says when and where.
+class NumericalError : public std::runtime_error
+{
+public:
+    explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
+};
+
+struct SimulatorSettings
+{
+    IntegratorKind integrator = IntegratorKind::ImplicitEuler;
+    ImplicitSettings implicit;
+    Real stabilitySafety = 0.5; ///< fraction of the estimated stable step the explicit integrators take
+    int maxSubsteps = 100000;   ///< per step; beyond it the step is refused with a message (use the implicit one)
+};
+
+/// What one call to Simulator::step did.
+struct StepReport
+{
+    int substeps = 0;
+    Real substep = 0;         ///< s
+    int solverIterations = 0; ///< summed over substeps (implicit only)
+    Real solverResidual = 0;  ///< worst over substeps (implicit only)
+};
+
+class Simulator
+{
+public:
+    Simulator(MassSpringSystem system, const SimulatorSettings& settings);
+
+    /// Advances by dt seconds (dt > 0). Throws InputError for a bad dt or one that would need more than maxSubsteps,
+    /// NumericalError if the state becomes non-finite.
+    StepReport step(Real dt);
+
+    /// Number of substeps step(dt) would take now.
+    int substepsFor(Real dt) const;
+
+    MassSpringSystem& system() { return m_system; }
+    const MassSpringSystem& system() const { return m_system; }
+    const SimulatorSettings& settings() const { return m_settings; }
+    void setIntegrator(IntegratorKind kind);
+    Real time() const { return m_time; }
+    std::uint64_t substepCount() const { return m_substepCount; }
+
+private:
+    void checkFinite() const;
+    /// The stability estimate, recomputed only when the system changed (its revision) or the repulsion makes it
+    /// depend on the current spring lengths.
+    const StabilityEstimate& stability() const;
+
+    MassSpringSystem m_system;
+    SimulatorSettings m_settings;
+    std::unique_ptr<Integrator> m_integrator;
+    Real m_time = 0;
+    std::uint64_t m_substepCount = 0;
+    mutable StabilityEstimate m_stability;
+    mutable std::uint64_t m_stabilityRevision = ~std::uint64_t(0);
+};
+} // namespace masse

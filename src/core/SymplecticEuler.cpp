@@ -1,0 +1,33 @@
+/// Semi-implicit (symplectic) Euler: the velocity is updated first and moves the position. First order, but its
+/// energy error stays bounded instead of drifting, which is why it is the default explicit integrator.
+
+#include "Forces.h"
+#include "Integrator.h"
+
+namespace masse
+{
+namespace
+{
+class SymplecticEuler final : public Integrator
+{
+public:
+    IntegratorStats step(MassSpringSystem& system, Real h) override
+    {
+        Particles& p = system.particles;
+        evaluateForces(system, p.position, p.velocity, p.force);
+        for (std::size_t i = 0; i < p.size(); ++i)
+        {
+            p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
+            p.position[i] += h * p.velocity[i];
+        }
+        return {};
+    }
+    IntegratorKind kind() const override { return IntegratorKind::SymplecticEuler; }
+};
+} // namespace
+
+std::unique_ptr<Integrator> makeSymplecticEuler()
+{
+    return std::make_unique<SymplecticEuler>();
+}
+} // namespace masse

@@ -1,0 +1,46 @@
+// The core is the engine alone: it may include Eigen and the standard library, nothing else (no Bullet, no GL).
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+
+TEST(CoreDependency, CoreIncludesOnlyEigenAndTheStandardLibrary)
+{
+    const std::filesystem::path core = std::filesystem::path(MASSE_SOURCE_DIR) / "src" / "core";
+    ASSERT_TRUE(std::filesystem::is_directory(core)) << core;
+    const std::regex include(R"(^\s*#\s*include\s*([<"])([^>"]+)[>"])");
+    int files = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(core))
+    {
+        const std::string ext = entry.path().extension().string();
+        if (ext != ".h" && ext != ".cpp")
+        {
+            continue;
+        }
+        ++files;
+        std::ifstream in(entry.path());
+        std::string line;
+        while (std::getline(in, line))
+        {
+            std::smatch match;
+            if (!std::regex_search(line, match, include))
+            {
+                continue;
+            }
+            const std::string header = match[2];
+            if (match[1] == "\"")
+            {
+                // Quoted includes must name a file of the core itself.
+                EXPECT_TRUE(std::filesystem::exists(core / header)) << entry.path() << ": " << line;
+                continue;
+            }
+            const bool eigen = header.rfind("Eigen/", 0) == 0;
+            const bool standard = header.find('/') == std::string::npos && header.find('.') == std::string::npos;
+            EXPECT_TRUE(eigen || standard) << entry.path() << " includes " << header;
+        }
+    }
+    EXPECT_GT(files, 10);
+}

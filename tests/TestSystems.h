@@ -1,0 +1,65 @@
+#pragma once
+// Small mass-spring systems with known analytic behaviour, shared by the physics tests.
+
+#include "core/MassSpringSystem.h"
+#include "core/Simulator.h"
+
+#include <cmath>
+
+namespace masse::test
+{
+/// A straight chain along x: `count` masses of `mass` joined by springs of stiffness k and rest length `spacing`,
+/// no damping, no gravity. The chain starts at rest at its rest length.
+inline MassSpringSystem makeChain(int count, Real mass, Real stiffness, Real spacing, Real dampingCoefficient = 0)
+{
+    MassSpringSystem system;
+    for (int i = 0; i < count; ++i)
+    {
+        system.particles.add(Vec3(Real(i) * spacing, 0, 0), mass);
+    }
+    for (int i = 0; i + 1 < count; ++i)
+    {
+        system.springs.add(Index(i), Index(i + 1), spacing, SpringClass::Planar);
+        system.springs.stiffness.back() = stiffness;
+        system.springs.damping.back() = dampingCoefficient;
+    }
+    system.forces.gravity = Vec3::Zero();
+    return system;
+}
+
+/// Simulates for `duration` seconds in steps of dt, calling observe(simulator) after every step.
+template <typename Observer> void simulate(Simulator& simulator, Real duration, Real dt, Observer&& observe)
+{
+    const int steps = int(std::llround(duration / dt));
+    for (int i = 0; i < steps; ++i)
+    {
+        simulator.step(dt);
+        observe(simulator);
+    }
+}
+
+/// Times at which a sampled signal crosses zero upward, by linear interpolation between samples.
+class UpwardCrossings
+{
+public:
+    void add(Real t, Real value)
+    {
+        if (m_hasPrevious && m_previous < 0 && value >= 0)
+        {
+            m_times.push_back(m_previousTime + (t - m_previousTime) * (-m_previous) / (value - m_previous));
+        }
+        m_previous = value;
+        m_previousTime = t;
+        m_hasPrevious = true;
+    }
+    /// Mean period from the first to the last crossing.
+    Real meanPeriod() const { return (m_times.back() - m_times.front()) / Real(m_times.size() - 1); }
+    std::size_t count() const { return m_times.size(); }
+
+private:
+    std::vector<Real> m_times;
+    Real m_previous = 0;
+    Real m_previousTime = 0;
+    bool m_hasPrevious = false;
+};
+} // namespace masse::test
