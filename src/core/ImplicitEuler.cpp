@@ -8,6 +8,11 @@
 /// repulsion's transverse term is dropped, so the matrix stays symmetric positive definite and conjugate gradient
 /// applies. Pinned masses get identity rows and a zero right-hand side, so dv = 0 there.
 ///
+/// Velocity constraints from contact (see VelocityConstraint.h) are honoured with Baraff and Witkin's filter: with
+/// S_i the projection onto a mass's free directions and c the prescribed change in the others, dv = S y + c where
+///     (S A S + I - S) y = S (b - A c),
+/// which keeps the matrix symmetric positive definite.
+///
 /// The sparsity pattern is built once per topology; each step only rewrites values, through slots recorded per
 /// spring (the index of each 3x3 block's columns in Eigen's value array).
 
@@ -47,6 +52,7 @@ public:
         }
         evaluateForces(system, p.position, p.velocity, p.force);
         assemble(system, h);
+        const bool constrained = applyConstraints(system, h);
 
         m_solver.setTolerance(m_settings.tolerance);
         m_solver.setMaxIterations(m_settings.maxIterations);
@@ -58,6 +64,14 @@ public:
         }
         m_deltaV = m_solver.solveWithGuess(m_rhs, m_deltaV);
 
+        if (constrained)
+        {
+            for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+            {
+                m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
+            }
+            writeReactions(system);
+        }
         for (std::size_t i = 0; i < n; ++i)
         {
             p.velocity[i] += m_deltaV.segment<3>(Eigen::Index(3 * i));
@@ -67,6 +81,7 @@ public:
     }
 
     IntegratorKind kind() const override { return IntegratorKind::ImplicitEuler; }
+    bool honoursConstraints() const override { return true; }
 
 private:
     void buildPattern(const MassSpringSystem& system)
@@ -136,6 +151,194 @@ private:
             slots[std::size_t(c)] = StorageIndex(found - inner);
         }
         return slots;
+    }
+
+    /// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.
+    void writeReactions(MassSpringSystem& system) const
+    {
+        std::vector<Vec3> reaction(m_constrainedMasses.size());
+        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+        {
+            const Index i = m_constrainedMasses[k];
+            Vec3 r = m_rows[k].diagonal * m_deltaV.segment<3>(Eigen::Index(3 * i)) - m_rows[k].rhs;
+            for (const auto& [j, block] : m_rows[k].neighbours)
+            {
+                r += block * m_deltaV.segment<3>(Eigen::Index(3 * j));
+            }
+            reaction[k] = r;
+        }
+        for (VelocityConstraint& c : system.constraints)
+        {
+            c.reaction = c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
+                             ? reaction[std::size_t(m_constraintOf[c.mass])]
+                             : Vec3::Zero();
+        }
+    }
+
+    Mat3 readBlock(const BlockSlots& slots) const
+    {
+        const Real* values = m_matrix.valuePtr();
+        Mat3 block;
+        for (int c = 0; c < 3; ++c)
+        {
+            const Real* column = values + slots[std::size_t(c)];
+            block(0, c) = column[0];
+            block(1, c) = column[1];
+            block(2, c) = column[2];
+        }
+        return block;
+    }
+
+    void writeBlock(const BlockSlots& slots, const Mat3& block)
+    {
+        Real* values = m_matrix.valuePtr();
+        for (int c = 0; c < 3; ++c)
+        {
+            Real* column = values + slots[std::size_t(c)];
+            column[0] = block(0, c);
+            column[1] = block(1, c);
+            column[2] = block(2, c);
+        }
+    }
+
+    /// Applies the filter for the system's velocity constraints; returns false when there are none.
+    bool applyConstraints(const MassSpringSystem& system, Real h)
+    {
+        const Particles& p = system.particles;
+        m_constrainedMasses.clear();
+        m_filters.clear();
+        m_prescribed.clear();
+        if (system.constraints.empty())
+        {
+            return false;
+        }
+        m_constraintOf.assign(p.size(), -1);
+        std::vector<std::vector<Vec3>> directions; // orthonormal constrained directions per constrained mass
+        for (const VelocityConstraint& c : system.constraints)
+        {
+            if (c.mass >= p.size() || p.pinned[c.mass])
+            {
+                continue;
+            }
+            int& k = m_constraintOf[c.mass];
+            if (k < 0)
+            {
+                k = int(m_constrainedMasses.size());
+                m_constrainedMasses.push_back(c.mass);
+                directions.emplace_back();
+                m_prescribed.push_back(c.velocity); // the target velocity for now; turned into a change below
+            }
+            std::vector<Vec3>& basis = directions[std::size_t(k)];
+            const std::vector<Vec3> candidates = c.directions >= 3
+                                                     ? std::vector<Vec3>{Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()}
+                                                     : std::vector<Vec3>{c.normal};
+            for (Vec3 u : candidates)
+            {
+                for (const Vec3& b : basis)
+                {
+                    u -= u.dot(b) * b;
+                }
+                if (u.norm() > 1e-6 && basis.size() < 3)
+                {
+                    basis.push_back(u.normalized());
+                }
+            }
+        }
+        if (m_constrainedMasses.empty())
+        {
+            return false;
+        }
+        // Friction as a tangential damping -c (I - n n^T)(v' - u), added like the air drag before the filter.
+        for (const VelocityConstraint& c : system.constraints)
+        {
+            if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass])
+            {
+                continue;
+            }
+            const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
+            addToBlock(m_diagonalSlots[c.mass], (h * c.tangentialDamping) * tangential);
+            m_rhs.segment<3>(Eigen::Index(3 * c.mass)) -=
+                (h * c.tangentialDamping) * (tangential * (p.velocity[c.mass] - c.velocity));
+        }
+        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+        {
+            Mat3 held = Mat3::Zero(); // I - S: projection onto the constrained directions
+            for (const Vec3& b : directions[k])
+            {
+                held += b * b.transpose();
+            }
+            m_filters.push_back(Mat3::Identity() - held);
+            m_prescribed[k] = held * (m_prescribed[k] - p.velocity[m_constrainedMasses[k]]);
+        }
+        auto filterOf = [&](Index i) -> const Mat3*
+        { return m_constraintOf[i] < 0 ? nullptr : &m_filters[std::size_t(m_constraintOf[i])]; };
+        auto changeOf = [&](Index i) { return m_prescribed[std::size_t(m_constraintOf[i])]; };
+
+        // The constrained rows as they are before filtering, to give each constraint its reaction after the solve.
+        m_rows.assign(m_constrainedMasses.size(), OriginalRow{});
+        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+        {
+            const Index i = m_constrainedMasses[k];
+            m_rows[k].diagonal = readBlock(m_diagonalSlots[i]);
+            m_rows[k].rhs = m_rhs.segment<3>(Eigen::Index(3 * i));
+        }
+        for (std::size_t s = 0; s < system.springs.size(); ++s)
+        {
+            const Index a = system.springs.ends[s].a;
+            const Index b = system.springs.ends[s].b;
+            if (m_constraintOf[a] >= 0)
+            {
+                m_rows[std::size_t(m_constraintOf[a])].neighbours.emplace_back(b, readBlock(m_abSlots[s]));
+            }
+            if (m_constraintOf[b] >= 0)
+            {
+                m_rows[std::size_t(m_constraintOf[b])].neighbours.emplace_back(a, readBlock(m_baSlots[s]));
+            }
+        }
+
+        // b' = b - A c, before A is filtered.
+        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+        {
+            const Index i = m_constrainedMasses[k];
+            m_rhs.segment<3>(Eigen::Index(3 * i)) -= readBlock(m_diagonalSlots[i]) * m_prescribed[k];
+        }
+        const SpringSet& springs = system.springs;
+        for (std::size_t s = 0; s < springs.size(); ++s)
+        {
+            const Index a = springs.ends[s].a;
+            const Index b = springs.ends[s].b;
+            if (m_constraintOf[b] >= 0)
+            {
+                m_rhs.segment<3>(Eigen::Index(3 * a)) -= readBlock(m_abSlots[s]) * changeOf(b);
+            }
+            if (m_constraintOf[a] >= 0)
+            {
+                m_rhs.segment<3>(Eigen::Index(3 * b)) -= readBlock(m_baSlots[s]) * changeOf(a);
+            }
+        }
+        // Filter: rows and columns of constrained masses.
+        for (std::size_t s = 0; s < springs.size(); ++s)
+        {
+            const Mat3* filterA = filterOf(springs.ends[s].a);
+            const Mat3* filterB = filterOf(springs.ends[s].b);
+            if (!filterA && !filterB)
+            {
+                continue;
+            }
+            const Mat3 sa = filterA ? *filterA : Mat3::Identity();
+            const Mat3 sb = filterB ? *filterB : Mat3::Identity();
+            writeBlock(m_abSlots[s], sa * readBlock(m_abSlots[s]) * sb);
+            writeBlock(m_baSlots[s], sb * readBlock(m_baSlots[s]) * sa);
+        }
+        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+        {
+            const Index i = m_constrainedMasses[k];
+            const Mat3& filter = m_filters[k];
+            writeBlock(m_diagonalSlots[i],
+                       filter * readBlock(m_diagonalSlots[i]) * filter + (Mat3::Identity() - filter));
+            m_rhs.segment<3>(Eigen::Index(3 * i)) = filter * m_rhs.segment<3>(Eigen::Index(3 * i));
+        }
+        return true;
     }
 
     void addToBlock(const BlockSlots& slots, const Mat3& block)
@@ -246,6 +449,18 @@ private:
     Eigen::VectorX<Real> m_rhs;
     Eigen::VectorX<Real> m_deltaV;
     Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> m_solver;
+    struct OriginalRow
+    {
+        Mat3 diagonal;
+        Vec3 rhs;
+        std::vector<std::pair<Index, Mat3>> neighbours;
+    };
+    std::vector<OriginalRow> m_rows; // per constrained mass, before filtering
+    // Constraint filter of the current step.
+    std::vector<int> m_constraintOf; // per mass: index into the arrays below, or -1
+    std::vector<Index> m_constrainedMasses;
+    std::vector<Mat3> m_filters;    // S_i
+    std::vector<Vec3> m_prescribed; // c_i, the velocity change in the constrained directions
     const MassSpringSystem* m_patternSystem = nullptr;
     std::size_t m_patternMasses = 0;
     std::size_t m_patternSprings = 0;

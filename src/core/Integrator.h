@@ -43,6 +43,8 @@ public:
     /// Advances the system by one step of h seconds.
     virtual IntegratorStats step(MassSpringSystem& system, Real h) = 0;
     virtual IntegratorKind kind() const = 0;
+    /// Whether the step honours MassSpringSystem::constraints (otherwise the contact solver's projection does all).
+    virtual bool honoursConstraints() const { return false; }
 };
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSettings& implicit = {});

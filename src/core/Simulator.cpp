@@ -58,14 +58,26 @@ StepReport Simulator::step(Real dt)
     StepReport report;
     report.substeps = substepsFor(dt);
     report.substep = dt / Real(report.substeps);
+    if (m_contact)
+    {
+        m_contact->beginFrame(m_system, m_time, dt, m_integrator->honoursConstraints());
+    }
     for (int i = 0; i < report.substeps; ++i)
     {
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
+        if (m_contact)
+        {
+            m_contact->afterSubstep(m_system, report.substep);
+        }
     }
     m_substepCount += std::uint64_t(report.substeps);
     m_time += dt;
+    if (m_contact)
+    {
+        m_contact->endFrame(m_system, m_time);
+    }
     checkFinite();
     return report;
 }

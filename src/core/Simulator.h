@@ -2,6 +2,7 @@
 /// Advances a sheet in time: splits each requested step into stable substeps for the explicit integrators, keeps the
 /// clock, and refuses to go on silently with a non-finite state.
 
+#include "ContactSolver.h"
 #include "Integrator.h"
 #include "StabilityEstimate.h"
 
@@ -50,6 +51,9 @@ public:
     const MassSpringSystem& system() const { return m_system; }
     const SimulatorSettings& settings() const { return m_settings; }
     void setIntegrator(IntegratorKind kind);
+    /// Contact with obstacles, applied after every substep; nullptr for none. The solver must outlive its use here.
+    void setContactSolver(ContactSolver* contact) { m_contact = contact; }
+    ContactSolver* contactSolver() { return m_contact; }
     Real time() const { return m_time; }
     std::uint64_t substepCount() const { return m_substepCount; }
 
@@ -62,6 +66,7 @@ private:
     MassSpringSystem m_system;
     SimulatorSettings m_settings;
     std::unique_ptr<Integrator> m_integrator;
+    ContactSolver* m_contact = nullptr;
     Real m_time = 0;
     std::uint64_t m_substepCount = 0;
     mutable StabilityEstimate m_stability;

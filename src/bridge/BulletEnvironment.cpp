@@ -1,0 +1,382 @@
+#include "BulletEnvironment.h"
+
+#include "BulletMath.h"
+
+#include "core/InputError.h"
+
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btCollisionObject.h>
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
+#include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
+#include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
+#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace masse::bridge
+{
+namespace
+{
+/// A sphere probing for the nearest surface of a solid: small enough not to matter, large enough for GJK to treat it
+/// as a sphere rather than a point.
+constexpr Real probeRadius = 1e-6;
+
+struct Gjk
+{
+    Real distance;
+    Vec3 normal;
+    Vec3 point;
+};
+
+/// GJK (with EPA for overlap) between a sphere and a convex shape at a transform.
+std::optional<Gjk> sphereConvex(const btConvexShape& shape, const btTransform& transform, const Vec3& centre,
+                                Real radius)
+{
+    btSphereShape sphere(radius);
+    btVoronoiSimplexSolver simplex;
+    btGjkEpaPenetrationDepthSolver epa;
+    btGjkPairDetector gjk(&sphere, &shape, &simplex, &epa);
+    btGjkPairDetector::ClosestPointInput input;
+    input.m_transformA.setIdentity();
+    input.m_transformA.setOrigin(toBullet(centre));
+    input.m_transformB = transform;
+    input.m_maximumDistanceSquared = BT_LARGE_FLOAT;
+    btPointCollector result;
+    gjk.getClosestPoints(input, result, nullptr);
+    if (!result.m_hasResult)
+    {
+        return std::nullopt;
+    }
+    const Vec3 normal = toVec3(result.m_normalOnBInWorld);
+    if (!normal.allFinite() || normal.squaredNorm() < 0.5)
+    {
+        return std::nullopt;
+    }
+    return Gjk{result.m_distance, normal.normalized(), toVec3(result.m_pointInWorld)};
+}
+
+/// Collects the obstacle indices of broadphase proxies overlapping a box.
+struct CandidateCollector : btBroadphaseAabbCallback
+{
+    std::vector<int>* out;
+    bool process(const btBroadphaseProxy* proxy) override
+    {
+        const auto* object = static_cast<const btCollisionObject*>(proxy->m_clientObject);
+        out->push_back(object->getUserIndex());
+        return true;
+    }
+};
+
+/// Gathers, for a mesh, the triangles near a sphere and their closest points.
+struct TriangleCollector : btTriangleCallback
+{
+    const btTransform* transform;
+    Vec3 centre;
+    Real radius;
+    Real searchDistance;
+    std::vector<std::pair<Gjk, int>> found; // closest point and triangle index
+
+    void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
+    {
+        btTriangleShape shape(triangle[0], triangle[1], triangle[2]);
+        shape.setMargin(0);
+        const std::optional<Gjk> closest = sphereConvex(shape, *transform, centre, radius);
+        if (closest && closest->distance <= searchDistance)
+        {
+            found.emplace_back(*closest, triangleIndex);
+        }
+    }
+};
+
+/// Sweep result that also remembers which triangle of a mesh was hit.
+struct SweepCollector : btCollisionWorld::ClosestConvexResultCallback
+{
+    int triangle = -1;
+    SweepCollector(const btVector3& from, const btVector3& to) : ClosestConvexResultCallback(from, to) {}
+    btScalar addSingleResult(btCollisionWorld::LocalConvexResult& result, bool normalInWorldSpace) override
+    {
+        const btScalar fraction = ClosestConvexResultCallback::addSingleResult(result, normalInWorldSpace);
+        if (result.m_hitFraction <= m_closestHitFraction)
+        {
+            triangle = result.m_localShapeInfo ? result.m_localShapeInfo->m_triangleIndex : -1;
+        }
+        return fraction;
+    }
+};
+} // namespace
+
+BulletEnvironment::BulletEnvironment()
+    : m_configuration(std::make_unique<btDefaultCollisionConfiguration>()),
+      m_dispatcher(std::make_unique<btCollisionDispatcher>(m_configuration.get())),
+      m_broadphase(std::make_unique<btDbvtBroadphase>()),
+      m_world(std::make_unique<btCollisionWorld>(m_dispatcher.get(), m_broadphase.get(), m_configuration.get()))
+{
+}
+
+BulletEnvironment::~BulletEnvironment()
+{
+    for (auto& obstacle : m_obstacles)
+    {
+        m_world->removeCollisionObject(obstacle->object.get());
+    }
+}
+
+int BulletEnvironment::findObstacle(const std::string& name) const
+{
+    for (std::size_t i = 0; i < m_obstacles.size(); ++i)
+    {
+        if (m_obstacles[i]->spec.name == name)
+        {
+            return int(i);
+        }
+    }
+    return -1;
+}
+
+int BulletEnvironment::addObstacle(const ObstacleSpec& spec, bool partOfRoom)
+{
+    if (spec.name.empty())
+    {
+        throw InputError("obstacle: every obstacle needs a name");
+    }
+    if (findObstacle(spec.name) >= 0)
+    {
+        throw InputError("obstacle '" + spec.name + "': the name is already used by another obstacle");
+    }
+    for (std::size_t k = 0; k < spec.path.size(); ++k)
+    {
+        if (!std::isfinite(spec.path[k].time) || (k > 0 && !(spec.path[k].time > spec.path[k - 1].time)))
+        {
+            throw InputError("obstacle '" + spec.name + "': path key " + std::to_string(k) +
+                             " must come strictly after the one before it");
+        }
+        if (!spec.path[k].position.allFinite())
+        {
+            throw InputError("obstacle '" + spec.name + "': path key " + std::to_string(k) +
+                             " has a non-finite position");
+        }
+    }
+    if (!spec.position.allFinite())
+    {
+        throw InputError("obstacle '" + spec.name + "': position must be finite");
+    }
+    auto obstacle = std::make_unique<Obstacle>();
+    obstacle->spec = spec;
+    obstacle->geometry = makeObstacleGeometry(spec);
+    obstacle->partOfRoom = partOfRoom;
+    for (const Vec3& v : obstacle->geometry.vertices)
+    {
+        obstacle->boundingRadius = std::max(obstacle->boundingRadius, v.norm());
+    }
+    obstacle->pose = poseAt(spec, m_time);
+    obstacle->motion = motionAt(spec, m_time);
+
+    obstacle->object = std::make_unique<btCollisionObject>();
+    obstacle->object->setCollisionShape(obstacle->geometry.shape.get());
+    obstacle->object->setWorldTransform(toBullet(obstacle->pose.position, obstacle->pose.orientation));
+    obstacle->object->setUserIndex(int(m_obstacles.size()));
+    if (spec.isKinematic())
+    {
+        obstacle->object->setCollisionFlags(obstacle->object->getCollisionFlags() |
+                                            btCollisionObject::CF_KINEMATIC_OBJECT);
+    }
+    else
+    {
+        obstacle->object->setCollisionFlags(obstacle->object->getCollisionFlags() |
+                                            btCollisionObject::CF_STATIC_OBJECT);
+    }
+    // Static filter group, masked against other static objects: Bullet's encoding of the paper's game rule.
+    m_world->addCollisionObject(obstacle->object.get(), btBroadphaseProxy::StaticFilter,
+                                btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+    m_obstacles.push_back(std::move(obstacle));
+    return int(m_obstacles.size()) - 1;
+}
+
+void BulletEnvironment::addRoom(const RoomSpec& room)
+{
+    if (!room.enabled)
+    {
+        return;
+    }
+    for (const ObstacleSpec& wall : roomObstacles(room))
+    {
+        addObstacle(wall, true);
+    }
+}
+
+void BulletEnvironment::setTime(Real time)
+{
+    m_time = time;
+    m_fastestKinematic = 0;
+    for (auto& obstacle : m_obstacles)
+    {
+        if (!obstacle->spec.isKinematic())
+        {
+            continue;
+        }
+        obstacle->pose = poseAt(obstacle->spec, time);
+        obstacle->motion = motionAt(obstacle->spec, time);
+        obstacle->object->setWorldTransform(toBullet(obstacle->pose.position, obstacle->pose.orientation));
+        m_world->updateSingleAabb(obstacle->object.get());
+        m_fastestKinematic =
+            std::max(m_fastestKinematic,
+                     obstacle->motion.linear.norm() + obstacle->motion.angular.norm() * obstacle->boundingRadius);
+    }
+}
+
+void BulletEnvironment::candidates(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const
+{
+    out.clear();
+    CandidateCollector collector;
+    collector.out = &out;
+    m_broadphase->aabbTest(toBullet(lo), toBullet(hi), collector);
+    std::sort(out.begin(), out.end());
+}
+
+void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radius, Real searchDistance,
+                                        std::vector<Closest>& out) const
+{
+    out.clear();
+    const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+    const btTransform& transform = obstacle.object->getWorldTransform();
+    const Eigen::Quaternion<Real> toLocal = obstacle.pose.orientation.conjugate();
+    if (obstacle.geometry.convex)
+    {
+        const auto& shape = static_cast<const btConvexShape&>(*obstacle.geometry.shape);
+        const std::optional<Gjk> closest = sphereConvex(shape, transform, centre, radius);
+        if (closest && closest->distance <= searchDistance)
+        {
+            const Vec3 localPoint = toLocal * (closest->point - obstacle.pose.position);
+            const int face = obstacle.geometry.faceAt(localPoint, toLocal * closest->normal);
+            out.push_back({closest->distance, closest->normal, closest->point, face});
+        }
+        return;
+    }
+    // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame.
+    TriangleCollector collector;
+    collector.transform = &transform;
+    collector.centre = centre;
+    collector.radius = radius;
+    collector.searchDistance = searchDistance;
+    const Real extent = radius + std::max(searchDistance, Real(0));
+    const Vec3 local = toLocal * (centre - obstacle.pose.position);
+    const auto& mesh = static_cast<const btBvhTriangleMeshShape&>(*obstacle.geometry.shape);
+    const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(&collector, toBullet(local - Vec3::Constant(extent)),
+                                                                  toBullet(local + Vec3::Constant(extent)));
+    std::sort(collector.found.begin(), collector.found.end(),
+              [](const auto& a, const auto& b) {
+                  return a.first.distance < b.first.distance ||
+                         (a.first.distance == b.first.distance && a.second < b.second);
+              });
+    for (const auto& [closest, triangle] : collector.found)
+    {
+        bool distinct = true;
+        for (const Closest& kept : out)
+        {
+            distinct = distinct && kept.normal.dot(closest.normal) < 0.99;
+        }
+        if (distinct && out.size() < 3)
+        {
+            out.push_back({closest.distance, closest.normal, closest.point,
+                           obstacle.geometry.triangleFace[std::size_t(triangle)]});
+        }
+    }
+}
+
+void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
+                                     std::vector<ContactPlane>& out)
+{
+    std::vector<int> near;
+    std::vector<Closest> features;
+    const Real obstacleTravel = m_fastestKinematic * dt;
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+        const Real searchDistance = reach[i] + obstacleTravel;
+        const Vec3 extent = Vec3::Constant(searchDistance + radius);
+        candidates(x[i] - extent, x[i] + extent, near);
+        for (int index : near)
+        {
+            closestFeatures(index, x[i], radius, searchDistance, features);
+            const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+            for (const Closest& feature : features)
+            {
+                ContactPlane plane;
+                plane.mass = Index(i);
+                plane.obstacle = index;
+                plane.face = feature.face;
+                plane.normal = feature.normal;
+                plane.offset = feature.normal.dot(feature.point);
+                plane.velocity = obstacle.motion.at(feature.point, obstacle.pose.position);
+                out.push_back(plane);
+            }
+        }
+    }
+}
+
+std::optional<SweepHit> BulletEnvironment::sweep(const Vec3& from, const Vec3& to, Real radius)
+{
+    if ((to - from).squaredNorm() == 0)
+    {
+        return std::nullopt;
+    }
+    btSphereShape sphere(radius);
+    btTransform start;
+    start.setIdentity();
+    start.setOrigin(toBullet(from));
+    btTransform end;
+    end.setIdentity();
+    end.setOrigin(toBullet(to));
+    SweepCollector collector(start.getOrigin(), end.getOrigin());
+    m_world->convexSweepTest(&sphere, start, end, collector);
+    if (!collector.hasHit())
+    {
+        return std::nullopt;
+    }
+    SweepHit hit;
+    hit.fraction = collector.m_closestHitFraction;
+    hit.normal = toVec3(collector.m_hitNormalWorld).normalized();
+    hit.obstacle = collector.m_hitCollisionObject->getUserIndex();
+    const Obstacle& obstacle = *m_obstacles[std::size_t(hit.obstacle)];
+    if (obstacle.geometry.convex)
+    {
+        const Eigen::Quaternion<Real> toLocal = obstacle.pose.orientation.conjugate();
+        hit.face = obstacle.geometry.faceAt(toLocal * (toVec3(collector.m_hitPointWorld) - obstacle.pose.position),
+                                            toLocal * hit.normal);
+    }
+    else if (collector.triangle >= 0 && std::size_t(collector.triangle) < obstacle.geometry.triangleFace.size())
+    {
+        hit.face = obstacle.geometry.triangleFace[std::size_t(collector.triangle)];
+    }
+    return hit;
+}
+
+SurfaceDistance BulletEnvironment::nearestSurface(const Vec3& x, Real maxDistance)
+{
+    SurfaceDistance nearest;
+    nearest.distance = maxDistance;
+    std::vector<int> near;
+    std::vector<Closest> features;
+    candidates(x - Vec3::Constant(maxDistance), x + Vec3::Constant(maxDistance), near);
+    for (int index : near)
+    {
+        closestFeatures(index, x, probeRadius, maxDistance, features);
+        for (const Closest& feature : features)
+        {
+            const Real distance = feature.distance + probeRadius;
+            if (distance < nearest.distance)
+            {
+                nearest = {distance, index, feature.face};
+            }
+        }
+    }
+    return nearest;
+}
+} // namespace masse::bridge

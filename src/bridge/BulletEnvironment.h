@@ -1,0 +1,88 @@
+#pragma once
+/// The obstacles of a scene (the room and the polyhedra) in a Bullet collision world, serving the core's contact
+/// solver as its ContactDetector.
+///
+/// Bullet supplies the broadphase (a btDbvtBroadphase: each mass's reach box is queried against the obstacles'
+/// boxes) and the narrowphase (GJK with EPA between the mass's sphere and a convex obstacle or each nearby triangle
+/// of a mesh, and btCollisionWorld::convexSweepTest for the sweep). The paper's game rule holds by construction:
+/// obstacles are static or kinematic and are never tested against one another; only sheet masses are tested.
+
+#include "KinematicPath.h"
+#include "ObstacleGeometry.h"
+#include "Room.h"
+
+#include "core/Contact.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+class btBroadphaseInterface;
+class btCollisionConfiguration;
+class btCollisionDispatcher;
+class btCollisionObject;
+class btCollisionWorld;
+
+namespace masse::bridge
+{
+struct Obstacle
+{
+    ObstacleSpec spec;
+    ObstacleGeometry geometry;
+    std::unique_ptr<btCollisionObject> object;
+    bool partOfRoom = false;
+    Pose pose;
+    Motion motion;
+    Real boundingRadius = 0; ///< m, of the local vertices about the local origin
+};
+
+class BulletEnvironment final : public ContactDetector
+{
+public:
+    BulletEnvironment();
+    ~BulletEnvironment() override;
+    BulletEnvironment(const BulletEnvironment&) = delete;
+    BulletEnvironment& operator=(const BulletEnvironment&) = delete;
+
+    /// Adds an obstacle and returns its index; throws InputError naming it for bad geometry or a name already used.
+    int addObstacle(const ObstacleSpec& spec, bool partOfRoom = false);
+    /// Adds the room's floor, ceiling and walls.
+    void addRoom(const RoomSpec& room);
+
+    const Obstacle& obstacle(int index) const { return *m_obstacles[std::size_t(index)]; }
+    /// Index of the obstacle with that name, or -1.
+    int findObstacle(const std::string& name) const;
+    btCollisionWorld& world() { return *m_world; }
+
+    // ContactDetector
+    int obstacleCount() const override { return int(m_obstacles.size()); }
+    void setTime(Real time) override;
+    void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
+                      std::vector<ContactPlane>& out) override;
+    std::optional<SweepHit> sweep(const Vec3& from, const Vec3& to, Real radius) override;
+    SurfaceDistance nearestSurface(const Vec3& x, Real maxDistance) override;
+
+private:
+    struct Closest
+    {
+        Real distance; ///< between the sphere's surface and the obstacle's (negative: overlapping)
+        Vec3 normal;   ///< from the obstacle toward the sphere's centre
+        Vec3 point;    ///< on the obstacle's surface
+        int face;
+    };
+    /// Closest features of one obstacle to a sphere: one for a convex obstacle, up to three distinct ones (by
+    /// normal) for a mesh, nearest first.
+    void closestFeatures(int obstacle, const Vec3& centre, Real radius, Real searchDistance,
+                         std::vector<Closest>& out) const;
+    /// Obstacles whose boxes overlap the box [lo, hi], in index order.
+    void candidates(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const;
+
+    std::unique_ptr<btCollisionConfiguration> m_configuration;
+    std::unique_ptr<btCollisionDispatcher> m_dispatcher;
+    std::unique_ptr<btBroadphaseInterface> m_broadphase;
+    std::unique_ptr<btCollisionWorld> m_world;
+    std::vector<std::unique_ptr<Obstacle>> m_obstacles;
+    Real m_time = 0;
+    Real m_fastestKinematic = 0; ///< m/s, the fastest any kinematic obstacle's point moves now
+};
+} // namespace masse::bridge

@@ -1,0 +1,323 @@
+#include "ObstacleGeometry.h"
+
+#include "BulletMath.h"
+#include "MeshFile.h"
+
+#include "core/InputError.h"
+
+#include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleMesh.h>
+#include <LinearMath/btConvexHullComputer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace masse::bridge
+{
+ObstacleGeometry::ObstacleGeometry() = default;
+ObstacleGeometry::~ObstacleGeometry() = default;
+ObstacleGeometry::ObstacleGeometry(ObstacleGeometry&&) noexcept = default;
+ObstacleGeometry& ObstacleGeometry::operator=(ObstacleGeometry&&) noexcept = default;
+
+Eigen::Quaternion<Real> rotationFromDegrees(const Vec3& degrees)
+{
+    const Vec3 radians = degrees * (M_PI / 180.0);
+    return Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(radians.z(), Vec3::UnitZ()) *
+                                   Eigen::AngleAxis<Real>(radians.y(), Vec3::UnitY()) *
+                                   Eigen::AngleAxis<Real>(radians.x(), Vec3::UnitX()));
+}
+
+namespace
+{
+std::string named(const ObstacleSpec& spec)
+{
+    return "obstacle '" + spec.name + "'";
+}
+
+void requirePositive(const ObstacleSpec& spec, const char* what, Real value)
+{
+    if (!(value > 0) || !std::isfinite(value))
+    {
+        throw InputError(named(spec) + ": " + what + " must be a positive number of metres (got " +
+                         std::to_string(value) + ")");
+    }
+}
+
+/// Outward normal and plane offset of a polygon (Newell's method, robust for any planar polygon).
+void finishFace(const std::vector<Vec3>& vertices, const Vec3& interior, Face& face)
+{
+    Vec3 normal = Vec3::Zero();
+    Vec3 centre = Vec3::Zero();
+    const std::size_t n = face.vertices.size();
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        const Vec3& a = vertices[std::size_t(face.vertices[k])];
+        const Vec3& b = vertices[std::size_t(face.vertices[(k + 1) % n])];
+        normal += Vec3((a.y() - b.y()) * (a.z() + b.z()), (a.z() - b.z()) * (a.x() + b.x()),
+                       (a.x() - b.x()) * (a.y() + b.y()));
+        centre += a / Real(n);
+    }
+    normal.normalize();
+    if (normal.dot(centre - interior) < 0)
+    {
+        normal = -normal;
+        std::reverse(face.vertices.begin(), face.vertices.end());
+    }
+    face.normal = normal;
+    face.offset = normal.dot(centre);
+}
+
+void addFace(ObstacleGeometry& g, std::vector<int> vertices, const Vec3& interior)
+{
+    Face face;
+    face.vertices = std::move(vertices);
+    finishFace(g.vertices, interior, face);
+    g.faces.push_back(std::move(face));
+}
+
+Vec3 centroid(const std::vector<Vec3>& points)
+{
+    Vec3 sum = Vec3::Zero();
+    for (const Vec3& p : points)
+    {
+        sum += p;
+    }
+    return sum / Real(points.size());
+}
+
+void makeBox(const ObstacleSpec& spec, ObstacleGeometry& g)
+{
+    requirePositive(spec, "half_extents.x", spec.halfExtents.x());
+    requirePositive(spec, "half_extents.y", spec.halfExtents.y());
+    requirePositive(spec, "half_extents.z", spec.halfExtents.z());
+    const Vec3 h = spec.halfExtents;
+    // Vertex k has x sign from bit 0, y from bit 1, z from bit 2.
+    for (int k = 0; k < 8; ++k)
+    {
+        g.vertices.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
+    }
+    const Vec3 inside = Vec3::Zero();
+    addFace(g, {1, 3, 7, 5}, inside); // +x
+    addFace(g, {0, 4, 6, 2}, inside); // -x
+    addFace(g, {2, 6, 7, 3}, inside); // +y
+    addFace(g, {0, 1, 5, 4}, inside); // -y
+    addFace(g, {4, 5, 7, 6}, inside); // +z
+    addFace(g, {0, 2, 3, 1}, inside); // -z
+}
+
+void makePrism(const ObstacleSpec& spec, ObstacleGeometry& g)
+{
+    requirePositive(spec, "width", spec.prismWidth);
+    requirePositive(spec, "height", spec.prismHeight);
+    requirePositive(spec, "length", spec.prismLength);
+    if (!std::isfinite(spec.prismApex))
+    {
+        throw InputError(named(spec) + ": apex must be a finite number of metres");
+    }
+    const Real w = spec.prismWidth / 2;
+    const Real h = spec.prismHeight / 2;
+    const Real l = spec.prismLength / 2;
+    const Vec3 triangle[3] = {Vec3(-w, -h, 0), Vec3(w, -h, 0), Vec3(spec.prismApex, h, 0)};
+    for (Real z : {l, -l})
+    {
+        for (const Vec3& corner : triangle)
+        {
+            g.vertices.push_back(corner + Vec3(0, 0, z));
+        }
+    }
+    const Vec3 inside = centroid(g.vertices);
+    addFace(g, {0, 1, 4, 3}, inside); // base
+    addFace(g, {1, 2, 5, 4}, inside); // +x side
+    addFace(g, {2, 0, 3, 5}, inside); // -x side
+    addFace(g, {0, 1, 2}, inside);    // +z end
+    addFace(g, {3, 4, 5}, inside);    // -z end
+}
+
+/// Throws unless the points span three dimensions.
+void requireSolid(const ObstacleSpec& spec, const std::vector<Vec3>& points)
+{
+    const std::string message = named(spec) + ": a hull needs at least 4 points not all in one plane (got " +
+                                std::to_string(points.size()) + " points";
+    if (points.size() < 4)
+    {
+        throw InputError(message + ")");
+    }
+    Real scale = 0;
+    for (const Vec3& p : points)
+    {
+        if (!p.allFinite())
+        {
+            throw InputError(named(spec) + ": hull point is not a finite number");
+        }
+        scale = std::max(scale, (p - points[0]).norm());
+    }
+    const Real tolerance = 1e-9 * std::max(scale, Real(1e-12));
+    // Farthest point from the first, then from the line through both, then from the plane through all three.
+    std::size_t b = 0;
+    for (std::size_t i = 1; i < points.size(); ++i)
+    {
+        b = (points[i] - points[0]).norm() > (points[b] - points[0]).norm() ? i : b;
+    }
+    const Vec3 axis = (points[b] - points[0]).normalized();
+    std::size_t c = 0;
+    Real farthest = 0;
+    for (std::size_t i = 0; i < points.size(); ++i)
+    {
+        const Real d = (points[i] - points[0]).cross(axis).norm();
+        if (d > farthest)
+        {
+            farthest = d;
+            c = i;
+        }
+    }
+    if (scale <= tolerance || farthest <= tolerance)
+    {
+        throw InputError(message + ", all on one line)");
+    }
+    const Vec3 normal = axis.cross(points[c] - points[0]).normalized();
+    Real height = 0;
+    for (const Vec3& p : points)
+    {
+        height = std::max(height, std::abs((p - points[0]).dot(normal)));
+    }
+    if (height <= tolerance)
+    {
+        throw InputError(message + ", all in one plane)");
+    }
+}
+
+void makeHull(const ObstacleSpec& spec, ObstacleGeometry& g)
+{
+    requireSolid(spec, spec.hullPoints);
+    std::vector<btVector3> points;
+    for (const Vec3& p : spec.hullPoints)
+    {
+        points.push_back(toBullet(p));
+    }
+    btConvexHullComputer hull;
+    hull.compute(&points[0].x(), int(sizeof(btVector3)), int(points.size()), 0, 0);
+    for (int i = 0; i < hull.vertices.size(); ++i)
+    {
+        g.vertices.push_back(toVec3(hull.vertices[i]));
+    }
+    const Vec3 inside = centroid(g.vertices);
+    for (int f = 0; f < hull.faces.size(); ++f)
+    {
+        const btConvexHullComputer::Edge* first = &hull.edges[hull.faces[f]];
+        const btConvexHullComputer::Edge* edge = first;
+        std::vector<int> loop;
+        do
+        {
+            loop.push_back(edge->getSourceVertex());
+            edge = edge->getNextEdgeOfFace();
+        } while (edge != first);
+        addFace(g, std::move(loop), inside);
+    }
+}
+
+void makeMesh(const ObstacleSpec& spec, ObstacleGeometry& g)
+{
+    requirePositive(spec, "scale", spec.meshScale);
+    PolygonMesh mesh = loadObj(spec.meshPath, spec.name);
+    for (const Vec3& v : mesh.vertices)
+    {
+        g.vertices.push_back(spec.meshScale * v);
+    }
+    g.convex = false;
+    g.triangles = std::make_unique<btTriangleMesh>(true, false);
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+    {
+        Face face;
+        face.vertices = mesh.faces[f];
+        // A mesh has no inside: keep the file's winding and take its normal as outward.
+        Vec3 normal = Vec3::Zero();
+        const std::size_t n = face.vertices.size();
+        for (std::size_t k = 0; k < n; ++k)
+        {
+            const Vec3& a = g.vertices[std::size_t(face.vertices[k])];
+            const Vec3& b = g.vertices[std::size_t(face.vertices[(k + 1) % n])];
+            normal +=
+                (a - g.vertices[std::size_t(face.vertices[0])]).cross(b - g.vertices[std::size_t(face.vertices[0])]);
+        }
+        face.normal = normal.norm() > 0 ? normal.normalized() : Vec3::UnitY();
+        face.offset = face.normal.dot(g.vertices[std::size_t(face.vertices[0])]);
+        for (std::size_t k = 1; k + 1 < n; ++k) // fan triangulation for Bullet
+        {
+            g.triangles->addTriangle(toBullet(g.vertices[std::size_t(face.vertices[0])]),
+                                     toBullet(g.vertices[std::size_t(face.vertices[k])]),
+                                     toBullet(g.vertices[std::size_t(face.vertices[k + 1])]));
+            g.triangleFace.push_back(int(f));
+        }
+        g.faces.push_back(std::move(face));
+    }
+    auto shape = std::make_unique<btBvhTriangleMeshShape>(g.triangles.get(), true);
+    shape->setMargin(0);
+    g.shape = std::move(shape);
+}
+} // namespace
+
+int ObstacleGeometry::faceAt(const Vec3& localPoint, const Vec3& localNormal) const
+{
+    const Real tolerance = 1e-6 * std::max(Real(1e-3), (localMax - localMin).norm());
+    int best = -1;
+    Real bestAlignment = -std::numeric_limits<Real>::infinity();
+    int fallback = -1;
+    Real fallbackAlignment = -std::numeric_limits<Real>::infinity();
+    for (std::size_t f = 0; f < faces.size(); ++f)
+    {
+        const Real alignment = faces[f].normal.dot(localNormal);
+        if (alignment > fallbackAlignment)
+        {
+            fallbackAlignment = alignment;
+            fallback = int(f);
+        }
+        if (std::abs(faces[f].normal.dot(localPoint) - faces[f].offset) <= tolerance && alignment > bestAlignment)
+        {
+            bestAlignment = alignment;
+            best = int(f);
+        }
+    }
+    return best >= 0 ? best : fallback;
+}
+
+ObstacleGeometry makeObstacleGeometry(const ObstacleSpec& spec)
+{
+    ObstacleGeometry g;
+    switch (spec.kind)
+    {
+    case ObstacleKind::Box:
+        makeBox(spec, g);
+        break;
+    case ObstacleKind::Prism:
+        makePrism(spec, g);
+        break;
+    case ObstacleKind::Hull:
+        makeHull(spec, g);
+        break;
+    case ObstacleKind::Mesh:
+        makeMesh(spec, g);
+        break;
+    }
+    g.localMin = g.vertices.front();
+    g.localMax = g.vertices.front();
+    for (const Vec3& v : g.vertices)
+    {
+        g.localMin = g.localMin.cwiseMin(v);
+        g.localMax = g.localMax.cwiseMax(v);
+    }
+    if (g.convex)
+    {
+        auto hull = std::make_unique<btConvexHullShape>();
+        for (const Vec3& v : g.vertices)
+        {
+            hull->addPoint(toBullet(v), false);
+        }
+        hull->recalcLocalAabb();
+        hull->setMargin(0); // the exact polyhedron, not one rounded by Bullet's default 4 cm margin
+        g.shape = std::move(hull);
+    }
+    return g;
+}
+} // namespace masse::bridge

@@ -1,0 +1,53 @@
+#pragma once
+/// The shape of an obstacle: its Bullet collision shape, and its own faces (for contact reports and drawing).
+///
+/// Every convex kind (box, prism, hull) becomes a btConvexHullShape with zero margin, so contact is with the exact
+/// polyhedron, not a rounded one; its faces are polygons with outward normals. A mesh becomes a
+/// btBvhTriangleMeshShape whose triangles remember which OBJ face they came from.
+///
+/// Face order: box 0 +x, 1 -x, 2 +y (top), 3 -y (bottom), 4 +z, 5 -z; prism 0 base (-y), 1 side from the +x base
+/// corner to the apex, 2 side from the apex to the -x base corner, 3 end +z, 4 end -z; hull as Bullet's convex-hull
+/// computer finds them; mesh in the OBJ file's face order.
+
+#include "ObstacleSpec.h"
+
+#include <memory>
+#include <vector>
+
+class btCollisionShape;
+class btTriangleMesh;
+
+namespace masse::bridge
+{
+struct Face
+{
+    std::vector<int> vertices; ///< indices into ObstacleGeometry::vertices, counter-clockwise seen from outside
+    Vec3 normal;               ///< outward, local frame
+    Real offset;               ///< normal . x on the face's plane
+};
+
+struct ObstacleGeometry
+{
+    ObstacleGeometry();
+    ~ObstacleGeometry();
+    ObstacleGeometry(ObstacleGeometry&&) noexcept;
+    ObstacleGeometry& operator=(ObstacleGeometry&&) noexcept;
+
+    bool convex = true;
+    std::vector<Vec3> vertices; ///< local frame
+    std::vector<Face> faces;
+    std::vector<int> triangleFace; ///< mesh only: the face of each Bullet triangle
+    Vec3 localMin = Vec3::Zero();
+    Vec3 localMax = Vec3::Zero();
+    std::unique_ptr<btTriangleMesh> triangles;
+    std::unique_ptr<btCollisionShape> shape;
+
+    /// The face a contact at local point p with local normal n (from the obstacle outward) lies on: among faces whose
+    /// plane passes through p, the one whose normal is closest to n.
+    int faceAt(const Vec3& localPoint, const Vec3& localNormal) const;
+};
+
+/// Builds the geometry of a spec; throws InputError naming the obstacle for a non-positive size, a degenerate hull
+/// (fewer than 4 points not all in one plane) or an OBJ file that is missing, unreadable or empty.
+ObstacleGeometry makeObstacleGeometry(const ObstacleSpec& spec);
+} // namespace masse::bridge

@@ -1,0 +1,88 @@
+#pragma once
+/// Contact between sheet masses (spheres of one radius) and obstacles: the settings, the planes a detector finds,
+/// and the detector interface that the Bullet bridge implements. The core knows obstacles only by index.
+
+#include "Types.h"
+
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace masse
+{
+/// What happens to a mass that touches an obstacle.
+enum class ContactResponse
+{
+    Sticky,       ///< the paper's: it stays where it touched until pulled off the surface by more than a set force
+    Friction,     ///< Coulomb friction with coefficient mu
+    Frictionless, ///< only the approach is stopped
+};
+
+/// Parses "sticky", "friction" or "frictionless"; throws InputError naming the allowed names.
+ContactResponse parseContactResponse(std::string_view name);
+std::string_view contactResponseName(ContactResponse response);
+
+struct ContactSettings
+{
+    ContactResponse response = ContactResponse::Friction;
+    Real radius = 0.01;           ///< m, every mass is a sphere of this radius
+    Real friction = 0.3;          ///< Coulomb coefficient mu (Friction)
+    Real stickReleaseForce = 0.0; ///< N, pull away from the surface that frees a stuck mass (Sticky); 0 never frees
+    /// m/s. Below this slip the implicit integrator's friction turns viscous (regularised Coulomb), so a mass under
+    /// static friction creeps at less than this fraction of it: (push / (mu press)) times this speed.
+    Real slipRegularization = 1e-4;
+};
+
+/// Throws InputError naming the first bad value (non-positive radius, negative friction or release force).
+void validate(const ContactSettings& settings);
+
+/// An obstacle's surface near one mass, found at the start of a frame: the supporting plane through the closest
+/// surface point. A convex obstacle lies wholly behind it, so keeping the mass's sphere in front keeps it outside.
+struct ContactPlane
+{
+    Index mass = 0;
+    int obstacle = -1;
+    int face = -1;                ///< index among the obstacle's own faces, -1 if unknown
+    Vec3 normal = Vec3::UnitY();  ///< unit, from the obstacle toward the mass
+    Real offset = 0;              ///< normal . x of the surface point, at the start of the frame
+    Vec3 velocity = Vec3::Zero(); ///< m/s, the surface's own velocity (kinematic obstacles)
+};
+
+/// The first crossing of an obstacle's surface by a sphere moving along a segment.
+struct SweepHit
+{
+    Real fraction = 1; ///< along the segment, 0 at its start
+    Vec3 normal = Vec3::UnitY();
+    int obstacle = -1;
+    int face = -1;
+};
+
+/// Signed distance from a point to the nearest obstacle surface (negative inside a solid obstacle).
+struct SurfaceDistance
+{
+    Real distance = 0;
+    int obstacle = -1;
+    int face = -1;
+};
+
+/// Finds obstacles near masses. Implemented by the Bullet bridge (broadphase plus narrowphase); tests may implement
+/// it with analytic shapes.
+class ContactDetector
+{
+public:
+    virtual ~ContactDetector() = default;
+    virtual int obstacleCount() const = 0;
+    /// Places moving (kinematic) obstacles where they are at `time`.
+    virtual void setTime(Real time) = 0;
+    /// Appends a plane for every pair of a mass i and an obstacle whose surfaces may meet during the next `dt`
+    /// seconds: the mass's sphere of `radius` may move anywhere within reach[i] of x[i], the obstacle along its own
+    /// path. Planes of one mass are appended together.
+    virtual void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
+                              std::vector<ContactPlane>& out) = 0;
+    /// The first surface a sphere of `radius` meets moving from `from` to `to`, if any.
+    virtual std::optional<SweepHit> sweep(const Vec3& from, const Vec3& to, Real radius) = 0;
+    /// Distance from x to the nearest obstacle surface, searching no farther than maxDistance (returns a distance of
+    /// at least maxDistance and obstacle -1 when nothing is that close).
+    virtual SurfaceDistance nearestSurface(const Vec3& x, Real maxDistance) = 0;
+};
+} // namespace masse

@@ -1,0 +1,390 @@
+#include "ContactSolver.h"
+
+#include "InputError.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace masse
+{
+namespace
+{
+struct ResponseName
+{
+    ContactResponse response;
+    std::string_view name;
+};
+constexpr ResponseName responseNames[] = {
+    {ContactResponse::Sticky, "sticky"},
+    {ContactResponse::Friction, "friction"},
+    {ContactResponse::Frictionless, "frictionless"},
+};
+} // namespace
+
+ContactResponse parseContactResponse(std::string_view name)
+{
+    for (const ResponseName& entry : responseNames)
+    {
+        if (entry.name == name)
+        {
+            return entry.response;
+        }
+    }
+    throw InputError("contact.response: unknown response '" + std::string(name) +
+                     "' (expected one of sticky, friction, frictionless)");
+}
+
+std::string_view contactResponseName(ContactResponse response)
+{
+    for (const ResponseName& entry : responseNames)
+    {
+        if (entry.response == response)
+        {
+            return entry.name;
+        }
+    }
+    return "unknown";
+}
+
+void validate(const ContactSettings& settings)
+{
+    if (!(settings.radius > 0) || !std::isfinite(settings.radius))
+    {
+        throw InputError("contact.radius: must be a positive number of metres (got " + std::to_string(settings.radius) +
+                         ")");
+    }
+    if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
+    {
+        throw InputError("contact.friction: must be >= 0 (got " + std::to_string(settings.friction) + ")");
+    }
+    if (!(settings.stickReleaseForce >= 0) || !std::isfinite(settings.stickReleaseForce))
+    {
+        throw InputError("contact.release_force: must be >= 0 N (got " + std::to_string(settings.stickReleaseForce) +
+                         ")");
+    }
+}
+
+ContactSolver::ContactSolver(ContactDetector& detector, const ContactSettings& settings) : m_detector(detector)
+{
+    setSettings(settings);
+}
+
+void ContactSolver::setSettings(const ContactSettings& settings)
+{
+    validate(settings);
+    if (settings.response != ContactResponse::Sticky)
+    {
+        releaseAll();
+    }
+    m_settings = settings;
+}
+
+void ContactSolver::releaseAll()
+{
+    std::fill(m_stuck.begin(), m_stuck.end(), std::uint8_t(0));
+}
+
+bool ContactSolver::everTouched(int obstacle) const
+{
+    return obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
+           m_obstacleTouched[std::size_t(obstacle)];
+}
+
+void ContactSolver::resizeFor(std::size_t masses)
+{
+    if (m_stuck.size() == masses)
+    {
+        return;
+    }
+    m_stuck.assign(masses, 0);
+    m_anchor.assign(masses, Vec3::Zero());
+    m_stuckNormal.assign(masses, Vec3::UnitY());
+    m_stuckVelocity.assign(masses, Vec3::Zero());
+    m_stuckObstacle.assign(masses, -1);
+    m_stuckFace.assign(masses, -1);
+    m_touchObstacle.assign(masses, -1);
+    m_touchFace.assign(masses, -1);
+    m_contactForce.assign(masses, Vec3::Zero());
+    m_impulse.assign(masses, Vec3::Zero());
+    m_resting.assign(masses, 0);
+    m_restingNormal.assign(masses, Vec3::UnitY());
+    m_restingVelocity.assign(masses, Vec3::Zero());
+    m_restingDamping.assign(masses, 0);
+    m_restingObstacle.assign(masses, -1);
+    m_restingFace.assign(masses, -1);
+    m_restingConstraint.assign(masses, 0);
+    m_lastReaction.assign(masses, Vec3::Zero());
+    m_wasResting.assign(masses, 0);
+    m_reach.assign(masses, 0);
+}
+
+void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, bool constrain)
+{
+    const Particles& p = system.particles;
+    const std::size_t n = p.size();
+    resizeFor(n);
+    m_obstacleTouched.resize(std::size_t(m_detector.obstacleCount()), 0);
+    m_frameTime = time;
+    m_frameDt = dt;
+    m_elapsed = 0;
+    m_frameStart = p.position;
+    std::fill(m_touchObstacle.begin(), m_touchObstacle.end(), -1);
+    std::fill(m_touchFace.begin(), m_touchFace.end(), -1);
+    std::fill(m_impulse.begin(), m_impulse.end(), Vec3::Zero());
+    m_touchedFaces.clear();
+
+    // How far each mass can get this frame: its current speed plus twice the distance its current acceleration
+    // would carry it, plus a radius of slack. A mass that outruns this is caught by the sweep at the end of the frame.
+    const Real gravity = system.forces.gravity.norm();
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
+        m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
+    }
+    m_planes.clear();
+    m_detector.setTime(time);
+    m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes);
+    m_detector.setTime(time + dt);
+
+    // Constraints for the implicit integrator (see VelocityConstraint.h): stuck masses are held; a mass resting on
+    // a surface keeps the surface's normal velocity, and its friction becomes a tangential damping. A mass rests if
+    // it touches the surface and is not leaving it, and the surface pushed on it in the last solve (its reaction),
+    // or, for a new contact, its forces press it in. When the solve's reaction would pull, it lets go.
+    system.constraints.clear();
+    m_wasResting.swap(m_resting);
+    std::fill(m_resting.begin(), m_resting.end(), std::uint8_t(0));
+    if (!constrain)
+    {
+        return;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (m_stuck[i])
+        {
+            system.constraints.push_back({Index(i), 3, m_stuckNormal[i], m_stuckVelocity[i], 0, Vec3::Zero()});
+        }
+    }
+    const Real touchTolerance = Real(1e-6) * m_settings.radius;
+    for (const ContactPlane& plane : m_planes)
+    {
+        const Index i = plane.mass;
+        if (m_stuck[i] || m_resting[i] || p.pinned[i])
+        {
+            continue;
+        }
+        const Real separation = plane.normal.dot(p.position[i]) - plane.offset - m_settings.radius;
+        const Vec3 relative = p.velocity[i] - plane.velocity;
+        // Leaving means faster than rounding: a held mass's normal speed is zero to about 1e-11 m/s either way.
+        if (separation >= touchTolerance || relative.dot(plane.normal) > m_settings.slipRegularization)
+        {
+            continue;
+        }
+        const Real press = m_wasResting[i] ? m_lastReaction[i].dot(plane.normal) / dt : -p.force[i].dot(plane.normal);
+        if (press <= 0)
+        {
+            continue;
+        }
+        Real damping = 0;
+        if (m_settings.response == ContactResponse::Friction)
+        {
+            const Real slip = (relative - relative.dot(plane.normal) * plane.normal).norm();
+            damping = m_settings.friction * press / std::max(slip, m_settings.slipRegularization);
+        }
+        m_restingConstraint[i] = system.constraints.size();
+        system.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
+        m_resting[i] = 1;
+        m_restingNormal[i] = plane.normal;
+        m_restingVelocity[i] = plane.velocity;
+        m_restingDamping[i] = damping;
+        m_restingObstacle[i] = plane.obstacle;
+        m_restingFace[i] = plane.face;
+    }
+}
+
+void ContactSolver::touch(Index mass, int obstacle, int face)
+{
+    if (m_touchObstacle[mass] < 0)
+    {
+        m_touchObstacle[mass] = obstacle;
+        m_touchFace[mass] = face;
+    }
+    if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() && !m_obstacleTouched[std::size_t(obstacle)])
+    {
+        m_obstacleTouched[std::size_t(obstacle)] = 1;
+        m_firstContacts.push_back({obstacle, m_frameTime + m_elapsed});
+    }
+}
+
+void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
+{
+    Particles& p = system.particles;
+    m_elapsed += h;
+    const Real radius = m_settings.radius;
+    const bool sticky = m_settings.response == ContactResponse::Sticky;
+
+    // Stuck masses hold their anchors (moving with a kinematic surface) until the pull off the surface exceeds the
+    // release force. The pull is the total force of this substep's evaluation, along the surface normal.
+    if (sticky)
+    {
+        for (std::size_t i = 0; i < p.size(); ++i)
+        {
+            if (!m_stuck[i])
+            {
+                continue;
+            }
+            const Real pull = p.force[i].dot(m_stuckNormal[i]);
+            if (m_settings.stickReleaseForce > 0 && pull > m_settings.stickReleaseForce)
+            {
+                m_stuck[i] = 0;
+                continue;
+            }
+            m_anchor[i] += h * m_stuckVelocity[i];
+            m_impulse[i] += p.mass[i] * (m_stuckVelocity[i] - p.velocity[i]);
+            p.position[i] = m_anchor[i];
+            p.velocity[i] = m_stuckVelocity[i];
+            touch(Index(i), m_stuckObstacle[i], m_stuckFace[i]);
+        }
+    }
+
+    // Resting masses were handled inside the implicit solve: their contact impulse is the solve's reaction plus the
+    // friction it applied as a damping.
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        if (!m_resting[i] || m_stuck[i])
+        {
+            continue;
+        }
+        m_lastReaction[i] = system.constraints[m_restingConstraint[i]].reaction;
+        const Vec3 relative = p.velocity[i] - m_restingVelocity[i];
+        const Vec3 slip = relative - relative.dot(m_restingNormal[i]) * m_restingNormal[i];
+        m_impulse[i] += m_lastReaction[i] - h * m_restingDamping[i] * slip; // the reaction holds; friction drags
+        touch(Index(i), m_restingObstacle[i], m_restingFace[i]);
+    }
+
+    const Real touchTolerance = Real(1e-6) * radius;
+    for (const ContactPlane& plane : m_planes)
+    {
+        const Index i = plane.mass;
+        if (p.pinned[i] || m_stuck[i] || m_resting[i])
+        {
+            continue;
+        }
+        const Real offset = plane.offset + plane.normal.dot(plane.velocity) * m_elapsed;
+        const Real separation = plane.normal.dot(p.position[i]) - offset - radius;
+        if (separation >= touchTolerance)
+        {
+            continue;
+        }
+        if (separation < 0)
+        {
+            p.position[i] -= separation * plane.normal;
+        }
+        touch(i, plane.obstacle, plane.face);
+
+        const Vec3 relative = p.velocity[i] - plane.velocity;
+        const Real normalSpeed = relative.dot(plane.normal);
+        if (normalSpeed >= 0)
+        {
+            continue; // already leaving the surface
+        }
+        const Vec3 before = p.velocity[i];
+        Vec3 tangential = relative - normalSpeed * plane.normal;
+        switch (m_settings.response)
+        {
+        case ContactResponse::Sticky:
+            tangential.setZero();
+            break;
+        case ContactResponse::Friction:
+        {
+            const Real budget = m_settings.friction * (-normalSpeed);
+            const Real speed = tangential.norm();
+            tangential = speed <= budget ? Vec3::Zero() : Vec3(tangential * ((speed - budget) / speed));
+            break;
+        }
+        case ContactResponse::Frictionless:
+            break;
+        }
+        p.velocity[i] = plane.velocity + tangential;
+        const Vec3 change = p.velocity[i] - before;
+        m_impulse[i] += p.mass[i] * change;
+        // The integrator already moved the mass with its velocity from before the contact. Move it by the
+        // tangential change too, as if the impulse had come first; otherwise a mass held by static friction
+        // would creep by h^2 g sin(a) every substep. (The normal part is handled by the projection.)
+        p.position[i] += h * (change - change.dot(plane.normal) * plane.normal);
+        if (sticky)
+        {
+            m_stuck[i] = 1;
+            m_anchor[i] = p.position[i];
+            m_stuckNormal[i] = plane.normal;
+            m_stuckVelocity[i] = plane.velocity;
+            m_stuckObstacle[i] = plane.obstacle;
+            m_stuckFace[i] = plane.face;
+        }
+    }
+}
+
+void ContactSolver::endFrame(MassSpringSystem& system, Real time)
+{
+    system.constraints.clear();
+    Particles& p = system.particles;
+    const Real radius = m_settings.radius;
+    m_elapsed = time - m_frameTime;
+
+    // Masses that moved beyond their reach had no plane for what they may have crossed: sweep their path. Stuck
+    // masses sit at their anchors, which are outside by construction.
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        const Vec3 travel = p.position[i] - m_frameStart[i];
+        if (p.pinned[i] || m_stuck[i] || travel.norm() <= m_reach[i] - radius)
+        {
+            continue;
+        }
+        const std::optional<SweepHit> hit = m_detector.sweep(m_frameStart[i], p.position[i], radius);
+        if (!hit)
+        {
+            continue;
+        }
+        // Stop just before the surface and drop the velocity into it.
+        const Real fraction = std::max(Real(0), hit->fraction - Real(1e-9));
+        p.position[i] = m_frameStart[i] + fraction * travel;
+        const Real normalSpeed = p.velocity[i].dot(hit->normal);
+        if (normalSpeed < 0)
+        {
+            const Vec3 before = p.velocity[i];
+            p.velocity[i] -= normalSpeed * hit->normal;
+            m_impulse[i] += p.mass[i] * (p.velocity[i] - before);
+        }
+        touch(Index(i), hit->obstacle, hit->face);
+    }
+
+    m_touchingCount = 0;
+    const Real inverseDt = m_frameDt > 0 ? Real(1) / m_frameDt : Real(0);
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        m_contactForce[i] = m_impulse[i] * inverseDt;
+        if (m_touchObstacle[i] >= 0)
+        {
+            ++m_touchingCount;
+            m_touchedFaces.emplace_back(m_touchObstacle[i], m_touchFace[i]);
+        }
+    }
+    std::sort(m_touchedFaces.begin(), m_touchedFaces.end());
+    m_touchedFaces.erase(std::unique(m_touchedFaces.begin(), m_touchedFaces.end()), m_touchedFaces.end());
+}
+
+Real ContactSolver::maxPenetration(const MassSpringSystem& system)
+{
+    Real deepest = 0;
+    const Real radius = m_settings.radius;
+    for (const Vec3& x : system.particles.position)
+    {
+        const SurfaceDistance nearest = m_detector.nearestSurface(x, radius);
+        if (nearest.obstacle >= 0)
+        {
+            deepest = std::max(deepest, radius - nearest.distance);
+        }
+    }
+    return deepest;
+}
+} // namespace masse

@@ -1,0 +1,29 @@
+#pragma once
+/// A constraint on a mass's velocity during the next step, for the implicit integrator: a mass held by sticky
+/// contact moves with its surface (all three directions); a mass resting on a surface keeps the surface's normal
+/// velocity, and its friction acts as a tangential damping. The implicit solve honours them with Baraff and Witkin's
+/// filter. Without them it would solve resting masses as if they were falling freely: the contact would stop them
+/// after the solve, while the rest of the sheet had already been moved as though they fell, and the sheet would
+/// settle in a false equilibrium full of spring stress (or, with stuck masses, sag and fold a little every step).
+/// The explicit integrators do not need them: the contact solver projects after every small substep.
+
+#include "Types.h"
+
+namespace masse
+{
+struct VelocityConstraint
+{
+    Index mass = 0;
+    /// Constrained directions: 1 normal (resting contact), or 3 (held: the normal is unused).
+    int directions = 1;
+    Vec3 normal = Vec3::UnitY();
+    Vec3 velocity = Vec3::Zero(); ///< the velocity the constrained directions must have (the surface's)
+    /// N s/m, on the tangential velocity relative to the surface: Coulomb friction of a mass in resting contact,
+    /// regularised (c = mu press / max(|slip|, v0)) so that it sits inside the solve as a damping.
+    Real tangentialDamping = 0;
+    /// Written back by the integrator after its solve: the impulse (N s) the constraint applied to the mass over the
+    /// step, from the unfiltered rows, r = A dv - b. Its normal part tells a pressed contact (positive) from one the
+    /// mass is leaving (negative); it is the contact force times the step.
+    Vec3 reaction = Vec3::Zero();
+};
+} // namespace masse

@@ -1,0 +1,67 @@
+#pragma once
+// A sheet, a Bullet environment and a contact solver wired to a simulator, for contact tests.
+
+#include "bridge/BulletEnvironment.h"
+
+#include "core/ContactSolver.h"
+#include "core/Damping.h"
+#include "core/Lattice.h"
+#include "core/Simulator.h"
+
+#include <memory>
+
+namespace masse::test
+{
+struct ContactRig
+{
+    bridge::BulletEnvironment environment;
+    std::unique_ptr<ContactSolver> contact;
+    std::unique_ptr<Simulator> simulator;
+
+    void start(MassSpringSystem sheet, IntegratorKind integrator, const ContactSettings& settings)
+    {
+        contact = std::make_unique<ContactSolver>(environment, settings);
+        SimulatorSettings simulatorSettings;
+        simulatorSettings.integrator = integrator;
+        simulator = std::make_unique<Simulator>(std::move(sheet), simulatorSettings);
+        simulator->setContactSolver(contact.get());
+    }
+    Particles& particles() { return simulator->system().particles; }
+};
+
+inline bridge::ObstacleSpec makeBox(const std::string& name, const Vec3& centre, const Vec3& half,
+                                    const Vec3& rotationDegrees = Vec3::Zero())
+{
+    bridge::ObstacleSpec spec;
+    spec.name = name;
+    spec.kind = bridge::ObstacleKind::Box;
+    spec.position = centre;
+    spec.halfExtents = half;
+    spec.orientation = bridge::rotationFromDegrees(rotationDegrees);
+    return spec;
+}
+
+/// Exact signed distance from a point to a box (negative inside), independent of Bullet.
+inline Real boxDistance(const Vec3& p, const bridge::ObstacleSpec& box)
+{
+    const Vec3 local = box.orientation.conjugate() * (p - box.position);
+    const Vec3 q = local.cwiseAbs() - box.halfExtents;
+    return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
+}
+
+/// The paper's Table 1 TRiMM sheet of N x 2 x N masses with its air damping.
+inline MassSpringSystem paperSheet(int n, Lattice* latticeOut = nullptr)
+{
+    LatticeSpec spec;
+    spec.countX = n;
+    spec.countZ = n;
+    const Lattice lattice = buildLattice(spec);
+    if (latticeOut)
+    {
+        *latticeOut = lattice;
+    }
+    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
+    return sheet;
+}
+} // namespace masse::test

@@ -1,0 +1,177 @@
+// Obstacle shapes in Bullet: faces, distances against closed forms, and refusal of bad geometry.
+
+#include "bridge/BulletEnvironment.h"
+
+#include "core/InputError.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace masse;
+using namespace masse::bridge;
+
+namespace
+{
+ObstacleSpec box(const std::string& name, const Vec3& position, const Vec3& half)
+{
+    ObstacleSpec spec;
+    spec.name = name;
+    spec.kind = ObstacleKind::Box;
+    spec.position = position;
+    spec.halfExtents = half;
+    return spec;
+}
+
+/// Exact signed distance from a point to an axis-aligned box (negative inside).
+Real boxDistance(const Vec3& p, const Vec3& centre, const Vec3& half)
+{
+    const Vec3 q = (p - centre).cwiseAbs() - half;
+    const Real outside = q.cwiseMax(0.0).norm();
+    const Real inside = std::min(q.maxCoeff(), 0.0);
+    return outside + inside;
+}
+
+std::string errorOf(const ObstacleSpec& spec)
+{
+    try
+    {
+        BulletEnvironment environment;
+        environment.addObstacle(spec);
+    }
+    catch (const InputError& e)
+    {
+        return e.what();
+    }
+    return "";
+}
+} // namespace
+
+TEST(ObstacleGeometry, BoxFacesFollowTheDocumentedOrder)
+{
+    const ObstacleGeometry g = makeObstacleGeometry(box("b", Vec3::Zero(), Vec3(1, 2, 3)));
+    ASSERT_EQ(g.faces.size(), 6u);
+    const Vec3 normals[6] = {Vec3::UnitX(),  -Vec3::UnitX(), Vec3::UnitY(),
+                             -Vec3::UnitY(), Vec3::UnitZ(),  -Vec3::UnitZ()};
+    const Real offsets[6] = {1, 1, 2, 2, 3, 3};
+    for (int f = 0; f < 6; ++f)
+    {
+        EXPECT_NEAR((g.faces[std::size_t(f)].normal - normals[f]).norm(), 0.0, 1e-12) << f;
+        EXPECT_NEAR(g.faces[std::size_t(f)].offset, offsets[f], 1e-12) << f;
+    }
+    EXPECT_EQ(g.faceAt(Vec3(0.2, 2.0, -1.0), Vec3::UnitY()), 2);
+    EXPECT_EQ(g.faceAt(Vec3(1.0, 0.5, 0.5), Vec3::UnitX()), 0);
+}
+
+TEST(ObstacleGeometry, HullOfCubeCornersHasSixFacesAndPrismFive)
+{
+    ObstacleSpec hull;
+    hull.name = "cube";
+    hull.kind = ObstacleKind::Hull;
+    for (int k = 0; k < 8; ++k)
+    {
+        hull.hullPoints.emplace_back(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
+    }
+    hull.hullPoints.emplace_back(0.1, 0.2, 0.3); // an interior point is not a vertex
+    const ObstacleGeometry cube = makeObstacleGeometry(hull);
+    EXPECT_EQ(cube.vertices.size(), 8u);
+    EXPECT_EQ(cube.faces.size(), 6u);
+
+    ObstacleSpec prism;
+    prism.name = "prism";
+    prism.kind = ObstacleKind::Prism;
+    prism.prismWidth = 2;
+    prism.prismHeight = 1;
+    prism.prismLength = 3;
+    const ObstacleGeometry wedge = makeObstacleGeometry(prism);
+    ASSERT_EQ(wedge.faces.size(), 5u);
+    EXPECT_NEAR((wedge.faces[0].normal + Vec3::UnitY()).norm(), 0.0, 1e-12);
+    EXPECT_GT(wedge.faces[1].normal.x(), 0.0);
+    EXPECT_LT(wedge.faces[2].normal.x(), 0.0);
+    EXPECT_NEAR((wedge.faces[3].normal - Vec3::UnitZ()).norm(), 0.0, 1e-12);
+}
+
+// Bullet's narrowphase against the closed-form distance to a box: outside a face, an edge and a corner, and inside.
+TEST(ObstacleGeometry, NearestSurfaceMatchesBoxDistance)
+{
+    BulletEnvironment environment;
+    const Vec3 centre(0.3, -1.0, 0.2);
+    const Vec3 half(0.5, 0.25, 0.75);
+    const int index = environment.addObstacle(box("box", centre, half));
+    const Vec3 points[] = {centre + Vec3(0.1, 0.4, 0.2), centre + Vec3(0.7, 0.4, 0.0),  centre + Vec3(0.6, 0.3, 0.9),
+                           centre + Vec3(0.1, 0.2, 0.3), centre + Vec3(0.45, 0.0, 0.0), centre + Vec3(0.0, 0.25, 0.0)};
+    for (const Vec3& p : points)
+    {
+        const SurfaceDistance d = environment.nearestSurface(p, 2.0);
+        EXPECT_EQ(d.obstacle, index);
+        EXPECT_NEAR(d.distance, boxDistance(p, centre, half), 1e-6) << p.transpose();
+    }
+    EXPECT_EQ(environment.nearestSurface(centre + Vec3(3, 0, 0), 1.0).obstacle, -1);
+    EXPECT_EQ(environment.nearestSurface(centre + Vec3(0.1, 0.4, 0.2), 1.0).face, 2); // above the top face
+}
+
+TEST(ObstacleGeometry, MeshFromObjKeepsItsFaces)
+{
+    ObstacleSpec spec;
+    spec.name = "pyramid";
+    spec.kind = ObstacleKind::Mesh;
+    spec.meshPath = std::string(MASSE_SOURCE_DIR) + "/data/meshes/pyramid.obj";
+    BulletEnvironment environment;
+    const int index = environment.addObstacle(spec);
+    const ObstacleGeometry& g = environment.obstacle(index).geometry;
+    EXPECT_FALSE(g.convex);
+    EXPECT_EQ(g.faces.size(), 5u);
+    EXPECT_EQ(g.triangleFace.size(), 6u); // the square base is two triangles
+    // Just above the apex the nearest face is a side; just below the base's middle it is the base (face 0).
+    const SurfaceDistance below = environment.nearestSurface(Vec3(0.1, -0.05, 0.1), 0.5);
+    EXPECT_EQ(below.face, 0);
+    EXPECT_NEAR(below.distance, 0.05, 1e-6);
+}
+
+TEST(ObstacleGeometry, BadObstaclesAreRefusedByName)
+{
+    ObstacleSpec flat;
+    flat.name = "flat";
+    flat.kind = ObstacleKind::Hull;
+    flat.hullPoints = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1)};
+    EXPECT_NE(errorOf(flat).find("obstacle 'flat': a hull needs at least 4 points not all in one plane"),
+              std::string::npos)
+        << errorOf(flat);
+    flat.hullPoints.resize(3);
+    EXPECT_NE(errorOf(flat).find("got 3 points"), std::string::npos);
+
+    ObstacleSpec missing;
+    missing.name = "ghost";
+    missing.kind = ObstacleKind::Mesh;
+    missing.meshPath = "/no/such/file.obj";
+    EXPECT_NE(errorOf(missing).find("obstacle 'ghost': mesh file '/no/such/file.obj' does not exist"),
+              std::string::npos);
+
+    ObstacleSpec broken = missing;
+    broken.name = "broken";
+    broken.meshPath = std::string(MASSE_SOURCE_DIR) + "/data/meshes/broken.obj";
+    EXPECT_NE(errorOf(broken).find("obstacle 'broken'"), std::string::npos) << errorOf(broken);
+
+    EXPECT_NE(errorOf(box("thin", Vec3::Zero(), Vec3(1, 0, 1))).find("half_extents.y"), std::string::npos);
+
+    BulletEnvironment environment;
+    environment.addObstacle(box("twin", Vec3::Zero(), Vec3(1, 1, 1)));
+    EXPECT_THROW(environment.addObstacle(box("twin", Vec3(5, 0, 0), Vec3(1, 1, 1))), InputError);
+
+    ContactSettings contact;
+    contact.radius = 0;
+    EXPECT_THROW(validate(contact), InputError);
+}
+
+TEST(ObstacleGeometry, RoomHasTablesFloorAndWalls)
+{
+    BulletEnvironment environment;
+    environment.addRoom(RoomSpec{});
+    EXPECT_EQ(environment.obstacleCount(), 6);
+    const int floor = environment.findObstacle("floor");
+    ASSERT_GE(floor, 0);
+    const SurfaceDistance d = environment.nearestSurface(Vec3(0, -2.5, 0), 1.0);
+    EXPECT_EQ(d.obstacle, floor);
+    EXPECT_NEAR(d.distance, 0.31, 1e-9); // floor at y = -2.81 (Table 1)
+    EXPECT_NEAR(environment.nearestSurface(Vec3(6.0, 0, 0), 1.0).distance, 0.5, 1e-9);
+}
