@@ -62,6 +62,10 @@ StepReport Simulator::step(Real dt)
     {
         m_contact->beginFrame(m_system, m_time, dt, m_integrator->honoursConstraints());
     }
+    for (StepHook* hook : m_hooks)
+    {
+        hook->beginFrame(m_system, m_time, dt);
+    }
     for (int i = 0; i < report.substeps; ++i)
     {
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
@@ -71,12 +75,21 @@ StepReport Simulator::step(Real dt)
         {
             m_contact->afterSubstep(m_system, report.substep);
         }
+        const Real substepEnd = m_time + Real(i + 1) * report.substep;
+        for (StepHook* hook : m_hooks)
+        {
+            hook->afterSubstep(m_system, report.substep, substepEnd);
+        }
     }
     m_substepCount += std::uint64_t(report.substeps);
     m_time += dt;
     if (m_contact)
     {
         m_contact->endFrame(m_system, m_time);
+    }
+    for (StepHook* hook : m_hooks)
+    {
+        hook->endFrame(m_system, m_time);
     }
     checkFinite();
     return report;

@@ -5,6 +5,7 @@
 #include "ContactSolver.h"
 #include "Integrator.h"
 #include "StabilityEstimate.h"
+#include "StepHook.h"
 
 #include <memory>
 #include <stdexcept>
@@ -54,6 +55,9 @@ public:
     /// Contact with obstacles, applied after every substep; nullptr for none. The solver must outlive its use here.
     void setContactSolver(ContactSolver* contact) { m_contact = contact; }
     ContactSolver* contactSolver() { return m_contact; }
+    /// Models advanced with the mechanics, in the order added (see StepHook.h). Each must outlive its use here.
+    void addHook(StepHook* hook) { m_hooks.push_back(hook); }
+    void clearHooks() { m_hooks.clear(); }
     Real time() const { return m_time; }
     std::uint64_t substepCount() const { return m_substepCount; }
 
@@ -67,6 +71,7 @@ private:
     SimulatorSettings m_settings;
     std::unique_ptr<Integrator> m_integrator;
     ContactSolver* m_contact = nullptr;
+    std::vector<StepHook*> m_hooks;
     Real m_time = 0;
     std::uint64_t m_substepCount = 0;
     mutable StabilityEstimate m_stability;
