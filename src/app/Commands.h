@@ -11,4 +11,6 @@ namespace masse::app
 void addLatticeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
 void addDemoCommand(CLI::App& app);
+void addRunCommand(CLI::App& app);
+void addPaperCommand(CLI::App& app);
 } // namespace masse::app

@@ -18,6 +18,8 @@ int main(int argc, char** argv)
     masse::app::addLatticeCommand(app);
     masse::app::addBenchCommand(app);
     masse::app::addDemoCommand(app);
+    masse::app::addRunCommand(app);
+    masse::app::addPaperCommand(app);
 
     try
     {

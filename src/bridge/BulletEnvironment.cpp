@@ -212,6 +212,21 @@ void BulletEnvironment::addRoom(const RoomSpec& room)
     }
 }
 
+void BulletEnvironment::extendPath(int index, const std::vector<PathKey>& keys)
+{
+    Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+    for (const PathKey& key : keys)
+    {
+        if (!obstacle.spec.path.empty() && !(key.time > obstacle.spec.path.back().time))
+        {
+            throw InputError("obstacle '" + obstacle.spec.name +
+                             "': a move's keys must come after its path's last key");
+        }
+        obstacle.spec.path.push_back(key);
+    }
+    setTime(m_time);
+}
+
 void BulletEnvironment::setTime(Real time)
 {
     m_time = time;

@@ -50,6 +50,8 @@ public:
     void addRoom(const RoomSpec& room);
 
     const Obstacle& obstacle(int index) const { return *m_obstacles[std::size_t(index)]; }
+    /// Appends keys to a kinematic obstacle's path (a scripted move); keys must come after its last one.
+    void extendPath(int index, const std::vector<PathKey>& keys);
     /// Index of the obstacle with that name, or -1.
     int findObstacle(const std::string& name) const;
     btCollisionWorld& world() { return *m_world; }

@@ -6,6 +6,7 @@
 /// and not alignment-sensitive, so they sit safely in std::vector.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry> // cross products, quaternions
 
 #include <cstdint>
 

@@ -1,0 +1,11 @@
+#pragma once
+/// Writes whole files so that a crash cannot leave a half-written one: the content goes to a temporary file in the
+/// same folder, is flushed to disk, and is renamed over the target (rename is atomic on POSIX file systems).
+
+#include <string>
+
+namespace masse::scene
+{
+/// Throws std::runtime_error naming the file if it cannot be written.
+void writeFileAtomically(const std::string& path, const std::string& content);
+} // namespace masse::scene

@@ -1,0 +1,175 @@
+#include "Runner.h"
+
+#include "AtomicFile.h"
+#include "FrameWriter.h"
+#include "Progress.h"
+
+#include "core/StateHash.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#ifndef MASSE_BUILD_TYPE
+#define MASSE_BUILD_TYPE "unknown"
+#endif
+
+namespace masse::scene
+{
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+Real seconds(Clock::duration d)
+{
+    return std::chrono::duration<Real>(d).count();
+}
+
+void writeFrame(Scene& scene, const std::string& directory, std::uint64_t step, const std::vector<Triangle>& surface)
+{
+    char name[64];
+    std::snprintf(name, sizeof(name), "frame_%06llu", static_cast<unsigned long long>(step));
+    for (const std::string& format : scene.spec().output.formats)
+    {
+        const std::string path = directory + "/" + name + "." + format;
+        if (format == "vtp")
+        {
+            FrameFields fields;
+            fields.contactObstacle = scene.contact().touchingObstacle();
+            writeFileAtomically(path, toVtp(scene.system(), surface, fields));
+        }
+        else
+        {
+            writeFileAtomically(path, toObj(scene.system(), surface, scene.spec().name));
+        }
+    }
+}
+} // namespace
+
+std::string stateHashText(const Scene& scene)
+{
+    char text[32];
+    std::snprintf(text, sizeof(text), "0x%016llx",
+                  static_cast<unsigned long long>(stateHash(scene.system().particles)));
+    return text;
+}
+
+nlohmann::json summarize(Scene& scene, Real wallSeconds)
+{
+    const SceneSpec& spec = scene.spec();
+    const Particles& p = scene.system().particles;
+    Vec3 lo = p.position.empty() ? Vec3::Zero() : p.position[0];
+    Vec3 hi = lo;
+    for (const Vec3& x : p.position)
+    {
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+    }
+    nlohmann::json events = nlohmann::json::array();
+    for (const SceneEvent& e : scene.events())
+    {
+        events.push_back({{"name", e.name}, {"object", e.object}, {"sim_time", e.simTime}, {"wall_time", e.wallTime}});
+    }
+    const LatticeSpec& lattice = spec.sheet.lattice;
+    return {
+        {"scene", spec.name},
+        {"scene_file", spec.path},
+        {"structure", structureName(lattice.structure)},
+        {"size",
+         std::to_string(lattice.countX) + "x" + std::to_string(lattice.layers) + "x" + std::to_string(lattice.countZ)},
+        {"masses", p.size()},
+        {"springs", scene.system().springCount()},
+        {"integrator", integratorName(spec.time.integrator)},
+        {"dt", spec.time.dt},
+        {"steps", scene.steps()},
+        {"substeps", scene.simulator().substepCount()},
+        {"sim_seconds", scene.time()},
+        {"wall_seconds", wallSeconds},
+        {"realtime_factor", wallSeconds > 0 ? scene.time() / wallSeconds : 0.0},
+        {"contact", contactResponseName(spec.contact.response)},
+        {"build_type", MASSE_BUILD_TYPE},
+        {"events", events},
+        {"final",
+         {{"max_penetration", scene.contact().maxPenetration(scene.system())},
+          {"kinetic_energy", scene.kineticEnergy()},
+          {"bbox_min", {lo.x(), lo.y(), lo.z()}},
+          {"bbox_max", {hi.x(), hi.y(), hi.z()}},
+          {"state_hash", stateHashText(scene)}}},
+    };
+}
+
+std::string eventsCsv(const Scene& scene)
+{
+    std::ostringstream out;
+    out << "name,object,sim_time,wall_time\n";
+    for (const SceneEvent& e : scene.events())
+    {
+        char times[64];
+        std::snprintf(times, sizeof(times), "%.6f,%.6f", e.simTime, e.wallTime);
+        // Names and objects are ours or obstacle names; quote them in case a name holds a comma.
+        out << e.name << ",\"" << e.object << "\"," << times << '\n';
+    }
+    return out.str();
+}
+
+RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progressOut)
+{
+    RunResult result;
+    const bool writing = !options.outDir.empty();
+    const int framesEvery = scene.spec().output.framesEvery;
+    const std::string frameDirectory = options.outDir + "/frames";
+    std::vector<Triangle> surface;
+    if (writing)
+    {
+        std::filesystem::create_directories(options.outDir);
+        if (framesEvery > 0)
+        {
+            std::filesystem::create_directories(frameDirectory);
+            surface = layerTriangles(scene.lattice(), 0);
+            writeFrame(scene, frameDirectory, 0, surface);
+        }
+    }
+    Progress progress(progressOut, options.terminal, scene.spec().run.duration);
+    const Clock::time_point start = Clock::now();
+    Clock::duration inStep{};
+    std::size_t eventsShown = 0;
+    std::string latest;
+    while (!scene.finished())
+    {
+        const Clock::time_point before = Clock::now();
+        scene.step();
+        inStep += Clock::now() - before;
+        if (writing && framesEvery > 0 && scene.steps() % std::uint64_t(framesEvery) == 0)
+        {
+            writeFrame(scene, frameDirectory, scene.steps(), surface);
+        }
+        if (options.showProgress)
+        {
+            for (; eventsShown < scene.events().size(); ++eventsShown)
+            {
+                const SceneEvent& e = scene.events()[eventsShown];
+                char when[32];
+                std::snprintf(when, sizeof(when), " at %.2f s", e.simTime);
+                latest = e.name + " " + e.object + when;
+            }
+            progress.update(scene.time(), seconds(Clock::now() - start), latest);
+        }
+    }
+    const Real wall = seconds(Clock::now() - start);
+    if (options.showProgress)
+    {
+        progress.finish(scene.time(), wall);
+    }
+    result.stepSeconds = seconds(inStep);
+    result.overheadSeconds = wall - result.stepSeconds;
+    result.summary = summarize(scene, wall);
+    result.summary["runner_overhead"] = result.stepSeconds > 0 ? result.overheadSeconds / result.stepSeconds : 0.0;
+    if (writing)
+    {
+        writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
+        writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
+    }
+    return result;
+}
+} // namespace masse::scene

@@ -1,0 +1,37 @@
+#pragma once
+/// Runs a scene headless to its end and writes what it did: summary.json, events.csv and, when asked, frames of the
+/// sheet (VTK .vtp and .obj), every file written atomically.
+
+#include "Scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <ostream>
+#include <string>
+
+namespace masse::scene
+{
+struct RunOptions
+{
+    std::string outDir;       ///< "" writes nothing
+    bool showProgress = true; ///< progress on `progressOut`
+    bool terminal = false;    ///< progress redrawn in place
+};
+
+struct RunResult
+{
+    nlohmann::json summary;
+    Real stepSeconds = 0;     ///< wall time inside Scene::step
+    Real overheadSeconds = 0; ///< wall time of the runner itself (progress, events, frame output)
+};
+
+/// Steps the scene until it finishes; writes into options.outDir (created if missing).
+RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progressOut);
+
+/// The summary of a scene as it stands now (see data/scenes/README.md for the fields).
+nlohmann::json summarize(Scene& scene, Real wallSeconds);
+/// The events as CSV: name,object,sim_time,wall_time.
+std::string eventsCsv(const Scene& scene);
+/// "0x" and 16 hex digits of the state hash of every mass's position and velocity.
+std::string stateHashText(const Scene& scene);
+} // namespace masse::scene

@@ -1,0 +1,150 @@
+#include "Scene.h"
+
+#include "Pins.h"
+
+#include "core/Energy.h"
+#include "core/InputError.h"
+
+namespace masse::scene
+{
+Scene::Scene(SceneSpec spec) : m_spec(std::move(spec))
+{
+    build();
+}
+
+Scene::~Scene() = default;
+
+void Scene::reset()
+{
+    build();
+}
+
+void Scene::build()
+{
+    // Tear down in dependency order before building again.
+    m_script.reset();
+    m_simulator.reset();
+    m_contact.reset();
+    m_environment.reset();
+    m_events.clear();
+    m_contactsSeen = 0;
+    m_restSince = -1;
+    m_restRecorded = false;
+    m_steps = 0;
+
+    try
+    {
+        m_lattice = buildLattice(m_spec.sheet.lattice);
+        MassSpringSystem sheet = makeSheet(m_lattice, m_spec.sheet.params);
+        sheet.forces.gravity = m_spec.environment.gravity;
+        sheet.forces.airDamping = m_spec.environment.airDampingRate;
+        sheet.forces.repulsion = m_spec.sheet.repulsion;
+        for (Index i : resolvePins(m_spec.sheet.pinned, m_lattice))
+        {
+            sheet.particles.setPinned(i, true);
+        }
+
+        m_environment = std::make_unique<bridge::BulletEnvironment>();
+        m_environment->addRoom(m_spec.environment.room);
+        for (const bridge::ObstacleSpec& obstacle : m_spec.obstacles)
+        {
+            m_environment->addObstacle(obstacle);
+        }
+        m_contact = std::make_unique<ContactSolver>(*m_environment, m_spec.contact);
+
+        SimulatorSettings settings;
+        settings.integrator = m_spec.time.integrator;
+        settings.implicit = m_spec.time.implicit;
+        settings.stabilitySafety = m_spec.time.stabilitySafety;
+        m_simulator = std::make_unique<Simulator>(std::move(sheet), settings);
+        m_simulator->setContactSolver(m_contact.get());
+        m_script = std::make_unique<ScriptRunner>(m_spec.script, m_lattice, *m_environment,
+                                                  [this](const std::string& name, const std::string& object, Real t)
+                                                  { record(name, object, t); });
+        m_simulator->addHook(m_script.get());
+    }
+    catch (const InputError& e)
+    {
+        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + e.what());
+    }
+
+    m_restPrerequisites.clear();
+    for (const std::string& name : m_spec.run.restAfterContactWith)
+    {
+        m_restPrerequisites.push_back(m_environment->findObstacle(name));
+    }
+    m_start = std::chrono::steady_clock::now();
+}
+
+Real Scene::wallSeconds() const
+{
+    return std::chrono::duration<Real>(std::chrono::steady_clock::now() - m_start).count();
+}
+
+void Scene::record(const std::string& name, const std::string& object, Real simTime)
+{
+    m_events.push_back({name, object, simTime, wallSeconds()});
+}
+
+Real Scene::eventTime(const std::string& name, const std::string& object) const
+{
+    for (const SceneEvent& e : m_events)
+    {
+        if (e.name == name && e.object == object)
+        {
+            return e.simTime;
+        }
+    }
+    return -1;
+}
+
+Real Scene::kineticEnergy() const
+{
+    return masse::kineticEnergy(system().particles);
+}
+
+StepReport Scene::step()
+{
+    const StepReport report = m_simulator->step(m_spec.time.dt);
+    ++m_steps;
+    const std::vector<ContactEvent>& contacts = m_contact->firstContacts();
+    for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)
+    {
+        const ContactEvent& c = contacts[m_contactsSeen];
+        record("contact", m_environment->obstacle(c.obstacle).spec.name, c.time);
+    }
+    updateRest();
+    return report;
+}
+
+void Scene::updateRest()
+{
+    for (int obstacle : m_restPrerequisites)
+    {
+        if (!m_contact->everTouched(obstacle))
+        {
+            m_restSince = -1;
+            return;
+        }
+    }
+    if (kineticEnergy() >= m_spec.run.restKineticEnergy)
+    {
+        m_restSince = -1;
+        return;
+    }
+    if (m_restSince < 0)
+    {
+        m_restSince = time();
+    }
+    if (!m_restRecorded && atRest())
+    {
+        m_restRecorded = true;
+        record("rest", "sheet", m_restSince);
+    }
+}
+
+bool Scene::finished() const
+{
+    return time() >= m_spec.run.duration - 1e-9 || (m_spec.run.stopAtRest && m_restRecorded);
+}
+} // namespace masse::scene

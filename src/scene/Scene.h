@@ -1,0 +1,84 @@
+#pragma once
+/// A running scene: the sheet, its obstacles in Bullet, contact, time stepping, the script, and the events so far.
+/// The headless runner, the viewer, the tests and the benchmarks all drive a scene through this class.
+
+#include "SceneSpec.h"
+#include "ScriptRunner.h"
+
+#include "bridge/BulletEnvironment.h"
+
+#include "core/ContactSolver.h"
+#include "core/Simulator.h"
+
+#include <chrono>
+#include <memory>
+
+namespace masse::scene
+{
+/// Something that happened: "contact" (the first with an obstacle; object = its name), "rest" (object "sheet"),
+/// or a script action ("grab", "release", "pin", "unpin", "gravity", "move").
+struct SceneEvent
+{
+    std::string name;
+    std::string object;
+    Real simTime = 0;  ///< s, simulated
+    Real wallTime = 0; ///< s of wall clock since the scene started
+};
+
+class Scene
+{
+public:
+    /// Builds everything the spec describes; throws InputError (prefixed with the scene's file) for an obstacle
+    /// whose geometry is bad or a mesh that will not load.
+    explicit Scene(SceneSpec spec);
+    ~Scene();
+
+    /// Advances one step of the scene's dt; returns what the simulator did.
+    StepReport step();
+    /// Starts again from the spec (used by the viewer's reset).
+    void reset();
+
+    const SceneSpec& spec() const { return m_spec; }
+    Real time() const { return m_simulator->time(); }
+    std::uint64_t steps() const { return m_steps; }
+    Simulator& simulator() { return *m_simulator; }
+    MassSpringSystem& system() { return m_simulator->system(); }
+    const MassSpringSystem& system() const { return m_simulator->system(); }
+    const Lattice& lattice() const { return m_lattice; }
+    bridge::BulletEnvironment& environment() { return *m_environment; }
+    ContactSolver& contact() { return *m_contact; }
+    const ContactSolver& contact() const { return *m_contact; }
+    const ScriptRunner& script() const { return *m_script; }
+
+    const std::vector<SceneEvent>& events() const { return m_events; }
+    /// Time of the first event with this name and object, or a negative number.
+    Real eventTime(const std::string& name, const std::string& object) const;
+    /// At rest by the spec's threshold, held long enough, after the contacts the spec asks for first.
+    bool atRest() const { return m_restSince >= 0 && time() - m_restSince >= m_spec.run.restHold - 1e-9; }
+    /// The run is over: its duration is reached, or it stops at rest and is at rest.
+    bool finished() const;
+    Real kineticEnergy() const;
+
+    /// Wall seconds since the scene started (or was reset).
+    Real wallSeconds() const;
+
+private:
+    void build();
+    void record(const std::string& name, const std::string& object, Real simTime);
+    void updateRest();
+
+    SceneSpec m_spec;
+    Lattice m_lattice;
+    std::unique_ptr<bridge::BulletEnvironment> m_environment;
+    std::unique_ptr<ContactSolver> m_contact;
+    std::unique_ptr<Simulator> m_simulator;
+    std::unique_ptr<ScriptRunner> m_script;
+    std::vector<SceneEvent> m_events;
+    std::size_t m_contactsSeen = 0;
+    std::vector<int> m_restPrerequisites;
+    Real m_restSince = -1;
+    bool m_restRecorded = false;
+    std::uint64_t m_steps = 0;
+    std::chrono::steady_clock::time_point m_start;
+};
+} // namespace masse::scene

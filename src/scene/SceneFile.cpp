@@ -1,0 +1,510 @@
+#include "SceneFile.h"
+
+#include "JsonObject.h"
+
+#include "core/Damping.h"
+#include "core/InputError.h"
+
+#include <filesystem>
+
+namespace masse::scene
+{
+namespace
+{
+/// Re-throws a core validation error ("size: ...") under the section it belongs to ("sheet.size: ...").
+template <typename Check> void within(const std::string& section, Check&& check)
+{
+    try
+    {
+        check();
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(section + "." + e.what());
+    }
+}
+
+PinSpec readPins(const JsonObject& o)
+{
+    PinSpec pins;
+    for (Real index : o.numbers("masses"))
+    {
+        if (index < 0 || index != std::floor(index))
+        {
+            o.fail("masses", "expected mass indices (whole numbers >= 0)");
+        }
+        pins.masses.push_back(Index(index));
+    }
+    for (Real corner : o.numbers("corners"))
+    {
+        if (corner != 0 && corner != 1 && corner != 2 && corner != 3)
+        {
+            o.fail("corners", "corners are 0, 1, 2, 3 (got " + std::to_string(corner) + ")");
+        }
+        pins.corners.push_back(int(corner));
+    }
+    if (const nlohmann::json* edges = o.raw("edges"))
+    {
+        if (!edges->is_array())
+        {
+            o.fail("edges", "expected a list of x_min, x_max, z_min, z_max");
+        }
+        for (const nlohmann::json& edge : *edges)
+        {
+            const std::string name = edge.is_string() ? edge.get<std::string>() : "";
+            if (name != "x_min" && name != "x_max" && name != "z_min" && name != "z_max")
+            {
+                o.fail("edges", "unknown edge " + edge.dump() + " (expected x_min, x_max, z_min, z_max)");
+            }
+            pins.edges.push_back(name);
+        }
+    }
+    o.finish();
+    return pins;
+}
+
+SheetSpec readSheet(const JsonObject& o)
+{
+    SheetSpec sheet;
+    LatticeSpec& lattice = sheet.lattice;
+    const std::string structure = o.choice("structure", "trimm", {"square2d", "samm", "slamm", "trimm"});
+    lattice.structure = parseStructure(structure);
+    within(o.pathOf("").substr(0, o.pathOf("").size() - 1), [&] { parseSize(o.string("size", "8x2x8"), lattice); });
+    lattice.minCorner = o.vec3("min", lattice.minCorner);
+    lattice.maxCorner = o.vec3("max", lattice.maxCorner);
+    within("sheet", [&] { validate(lattice); });
+
+    SheetParams& params = sheet.params;
+    params.massPerMass = o.positive("mass", params.massPerMass);
+    if (auto stiffness = o.object("stiffness"))
+    {
+        params.springClasses[0].stiffness = stiffness->positive("planar", params.springClasses[0].stiffness);
+        params.springClasses[1].stiffness = stiffness->positive("inter_layer", params.springClasses[1].stiffness);
+        stiffness->finish();
+    }
+    if (auto damping = o.object("damping"))
+    {
+        params.springClasses[0].dampingRatio = damping->number("planar", params.springClasses[0].dampingRatio, 0, 10);
+        params.springClasses[1].dampingRatio =
+            damping->number("inter_layer", params.springClasses[1].dampingRatio, 0, 10);
+        damping->finish();
+    }
+    sheet.repulsion = o.number("repulsion", 0.0, 0.0);
+    if (auto pinned = o.object("pinned"))
+    {
+        sheet.pinned = readPins(*pinned);
+    }
+    o.finish();
+    return sheet;
+}
+
+EnvironmentSpec readEnvironment(const JsonObject& o)
+{
+    EnvironmentSpec environment;
+    environment.gravity = o.vec3("gravity", environment.gravity);
+    if (o.has("air_retention") && o.has("air_damping_rate"))
+    {
+        o.fail("air_damping_rate", "give either air_retention or air_damping_rate, not both");
+    }
+    environment.airDampingRate = airDampingRate(paperAirRetention, paperTimeStep);
+    if (o.has("air_retention"))
+    {
+        const Real retention = o.number("air_retention", paperAirRetention, 1e-6, 1.0);
+        environment.airDampingRate = airDampingRate(retention, paperTimeStep);
+    }
+    environment.airDampingRate = o.number("air_damping_rate", environment.airDampingRate, 0.0);
+    if (auto room = o.object("room"))
+    {
+        bridge::RoomSpec& r = environment.room;
+        r.enabled = room->boolean("enabled", r.enabled);
+        r.minCorner = room->vec3("min", r.minCorner);
+        r.maxCorner = room->vec3("max", r.maxCorner);
+        r.wallThickness = room->positive("wall_thickness", r.wallThickness);
+        room->finish();
+        within("environment", [&] { bridge::validate(r); });
+    }
+    o.finish();
+    return environment;
+}
+
+std::vector<bridge::PathKey> readPath(const JsonObject& owner, const std::string& key)
+{
+    std::vector<bridge::PathKey> path;
+    for (const JsonObject& k : owner.objects(key))
+    {
+        bridge::PathKey pathKey;
+        pathKey.time = k.number("time", 0.0, 0.0);
+        pathKey.position = k.vec3("position");
+        pathKey.orientation = bridge::rotationFromDegrees(k.vec3("rotation_deg", Vec3::Zero()));
+        k.finish();
+        if (!path.empty() && !(pathKey.time > path.back().time))
+        {
+            owner.fail(key, "keys must come in increasing time");
+        }
+        path.push_back(pathKey);
+    }
+    return path;
+}
+
+bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory)
+{
+    bridge::ObstacleSpec spec;
+    spec.name = o.string("name");
+    const std::string type = o.choice("type", "box", {"box", "prism", "hull", "mesh"});
+    spec.position = o.vec3("position", Vec3::Zero());
+    spec.orientation = bridge::rotationFromDegrees(o.vec3("rotation_deg", Vec3::Zero()));
+    if (type == "box")
+    {
+        spec.kind = bridge::ObstacleKind::Box;
+        spec.halfExtents = o.vec3("half_extents");
+    }
+    else if (type == "prism")
+    {
+        spec.kind = bridge::ObstacleKind::Prism;
+        spec.prismWidth = o.number("width");
+        spec.prismHeight = o.number("height");
+        spec.prismLength = o.number("length");
+        spec.prismApex = o.number("apex", 0.0);
+    }
+    else if (type == "hull")
+    {
+        spec.kind = bridge::ObstacleKind::Hull;
+        spec.hullPoints = o.vec3List("points");
+    }
+    else
+    {
+        spec.kind = bridge::ObstacleKind::Mesh;
+        const std::filesystem::path file = o.string("file");
+        spec.meshPath = file.is_absolute() ? file.string() : (std::filesystem::path(baseDirectory) / file).string();
+        spec.meshScale = o.positive("scale", 1.0);
+    }
+    spec.path = readPath(o, "path");
+    o.finish();
+    return spec;
+}
+
+ContactSettings readContact(const JsonObject& o)
+{
+    ContactSettings contact;
+    contact.response = parseContactResponse(o.choice("response", "friction", {"sticky", "friction", "frictionless"}));
+    contact.radius = o.positive("radius", contact.radius);
+    contact.friction = o.number("friction", contact.friction, 0.0);
+    contact.stickReleaseForce = o.number("release_force", contact.stickReleaseForce, 0.0);
+    contact.slipRegularization = o.positive("slip_regularization", contact.slipRegularization);
+    o.finish();
+    return contact;
+}
+
+TimeSpec readTime(const JsonObject& o)
+{
+    TimeSpec time;
+    time.integrator = parseIntegrator(o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit"}));
+    time.dt = o.positive("dt", time.dt);
+    time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
+    time.implicit.tolerance = o.number("tolerance", time.implicit.tolerance, 1e-14, 0.1);
+    time.implicit.maxIterations = o.integer("max_iterations", time.implicit.maxIterations, 1, 1000000);
+    o.finish();
+    return time;
+}
+
+RunSpec readRun(const JsonObject& o)
+{
+    RunSpec run;
+    run.duration = o.positive("duration", run.duration);
+    if (const nlohmann::json* rest = o.raw("stop_at_rest"))
+    {
+        if (rest->is_boolean())
+        {
+            run.stopAtRest = rest->get<bool>();
+        }
+        else
+        {
+            const JsonObject r(*rest, o.pathOf("stop_at_rest"));
+            run.stopAtRest = r.boolean("enabled", true);
+            run.restKineticEnergy = r.positive("kinetic_energy", run.restKineticEnergy);
+            run.restHold = r.number("hold", run.restHold, 0.0);
+            if (const nlohmann::json* after = r.raw("after_contact_with"))
+            {
+                if (!after->is_array())
+                {
+                    r.fail("after_contact_with", "expected a list of obstacle names");
+                }
+                for (const nlohmann::json& name : *after)
+                {
+                    if (!name.is_string())
+                    {
+                        r.fail("after_contact_with", "expected obstacle names (got " + name.dump() + ")");
+                    }
+                    run.restAfterContactWith.push_back(name.get<std::string>());
+                }
+            }
+            r.finish();
+        }
+    }
+    o.finish();
+    return run;
+}
+
+ScriptAction readAction(const JsonObject& o)
+{
+    ScriptAction action;
+    action.time = o.number("time", 0.0, 0.0);
+    const std::string kind = o.choice("action", "grab", {"grab", "release", "pin", "unpin", "gravity", "move"});
+    action.label = o.string("label", "");
+    if (kind == "grab")
+    {
+        action.kind = ScriptAction::Kind::Grab;
+        if (o.has("mass") == o.has("near"))
+        {
+            o.fail("mass", "a grab names either a mass index (mass) or a point to grab the nearest mass to (near)");
+        }
+        action.mass = Index(o.integer("mass", 0, 0, std::numeric_limits<int>::max()));
+        action.grabNearest = o.has("near");
+        action.point = o.vec3("near", Vec3::Zero());
+        for (const JsonObject& k : o.objects("path"))
+        {
+            const Real t = k.number("time", action.time, action.time);
+            if (!action.path.empty() && !(t > action.path.back().first))
+            {
+                o.fail("path", "keys must come in increasing time");
+            }
+            action.path.emplace_back(t, k.vec3("position"));
+            k.finish();
+        }
+        if (action.path.empty())
+        {
+            o.fail("path", "a grab needs a path of at least one {\"time\", \"position\"} key");
+        }
+        action.stiffness = o.positive("stiffness", action.stiffness);
+        action.damping = o.number("damping", action.damping, 0.0);
+        action.maxForce = o.positive("max_force", action.maxForce);
+    }
+    else if (kind == "release")
+    {
+        action.kind = ScriptAction::Kind::Release;
+        action.label = o.string("grab");
+    }
+    else if (kind == "pin" || kind == "unpin")
+    {
+        action.kind = kind == "pin" ? ScriptAction::Kind::Pin : ScriptAction::Kind::Unpin;
+        action.masses = readPins(o.object("masses").value_or(JsonObject(nlohmann::json::object(), o.pathOf("masses"))));
+    }
+    else if (kind == "gravity")
+    {
+        action.kind = ScriptAction::Kind::Gravity;
+        action.vector = o.vec3("value");
+    }
+    else
+    {
+        action.kind = ScriptAction::Kind::Move;
+        action.obstacle = o.string("obstacle");
+        action.obstaclePath = readPath(o, "path");
+        if (action.obstaclePath.empty())
+        {
+            o.fail("path", "a move needs a path of at least one key");
+        }
+    }
+    o.finish();
+    return action;
+}
+
+OutputSpec readOutput(const JsonObject& o)
+{
+    OutputSpec output;
+    output.framesEvery = o.integer("frames_every", 0, 0, 1000000);
+    if (const nlohmann::json* formats = o.raw("formats"))
+    {
+        if (!formats->is_array())
+        {
+            o.fail("formats", "expected a list of vtp, obj");
+        }
+        for (const nlohmann::json& f : *formats)
+        {
+            if (!f.is_string() || (f.get<std::string>() != "vtp" && f.get<std::string>() != "obj"))
+            {
+                o.fail("formats", "unknown format " + f.dump() + " (expected vtp, obj)");
+            }
+            output.formats.push_back(f.get<std::string>());
+        }
+    }
+    else if (output.framesEvery > 0)
+    {
+        output.formats = {"vtp"};
+    }
+    o.finish();
+    return output;
+}
+
+/// Cross-checks of things that name other things: script targets, pins, contact obstacle lists.
+void checkReferences(const SceneSpec& scene, const JsonObject& top)
+{
+    const std::size_t masses = buildLattice(scene.sheet.lattice).massCount();
+    auto checkPins = [&](const PinSpec& pins, const std::string& key)
+    {
+        for (Index m : pins.masses)
+        {
+            if (m >= masses)
+            {
+                top.fail(key, "mass " + std::to_string(m) + " does not exist (the sheet has " + std::to_string(masses) +
+                                  " masses, 0 to " + std::to_string(masses - 1) + ")");
+            }
+        }
+    };
+    checkPins(scene.sheet.pinned, "sheet.pinned.masses");
+
+    std::vector<std::string> names;
+    if (scene.environment.room.enabled)
+    {
+        for (const bridge::ObstacleSpec& wall : bridge::roomObstacles(scene.environment.room))
+        {
+            names.push_back(wall.name);
+        }
+    }
+    for (const bridge::ObstacleSpec& o : scene.obstacles)
+    {
+        names.push_back(o.name);
+    }
+    auto exists = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+    for (std::size_t i = 0; i < scene.run.restAfterContactWith.size(); ++i)
+    {
+        if (!exists(scene.run.restAfterContactWith[i]))
+        {
+            top.fail("run.stop_at_rest.after_contact_with",
+                     "no obstacle is named '" + scene.run.restAfterContactWith[i] + "'");
+        }
+    }
+    std::vector<std::string> grabs;
+    for (std::size_t i = 0; i < scene.script.size(); ++i)
+    {
+        const ScriptAction& a = scene.script[i];
+        const std::string key = "script[" + std::to_string(i) + "]";
+        switch (a.kind)
+        {
+        case ScriptAction::Kind::Grab:
+            if (!a.grabNearest && a.mass >= masses)
+            {
+                top.fail(key + ".mass", "mass " + std::to_string(a.mass) + " does not exist (the sheet has " +
+                                            std::to_string(masses) + " masses)");
+            }
+            if (!a.label.empty())
+            {
+                grabs.push_back(a.label);
+            }
+            break;
+        case ScriptAction::Kind::Release:
+            if (std::find(grabs.begin(), grabs.end(), a.label) == grabs.end())
+            {
+                top.fail(key + ".grab", "no earlier grab is labelled '" + a.label + "'");
+            }
+            break;
+        case ScriptAction::Kind::Pin:
+        case ScriptAction::Kind::Unpin:
+            checkPins(a.masses, key + ".masses.masses");
+            break;
+        case ScriptAction::Kind::Move:
+            if (!exists(a.obstacle))
+            {
+                top.fail(key + ".obstacle", "no obstacle is named '" + a.obstacle + "'");
+            }
+            for (const bridge::ObstacleSpec& o : scene.obstacles)
+            {
+                if (o.name == a.obstacle && !o.isKinematic())
+                {
+                    top.fail(key + ".obstacle",
+                             "'" + a.obstacle +
+                                 "' is static: give it a \"path\" (at least one key) to make it kinematic");
+                }
+            }
+            break;
+        case ScriptAction::Kind::Gravity:
+            break;
+        }
+    }
+}
+} // namespace
+
+SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDirectory, const std::string& origin)
+{
+    if (document.is_object() && document.contains("extends"))
+    {
+        throw InputError(origin + ": extends: only scene files may extend another (use loadScene)");
+    }
+    try
+    {
+        const JsonObject top(document, "");
+        SceneSpec scene;
+        scene.name = top.string("name", std::filesystem::path(origin).stem().string());
+        scene.description = top.string("description", "");
+        scene.path = origin;
+        const nlohmann::json empty = nlohmann::json::object();
+        scene.sheet = readSheet(top.object("sheet").value_or(JsonObject(empty, "sheet")));
+        scene.environment = readEnvironment(top.object("environment").value_or(JsonObject(empty, "environment")));
+        for (const JsonObject& o : top.objects("obstacles"))
+        {
+            scene.obstacles.push_back(readObstacle(o, baseDirectory));
+        }
+        scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")));
+        scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
+        scene.run = readRun(top.object("run").value_or(JsonObject(empty, "run")));
+        for (const JsonObject& a : top.objects("script"))
+        {
+            scene.script.push_back(readAction(a));
+        }
+        scene.output = readOutput(top.object("output").value_or(JsonObject(empty, "output")));
+        top.raw("expect"); // read by the regression runner
+        top.finish();
+        checkReferences(scene, top);
+        return scene;
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(origin + ": " + e.what());
+    }
+}
+
+nlohmann::json readSceneDocument(const std::string& path, int depth)
+{
+    nlohmann::json document = readJsonFile(path);
+    if (!document.is_object() || !document.contains("extends"))
+    {
+        return document;
+    }
+    // "extends": a base scene this file patches (RFC 7386 merge patch: keys given here replace the base's).
+    if (!document["extends"].is_string())
+    {
+        throw InputError(path + ": extends: expected the path of a base scene file");
+    }
+    if (depth > 8)
+    {
+        throw InputError(path + ": extends: too many levels (a loop?)");
+    }
+    const std::filesystem::path base =
+        std::filesystem::path(path).parent_path() / document["extends"].get<std::string>();
+    nlohmann::json merged = readSceneDocument(base.string(), depth + 1);
+    // Relative mesh paths of the base stay relative to the base's folder.
+    if (merged.contains("obstacles") && merged["obstacles"].is_array())
+    {
+        for (nlohmann::json& obstacle : merged["obstacles"])
+        {
+            if (obstacle.is_object() && obstacle.contains("file") && obstacle["file"].is_string() &&
+                std::filesystem::path(obstacle["file"].get<std::string>()).is_relative())
+            {
+                obstacle["file"] = std::filesystem::relative(base.parent_path() / obstacle["file"].get<std::string>(),
+                                                             std::filesystem::path(path).parent_path())
+                                       .string();
+            }
+        }
+    }
+    merged.erase("expect");
+    nlohmann::json patch = document;
+    patch.erase("extends");
+    merged.merge_patch(patch);
+    return merged;
+}
+
+SceneSpec loadScene(const std::string& path)
+{
+    const nlohmann::json document = readSceneDocument(path, 0);
+    return parseScene(document, std::filesystem::path(path).parent_path().string(), path);
+}
+} // namespace masse::scene

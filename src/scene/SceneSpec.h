@@ -1,0 +1,114 @@
+#pragma once
+/// Everything a scene file says: the sheet, the environment, the obstacles, contact, time stepping, the run and its
+/// script. One description serves the headless runner, the viewer, the comparison with Bullet, the tests and the
+/// benchmarks. Keys, units, defaults and ranges: data/scenes/README.md.
+
+#include "bridge/ObstacleSpec.h"
+#include "bridge/Room.h"
+
+#include "core/Contact.h"
+#include "core/Integrator.h"
+#include "core/Lattice.h"
+#include "core/MassSpringSystem.h"
+
+#include <string>
+#include <vector>
+
+namespace masse::scene
+{
+/// Masses to pin, by index or by where they are in the lattice.
+struct PinSpec
+{
+    std::vector<Index> masses;      ///< mass indices
+    std::vector<int> corners;       ///< 0..3, bottom layer, in Lattice::bottomCorners() order
+    std::vector<std::string> edges; ///< "x_min", "x_max", "z_min", "z_max": every layer's masses on that edge
+};
+
+struct SheetSpec
+{
+    LatticeSpec lattice;
+    SheetParams params;
+    Real repulsion = 0; ///< N m^2, k_r of the compression repulsion (0: off)
+    PinSpec pinned;
+};
+
+struct EnvironmentSpec
+{
+    Vec3 gravity = Vec3(0, -standardGravity, 0); ///< m/s^2
+    Real airDampingRate = 0;                     ///< 1/s (drag f = -c m v)
+    bridge::RoomSpec room;
+};
+
+struct TimeSpec
+{
+    IntegratorKind integrator = IntegratorKind::SymplecticEuler;
+    Real dt = 0.03;             ///< s, the step asked for (explicit integrators substep it)
+    Real stabilitySafety = 0.5; ///< explicit integrators: fraction of the estimated stable step
+    ImplicitSettings implicit;
+};
+
+/// When the run ends.
+struct RunSpec
+{
+    Real duration = 10;            ///< s of simulated time at most
+    bool stopAtRest = true;        ///< stop once at rest (after every other expected stage)
+    Real restKineticEnergy = 1e-5; ///< J, the sheet is at rest below this total kinetic energy...
+    Real restHold = 0.5;           ///< s ...held this long
+    /// Obstacles the sheet must have touched before rest may end the run (the paper's stages: rest comes last).
+    std::vector<std::string> restAfterContactWith;
+};
+
+/// One scripted action at a time.
+struct ScriptAction
+{
+    enum class Kind
+    {
+        Grab,    ///< a dynamic spring from a mass to a point that follows `path`
+        Release, ///< removes a grab's spring
+        Pin,
+        Unpin,
+        Gravity, ///< sets gravity to `vector`
+        Move,    ///< moves a kinematic obstacle along `obstaclePath` (times absolute)
+    };
+    Kind kind = Kind::Grab;
+    Real time = 0;     ///< s
+    std::string label; ///< names a grab, for its release and in events
+    // Grab
+    bool grabNearest = false; ///< grab the mass nearest `point` (else `mass`)
+    Index mass = 0;
+    Vec3 point = Vec3::Zero();
+    std::vector<std::pair<Real, Vec3>> path; ///< (time s, target m); the first key defaults to the grab's time
+    Real stiffness = 5;                      ///< N/m
+    Real damping = 0.05;                     ///< N s/m
+    Real maxForce = 1;                       ///< N, the pull's cap
+    // Pin / Unpin
+    PinSpec masses;
+    // Gravity
+    Vec3 vector = Vec3::Zero();
+    // Move
+    std::string obstacle;
+    std::vector<bridge::PathKey> obstaclePath;
+};
+
+/// What the outputs of a run contain.
+struct OutputSpec
+{
+    int framesEvery = 0;              ///< write the sheet every k steps (0: never)
+    std::vector<std::string> formats; ///< "vtp", "obj"
+};
+
+struct SceneSpec
+{
+    std::string name;
+    std::string description;
+    std::string path; ///< the file it was read from ("" if built in code)
+    SheetSpec sheet;
+    EnvironmentSpec environment;
+    std::vector<bridge::ObstacleSpec> obstacles;
+    ContactSettings contact;
+    TimeSpec time;
+    RunSpec run;
+    std::vector<ScriptAction> script;
+    OutputSpec output;
+};
+} // namespace masse::scene

@@ -1,0 +1,146 @@
+#include "ScriptRunner.h"
+
+#include "Pins.h"
+
+#include <algorithm>
+#include <limits>
+
+namespace masse::scene
+{
+Index nearestMass(const Particles& particles, const Vec3& point)
+{
+    Index best = 0;
+    Real bestDistance = std::numeric_limits<Real>::infinity();
+    for (std::size_t i = 0; i < particles.size(); ++i)
+    {
+        const Real d = (particles.position[i] - point).squaredNorm();
+        if (d < bestDistance)
+        {
+            bestDistance = d;
+            best = Index(i);
+        }
+    }
+    return best;
+}
+
+ScriptRunner::ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice,
+                           bridge::BulletEnvironment& environment, EventSink sink)
+    : m_actions(std::move(actions)), m_lattice(lattice), m_environment(environment), m_sink(std::move(sink))
+{
+    // Fire in time order; actions at the same time keep the file's order.
+    std::stable_sort(m_actions.begin(), m_actions.end(),
+                     [](const ScriptAction& a, const ScriptAction& b) { return a.time < b.time; });
+}
+
+void ScriptRunner::aim(UserSpring& spring, const ScriptAction& action, Real time)
+{
+    const auto& path = action.path;
+    if (time <= path.front().first)
+    {
+        spring.target = path.front().second;
+        spring.targetVelocity.setZero();
+        return;
+    }
+    for (std::size_t k = 0; k + 1 < path.size(); ++k)
+    {
+        const auto& [t0, p0] = path[k];
+        const auto& [t1, p1] = path[k + 1];
+        if (time < t1)
+        {
+            spring.targetVelocity = (p1 - p0) / (t1 - t0);
+            spring.target = p0 + (time - t0) * spring.targetVelocity;
+            return;
+        }
+    }
+    spring.target = path.back().second;
+    spring.targetVelocity.setZero();
+}
+
+void ScriptRunner::fire(MassSpringSystem& system, const ScriptAction& action, Real time)
+{
+    switch (action.kind)
+    {
+    case ScriptAction::Kind::Grab:
+    {
+        const Index mass = action.grabNearest ? nearestMass(system.particles, action.point) : action.mass;
+        UserSpring spring;
+        spring.mass = mass;
+        spring.stiffness = action.stiffness;
+        spring.damping = action.damping;
+        spring.maxForce = action.maxForce;
+        aim(spring, action, time);
+        const UserSpringId id = system.userSprings.add(spring);
+        m_grabs.push_back({action.label, id, mass, &action});
+        system.markChanged();
+        m_sink("grab", action.label.empty() ? "mass " + std::to_string(mass) : action.label, time);
+        break;
+    }
+    case ScriptAction::Kind::Release:
+        for (auto it = m_grabs.begin(); it != m_grabs.end(); ++it)
+        {
+            if (it->label == action.label)
+            {
+                system.userSprings.remove(it->spring);
+                m_grabs.erase(it);
+                system.markChanged();
+                m_sink("release", action.label, time);
+                break;
+            }
+        }
+        break;
+    case ScriptAction::Kind::Pin:
+    case ScriptAction::Kind::Unpin:
+    {
+        const bool pin = action.kind == ScriptAction::Kind::Pin;
+        const std::vector<Index> masses = resolvePins(action.masses, m_lattice);
+        for (Index i : masses)
+        {
+            system.particles.setPinned(i, pin);
+        }
+        system.markChanged();
+        m_sink(pin ? "pin" : "unpin", std::to_string(masses.size()) + " masses", time);
+        break;
+    }
+    case ScriptAction::Kind::Gravity:
+        system.forces.gravity = action.vector;
+        system.markChanged();
+        m_sink("gravity", "sheet", time);
+        break;
+    case ScriptAction::Kind::Move:
+        m_environment.extendPath(m_environment.findObstacle(action.obstacle), action.obstaclePath);
+        m_sink("move", action.obstacle, time);
+        break;
+    }
+}
+
+void ScriptRunner::beginFrame(MassSpringSystem& system, Real time, Real /*dt*/)
+{
+    // A small tolerance so an action at t = 0.3 fires at the frame that starts at 0.29999999999999999.
+    while (m_next < m_actions.size() && m_actions[m_next].time <= time + 1e-9)
+    {
+        fire(system, m_actions[m_next], time);
+        ++m_next;
+    }
+}
+
+void ScriptRunner::afterSubstep(MassSpringSystem& system, Real /*h*/, Real time)
+{
+    for (const Grab& grab : m_grabs)
+    {
+        if (UserSpring* spring = system.userSprings.find(grab.spring))
+        {
+            aim(*spring, *grab.action, time);
+        }
+    }
+}
+
+std::vector<std::pair<Index, UserSpringId>> ScriptRunner::activeGrabs() const
+{
+    std::vector<std::pair<Index, UserSpringId>> result;
+    for (const Grab& grab : m_grabs)
+    {
+        result.emplace_back(grab.mass, grab.spring);
+    }
+    return result;
+}
+} // namespace masse::scene

@@ -1,0 +1,51 @@
+#pragma once
+/// Plays a scene's script: each action fires at the start of the first frame at or after its time; a grab's target
+/// follows its path smoothly, updated every substep.
+
+#include "SceneSpec.h"
+
+#include "bridge/BulletEnvironment.h"
+
+#include "core/StepHook.h"
+
+#include <functional>
+
+namespace masse::scene
+{
+/// Receives events: a name ("grab", "release", "pin", "unpin", "gravity", "move"), the object concerned, a time.
+using EventSink = std::function<void(const std::string& name, const std::string& object, Real time)>;
+
+class ScriptRunner final : public StepHook
+{
+public:
+    ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice, bridge::BulletEnvironment& environment,
+                 EventSink sink);
+
+    void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
+    void afterSubstep(MassSpringSystem& system, Real h, Real time) override;
+
+    /// The mass a grab holds now, or -1 (for drawing).
+    std::vector<std::pair<Index, UserSpringId>> activeGrabs() const;
+
+private:
+    struct Grab
+    {
+        std::string label;
+        UserSpringId spring;
+        Index mass;
+        const ScriptAction* action;
+    };
+    void fire(MassSpringSystem& system, const ScriptAction& action, Real time);
+    static void aim(UserSpring& spring, const ScriptAction& action, Real time);
+
+    std::vector<ScriptAction> m_actions;
+    std::size_t m_next = 0;
+    const Lattice& m_lattice;
+    bridge::BulletEnvironment& m_environment;
+    EventSink m_sink;
+    std::vector<Grab> m_grabs;
+};
+
+/// The mass of the sheet nearest a point.
+Index nearestMass(const Particles& particles, const Vec3& point);
+} // namespace masse::scene
