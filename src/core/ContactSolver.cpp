@@ -114,6 +114,7 @@ void ContactSolver::resizeFor(std::size_t masses)
     m_restingObstacle.assign(masses, -1);
     m_restingFace.assign(masses, -1);
     m_restingConstraint.assign(masses, 0);
+    m_restingPlane.assign(masses, 0);
     m_lastReaction.assign(masses, Vec3::Zero());
     m_wasResting.assign(masses, 0);
     m_reach.assign(masses, 0);
@@ -166,8 +167,9 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
         }
     }
     const Real touchTolerance = Real(1e-6) * m_settings.radius;
-    for (const ContactPlane& plane : m_planes)
+    for (std::size_t k = 0; k < m_planes.size(); ++k)
     {
+        const ContactPlane& plane = m_planes[k];
         const Index i = plane.mass;
         if (m_stuck[i] || m_resting[i] || p.pinned[i])
         {
@@ -188,10 +190,18 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
         Real damping = 0;
         if (m_settings.response == ContactResponse::Friction)
         {
-            const Real slip = (relative - relative.dot(plane.normal) * plane.normal).norm();
-            damping = m_settings.friction * press / std::max(slip, m_settings.slipRegularization);
+            // The slip the damping is sized for: the current one, or, for a mass at rest pushed harder than
+            // friction holds, the slip the excess push gives it within the frame. With the latter the first step
+            // of a slide already has Coulomb's acceleration instead of creeping up from the regularisation speed.
+            const Real limit = m_settings.friction * press;
+            const Real push = (p.force[i] + press * plane.normal).norm();
+            const Real slip =
+                std::max({(relative - relative.dot(plane.normal) * plane.normal).norm(),
+                          dt * std::max(Real(0), push - limit) * p.inverseMass[i], m_settings.slipRegularization});
+            damping = limit / slip;
         }
         m_restingConstraint[i] = system.constraints.size();
+        m_restingPlane[i] = k;
         system.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
         m_resting[i] = 1;
         m_restingNormal[i] = plane.normal;
@@ -263,10 +273,12 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
     }
 
     const Real touchTolerance = Real(1e-6) * radius;
-    for (const ContactPlane& plane : m_planes)
+    for (std::size_t k = 0; k < m_planes.size(); ++k)
     {
+        const ContactPlane& plane = m_planes[k];
         const Index i = plane.mass;
-        if (p.pinned[i] || m_stuck[i] || m_resting[i])
+        // A resting mass was kept on its own surface by the solve; any other surface it meets is handled here.
+        if (p.pinned[i] || m_stuck[i] || (m_resting[i] && m_restingPlane[i] == k))
         {
             continue;
         }

@@ -84,6 +84,7 @@ private:
     std::vector<int> m_restingObstacle;
     std::vector<int> m_restingFace;
     std::vector<std::size_t> m_restingConstraint; ///< index into MassSpringSystem::constraints
+    std::vector<std::size_t> m_restingPlane;      ///< index into m_planes of the surface it rests on
     std::vector<Vec3> m_lastReaction;             ///< N s, from the previous frame's solve
     std::vector<std::uint8_t> m_wasResting;
     Real m_frameTime = 0;

@@ -35,6 +35,15 @@ void Scene::build()
     try
     {
         m_lattice = buildLattice(m_spec.sheet.lattice);
+        if (m_spec.sheet.rotationDegrees != Vec3::Zero())
+        {
+            const Vec3 centre = 0.5 * (m_spec.sheet.lattice.minCorner + m_spec.sheet.lattice.maxCorner);
+            const auto turn = bridge::rotationFromDegrees(m_spec.sheet.rotationDegrees);
+            for (Vec3& x : m_lattice.position)
+            {
+                x = centre + turn * (x - centre);
+            }
+        }
         MassSpringSystem sheet = makeSheet(m_lattice, m_spec.sheet.params);
         sheet.forces.gravity = m_spec.environment.gravity;
         sheet.forces.airDamping = m_spec.environment.airDampingRate;

@@ -90,6 +90,7 @@ SheetSpec readSheet(const JsonObject& o)
         damping->finish();
     }
     sheet.repulsion = o.number("repulsion", 0.0, 0.0);
+    sheet.rotationDegrees = o.vec3("rotation_deg", Vec3::Zero());
     if (auto pinned = o.object("pinned"))
     {
         sheet.pinned = readPins(*pinned);

@@ -29,6 +29,8 @@ struct SheetSpec
     LatticeSpec lattice;
     SheetParams params;
     Real repulsion = 0; ///< N m^2, k_r of the compression repulsion (0: off)
+    /// Degrees about x, then y, then z (fixed axes), turning the sheet about the centre of its box.
+    Vec3 rotationDegrees = Vec3::Zero();
     PinSpec pinned;
 };
 
