@@ -1,0 +1,80 @@
+#include "SoftBodyTwinSettings.h"
+
+#include "core/InputError.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace masse::bridge
+{
+namespace
+{
+std::string number(Real value)
+{
+    std::ostringstream text;
+    text << value;
+    return text.str();
+}
+
+/// Requires lo <= value <= hi, with either end excluded when asked; NaN fails every test.
+void requireRange(const char* field, Real value, Real lo, bool loOpen, Real hi, bool hiOpen)
+{
+    const bool aboveLo = loOpen ? value > lo : value >= lo;
+    const bool belowHi = hiOpen ? value < hi : value <= hi;
+    if (!(aboveLo && belowHi))
+    {
+        throw InputError(std::string("bullet.") + field + " must be in " + (loOpen ? "(" : "[") + number(lo) + ", " +
+                         number(hi) + (hiOpen ? ")" : "]") + " (got " + number(value) + ")");
+    }
+}
+
+void requireCount(const char* field, int value, int lo, int hi)
+{
+    if (value < lo || value > hi)
+    {
+        throw InputError(std::string("bullet.") + field + " must be an integer in [" + std::to_string(lo) + ", " +
+                         std::to_string(hi) + "] (got " + std::to_string(value) + ")");
+    }
+}
+} // namespace
+
+void validate(const SoftBodyTwinSettings& settings)
+{
+    if (settings.kLST)
+    {
+        requireRange("kLST", *settings.kLST, 0, true, 1, false);
+    }
+    if (settings.kDP)
+    {
+        requireRange("kDP", *settings.kDP, 0, false, 1, true);
+    }
+    if (settings.kDF)
+    {
+        requireRange("kDF", *settings.kDF, 0, false, 1, false);
+    }
+    requireRange("kCHR", settings.kCHR, 0, false, 1, false);
+    requireRange("kKHR", settings.kKHR, 0, false, 1, false);
+    if (settings.margin)
+    {
+        requireRange("margin", *settings.margin, 0, true, 1, false);
+    }
+    requireCount("piterations", settings.piterations, 1, 1000);
+    requireCount("substeps", settings.substeps, 1, 10000);
+    requireRange("sdfCellSize", settings.sdfCellSize, 0.001, false, 1, false);
+    if (settings.collisions == "CL_RS")
+    {
+        throw InputError("bullet.collisions CL_RS is not supported: cluster collision needs the sheet cut into "
+                         "clusters and reports contact per cluster, not per node; use SDF_RS");
+    }
+    if (settings.collisions.rfind("SDF_RD", 0) == 0)
+    {
+        throw InputError("bullet.collisions " + settings.collisions +
+                         " is not supported: it belongs to btDeformableMultiBodyDynamicsWorld, not to the classic "
+                         "soft body the twin uses; use SDF_RS");
+    }
+    if (settings.collisions != "SDF_RS")
+    {
+        throw InputError("bullet.collisions must be SDF_RS (got '" + settings.collisions + "')");
+    }
+}
+} // namespace masse::bridge
