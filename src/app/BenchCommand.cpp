@@ -4,7 +4,11 @@
 
 #include "Commands.h"
 
+#include "bridge/BulletEnvironment.h"
+
+#include "core/ContactSolver.h"
 #include "core/Damping.h"
+#include "core/Forces.h"
 #include "core/InputError.h"
 #include "core/Lattice.h"
 #include "core/Simulator.h"
@@ -16,6 +20,7 @@
 #include <chrono>
 #include <iostream>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 namespace masse::app
@@ -30,6 +35,7 @@ struct BenchOptions
     int steps = 5;
     int repeat = 5;
     double dt = 0.03; // the paper's step; explicit integrators split it into stable substeps
+    bool contact = false;
 };
 
 void runBench(const BenchOptions& options)
@@ -57,8 +63,33 @@ void runBench(const BenchOptions& options)
     settings.integrator = kind;
     Simulator simulator(std::move(sheet), settings);
 
+    // With --contact the sheet rests on two boxes (one under each half, a 0.1 m gap between them) in the room.
+    bridge::BulletEnvironment environment;
+    ContactSettings contactSettings;
+    std::unique_ptr<ContactSolver> contact;
+    if (options.contact)
+    {
+        environment.addRoom(bridge::RoomSpec{});
+        const Real top = spec.minCorner.y() - contactSettings.radius;
+        bridge::ObstacleSpec box;
+        box.kind = bridge::ObstacleKind::Box;
+        box.halfExtents = Vec3(0.4, 0.5, 0.8);
+        box.name = "left";
+        box.position = Vec3(-0.1, top - 0.5, 0.3);
+        environment.addObstacle(box);
+        box.name = "right";
+        box.position = Vec3(0.75, top - 0.5, 0.3);
+        environment.addObstacle(box);
+        contact = std::make_unique<ContactSolver>(environment, contactSettings);
+        simulator.setContactSolver(contact.get());
+    }
+
     const Real dt = options.dt;
-    simulator.step(dt); // warm-up: first-touch of arrays, the implicit solver's pattern
+    simulator.step(dt);
+    if (contact)
+    {
+        contact->timingsReset();
+    } // warm-up: first-touch of arrays, the implicit solver's pattern
 
     // Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander.
     std::vector<double> rates;
@@ -78,6 +109,35 @@ void runBench(const BenchOptions& options)
         substeps = simulator.substepCount() - substepsBefore;
         walls.push_back(wall);
         rates.push_back(springs * double(substeps) / wall);
+    }
+    // The share of contact: its own clock against the whole step, and against the spring forces alone, timed on
+    // the final state for as many evaluations as the last round made.
+    nlohmann::json contactFigures;
+    if (contact)
+    {
+        const double contactSeconds = contact->timings().total();
+        const double allSeconds = std::accumulate(walls.begin(), walls.end(), 0.0);
+        std::vector<Vec3> force(simulator.system().massCount(), Vec3::Zero());
+        const MassSpringSystem& system = simulator.system();
+        const auto springStart = std::chrono::steady_clock::now();
+        for (std::uint64_t i = 0; i < substeps; ++i)
+        {
+            accumulateSpringForces(system.springs, system.forces.repulsion, system.particles.position,
+                                   system.particles.velocity, force);
+        }
+        const double springSeconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - springStart).count() *
+            double(options.repeat);
+        contactFigures = {
+            {"contact_seconds", contactSeconds},
+            {"contact_share_of_step", contactSeconds / allSeconds},
+            {"spring_force_seconds", springSeconds},
+            {"contact_over_spring_forces", contactSeconds / springSeconds},
+            {"touching_masses", contact->touchingCount()},
+            {"detection_seconds", contact->timings().detection},
+            {"projection_seconds", contact->timings().projection},
+            {"sweep_seconds", contact->timings().sweep},
+        };
     }
     std::vector<double> sortedWalls = walls;
     std::sort(sortedWalls.begin(), sortedWalls.end());
@@ -101,6 +161,10 @@ void runBench(const BenchOptions& options)
         {"realtime_factor", double(options.steps) * dt / wall},
         {"round_wall_seconds", walls},
     };
+    if (contact)
+    {
+        out["contact"] = contactFigures;
+    }
     if (!isExplicit(kind))
     {
         out["solver_iterations_per_step"] = double(solverIterations) / double(options.steps * options.repeat);
@@ -123,6 +187,8 @@ void addBenchCommand(CLI::App& app)
         ->capture_default_str();
     command->add_option("--dt", options->dt, "Step in seconds (explicit integrators substep it)")
         ->capture_default_str();
+    command->add_flag("--contact", options->contact,
+                      "Rest the sheet on two boxes and report the share of step time spent on contact");
     command->callback([options] { runBench(*options); });
 }
 } // namespace masse::app

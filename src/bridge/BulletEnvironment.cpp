@@ -321,6 +321,9 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
         {
             closestFeatures(index, x[i], radius, searchDistance, features);
             const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+            // The surface's mean velocity over the frame, so a path that starts or stops within it is followed.
+            const Motion motion =
+                obstacle.spec.isKinematic() && dt > 0 ? averageMotion(obstacle.spec, m_time, m_time + dt) : Motion{};
             for (const Closest& feature : features)
             {
                 ContactPlane plane;
@@ -329,7 +332,7 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
                 plane.face = feature.face;
                 plane.normal = feature.normal;
                 plane.offset = feature.normal.dot(feature.point);
-                plane.velocity = obstacle.motion.at(feature.point, obstacle.pose.position);
+                plane.velocity = motion.at(feature.point, obstacle.pose.position);
                 out.push_back(plane);
             }
         }

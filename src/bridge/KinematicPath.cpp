@@ -42,6 +42,21 @@ Pose poseAt(const ObstacleSpec& spec, Real t)
     return {a.position + s * (b.position - a.position), a.orientation.slerp(s, b.orientation)};
 }
 
+Motion averageMotion(const ObstacleSpec& spec, Real t0, Real t1)
+{
+    Motion motion;
+    const Pose a = poseAt(spec, t0);
+    const Pose b = poseAt(spec, t1);
+    motion.linear = (b.position - a.position) / (t1 - t0);
+    const Eigen::AngleAxis<Real> turn(b.orientation * a.orientation.inverse());
+    motion.angular = turn.axis() * (turn.angle() / (t1 - t0));
+    if (!motion.angular.allFinite())
+    {
+        motion.angular.setZero();
+    }
+    return motion;
+}
+
 Motion motionAt(const ObstacleSpec& spec, Real t)
 {
     Motion motion;

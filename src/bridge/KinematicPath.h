@@ -23,4 +23,7 @@ struct Motion
 Pose poseAt(const ObstacleSpec& spec, Real t);
 /// The velocity at time t: that of the path segment containing t, zero before the first and after the last key.
 Motion motionAt(const ObstacleSpec& spec, Real t);
+/// The mean velocity from t0 to t1 (> t0): the pose change over the interval, so a motion that starts or stops
+/// within it is not missed.
+Motion averageMotion(const ObstacleSpec& spec, Real t0, Real t1);
 } // namespace masse::bridge

@@ -3,6 +3,7 @@
 #include "InputError.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -10,6 +11,20 @@ namespace masse
 {
 namespace
 {
+/// Adds the wall time of its scope to a counter.
+class ScopeTimer
+{
+public:
+    explicit ScopeTimer(double& total) : m_total(total), m_start(std::chrono::steady_clock::now()) {}
+    ~ScopeTimer() { m_total += std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
+    ScopeTimer(const ScopeTimer&) = delete;
+    ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+private:
+    double& m_total;
+    std::chrono::steady_clock::time_point m_start;
+};
+
 struct ResponseName
 {
     ContactResponse response;
@@ -122,6 +137,7 @@ void ContactSolver::resizeFor(std::size_t masses)
 
 void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, bool constrain)
 {
+    const ScopeTimer timer(m_timings.detection);
     const Particles& p = system.particles;
     const std::size_t n = p.size();
     resizeFor(n);
@@ -155,6 +171,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     system.constraints.clear();
     m_wasResting.swap(m_resting);
     std::fill(m_resting.begin(), m_resting.end(), std::uint8_t(0));
+    m_restingMasses.clear();
     if (!constrain)
     {
         return;
@@ -204,6 +221,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
         m_restingPlane[i] = k;
         system.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
         m_resting[i] = 1;
+        m_restingMasses.push_back(i);
         m_restingNormal[i] = plane.normal;
         m_restingVelocity[i] = plane.velocity;
         m_restingDamping[i] = damping;
@@ -212,22 +230,15 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     }
 }
 
-void ContactSolver::touch(Index mass, int obstacle, int face)
+void ContactSolver::recordFirstContact(int obstacle)
 {
-    if (m_touchObstacle[mass] < 0)
-    {
-        m_touchObstacle[mass] = obstacle;
-        m_touchFace[mass] = face;
-    }
-    if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() && !m_obstacleTouched[std::size_t(obstacle)])
-    {
-        m_obstacleTouched[std::size_t(obstacle)] = 1;
-        m_firstContacts.push_back({obstacle, m_frameTime + m_elapsed});
-    }
+    m_obstacleTouched[std::size_t(obstacle)] = 1;
+    m_firstContacts.push_back({obstacle, m_frameTime + m_elapsed});
 }
 
 void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
 {
+    const ScopeTimer timer(m_timings.projection);
     Particles& p = system.particles;
     m_elapsed += h;
     const Real radius = m_settings.radius;
@@ -235,7 +246,7 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
 
     // Stuck masses hold their anchors (moving with a kinematic surface) until the pull off the surface exceeds the
     // release force. The pull is the total force of this substep's evaluation, along the surface normal.
-    if (sticky)
+    if (sticky && m_anyStuck)
     {
         for (std::size_t i = 0; i < p.size(); ++i)
         {
@@ -259,9 +270,9 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
 
     // Resting masses were handled inside the implicit solve: their contact impulse is the solve's reaction plus the
     // friction it applied as a damping.
-    for (std::size_t i = 0; i < p.size(); ++i)
+    for (const Index i : m_restingMasses)
     {
-        if (!m_resting[i] || m_stuck[i])
+        if (m_stuck[i])
         {
             continue;
         }
@@ -277,13 +288,22 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
     {
         const ContactPlane& plane = m_planes[k];
         const Index i = plane.mass;
-        // A resting mass was kept on its own surface by the solve; any other surface it meets is handled here.
-        if (p.pinned[i] || m_stuck[i] || (m_resting[i] && m_restingPlane[i] == k))
+        if (p.pinned[i] || m_stuck[i])
         {
             continue;
         }
         const Real offset = plane.offset + plane.normal.dot(plane.velocity) * m_elapsed;
         const Real separation = plane.normal.dot(p.position[i]) - offset - radius;
+        if (m_resting[i] && m_restingPlane[i] == k)
+        {
+            // The solve kept this resting mass moving with its surface; only a position error is left to mend
+            // (say, a surface that started moving within the last frame).
+            if (separation < 0)
+            {
+                p.position[i] -= separation * plane.normal;
+            }
+            continue;
+        }
         if (separation >= touchTolerance)
         {
             continue;
@@ -327,6 +347,7 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
         if (sticky)
         {
             m_stuck[i] = 1;
+            m_anyStuck = true;
             m_anchor[i] = p.position[i];
             m_stuckNormal[i] = plane.normal;
             m_stuckVelocity[i] = plane.velocity;
@@ -338,6 +359,7 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
 
 void ContactSolver::endFrame(MassSpringSystem& system, Real time)
 {
+    const ScopeTimer timer(m_timings.sweep);
     system.constraints.clear();
     Particles& p = system.particles;
     const Real radius = m_settings.radius;

@@ -19,6 +19,15 @@
 
 namespace masse
 {
+/// Wall-clock seconds the contact solver has spent, by phase (for benchmarks).
+struct ContactTimings
+{
+    double detection = 0;  ///< finding planes with the detector, once per frame
+    double projection = 0; ///< applying planes after every substep
+    double sweep = 0;      ///< the end-of-frame sweep and reports
+    double total() const { return detection + projection + sweep; }
+};
+
 /// The first contact of the sheet with one obstacle.
 struct ContactEvent
 {
@@ -64,9 +73,26 @@ public:
     Real maxPenetration(const MassSpringSystem& system);
     /// Releases every stuck mass (for a reset or a change of response).
     void releaseAll();
+    const ContactTimings& timings() const { return m_timings; }
+    void timingsReset() { m_timings = {}; }
 
 private:
-    void touch(Index mass, int obstacle, int face);
+    /// Records that a mass touches an obstacle this frame (called for every active contact of every substep, so
+    /// it stays inline and cheap: the first-contact event is the rare path).
+    void touch(Index mass, int obstacle, int face)
+    {
+        if (m_touchObstacle[mass] < 0)
+        {
+            m_touchObstacle[mass] = obstacle;
+            m_touchFace[mass] = face;
+        }
+        if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
+            !m_obstacleTouched[std::size_t(obstacle)])
+        {
+            recordFirstContact(obstacle);
+        }
+    }
+    void recordFirstContact(int obstacle);
     void resizeFor(std::size_t masses);
 
     ContactDetector& m_detector;
@@ -87,6 +113,8 @@ private:
     std::vector<std::size_t> m_restingPlane;      ///< index into m_planes of the surface it rests on
     std::vector<Vec3> m_lastReaction;             ///< N s, from the previous frame's solve
     std::vector<std::uint8_t> m_wasResting;
+    std::vector<Index> m_restingMasses;
+    bool m_anyStuck = false;
     Real m_frameTime = 0;
     Real m_frameDt = 0;
     Real m_elapsed = 0;
@@ -104,6 +132,7 @@ private:
     std::vector<std::pair<int, int>> m_touchedFaces;
     std::size_t m_touchingCount = 0;
     std::vector<ContactEvent> m_firstContacts;
+    ContactTimings m_timings;
     std::vector<std::uint8_t> m_obstacleTouched;
 };
 } // namespace masse

@@ -25,7 +25,8 @@ bool isExplicit(IntegratorKind kind);
 /// Settings of the implicit solver.
 struct ImplicitSettings
 {
-    Real tolerance = 1e-7;    ///< relative residual of the conjugate gradient
+    Real tolerance = 1e-5; ///< relative residual of the conjugate gradient (1e-5: the physics tests agree with 1e-7 at
+                           ///< a third of the iterations)
     int maxIterations = 1000; ///< per step
 };
 

@@ -1,0 +1,121 @@
+// The scene runtime: scripted actions, kinematic obstacles, rest detection, and the paper's drop experiment.
+
+#include "scene/Scene.h"
+#include "scene/PaperExperiment.h"
+#include "scene/SceneFile.h"
+
+#include <gtest/gtest.h>
+
+using namespace masse;
+using namespace masse::scene;
+
+namespace
+{
+const std::string source = MASSE_SOURCE_DIR;
+
+SceneSpec sceneFrom(const std::string& json)
+{
+    return parseScene(nlohmann::json::parse(json), source + "/data/scenes", "inline");
+}
+
+void runUntil(Scene& scene, Real time)
+{
+    while (scene.time() < time - 1e-9)
+    {
+        scene.step();
+    }
+}
+} // namespace
+
+// The paper's experiment (section 9): for every Table 2 size the sheet touches the first polyhedron, then the
+// second, then the floor between them, then comes to rest.
+TEST(Scene, PaperDropStagesComeInOrderForAllTable2Sizes)
+{
+    const SceneSpec base = loadScene(source + "/data/scenes/paper-drop.json");
+    const std::vector<PaperRow> rows = runPaperExperiment(base, paperSizes);
+    ASSERT_EQ(rows.size(), 5u);
+    const std::size_t masses[] = {13, 61, 113, 145, 265};
+    const std::size_t springs[] = {33, 216, 428, 561, 1068};
+    for (std::size_t k = 0; k < rows.size(); ++k)
+    {
+        EXPECT_TRUE(rows[k].inOrder) << rows[k].size << "x2x" << rows[k].size;
+        EXPECT_EQ(rows[k].masses, masses[k]);
+        EXPECT_EQ(rows[k].springs, springs[k]);
+        for (std::size_t stage = 0; stage < 4; ++stage)
+        {
+            EXPECT_GE(rows[k].simTime[stage], 0.0) << paperStages[stage];
+        }
+        // The first contact comes after a free fall of 0.3 - (-0.8) - radius = 1.09 m: sqrt(2 h / g) = 0.471 s,
+        // slowed a little by the air (3% per 0.03 s): it must come between that and 10% later.
+        EXPECT_GT(rows[k].simTime[0], 0.471);
+        EXPECT_LT(rows[k].simTime[0], 0.471 * 1.1);
+    }
+}
+
+// A scripted grab drags its mass along the path (within what its capped spring allows), and release frees it.
+TEST(Scene, ScriptedGrabDragsTheMassAndReleaseLetsGo)
+{
+    Scene scene(loadScene(source + "/data/scenes/drag.json"));
+    runUntil(scene, 2.3);
+    const Index held = scene.script().activeGrabs().at(0).first;
+    // At 2.3 s the target is at (0.9, 0.01, 0.5); the corner hangs below it on a 20 N/m spring capped at 2 N.
+    const Vec3 corner = scene.system().particles.position[held];
+    EXPECT_NEAR(corner.x(), 0.9, 0.1);
+    EXPECT_GT(corner.y(), -0.2);
+    EXPECT_EQ(scene.system().userSprings.size(), 1u);
+    runUntil(scene, 3.1);
+    EXPECT_EQ(scene.system().userSprings.size(), 0u);
+    EXPECT_TRUE(scene.script().activeGrabs().empty());
+    EXPECT_NEAR(scene.eventTime("release", "hand"), 3.0, 1e-9);
+}
+
+TEST(Scene, PinUnpinAndGravityActions)
+{
+    Scene scene(sceneFrom(R"({
+        "sheet": { "size": "4x2x4", "pinned": { "corners": [0, 1, 2, 3] } },
+        "environment": { "room": { "enabled": false } },
+        "script": [ { "time": 0.5, "action": "unpin", "masses": { "corners": [2, 3] } },
+                    { "time": 1.0, "action": "gravity", "value": [0, 0, 0] } ],
+        "run": { "duration": 2, "stop_at_rest": false } })"));
+    const std::vector<Index> corners = scene.lattice().bottomCorners();
+    const Vec3 start = scene.system().particles.position[corners[2]];
+    runUntil(scene, 0.45);
+    EXPECT_EQ(scene.system().particles.position[corners[2]], start); // pinned
+    runUntil(scene, 0.9);
+    EXPECT_LT(scene.system().particles.position[corners[2]].y(), start.y() - 0.01); // free, swinging down
+    EXPECT_EQ(scene.system().particles.position[corners[0]],
+              scene.lattice().position[corners[0]]); // still pinned
+    runUntil(scene, 1.05);
+    EXPECT_EQ(scene.system().forces.gravity, Vec3::Zero());
+    for (const char* name : {"unpin", "gravity"})
+    {
+        EXPECT_GE(scene.eventTime(name, name == std::string("unpin") ? "2 masses" : "sheet"), 0.0) << name;
+    }
+}
+
+// A kinematic plate rising along its path lifts the sheet resting on it, and the sheet never sinks into it.
+TEST(Scene, KinematicObstacleLiftsTheSheet)
+{
+    Scene scene(sceneFrom(R"({
+        "sheet": { "size": "6x2x6", "min": [-0.5, 0.01, -0.5], "max": [0.5, 0.11, 0.5] },
+        "environment": { "room": { "enabled": false } },
+        "obstacles": [ { "name": "plate", "type": "box", "half_extents": [1, 0.5, 1],
+                         "path": [ { "time": 0.5, "position": [0, -0.5, 0] },
+                                   { "time": 1.5, "position": [0, 0.5, 0] } ] } ],
+        "integrator": { "type": "implicit", "dt": 0.03 },
+        "run": { "duration": 2, "stop_at_rest": false } })"));
+    Real deepest = 0;
+    while (scene.time() < 2.0 - 1e-9)
+    {
+        scene.step();
+        const Real top = std::clamp(-0.5 + (scene.time() - 0.5), -0.5, 0.5) + 0.5;
+        for (Index i = scene.lattice().layerStart[0]; i < scene.lattice().layerStart[1]; ++i)
+        {
+            deepest = std::max(deepest, top + scene.spec().contact.radius - scene.system().particles.position[i].y());
+        }
+    }
+    // Lifted by 1 m with the plate (its top ends at y = 1), within 1% of a spacing.
+    const Real spacing = scene.lattice().spacingX;
+    EXPECT_LT(deepest, 0.01 * spacing + 1e-9);
+    EXPECT_NEAR(scene.system().particles.position[0].y(), 1.0 + scene.spec().contact.radius, 0.01 * spacing);
+}
