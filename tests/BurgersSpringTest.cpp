@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 using namespace masse;
 using namespace masse::test;
@@ -164,6 +165,38 @@ TEST(BurgersSpring, LongStepsUseTheExactExponentialKelvinUpdate)
         EXPECT_GE(state.kelvinExtension, previous);
         EXPECT_LE(state.kelvinExtension, 1.0 / p.kelvinStiffness + 1e-12);
         previous = state.kelvinExtension;
+    }
+}
+
+// A step much longer than the Maxwell time c_M/k_M (a hot, runny spring at the frame's 0.03 s): the trapezoidal
+// factor (1 - x/2)/(1 + x/2) would make the force of a held spring alternate in sign; the exponential Maxwell form
+// relaxes it exactly, F = k_M u0 exp(-t k_M / c_M) (1e-12), never changing sign. Creep stays exact too: the dashpot
+// flows F dt / c_M per step (1e-12).
+TEST(BurgersSpring, LongStepsRelaxAMaxwellSpringExactlyWithoutFlicker)
+{
+    constexpr Real infinity = std::numeric_limits<Real>::infinity();
+    const BurgersParams p{10.0, 1.0, infinity, infinity}; // Maxwell time 0.1 s
+    const Real dt = 0.5;
+    const Real extension = 0.1;
+    BurgersState state;
+    const BurgersStep jump = burgersStep(p, 0);
+    burgersAdvance(jump, state, burgersForce(jump, state, extension), extension);
+    const BurgersStep step = burgersStep(p, dt);
+    for (int i = 1; i <= 6; ++i)
+    {
+        burgersAdvance(step, state, burgersForce(step, state, extension), extension);
+        const Real expected =
+            p.maxwellStiffness * extension * std::exp(-i * dt * p.maxwellStiffness / p.maxwellDamping);
+        EXPECT_GT(state.force, 0.0);
+        EXPECT_NEAR(state.force, expected, 1e-12 * p.maxwellStiffness * extension);
+    }
+
+    BurgersState creep;
+    burgersAdvance(jump, creep, 1.0, burgersExtension(jump, creep, 1.0));
+    for (int i = 1; i <= 6; ++i)
+    {
+        burgersAdvance(step, creep, 1.0, burgersExtension(step, creep, 1.0));
+        EXPECT_NEAR(creep.extension, 1.0 / p.maxwellStiffness + i * dt / p.maxwellDamping, 1e-12);
     }
 }
 

@@ -7,13 +7,21 @@
 /// the trapezoidal rule (Itasca PFC's Burgers contact model; physics.md section 2) gives the new force as a linear
 /// function of the new extension u':
 ///     F' = (u' - u + Y F + Z u_K) / X,        u_K' = P u_K + Q (F + F')
-///     X = 1/k_M + dt/(2 c_M) + Q,  Y = 1/k_M - dt/(2 c_M) - Q,  Z = 1 - P
-/// with, for the Kelvin element, A = 1 + k_K dt/(2 c_K), B = 1 - k_K dt/(2 c_K):
-///     trapezoidal   (B >= 0):  P = B/A,                Q = dt / (2 A c_K)
-///     exponential   (B <  0):  P = exp(-k_K dt / c_K), Q = (1 - P) / (2 k_K)
-/// The exponential form, u_K' = F_mean/k_K + (u_K - F_mean/k_K) exp(-k_K dt/c_K) with F_mean = (F + F')/2, is used
-/// when dt > 2 c_K / k_K, where the trapezoidal B/A would turn negative and make u_K oscillate from step to step;
-/// for constant force it is exact at any dt. Both agree to second order in dt.
+///     X = 1/k_M + b dt/c_M + Q,  Y = 1/k_M - a dt/c_M - Q,  Z = 1 - P
+/// where the dashpot moves by dt (a F + b F') / c_M and, for the Kelvin element, A = 1 + k_K dt/(2 c_K),
+/// B = 1 - k_K dt/(2 c_K):
+///     Kelvin, trapezoidal  (B >= 0):           P = B/A,                Q = dt / (2 A c_K)
+///     Kelvin, exponential  (B <  0):           P = exp(-k_K dt / c_K), Q = (1 - P) / (2 k_K)
+///     Maxwell, trapezoidal (dt <= 2 c_M/k_M):  a = b = 1/2
+///     Maxwell, exponential (dt >  2 c_M/k_M):  with x = k_M dt / c_M, e = exp(-x), phi = (1 - e)/x:
+///                                              b = (1 - phi)/(1 - e), a = phi - b e
+/// The exponential forms are used where the trapezoidal ones would flip sign from step to step: B/A < 0 makes u_K
+/// oscillate, and a step longer than twice the Maxwell time makes the force of a relaxing spring alternate in sign
+/// (the trapezoidal factor (1 - x/2)/(1 + x/2) tends to -1), which a hot, runny sheet at the frame's 0.03 s would
+/// feel as a flickering tension. Both exponential forms are the exact solutions over a step of constant force (for
+/// the Kelvin element, u_K' = F_mean/k_K + (u_K - F_mean/k_K) exp(-k_K dt/c_K) with F_mean = (F + F')/2) or, for
+/// the Maxwell element, of constant stretching rate; so creep under a constant force and relaxation of a Maxwell
+/// spring are exact at any dt. All forms agree to second order in dt.
 ///
 /// Because F' is linear in u' with slope 1/X, over the next step the spring is an ordinary elastic spring of
 /// stiffness k_eff = 1/X and rest length L0 + u_0 with u_0 = u - Y F - Z u_K (the extension at which F' = 0): the
@@ -78,9 +86,28 @@ inline BurgersStep burgersStep(const BurgersParams& p, Real dt)
         c.kelvinKeep = 0; // a rigid Kelvin element: u_K stays 0
     }
     const Real elastic = Real(1) / p.maxwellStiffness;
-    const Real flow = dt > 0 ? dt / (Real(2) * p.maxwellDamping) : Real(0);
-    c.compliance = elastic + flow + c.kelvinGain;
-    c.carry = elastic - flow - c.kelvinGain;
+    Real flowOld = 0; // a dt / c_M
+    Real flowNew = 0; // b dt / c_M
+    if (dt > 0)
+    {
+        const Real x = p.maxwellStiffness * dt / p.maxwellDamping;
+        const Real flow = dt / p.maxwellDamping;
+        if (x <= Real(2))
+        {
+            flowOld = Real(0.5) * flow;
+            flowNew = Real(0.5) * flow;
+        }
+        else
+        {
+            const Real e = std::exp(-x);
+            const Real phi = -std::expm1(-x) / x;
+            const Real b = (Real(1) - phi) / (-std::expm1(-x));
+            flowNew = b * flow;
+            flowOld = (phi - b * e) * flow;
+        }
+    }
+    c.compliance = elastic + flowNew + c.kelvinGain;
+    c.carry = elastic - flowOld - c.kelvinGain;
     c.kelvinPull = Real(1) - c.kelvinKeep;
     return c;
 }
