@@ -89,12 +89,11 @@ ThermalModel::ThermalModel(const Lattice& lattice, const Material& material, Rea
     m_ends = lattice.springs.ends;
     m_class = lattice.springs.springClass;
     const int layers = lattice.spec.layers;
-    m_fallbackArea = lattice.spacingX * lattice.spacingZ;
     m_capacity.resize(n);
     const Real perArea = material.density * material.specificHeat * thickness / Real(layers);
     for (std::size_t i = 0; i < n; ++i)
     {
-        m_capacity[i] = perArea * areaOf(m_geometry.restArea(), i);
+        m_capacity[i] = perArea * m_geometry.restArea()[i];
     }
     m_faces.resize(n);
     for (std::size_t i = 0; i < n; ++i)
@@ -134,7 +133,7 @@ void ThermalModel::computeWeights(const Lattice& lattice)
     {
         if (lattice.coord[i].layer > 0)
         {
-            upperArea += areaOf(m_geometry.restArea(), i);
+            upperArea += m_geometry.restArea()[i];
         }
     }
     m_interLayerArea = interLayerCount > 0 ? upperArea / Real(interLayerCount) : Real(0);

@@ -116,22 +116,15 @@ private:
     void computeWeights(const Lattice& lattice);
     void buildPattern();
     void computeConductances();
-    /// A mass's area from `areas`, or the fallback for a mass without cells.
-    Real areaOf(const std::vector<Real>& areas, std::size_t i) const
-    {
-        return areas[i] > 0 ? areas[i] : m_fallbackArea;
-    }
 
     Material m_material;
     ThermalSettings m_settings;
     SheetThickness m_geometry;
     std::vector<SpringEnds> m_ends;
     std::vector<SpringClass> m_class;
-    std::vector<Real> m_weight;   ///< cotangent weight of planar springs
-    Real m_interLayerArea = 0;    ///< m^2, a: rest area per inter-layer spring
-    std::vector<Real> m_capacity; ///< J/K
-    /// m^2, the area given to a mass the lattice's cells leave without one (the lone mass of a tapered top layer)
-    Real m_fallbackArea = 0;
+    std::vector<Real> m_weight;        ///< cotangent weight of planar springs
+    Real m_interLayerArea = 0;         ///< m^2, a: rest area per inter-layer spring
+    std::vector<Real> m_capacity;      ///< J/K
     std::vector<std::uint8_t> m_faces; ///< bit 0: bottom face exposed, bit 1: top face exposed
     std::vector<Real> m_temperature;
     std::vector<std::uint8_t> m_held;

@@ -107,6 +107,15 @@ SheetThickness::SheetThickness(const Lattice& lattice, Real thickness) : m_initi
     }
     std::vector<Vec3> restVectorArea;
     accumulate(lattice.position, m_restArea, restVectorArea);
+    m_cellless.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (m_restArea[i] == 0)
+        {
+            m_cellless[i] = 1;
+            m_restArea[i] = lattice.spacingX * lattice.spacingZ;
+        }
+    }
     m_restVolume = 0;
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -164,8 +173,12 @@ void SheetThickness::update(const std::vector<Vec3>& x)
     for (std::size_t i = 0; i < n; ++i)
     {
         const Real rest = m_restArea[i];
+        if (m_cellless[i])
+        {
+            m_area[i] = rest;
+        }
         const Real current = std::max(m_area[i], collapsedAreaFraction * rest);
-        m_thickness[i] = rest > 0 ? m_initialThickness * rest / current : m_initialThickness;
+        m_thickness[i] = m_initialThickness * rest / current;
         const Real length = m_vectorArea[i].norm();
         m_normal[i] = length > 0 ? Vec3(m_vectorArea[i] / length) : Vec3(Vec3::UnitY());
         if (m_layer[i] == 0)

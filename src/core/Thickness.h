@@ -11,8 +11,8 @@
 /// away from the sheet's edges.
 ///
 /// Each mass gets the thickness of its own layer's cells; reports (minimum, volume) are over the bottom layer, the
-/// sheet's underside as it meets a mould. A mass that belongs to no cell (the single mass of a tapered top layer)
-/// keeps h0.
+/// sheet's underside as it meets a mould. A mass that belongs to no cell (the lone mass of a tapered top layer) is
+/// given one cell's area, spacingX * spacingZ, for good, and keeps h0.
 
 #include "Lattice.h"
 
@@ -67,6 +67,7 @@ private:
     std::vector<Index> m_cells;
     std::vector<int> m_cellLayer;
     std::vector<int> m_layer;
+    std::vector<std::uint8_t> m_cellless; ///< masses of no cell
     std::vector<Real> m_restArea;
     std::vector<Real> m_area;
     std::vector<Vec3> m_vectorArea;
