@@ -4,10 +4,13 @@
 
 #include "TestSystems.h"
 
+#include "core/ContactSolver.h"
 #include "core/Damping.h"
 #include "core/Forces.h"
 #include "core/MaterialSheet.h"
 #include "core/MembraneStiffness.h"
+#include "core/StateHash.h"
+#include "core/ThermalModel.h"
 #include "core/ViscoelasticSprings.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 using namespace masse;
 using namespace masse::test;
@@ -316,4 +320,249 @@ TEST(ThermoplasticSheet, NewtonianSagGrowsAsCubeRootOfTime)
     RecordProperty("sag_cube_rate_over_expected", std::to_string(cubeRate / expectedCube));
     RecordProperty("sag_30s_m", std::to_string(sheet.sag()));
     RecordProperty("continuum_over_lattice_modulus", std::to_string(4 * eta * sheetThickness * width / viscousModulus));
+}
+
+namespace
+{
+/// A flat, cold mould surface: the half-space y < height, analytic, for contact without Bullet.
+class MouldTop final : public ContactDetector
+{
+public:
+    explicit MouldTop(Real height) : m_height(height) {}
+    int obstacleCount() const override { return 1; }
+    void setTime(Real /*time*/) override {}
+    void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real /*dt*/,
+                      std::vector<ContactPlane>& out) override
+    {
+        for (std::size_t i = 0; i < x.size(); ++i)
+        {
+            if (x[i].y() - reach[i] - radius <= m_height)
+            {
+                ContactPlane plane;
+                plane.mass = Index(i);
+                plane.obstacle = 0;
+                plane.face = 0;
+                plane.normal = Vec3::UnitY();
+                plane.offset = m_height;
+                out.push_back(plane);
+            }
+        }
+    }
+    std::optional<SweepHit> sweep(const Vec3& from, const Vec3& to, Real radius) override
+    {
+        const Real start = from.y() - radius - m_height;
+        const Real end = to.y() - radius - m_height;
+        if (start >= 0 && end < 0)
+        {
+            return SweepHit{start / (start - end), Vec3::UnitY(), 0, 0};
+        }
+        return std::nullopt;
+    }
+    SurfaceDistance nearestSurface(const Vec3& x, Real maxDistance) override
+    {
+        const Real d = x.y() - m_height;
+        return d > maxDistance ? SurfaceDistance{maxDistance, -1, -1} : SurfaceDistance{d, 0, 0};
+    }
+
+private:
+    Real m_height;
+};
+
+/// A two-layer HIPS sheet clamped on two edges with its thermal model driving its springs: the wiring a scene does.
+struct HeatedSheet
+{
+    Lattice lattice;
+    std::unique_ptr<ThermalModel> thermal;
+    std::unique_ptr<ViscoelasticSprings> springs;
+    std::unique_ptr<Simulator> simulator;
+
+    HeatedSheet(const Material& material, const ThermalSettings& thermalSettings)
+    {
+        LatticeSpec spec;
+        spec.countX = 8;
+        spec.countZ = 8;
+        spec.minCorner = Vec3(0, 0, 0);
+        spec.maxCorner = Vec3(0.5, sheetThickness, 0.5);
+        lattice = buildLattice(spec);
+        thermal = std::make_unique<ThermalModel>(lattice, material, sheetThickness, thermalSettings);
+        MassSpringSystem system =
+            makeMaterialSheet(lattice, material, sheetThickness, thermalSettings.initialTemperature);
+        for (int column = 0; column < spec.countX; ++column)
+        {
+            system.particles.setPinned(lattice.index(0, 0, column), true);
+            system.particles.setPinned(lattice.index(0, spec.countZ - 1, column), true);
+        }
+        SpringModelSettings settings;
+        settings.model = SpringModel::Burgers;
+        springs = std::make_unique<ViscoelasticSprings>(system, stiffnessPerModulus(lattice, sheetThickness), material,
+                                                        settings);
+        springs->setTemperatures(&thermal->temperature());
+        springs->setThickness(&thermal->sheetThickness());
+        simulator = std::make_unique<Simulator>(std::move(system), SimulatorSettings{});
+        simulator->addHook(thermal.get());
+        simulator->addHook(springs.get());
+    }
+
+    const std::vector<Vec3>& positions() const { return simulator->system().particles.position; }
+};
+} // namespace
+
+// Heat drives the mechanics: a cold (20 C) HIPS sheet between two heater panels, above and below, over its band
+// x < 0.2 m (10 kW/m^2 each). After 30 s the sheet under the panels is above Tg + 20 K through both layers and the
+// far part (x > 0.4 m) still below Tg - 30 K; the warm band has gone rubbery and sags, the cold part stays stiff:
+// along the middle row the sag under the heaters is more than three times the sag at the far side.
+TEST(ThermoplasticSheet, HeaterSoftensTheSideItWarms)
+{
+    const Material hips;
+    ThermalSettings settings;
+    RadiantHeater heater;
+    heater.centre = Vec3(0.1, 0.1, 0.25);
+    heater.normal = Vec3(0, -1, 0);
+    heater.width = 0.2;
+    heater.length = 0.6;
+    heater.power = 0.12 * 10000; // 10 kW/m^2
+    settings.heaters.push_back(heater);
+    heater.centre.y() = -0.1; // and its twin below, facing up: sandwich heating, as thick sheets need
+    heater.normal = Vec3(0, 1, 0);
+    settings.heaters.push_back(heater);
+    HeatedSheet sheet(hips, settings);
+    simulate(*sheet.simulator, 30.0, 0.03, [](const Simulator&) {});
+    // Under the heaters' centre line: the bottom-layer mass of the middle row at x = 0.1 m and the top-layer mass
+    // beside it; far away: every mass beyond x = 0.4 m.
+    const int row = 3;
+    const Index near = sheet.lattice.index(0, row, 1);
+    const Index nearTop = sheet.lattice.index(1, row, 1);
+    const Index far = sheet.lattice.index(0, row, 6);
+    Real farTemperature = 0;
+    for (std::size_t i = 0; i < sheet.lattice.massCount(); ++i)
+    {
+        if (sheet.lattice.position[i].x() > 0.4)
+        {
+            farTemperature = std::max(farTemperature, sheet.thermal->temperature()[i]);
+        }
+    }
+    EXPECT_GT(sheet.thermal->temperature()[near], hips.glassTransition + 20);
+    EXPECT_GT(sheet.thermal->temperature()[nearTop], hips.glassTransition + 20);
+    EXPECT_LT(farTemperature, hips.glassTransition - 30);
+    const Real nearSag = sheet.lattice.position[near].y() - sheet.positions()[near].y();
+    const Real farSag = sheet.lattice.position[far].y() - sheet.positions()[far].y();
+    EXPECT_GT(nearSag, 3 * farSag);
+    EXPECT_GT(nearSag, 0.005);
+    RecordProperty("heated_near_sag_m", std::to_string(nearSag));
+    RecordProperty("heated_far_sag_m", std::to_string(farSag));
+}
+
+// A cold mould freezes what it touches: a HIPS sheet at 150 C, insulated, sags onto a mould top at 40 C 15 mm below
+// it, with sticky contact. The masses the mould holds cool below Tg - 20 K within 5 s of touching, the bottom-layer
+// masses that never touch it (along the clamps) stay above Tg + 20 K (they lose heat only by conduction along the
+// sheet), and the springs between held masses end up over a hundred times stiffer than those of the free hot sheet:
+// the material stiffens where it sticks.
+TEST(ThermoplasticSheet, ColdMouldFreezesWhatItTouches)
+{
+    const Material hips;
+    ThermalSettings settings;
+    settings.initialTemperature = celsiusToKelvin(150);
+    settings.airHeatTransfer = 0;
+    settings.contactHeatTransfer = 500;
+    HeatedSheet sheet(hips, settings);
+    MouldTop mould(-0.015);
+    ContactSettings contactSettings;
+    contactSettings.response = ContactResponse::Sticky;
+    contactSettings.radius = 0.002;
+    ContactSolver contact(mould, contactSettings);
+    sheet.simulator->setContactSolver(&contact);
+    sheet.thermal->setContact(&contact.touchingObstacle(), {celsiusToKelvin(40)});
+
+    const std::size_t n = sheet.lattice.massCount();
+    std::vector<Real> firstTouch(n, -1);
+    std::vector<std::uint8_t> everTouched(n, 0);
+    simulate(*sheet.simulator, 7.0, 0.03,
+             [&](const Simulator& s)
+             {
+                 for (std::size_t i = 0; i < n; ++i)
+                 {
+                     if (contact.stuck()[i] && firstTouch[i] < 0)
+                     {
+                         firstTouch[i] = s.time();
+                     }
+                     everTouched[i] |= contact.touchingObstacle()[i] >= 0 ? 1 : 0;
+                 }
+             });
+    int held = 0;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (firstTouch[i] >= 0 && firstTouch[i] <= sheet.simulator->time() - 5.0)
+        {
+            ++held;
+            EXPECT_LT(sheet.thermal->temperature()[i], hips.glassTransition - 20) << "mass " << i;
+        }
+        if (!everTouched[i] && sheet.lattice.coord[i].layer == 0)
+        {
+            EXPECT_GT(sheet.thermal->temperature()[i], hips.glassTransition + 20) << "mass " << i;
+        }
+    }
+    EXPECT_GE(held, 3);
+    EXPECT_LT(sheet.thermal->lastReport().contactPower, 0);
+
+    Real frozen = 0;
+    Real free = 1e30;
+    const SpringSet& springs = sheet.simulator->system().springs;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        if (springs.springClass[s] != SpringClass::Planar)
+        {
+            continue;
+        }
+        const SpringEnds e = springs.ends[s];
+        if (contact.stuck()[e.a] && contact.stuck()[e.b])
+        {
+            frozen = std::max(frozen, springs.stiffness[s]);
+        }
+        else if (!everTouched[e.a] && !everTouched[e.b] && sheet.lattice.coord[e.a].layer == 0)
+        {
+            free = std::min(free, springs.stiffness[s]);
+        }
+    }
+    EXPECT_GT(frozen, 100 * free);
+    RecordProperty("mould_held_masses", std::to_string(held));
+    RecordProperty("frozen_over_free_stiffness", std::to_string(frozen / free));
+}
+
+// Same input, same build, same bits: a heated, creeping sheet run twice gives identical positions, velocities and
+// temperatures after 3 s.
+TEST(ThermoplasticSheet, HeatedRunIsBitIdenticalWhenRepeated)
+{
+    auto run = []
+    {
+        const Material hips;
+        ThermalSettings settings;
+        settings.initialTemperature = celsiusToKelvin(120);
+        settings.heaters.push_back(RadiantHeater{});
+        auto sheet = std::make_unique<HeatedSheet>(hips, settings);
+        simulate(*sheet->simulator, 3.0, 0.03, [](const Simulator&) {});
+        return sheet;
+    };
+    const auto first = run();
+    const auto second = run();
+    EXPECT_EQ(stateHash(first->simulator->system().particles), stateHash(second->simulator->system().particles));
+    EXPECT_EQ(first->thermal->temperature(), second->thermal->temperature());
+    EXPECT_GT(first->thermal->temperature()[first->lattice.massCount() - 1], celsiusToKelvin(121));
+}
+
+// The hook builds k_eff for the substep actually taken, so the explicit integrators, which split the 0.03 s frame into
+// tens of substeps, follow the same creep as the implicit one: a runny sheet at 180 C (Maxwell time 40 ms) sags
+// within 3% of the implicit run's sag after 3 s, with symplectic Euler and with velocity Verlet.
+TEST(ThermoplasticSheet, ExplicitIntegratorsFollowTheSameCreep)
+{
+    const Material hips;
+    const Real runny = celsiusToKelvin(180);
+    ClampedSheet implicit(7, 7, 0.5, 0.5, hips, runny, modelSettings(SpringModel::Burgers));
+    implicit.run(3.0);
+    for (IntegratorKind kind : {IntegratorKind::SymplecticEuler, IntegratorKind::VelocityVerlet})
+    {
+        ClampedSheet sheet(7, 7, 0.5, 0.5, hips, runny, modelSettings(SpringModel::Burgers));
+        sheet.simulator->setIntegrator(kind);
+        sheet.run(3.0);
+        EXPECT_NEAR(sheet.sag(), implicit.sag(), 0.03 * implicit.sag()) << integratorName(kind);
+    }
 }

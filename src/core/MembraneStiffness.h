@@ -2,8 +2,11 @@
 /// Spring stiffness of a sheet from its material's Young's modulus and its thickness: k = E times a length per spring.
 ///
 /// A triangular (TRiMM) layer of equilateral triangles with springs k is an isotropic membrane of Young's modulus
-/// E t = (2/sqrt 3) k and Poisson's ratio 1/3, so k = (sqrt(3)/2) E t (physics.md section 3). A square layer with
-/// springs k along its grid lines stretches along an axis with E t = k (and no Poisson contraction); MaSSE gives
+/// E t = (2/sqrt 3) k and Poisson's ratio 1/3, so k = (sqrt(3)/2) E t (physics.md section 3). The triangles are
+/// equilateral when the row spacing is sqrt(3)/2 of the column spacing, depth / (NZ - 1) = (sqrt(3)/2) width /
+/// (NX - 1/2); other aspect ratios make the membrane anisotropic (Table 1's square sheet box at 8x2x8 puts the rows
+/// 1.07 column spacings apart instead of 0.87, which makes it softer across the rows than along them). A square layer
+/// with springs k along its grid lines stretches along an axis with E t = k (and no Poisson contraction); MaSSE gives
 /// every planar spring of square lattices k = E t, braces (SLaMM) included, which makes SLaMM somewhat stiffer than E
 /// along the axes and SaMM soft in shear: the square lattices are the paper's, not a calibrated membrane.
 ///

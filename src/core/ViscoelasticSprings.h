@@ -23,6 +23,22 @@
 /// build k_eff is the previous substep's (the frame length before the first). With the implicit integrator that is
 /// always the substep actually taken. With an explicit one whose substep count changes between frames, the first
 /// substep of such a frame applies a k_eff built for the old h; the state update always uses the h actually taken.
+///
+/// Wiring, as a scene does it (see ThermoplasticSheetTest's HeatedSheet):
+///     Lattice lattice = buildLattice(spec);
+///     ThermalModel thermal(lattice, material, thickness, thermalSettings);
+///     MassSpringSystem sheet = makeMaterialSheet(lattice, material, thickness, thermalSettings.initialTemperature);
+///     ... pin clamped masses ...
+///     ViscoelasticSprings springs(sheet, stiffnessPerModulus(lattice, thickness), material, springSettings);
+///     springs.setTemperatures(&thermal.temperature());
+///     springs.setThickness(&thermal.sheetThickness());
+///     Simulator simulator(std::move(sheet), simulatorSettings);
+///     simulator.setContactSolver(&contact);                                // optional
+///     thermal.setContact(&contact.touchingObstacle(), obstacleTemperatures); // optional
+///     simulator.addHook(&thermal);
+///     simulator.addHook(&springs);
+/// The order of the two hooks does not matter: the thermal model steps at the end of a frame, the springs read the
+/// temperatures at the start of the next.
 
 #include "BurgersSpring.h"
 #include "Material.h"
