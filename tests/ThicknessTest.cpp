@@ -188,3 +188,24 @@ TEST(Thickness, MinimumThicknessIsFoundWhereTheSheetIsPulled)
         EXPECT_NEAR(thickness.minimumThickness(), thickness.thickness()[pulled], 0.0);
     }
 }
+
+// A 2x2x2 TRiMM sheet's top layer is a single mass over one triangle: it belongs to no cell of its own layer. It is
+// given one cell's area (spacingX * spacingZ) and keeps h0 however the sheet moves, so nothing downstream divides by
+// a zero area.
+TEST(Thickness, LoneTopMassGetsOneCellsAreaAndKeepsItsThickness)
+{
+    const Lattice lattice = sheetLattice(Structure::TRiMM, 2);
+    ASSERT_EQ(lattice.layerCountX(1) * lattice.layerCountZ(1), 1);
+    SheetThickness thickness(lattice, 0.002);
+    const Index lone = lattice.layerStart[1];
+    EXPECT_EQ(thickness.restArea()[lone], lattice.spacingX * lattice.spacingZ);
+    std::vector<Vec3> x = lattice.position;
+    for (Vec3& p : x)
+    {
+        p *= 2.0;
+    }
+    thickness.update(x);
+    EXPECT_EQ(thickness.area()[lone], lattice.spacingX * lattice.spacingZ);
+    EXPECT_EQ(thickness.thickness()[lone], 0.002);
+    EXPECT_NEAR(thickness.thickness()[0], 0.0005, 1e-15);
+}
