@@ -1,0 +1,46 @@
+#include "MaterialSheet.h"
+
+#include "Damping.h"
+#include "InputError.h"
+#include "Thickness.h"
+
+#include <cmath>
+#include <string>
+
+namespace masse
+{
+MassSpringSystem makeMaterialSheet(const Lattice& lattice, const Material& material, Real thickness, Real temperature,
+                                   Real dampingRatio, Real interLayerRatio)
+{
+    validate(material);
+    if (!(temperature > 0) || !std::isfinite(temperature))
+    {
+        throw InputError("temperature: must be above absolute zero (got " + std::to_string(temperature) + " K)");
+    }
+    if (!(dampingRatio >= 0 && dampingRatio <= 1))
+    {
+        throw InputError("damping_ratio: must be in [0, 1] (got " + std::to_string(dampingRatio) + ")");
+    }
+    const SheetThickness geometry(lattice, thickness);
+    const std::vector<Real> perModulus = stiffnessPerModulus(lattice, thickness, interLayerRatio);
+
+    MassSpringSystem system;
+    const Real perArea = material.density * thickness / Real(lattice.spec.layers);
+    for (std::size_t i = 0; i < lattice.massCount(); ++i)
+    {
+        system.particles.add(lattice.position[i], perArea * geometry.restArea()[i]);
+    }
+    system.springs = lattice.springs;
+    const Real modulus = modulusAt(material, temperature);
+    for (std::size_t s = 0; s < system.springs.size(); ++s)
+    {
+        const SpringEnds e = system.springs.ends[s];
+        const Real k = perModulus[s] * modulus;
+        system.springs.stiffness[s] = k;
+        system.springs.damping[s] =
+            springDampingCoefficient(k, dampingRatio, system.particles.mass[e.a], system.particles.mass[e.b]);
+    }
+    system.markChanged();
+    return system;
+}
+} // namespace masse

@@ -1,0 +1,433 @@
+#include "ThermalModel.h"
+
+#include "InputError.h"
+#include "Simulator.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+
+namespace masse
+{
+namespace
+{
+std::string format(Real value)
+{
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+constexpr std::uint8_t bottomFace = 1;
+constexpr std::uint8_t topFace = 2;
+
+/// cot of the angle at vertex o between the edges to a and b.
+Real cotangent(const Vec3& o, const Vec3& a, const Vec3& b)
+{
+    const Vec3 e1 = a - o;
+    const Vec3 e2 = b - o;
+    const Real sine = e1.cross(e2).norm();
+    return sine > 0 ? e1.dot(e2) / sine : Real(0);
+}
+} // namespace
+
+void validate(const ThermalSettings& s)
+{
+    auto temperature = [](Real kelvin, const char* key)
+    {
+        if (!(kelvin > 0) || !std::isfinite(kelvin))
+        {
+            throw InputError(std::string(key) + ": must be above absolute zero (got " + format(kelvin - 273.15) +
+                             " C)");
+        }
+    };
+    temperature(s.initialTemperature, "initial_temperature_c");
+    temperature(s.airTemperature, "air_temperature_c");
+    if (!(s.airHeatTransfer >= 0) || !std::isfinite(s.airHeatTransfer))
+    {
+        throw InputError("air_heat_transfer: must be >= 0 W/(m^2 K) (got " + format(s.airHeatTransfer) + ")");
+    }
+    if (!(s.absorptivity >= 0 && s.absorptivity <= 1))
+    {
+        throw InputError("absorptivity: must be in [0, 1] (got " + format(s.absorptivity) + ")");
+    }
+    if (!(s.contactHeatTransfer >= 0) || !std::isfinite(s.contactHeatTransfer))
+    {
+        throw InputError("contact_heat_transfer: must be >= 0 W/(m^2 K) (got " + format(s.contactHeatTransfer) + ")");
+    }
+    if (!(s.solverTolerance > 0 && s.solverTolerance <= 1e-3))
+    {
+        throw InputError("solver_tolerance: must be in (0, 1e-3] (got " + format(s.solverTolerance) + ")");
+    }
+    if (s.maxIterations < 1)
+    {
+        throw InputError("max_iterations: must be >= 1 (got " + std::to_string(s.maxIterations) + ")");
+    }
+    for (std::size_t k = 0; k < s.heaters.size(); ++k)
+    {
+        validate(s.heaters[k], "heaters[" + std::to_string(k) + "]");
+    }
+    for (std::size_t k = 0; k < s.hotAirZones.size(); ++k)
+    {
+        validate(s.hotAirZones[k], "hot_air_zones[" + std::to_string(k) + "]");
+    }
+}
+
+ThermalModel::ThermalModel(const Lattice& lattice, const Material& material, Real thickness,
+                           const ThermalSettings& settings)
+    : m_material(material), m_settings(settings), m_geometry(lattice, thickness)
+{
+    validate(m_material);
+    validate(m_settings);
+    const std::size_t n = lattice.massCount();
+    m_ends = lattice.springs.ends;
+    m_class = lattice.springs.springClass;
+    const int layers = lattice.spec.layers;
+    m_capacity.resize(n);
+    const Real perArea = material.density * material.specificHeat * thickness / Real(layers);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        m_capacity[i] = perArea * m_geometry.restArea()[i];
+    }
+    m_faces.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const int layer = lattice.coord[i].layer;
+        m_faces[i] = std::uint8_t((layer == 0 ? bottomFace : 0) | (layer == layers - 1 ? topFace : 0));
+    }
+    m_temperature.assign(n, settings.initialTemperature);
+    m_held.assign(n, 0);
+    computeWeights(lattice);
+    buildPattern();
+}
+
+void ThermalModel::computeWeights(const Lattice& lattice)
+{
+    const std::size_t springCount = m_ends.size();
+    m_weight.assign(springCount, Real(0));
+
+    // Planar springs by their (lower, higher) mass indices, for lookup from the cells' edges.
+    std::vector<std::tuple<Index, Index, std::size_t>> planar;
+    std::size_t interLayerCount = 0;
+    for (std::size_t s = 0; s < springCount; ++s)
+    {
+        const SpringEnds e = m_ends[s];
+        if (m_class[s] == SpringClass::Planar)
+        {
+            planar.emplace_back(std::min(e.a, e.b), std::max(e.a, e.b), s);
+        }
+        else
+        {
+            ++interLayerCount;
+        }
+    }
+    // The upper layers' area, shared equally among the inter-layer springs.
+    Real upperArea = 0;
+    for (std::size_t i = 0; i < lattice.massCount(); ++i)
+    {
+        if (lattice.coord[i].layer > 0)
+        {
+            upperArea += m_geometry.restArea()[i];
+        }
+    }
+    m_interLayerArea = interLayerCount > 0 ? upperArea / Real(interLayerCount) : Real(0);
+    std::sort(planar.begin(), planar.end());
+    auto addWeight = [&](Index a, Index b, Real w)
+    {
+        const Index lo = std::min(a, b);
+        const Index hi = std::max(a, b);
+        const auto it = std::lower_bound(planar.begin(), planar.end(), std::make_tuple(lo, hi, std::size_t(0)));
+        if (it != planar.end() && std::get<0>(*it) == lo && std::get<1>(*it) == hi)
+        {
+            m_weight[std::get<2>(*it)] += w;
+        }
+    };
+    // Each triangle gives each of its edges half the cotangent of the angle facing it.
+    const std::vector<Vec3>& x = lattice.position;
+    auto addTriangle = [&](Index a, Index b, Index c)
+    {
+        addWeight(b, c, Real(0.5) * cotangent(x[a], x[b], x[c]));
+        addWeight(c, a, Real(0.5) * cotangent(x[b], x[c], x[a]));
+        addWeight(a, b, Real(0.5) * cotangent(x[c], x[a], x[b]));
+    };
+    const std::vector<Index>& cells = m_geometry.cells();
+    const std::size_t corners = std::size_t(m_geometry.cornersPerCell());
+    for (std::size_t start = 0; start < cells.size(); start += corners)
+    {
+        const Index* cell = cells.data() + start;
+        addTriangle(cell[0], cell[1], cell[2]);
+        if (corners == 4)
+        {
+            addTriangle(cell[0], cell[2], cell[3]);
+        }
+    }
+    for (Real& w : m_weight)
+    {
+        w = std::max(w, Real(0));
+    }
+}
+
+void ThermalModel::buildPattern()
+{
+    const std::size_t n = m_temperature.size();
+    std::vector<Eigen::Triplet<Real, StorageIndex>> triplets;
+    triplets.reserve(n + 2 * m_ends.size());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        triplets.emplace_back(StorageIndex(i), StorageIndex(i), Real(0));
+    }
+    for (const SpringEnds& e : m_ends)
+    {
+        triplets.emplace_back(StorageIndex(e.a), StorageIndex(e.b), Real(0));
+        triplets.emplace_back(StorageIndex(e.b), StorageIndex(e.a), Real(0));
+    }
+    m_matrix.resize(Eigen::Index(n), Eigen::Index(n));
+    m_matrix.setFromTriplets(triplets.begin(), triplets.end());
+    m_matrix.makeCompressed();
+    auto slot = [&](Index row, Index column)
+    {
+        const StorageIndex* outer = m_matrix.outerIndexPtr();
+        const StorageIndex* inner = m_matrix.innerIndexPtr();
+        const StorageIndex* begin = inner + outer[column];
+        const StorageIndex* end = inner + outer[column + 1];
+        return StorageIndex(std::lower_bound(begin, end, StorageIndex(row)) - inner);
+    };
+    m_diagonalSlot.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        m_diagonalSlot[i] = slot(Index(i), Index(i));
+    }
+    m_abSlot.resize(m_ends.size());
+    m_baSlot.resize(m_ends.size());
+    for (std::size_t s = 0; s < m_ends.size(); ++s)
+    {
+        m_abSlot[s] = slot(m_ends[s].a, m_ends[s].b);
+        m_baSlot[s] = slot(m_ends[s].b, m_ends[s].a);
+    }
+    m_rhs.setZero(Eigen::Index(n));
+    m_solution.setZero(Eigen::Index(n));
+    m_conductance.assign(m_ends.size(), Real(0));
+}
+
+void ThermalModel::setSettings(const ThermalSettings& settings)
+{
+    validate(settings);
+    m_settings = settings;
+}
+
+void ThermalModel::setContact(const std::vector<int>* touchingObstacle, std::vector<Real> obstacleTemperature)
+{
+    for (std::size_t k = 0; k < obstacleTemperature.size(); ++k)
+    {
+        if (!(obstacleTemperature[k] > 0) || !std::isfinite(obstacleTemperature[k]))
+        {
+            throw InputError("obstacles[" + std::to_string(k) + "].temperature_c: must be above absolute zero (got " +
+                             format(obstacleTemperature[k] - 273.15) + " C)");
+        }
+    }
+    m_touching = touchingObstacle;
+    m_obstacleTemperature = std::move(obstacleTemperature);
+}
+
+void ThermalModel::holdTemperature(Index mass, Real temperature)
+{
+    if (!(temperature > 0) || !std::isfinite(temperature))
+    {
+        throw InputError("held temperature: must be above absolute zero (got " + format(temperature) + " K)");
+    }
+    m_held.at(mass) = 1;
+    m_temperature[mass] = temperature;
+}
+
+void ThermalModel::releaseTemperature(Index mass)
+{
+    m_held.at(mass) = 0;
+}
+
+void ThermalModel::computeConductances()
+{
+    const Real conductivity = m_material.conductivity;
+    const Real layers = Real(m_geometry.layerCount());
+    const std::vector<Real>& h = m_geometry.thickness();
+    const Real h0 = m_geometry.initialThickness();
+    for (std::size_t s = 0; s < m_ends.size(); ++s)
+    {
+        const SpringEnds e = m_ends[s];
+        const Real layerThickness = Real(0.5) * (h[e.a] + h[e.b]) / layers;
+        if (m_class[s] == SpringClass::Planar)
+        {
+            m_conductance[s] = conductivity * layerThickness * m_weight[s];
+        }
+        else
+        {
+            // The rest share, stretched as the sheet is: A / A0 = h0 / h at each end.
+            const Real stretch = Real(0.5) * (h0 / h[e.a] + h0 / h[e.b]);
+            m_conductance[s] = conductivity * m_interLayerArea * stretch / layerThickness;
+        }
+    }
+}
+
+void ThermalModel::beginFrame(MassSpringSystem& /*system*/, Real /*time*/, Real dt)
+{
+    m_frameDt = dt;
+}
+
+void ThermalModel::endFrame(MassSpringSystem& system, Real /*time*/)
+{
+    advance(system, m_frameDt);
+}
+
+void ThermalModel::advance(const MassSpringSystem& system, Real dt)
+{
+    if (!(dt > 0) || !std::isfinite(dt))
+    {
+        throw InputError("dt: must be a positive number of seconds (got " + format(dt) + ")");
+    }
+    const std::size_t n = m_temperature.size();
+    const std::vector<Vec3>& x = system.particles.position;
+    if (x.size() != n || system.springCount() != m_ends.size())
+    {
+        throw std::invalid_argument("ThermalModel: the system has " + std::to_string(x.size()) + " masses and " +
+                                    std::to_string(system.springCount()) + " springs, the lattice " +
+                                    std::to_string(n) + " and " + std::to_string(m_ends.size()));
+    }
+    if (m_touching && m_touching->size() != n)
+    {
+        throw std::invalid_argument("ThermalModel: touching obstacles for " + std::to_string(m_touching->size()) +
+                                    " masses, expected " + std::to_string(n));
+    }
+    m_geometry.update(x);
+    computeConductances();
+    const std::vector<Real>& area = m_geometry.area();
+    const std::vector<Vec3>& normal = m_geometry.normal();
+
+    Real* values = m_matrix.valuePtr();
+    std::fill(values, values + m_matrix.nonZeros(), Real(0));
+    // Per mass: the exchange coefficient (W/K) and the heat it brings at T = 0, so that the flow is
+    // source - coefficient * T; kept to report the flows after the solve.
+    std::vector<Real>& airCoefficient = m_airCoefficient;
+    std::vector<Real>& airSource = m_airSource;
+    std::vector<Real>& contactCoefficient = m_contactCoefficient;
+    std::vector<Real>& contactSource = m_contactSource;
+    airCoefficient.assign(n, Real(0));
+    airSource.assign(n, Real(0));
+    contactCoefficient.assign(n, Real(0));
+    contactSource.assign(n, Real(0));
+    m_report = ThermalReport{};
+
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const Real diagonal = m_capacity[i] / dt;
+        values[m_diagonalSlot[i]] += diagonal;
+        m_rhs[Eigen::Index(i)] = diagonal * m_temperature[i];
+        const int faceCount = ((m_faces[i] & bottomFace) ? 1 : 0) + ((m_faces[i] & topFace) ? 1 : 0);
+        if (faceCount > 0)
+        {
+            Real airTemperature = m_settings.airTemperature;
+            Real heatTransfer = m_settings.airHeatTransfer;
+            for (const HotAirZone& zone : m_settings.hotAirZones)
+            {
+                if (contains(zone, x[i]))
+                {
+                    airTemperature = zone.temperature;
+                    heatTransfer = zone.heatTransfer;
+                    break;
+                }
+            }
+            airCoefficient[i] = heatTransfer * area[i] * Real(faceCount);
+            airSource[i] = airCoefficient[i] * airTemperature;
+            Real absorbed = 0;
+            for (const RadiantHeater& heater : m_settings.heaters)
+            {
+                if (m_faces[i] & topFace)
+                {
+                    absorbed += heaterIrradiance(heater, x[i], normal[i]);
+                }
+                if (m_faces[i] & bottomFace)
+                {
+                    absorbed += heaterIrradiance(heater, x[i], -normal[i]);
+                }
+            }
+            absorbed *= m_settings.absorptivity * area[i];
+            if (!m_held[i])
+            {
+                m_report.heaterPower += absorbed;
+            }
+            m_rhs[Eigen::Index(i)] += absorbed;
+        }
+        if (m_touching)
+        {
+            const int obstacle = (*m_touching)[i];
+            if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTemperature.size())
+            {
+                contactCoefficient[i] = m_settings.contactHeatTransfer * area[i];
+                contactSource[i] = contactCoefficient[i] * m_obstacleTemperature[std::size_t(obstacle)];
+            }
+        }
+        values[m_diagonalSlot[i]] += airCoefficient[i] + contactCoefficient[i];
+        m_rhs[Eigen::Index(i)] += airSource[i] + contactSource[i];
+    }
+    for (std::size_t s = 0; s < m_ends.size(); ++s)
+    {
+        const Index a = m_ends[s].a;
+        const Index b = m_ends[s].b;
+        const Real g = m_conductance[s];
+        values[m_diagonalSlot[a]] += g;
+        values[m_diagonalSlot[b]] += g;
+        // A held neighbour is a known temperature: its coupling moves to the right-hand side, keeping the matrix
+        // symmetric.
+        if (m_held[a] || m_held[b])
+        {
+            if (!m_held[a])
+            {
+                m_rhs[Eigen::Index(a)] += g * m_temperature[b];
+            }
+            if (!m_held[b])
+            {
+                m_rhs[Eigen::Index(b)] += g * m_temperature[a];
+            }
+            continue;
+        }
+        values[m_abSlot[s]] -= g;
+        values[m_baSlot[s]] -= g;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (m_held[i])
+        {
+            values[m_diagonalSlot[i]] = 1;
+            m_rhs[Eigen::Index(i)] = m_temperature[i];
+        }
+        m_solution[Eigen::Index(i)] = m_temperature[i];
+    }
+
+    m_solver.setTolerance(m_settings.solverTolerance);
+    m_solver.setMaxIterations(m_settings.maxIterations);
+    m_solver.compute(m_matrix);
+    m_solution = m_solver.solveWithGuess(m_rhs, m_solution);
+    m_report.solverIterations = int(m_solver.iterations());
+    m_report.solverResidual = m_solver.error();
+    if (!m_solution.allFinite())
+    {
+        throw NumericalError("the thermal model diverged: a temperature is not finite after a step of " + format(dt) +
+                             " s");
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const Real t = m_solution[Eigen::Index(i)];
+        m_temperature[i] = t;
+        if (m_held[i])
+        {
+            continue;
+        }
+        m_report.airPower += airSource[i] - airCoefficient[i] * t;
+        m_report.contactPower += contactSource[i] - contactCoefficient[i] * t;
+    }
+}
+} // namespace masse

@@ -1,0 +1,298 @@
+#include "ViscoelasticSprings.h"
+
+#include "Damping.h"
+#include "InputError.h"
+#include "Simulator.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace masse
+{
+namespace
+{
+struct SpringModelName
+{
+    SpringModel model;
+    std::string_view name;
+};
+constexpr SpringModelName springModelNames[] = {
+    {SpringModel::Elastic, "elastic"},
+    {SpringModel::Maxwell, "maxwell"},
+    {SpringModel::Burgers, "burgers"},
+};
+
+/// Trouton's ratio: extensional over shear viscosity of an incompressible Newtonian liquid.
+constexpr Real troutonRatio = 3;
+} // namespace
+
+SpringModel parseSpringModel(std::string_view name)
+{
+    std::string lower(name);
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    for (const SpringModelName& entry : springModelNames)
+    {
+        if (entry.name == lower)
+        {
+            return entry.model;
+        }
+    }
+    throw InputError("spring_model: unknown model '" + std::string(name) +
+                     "' (expected one of elastic, maxwell, burgers)");
+}
+
+std::string_view springModelName(SpringModel model)
+{
+    for (const SpringModelName& entry : springModelNames)
+    {
+        if (entry.model == model)
+        {
+            return entry.name;
+        }
+    }
+    return "unknown";
+}
+
+void validate(const SpringModelSettings& settings)
+{
+    if (!(settings.dampingRatio >= 0 && settings.dampingRatio <= 1))
+    {
+        throw InputError("damping_ratio: must be in [0, 1] (got " + std::to_string(settings.dampingRatio) + ")");
+    }
+    if (!(settings.initialTemperature > 0) || !std::isfinite(settings.initialTemperature))
+    {
+        throw InputError("initial_temperature_c: must be above absolute zero (got " +
+                         std::to_string(kelvinToCelsius(settings.initialTemperature)) + " C)");
+    }
+}
+
+ViscoelasticSprings::ViscoelasticSprings(const MassSpringSystem& system, std::vector<Real> stiffnessPerModulus,
+                                         const Material& material, const SpringModelSettings& settings)
+    : m_material(material), m_settings(settings), m_perModulus(std::move(stiffnessPerModulus)),
+      m_uniformTemperature(settings.initialTemperature)
+{
+    validate(m_material);
+    validate(m_settings);
+    const SpringSet& springs = system.springs;
+    if (m_perModulus.size() != springs.size())
+    {
+        throw std::invalid_argument("ViscoelasticSprings: " + std::to_string(m_perModulus.size()) +
+                                    " stiffness factors for " + std::to_string(springs.size()) + " springs");
+    }
+    for (std::size_t s = 0; s < m_perModulus.size(); ++s)
+    {
+        if (!(m_perModulus[s] > 0) || !std::isfinite(m_perModulus[s]))
+        {
+            throw InputError("stiffness per modulus of spring " + std::to_string(s) + ": must be > 0 m (got " +
+                             std::to_string(m_perModulus[s]) + ")");
+        }
+    }
+    m_originalLength = springs.restLength;
+    m_reducedMass.resize(springs.size());
+    const std::vector<Real>& mass = system.particles.mass;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds e = springs.ends[s];
+        m_reducedMass[s] = mass[e.a] * mass[e.b] / (mass[e.a] + mass[e.b]);
+    }
+    m_params.resize(springs.size());
+    m_step.resize(springs.size());
+    m_state.resize(springs.size());
+    m_springTemperature.assign(springs.size(), std::numeric_limits<Real>::quiet_NaN());
+    m_thicknessRatio.assign(springs.size(), Real(1));
+}
+
+void ViscoelasticSprings::setUniformTemperature(Real temperature)
+{
+    if (!(temperature > 0) || !std::isfinite(temperature))
+    {
+        throw InputError("temperature: must be above absolute zero (got " + std::to_string(temperature) + " K)");
+    }
+    m_uniformTemperature = temperature;
+}
+
+Real ViscoelasticSprings::permanentSet(std::size_t spring) const
+{
+    if (m_settings.model == SpringModel::Elastic)
+    {
+        return 0;
+    }
+    return burgersPermanentSet(m_params[spring], m_state[spring]);
+}
+
+bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system)
+{
+    const SpringSet& springs = system.springs;
+    const std::vector<Real>* temperature = m_temperatureSource;
+    if (temperature && temperature->size() != system.massCount())
+    {
+        throw std::invalid_argument("ViscoelasticSprings: " + std::to_string(temperature->size()) +
+                                    " temperatures for " + std::to_string(system.massCount()) + " masses");
+    }
+    const bool followThickness = m_settings.followThickness && m_thickness;
+    if (followThickness)
+    {
+        m_thickness->update(system.particles.position);
+    }
+    constexpr Real infinity = std::numeric_limits<Real>::infinity();
+    bool changed = false;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds e = springs.ends[s];
+        const Real t = temperature ? Real(0.5) * ((*temperature)[e.a] + (*temperature)[e.b]) : m_uniformTemperature;
+        if (!(t > 0) || !std::isfinite(t))
+        {
+            throw NumericalError("spring " + std::to_string(s) + " between masses " + std::to_string(e.a) + " and " +
+                                 std::to_string(e.b) + " has temperature " + std::to_string(t) +
+                                 " K: the temperatures are not finite and positive");
+        }
+        const Real ratio = followThickness
+                               ? Real(0.5) * (m_thickness->thickness()[e.a] + m_thickness->thickness()[e.b]) /
+                                     m_thickness->initialThickness()
+                               : Real(1);
+        if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
+        {
+            continue;
+        }
+        m_springTemperature[s] = t;
+        m_thicknessRatio[s] = ratio;
+        changed = true;
+        const Real g = m_perModulus[s] * ratio;
+        BurgersParams& p = m_params[s];
+        p.maxwellStiffness = g * modulusAt(m_material, t);
+        const Real dashpot = troutonRatio * g * viscosityAt(m_material, t);
+        switch (m_settings.model)
+        {
+        case SpringModel::Elastic:
+            p.maxwellDamping = infinity;
+            p.kelvinStiffness = infinity;
+            p.kelvinDamping = infinity;
+            break;
+        case SpringModel::Maxwell:
+            p.maxwellDamping = dashpot;
+            p.kelvinStiffness = infinity;
+            p.kelvinDamping = infinity;
+            break;
+        case SpringModel::Burgers:
+            p.maxwellDamping = dashpot;
+            p.kelvinStiffness = m_material.kelvinModulusRatio * p.maxwellStiffness;
+            p.kelvinDamping = m_material.kelvinViscosityRatio * dashpot;
+            break;
+        }
+    }
+    return changed;
+}
+
+void ViscoelasticSprings::start(const MassSpringSystem& system)
+{
+    refreshParameters(system);
+    // The sheet starts as an elastic body at its construction temperature: any initial stretch is elastic strain.
+    const SpringSet& springs = system.springs;
+    const std::vector<Vec3>& x = system.particles.position;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds e = springs.ends[s];
+        BurgersState& state = m_state[s];
+        state.extension = (x[e.a] - x[e.b]).norm() - m_originalLength[s];
+        state.force = m_params[s].maxwellStiffness * state.extension;
+        state.kelvinExtension = 0;
+    }
+    m_started = true;
+}
+
+void ViscoelasticSprings::rebuildSteps(MassSpringSystem& system, Real h)
+{
+    SpringSet& springs = system.springs;
+    const bool elastic = m_settings.model == SpringModel::Elastic;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        m_step[s] = burgersStep(m_params[s], h);
+        const Real stiffness = elastic ? m_params[s].maxwellStiffness : Real(1) / m_step[s].compliance;
+        springs.stiffness[s] = stiffness;
+        springs.damping[s] = Real(2) * m_settings.dampingRatio * std::sqrt(stiffness * m_reducedMass[s]);
+    }
+    m_stepLength = h;
+}
+
+void ViscoelasticSprings::writeRestLengths(MassSpringSystem& system)
+{
+    SpringSet& springs = system.springs;
+    const bool elastic = m_settings.model == SpringModel::Elastic;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        springs.restLength[s] =
+            elastic ? m_originalLength[s] : m_originalLength[s] + burgersFreeExtension(m_step[s], m_state[s]);
+    }
+    // Rest lengths move every substep; the stability estimate and Verlet's cached force depend on them.
+    system.markChanged();
+}
+
+void ViscoelasticSprings::beginFrame(MassSpringSystem& system, Real /*time*/, Real dt)
+{
+    bool changed;
+    if (!m_started)
+    {
+        start(system);
+        changed = true;
+    }
+    else
+    {
+        changed = refreshParameters(system);
+    }
+    const Real h = m_stepLength > 0 ? m_stepLength : dt;
+    if (changed || h != m_stepLength)
+    {
+        rebuildSteps(system, h);
+    }
+    writeRestLengths(system);
+}
+
+void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, Real h, Real time)
+{
+    if (!m_started)
+    {
+        start(system); // stepped without beginFrame (an integrator driven by hand): start from here
+    }
+    const SpringSet& springs = system.springs;
+    const std::vector<Vec3>& x = system.particles.position;
+    if (h != m_stepLength)
+    {
+        rebuildSteps(system, h); // the state update below must use the step actually taken
+    }
+    const bool elastic = m_settings.model == SpringModel::Elastic;
+    Real sum = 0;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds e = springs.ends[s];
+        const Real extension = (x[e.a] - x[e.b]).norm() - m_originalLength[s];
+        BurgersState& state = m_state[s];
+        if (elastic)
+        {
+            state.force = m_params[s].maxwellStiffness * extension;
+            state.extension = extension;
+        }
+        else
+        {
+            const Real force = burgersForce(m_step[s], state, extension);
+            burgersAdvance(m_step[s], state, force, extension);
+        }
+        sum += state.force + state.kelvinExtension;
+    }
+    if (!std::isfinite(sum))
+    {
+        for (std::size_t s = 0; s < springs.size(); ++s)
+        {
+            if (!std::isfinite(m_state[s].force) || !std::isfinite(m_state[s].kelvinExtension))
+            {
+                throw NumericalError("the spring model diverged at t = " + std::to_string(time) + " s: spring " +
+                                     std::to_string(s) + " has a non-finite force or Kelvin extension");
+            }
+        }
+    }
+    writeRestLengths(system);
+}
+} // namespace masse
