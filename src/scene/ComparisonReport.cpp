@@ -378,21 +378,20 @@ void Comparison::writeOutputs(const std::string& directory) const
                 ")'\nset ylabel 'kinetic energy (J)'\nset logscale y\nset format y '%.0e'\n" +
                 curves(3, [](const std::string& c) { return c + " > 0 ? " + c + " : 1/0"; }),
             directory + "/kinetic_energy.png");
-    std::string distance = common + "set title 'Distance between corresponding masses, Bullet to MaSSE (" + title +
-                           ")'\nset ylabel 'distance (mm)'\nplot ";
+    // A run's RMS (solid) and maximum (dashed) share its colour in the other two plots (gnuplot line type k + 1).
+    std::string distance = common +
+                           "set key outside right top\nset title 'Distance between corresponding masses, "
+                           "Bullet to MaSSE (" +
+                           title + ")'\nset ylabel 'distance (mm)'\nplot ";
     int column = 2 + 2 * int(m_results.size());
-    bool first = true;
-    for (const EngineResult& r : m_results)
+    for (std::size_t k = 1; k < m_results.size(); ++k)
     {
-        if (!r.isBullet)
-        {
-            continue;
-        }
-        distance += std::string(first ? "" : ", ") + "'" + csv + "' every ::1 using 1:" + std::to_string(column) +
-                    " with lines lw 2 title '" + r.label + " RMS', '' every ::1 using 1:" + std::to_string(column + 1) +
-                    " with lines dt 2 title '" + r.label + " max'";
+        const std::string colour = " lc " + std::to_string(k + 1);
+        distance += k > 1 ? ", '" : "'";
+        distance += csv + "' every ::1 using 1:" + std::to_string(column) + " with lines lw 2" + colour + " title '" +
+                    m_results[k].label + " RMS', '' every ::1 using 1:" + std::to_string(column + 1) +
+                    " with lines dt 2" + colour + " title '" + m_results[k].label + " max'";
         column += 2;
-        first = false;
     }
     plotPng(distance + "\n", directory + "/distance.png");
     writeFileAtomically(directory + "/compare.json", report().dump(2) + "\n");
