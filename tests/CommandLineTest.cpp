@@ -67,7 +67,7 @@ TEST(CommandLine, BadFlagsExitWithTwoAndSayWhy)
     EXPECT_EQ(masse("run").exitCode, 2); // the scene argument is required
     const Outcome help = masse("--help");
     EXPECT_EQ(help.exitCode, 0);
-    for (const char* command : {"lattice", "bench", "demo", "run", "paper", "check"})
+    for (const char* command : {"lattice", "bench", "demo", "run", "paper", "check", "compare"})
     {
         EXPECT_NE(help.output.find(command), std::string::npos) << command;
     }
@@ -145,4 +145,103 @@ TEST(CommandLine, BenchPrintsOneJsonLine)
     }
     EXPECT_EQ(j["masses"], 113);
     EXPECT_GT(j["spring_steps_per_second"].get<double>(), 0.0);
+}
+
+// `masse compare` on the reference landing (the 8 x 2 x 8 Table 1 sheet onto a box at dt = 0.03 s), cut to 2 s:
+// compare.json holds, for MaSSE and for each Bullet run asked, its events, penetration, tunnelled nodes, kinetic
+// energy and wall time, and for each Bullet run its distance to MaSSE; the plots and the series are written whole;
+// the table names every run. And, through compare.json: MaSSE's deepest penetration is no larger than Bullet's at the
+// same step (measured: MaSSE about 1e-13 m, Bullet 0.026 m with 1 pass and 0.028 m with 4).
+TEST(CommandLine, CompareWritesBothEnginesFiguresAndPlots)
+{
+    const std::filesystem::path out = freshFolder("compare-landing");
+    const Outcome o = masse("compare " + source + "/data/scenes/box-landing.json --out " + out.string() +
+                            " --duration 2 --bullet-iterations 1,4 --quiet");
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    for (const char* header : {"MaSSE (symplectic)", "Bullet (piterations=1)", "Bullet (piterations=4)",
+                               "max penetration (mm)", "tunnelled nodes", "wall ms per simulated s", "Approximations"})
+    {
+        EXPECT_NE(o.output.find(header), std::string::npos) << header;
+    }
+    for (const char* file : {"compare.json", "series.csv", "penetration.png", "kinetic_energy.png", "distance.png"})
+    {
+        EXPECT_GT(std::filesystem::file_size(out / file), 100u) << file;
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+    {
+        EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left over: " << entry.path();
+    }
+
+    std::ifstream in(out / "compare.json");
+    const nlohmann::json c = nlohmann::json::parse(in);
+    for (const char* key :
+         {"scene", "masses", "springs", "dt", "frames", "sim_seconds", "contact_radius", "engines", "approximations"})
+    {
+        EXPECT_TRUE(c.contains(key)) << key;
+    }
+    EXPECT_EQ(c["masses"], 113);
+    EXPECT_NEAR(c["sim_seconds"].get<double>(), 67 * 0.03, 1e-9); // the first frame end at or after 2 s
+    const nlohmann::json& engines = c["engines"];
+    ASSERT_EQ(engines.size(), 3u);
+    EXPECT_EQ(engines[0]["engine"], "masse");
+    for (const nlohmann::json& e : engines)
+    {
+        for (const char* key : {"label", "settings", "events", "penetration", "tunnelled", "kinetic_energy",
+                                "wall_ms_per_simulated_second", "frames"})
+        {
+            EXPECT_TRUE(e.contains(key)) << e["label"] << " " << key;
+        }
+        for (const char* key : {"max", "mean"})
+        {
+            EXPECT_TRUE(e["penetration"].contains(key)) << key;
+        }
+        EXPECT_TRUE(e["tunnelled"].contains("count"));
+        EXPECT_GT(e["wall_ms_per_simulated_second"].get<double>(), 0.0) << e["label"];
+        EXPECT_EQ(e["frames"], 67);
+        bool box = false;
+        for (const nlohmann::json& event : e["events"])
+        {
+            box = box || (event["name"] == "contact" && event["object"] == "box");
+        }
+        EXPECT_TRUE(box) << e["label"];
+        if (e["engine"] == "bullet")
+        {
+            EXPECT_TRUE(e["distance_to_masse"]["final"].contains("rms"));
+            EXPECT_TRUE(e["distance_to_masse"]["final"].contains("max"));
+            EXPECT_FALSE(e["distance_to_masse"]["events"].empty());
+            EXPECT_LE(engines[0]["penetration"]["max"].get<double>(), e["penetration"]["max"].get<double>())
+                << e["label"];
+            EXPECT_GT(e["penetration"]["max"].get<double>(), 0.01) << e["label"];
+        }
+    }
+    EXPECT_EQ(engines[1]["settings"]["piterations"], 1);
+    EXPECT_EQ(engines[2]["settings"]["piterations"], 4);
+    ASSERT_FALSE(c["approximations"].empty());
+    for (const nlohmann::json& a : c["approximations"])
+    {
+        EXPECT_TRUE(a["subject"].is_string());
+        EXPECT_FALSE(a["message"].get<std::string>().empty());
+    }
+}
+
+// A bad "bullet" key, or a bad flag, stops `masse compare` with exit code 2 and a message naming it, before the
+// output folder is made.
+TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
+{
+    const std::filesystem::path out = freshFolder("compare-bad");
+    const std::pair<std::string, std::string> cases[] = {
+        {source + "/tests/bad-scenes/bullet-klst.json", "bullet.kLST: must be in (0, 1] (got 1.5)"},
+        {source + "/tests/bad-scenes/bullet-unknown-key.json", "bullet.kLTS: unknown key (did you mean 'kLST'?)"},
+        {source + "/data/scenes/box-landing.json --bullet-iterations 0",
+         "--bullet-iterations: each count must be a whole number in [1, 1000] (got 0)"},
+        {source + "/data/scenes/box-landing.json --bullet-substeps 0",
+         "--bullet-substeps: must be a whole number in [1, 10000] (got 0)"},
+    };
+    for (const auto& [arguments, expected] : cases)
+    {
+        const Outcome o = masse("compare " + arguments + " --out " + out.string() + " --quiet");
+        EXPECT_EQ(o.exitCode, 2) << arguments << ": " << o.output;
+        EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << arguments;
+    }
 }

@@ -66,6 +66,9 @@ TEST(SceneFile, BadScenesAreRefusedWithTheKeyPath)
          "sheet.structure: unknown value 'hexagon' (expected one of square2d, samm, slamm, trimm)"},
         {"missing-mass.json", "script[0].mass: mass 5000 does not exist (the sheet has 25 masses)"},
         {"unknown-top-key.json", "obstacle: unknown key (did you mean 'obstacles'?)"},
+        {"bullet-klst.json", "bullet.kLST: must be in (0, 1] (got 1.5)"},
+        {"bullet-unknown-key.json", "bullet.kLTS: unknown key (did you mean 'kLST'?)"},
+        {"bullet-collisions.json", "bullet.collisions: CL_RS is not supported: cluster collision needs the sheet cut"},
     };
     for (const auto& [file, expected] : cases)
     {
@@ -83,4 +86,54 @@ TEST(SceneFile, ExtendsMergesTheBaseScene)
     EXPECT_EQ(spec.obstacles.size(), 2u);
     EXPECT_EQ(spec.obstacles[0].name, "block");
     EXPECT_EQ(spec.time.integrator, IntegratorKind::SymplecticEuler);
+}
+
+// The "bullet" object sets the twin's settings key by key; what is left out stays unset (derived from the sheet when
+// the twin is built) or at its default; kLST and calibrate exclude each other; ranges name the key.
+TEST(SceneFile, BulletKeysSetTheTwinsSettings)
+{
+    const nlohmann::json document = nlohmann::json::parse(R"({
+      "bullet": { "kLST": 0.5, "kDP": 0.01, "kDF": 0.2, "kCHR": 0.9, "kKHR": 0.8, "margin": 0.02,
+                  "piterations": 10, "substeps": 4, "sdf_cell_size": 0.05, "collisions": "SDF_RS" } })");
+    const SceneSpec spec = parseScene(document, source, "all-bullet-keys");
+    const bridge::SoftBodyTwinSettings& s = spec.bullet.settings;
+    EXPECT_EQ(*s.kLST, 0.5);
+    EXPECT_EQ(*s.kDP, 0.01);
+    EXPECT_EQ(*s.kDF, 0.2);
+    EXPECT_EQ(s.kCHR, 0.9);
+    EXPECT_EQ(s.kKHR, 0.8);
+    EXPECT_EQ(*s.margin, 0.02);
+    EXPECT_EQ(s.piterations, 10);
+    EXPECT_EQ(s.substeps, 4);
+    EXPECT_EQ(s.sdfCellSize, 0.05);
+    EXPECT_FALSE(spec.bullet.calibrate);
+
+    const SceneSpec defaults = parseScene(nlohmann::json::object(), source, "no-bullet-keys");
+    EXPECT_FALSE(defaults.bullet.settings.kLST.has_value());
+    EXPECT_FALSE(defaults.bullet.settings.margin.has_value());
+    EXPECT_EQ(defaults.bullet.settings.piterations, 4);
+    EXPECT_EQ(defaults.bullet.settings.substeps, 1);
+    EXPECT_EQ(defaults.bullet.settings.kKHR, 1.0);
+
+    auto errorOfDocument = [](const char* text)
+    {
+        try
+        {
+            parseScene(nlohmann::json::parse(text), source, "doc");
+        }
+        catch (const InputError& e)
+        {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"kLST": 0.5, "calibrate": true}})"),
+              "doc: bullet.calibrate: give either kLST or calibrate: true, not both");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"kDP": 1}})"), "doc: bullet.kDP: must be in [0, 1) (got 1)");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"margin": 0}})"), "doc: bullet.margin: must be in (0, 1] (got 0)");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"substeps": 0}})"), "doc: bullet.substeps: must be in [1, 10000] (got 0)");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"sdf_cell_size": 2}})"),
+              "doc: bullet.sdf_cell_size: must be in [0.001, 1] (got 2)");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"calibrate": "yes"}})"),
+              "doc: bullet.calibrate: expected true or false (got \"yes\")");
 }

@@ -399,3 +399,68 @@ TEST(SoftBodyTwin, UserSpringsPullNodes)
     EXPECT_LT((twin.position(0) - target).norm(), 1e-4);
     EXPECT_LT((simulator.system().particles.position[0] - target).norm(), 1e-4);
 }
+
+// A target aimed at time T moves on at its targetVelocity: aimed at T = 1 s at (1, 0, 0) and moving at 1 m/s along
+// x, it is at the origin at t = 0, where a lone 1 g mass sits, so the spring (2 N/m, no damping, no gravity) pulls
+// nothing in the first step and the mass stays exactly put; aimed at t = 0 with the same numbers it pulls the mass
+// toward +x.
+TEST(SoftBodyTwin, UserSpringTargetsMoveOnAlongTheirVelocity)
+{
+    MassSpringSystem lone;
+    lone.particles.add(Vec3(0, 0, 0), 0.001);
+    lone.forces.gravity = Vec3::Zero();
+    UserSprings springs;
+    UserSpring spring;
+    spring.mass = 0;
+    spring.target = Vec3(1, 0, 0);
+    spring.targetVelocity = Vec3(1, 0, 0);
+    spring.stiffness = 2;
+    springs.add(spring);
+    const BulletEnvironment environment;
+    for (Real aimedAt : {1.0, 0.0})
+    {
+        SoftBodyTwin twin(lone, environment, ContactSettings{}, paperTimeStep);
+        twin.setUserSprings(springs, aimedAt);
+        twin.step();
+        if (aimedAt > 0)
+        {
+            EXPECT_EQ(twin.position(0), Vec3::Zero());
+        }
+        else
+        {
+            EXPECT_GT(twin.position(0).x(), 0.0);
+        }
+    }
+}
+
+// Pinning a node between steps makes it massless where it is, and unpinning gives it its mass back, without Bullet's
+// refresh of the link constants (which would take the current, stretched, lengths as rest lengths).
+TEST(SoftBodyTwin, PinningBetweenStepsKeepsRestLengths)
+{
+    MassSpringSystem sheet = paperSheet(4);
+    for (Vec3& x : sheet.particles.position)
+    {
+        x *= 1.1;
+    }
+    const BulletEnvironment environment;
+    SoftBodyTwin twin(sheet, environment, ContactSettings{}, paperTimeStep);
+    twin.step();
+    twin.setPinned(3, true);
+    const Vec3 held = twin.position(3);
+    for (int s = 0; s < 5; ++s)
+    {
+        twin.step();
+    }
+    EXPECT_TRUE(twin.pinned(3));
+    EXPECT_EQ(twin.nodeMass(3), 0.0);
+    EXPECT_EQ(twin.position(3), held);
+    for (std::size_t j = 0; j < sheet.springCount(); ++j)
+    {
+        EXPECT_EQ(twin.linkRestLength(j), sheet.springs.restLength[j]) << j;
+    }
+    twin.setPinned(3, false);
+    twin.step();
+    EXPECT_FALSE(twin.pinned(3));
+    EXPECT_NEAR(twin.nodeMass(3), sheet.particles.mass[3], 1e-12);
+    EXPECT_NE(twin.position(3), held);
+}

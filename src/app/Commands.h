@@ -14,4 +14,5 @@ void addDemoCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 void addPaperCommand(CLI::App& app);
 void addCheckCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
 } // namespace masse::app

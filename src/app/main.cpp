@@ -21,6 +21,7 @@ int main(int argc, char** argv)
     masse::app::addRunCommand(app);
     masse::app::addPaperCommand(app);
     masse::app::addCheckCommand(app);
+    masse::app::addCompareCommand(app);
 
     try
     {

@@ -340,6 +340,7 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
     buildObstacles(environment);
 
     m_externalForce = p.externalForce;
+    m_sheetMass = p.mass;
     m_userSprings = sheet.userSprings;
     m_touchObstacle.assign(p.size(), -1);
 }
@@ -399,8 +400,11 @@ void SoftBodyTwin::applyForces()
             m_body->addForce(toBullet(m_externalForce[i]), int(i));
         }
     }
-    for (const UserSpring& spring : m_userSprings.all())
+    // The substep starts now: a target aimed earlier has moved on along its velocity since.
+    const Real elapsed = time() - m_userSpringsAimedAt;
+    for (UserSpring spring : m_userSprings.all())
     {
+        spring.target += elapsed * spring.targetVelocity;
         const btSoftBody::Node& node = m_body->m_nodes[int(spring.mass)];
         const UserSpringForce force = evaluateUserSpring(spring, toVec3(node.m_x), toVec3(node.m_v));
         m_body->addForce(toBullet(force.force), int(spring.mass));
@@ -450,6 +454,53 @@ void SoftBodyTwin::checkFinite() const
             throw NumericalError("Bullet twin: node " + std::to_string(i) + " is not finite at t = " + number(time()) +
                                  " s");
         }
+    }
+}
+
+void SoftBodyTwin::setUserSprings(const UserSprings& springs, Real aimedAt)
+{
+    m_userSprings = springs;
+    m_userSpringsAimedAt = aimedAt;
+}
+
+void SoftBodyTwin::setGravity(const Vec3& gravity)
+{
+    m_bullet->world.setGravity(toBullet(gravity));
+    m_bullet->world.getWorldInfo().m_gravity = toBullet(gravity);
+}
+
+Vec3 SoftBodyTwin::gravity() const
+{
+    return toVec3(m_bullet->world.getWorldInfo().m_gravity);
+}
+
+void SoftBodyTwin::setPinned(Index node, bool pinned)
+{
+    btSoftBody::Node& n = m_body->m_nodes[int(node)];
+    n.m_im = pinned ? btScalar(0) : btScalar(1 / m_sheetMass[node]);
+    if (pinned)
+    {
+        n.m_v.setZero();
+    }
+    // Not btSoftBody::setMass: it asks for updateConstants at the next step, which would reset every link's rest
+    // length to the current distance between its nodes. Only the links' mass terms depend on the node's mass.
+    m_body->updateLinkConstants();
+}
+
+bool SoftBodyTwin::pinned(Index node) const
+{
+    return !(m_body->m_nodes[int(node)].m_im > 0);
+}
+
+void SoftBodyTwin::setObstaclePath(int obstacle, const std::vector<PathKey>& path)
+{
+    Obstacle& o = *m_bullet->obstacles.at(std::size_t(obstacle));
+    const bool wasKinematic = o.spec.isKinematic();
+    o.spec.path = path;
+    if (!wasKinematic && o.spec.isKinematic())
+    {
+        o.body->setCollisionFlags(o.body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+        o.body->setActivationState(DISABLE_DEACTIVATION);
     }
 }
 

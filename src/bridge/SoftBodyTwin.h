@@ -11,6 +11,7 @@
 /// What Bullet cannot say the same way is listed by notes(): each note names the scene key it concerns and what the
 /// twin does instead. Options it cannot represent at all throw InputError from the constructor.
 
+#include "ObstacleSpec.h"
 #include "SoftBodyTwinSettings.h"
 
 #include "core/Contact.h"
@@ -81,8 +82,22 @@ public:
     double totalWallSeconds() const { return m_totalWall; }
 
     /// The sheet's dynamic springs, applied to the nodes as forces at the start of every substep; change them
-    /// between steps as MaSSE's are changed.
+    /// between steps as MaSSE's are changed. A target moves on at its targetVelocity from the time it was aimed
+    /// (setUserSprings' aimedAt; the twin's start otherwise), so a target aimed once per frame is where a script
+    /// aiming it every substep would put it.
     UserSprings& userSprings() { return m_userSprings; }
+    /// Replaces the dynamic springs by `springs`, whose targets are where they are at simulated time `aimedAt` (s).
+    void setUserSprings(const UserSprings& springs, Real aimedAt);
+
+    /// Changes between steps that a scene's script makes (see scene/Comparison.h): gravity (m/s^2, for the world and
+    /// the soft body alike); a pin, which makes the node's mass 0 (Bullet never moves it) and stops it where it is,
+    /// or an unpin, which gives it its sheet mass back; a kinematic obstacle's path (a scripted move), by the
+    /// obstacle's index in the environment the twin was built from.
+    void setGravity(const Vec3& gravity);
+    Vec3 gravity() const;
+    void setPinned(Index node, bool pinned);
+    bool pinned(Index node) const;
+    void setObstaclePath(int obstacle, const std::vector<PathKey>& path);
 
     btSoftBody& softBody() { return *m_body; }
     btSoftRigidDynamicsWorld& world();
@@ -103,7 +118,9 @@ private:
     std::unique_ptr<Bullet> m_bullet;
     btSoftBody* m_body = nullptr; ///< owned by m_bullet
     std::vector<Vec3> m_externalForce;
+    std::vector<Real> m_sheetMass; ///< kg, each mass as the sheet has it (given back to a node on unpinning)
     UserSprings m_userSprings;
+    Real m_userSpringsAimedAt = 0;
     std::vector<int> m_touchObstacle;
     std::uint64_t m_substepCount = 0;
     double m_lastWall = 0;

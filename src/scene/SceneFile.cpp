@@ -6,6 +6,8 @@
 #include "core/InputError.h"
 
 #include <filesystem>
+#include <optional>
+#include <sstream>
 
 namespace masse::scene
 {
@@ -336,6 +338,68 @@ OutputSpec readOutput(const JsonObject& o)
     return output;
 }
 
+/// A number in a range whose ends may be open: "bullet.kLST: must be in (0, 1] (got 1.5)".
+Real fraction(const JsonObject& o, const std::string& key, Real fallback, Real lo, bool loOpen, Real hi, bool hiOpen)
+{
+    if (!o.has(key))
+    {
+        return fallback;
+    }
+    const Real value = o.number(key);
+    const bool aboveLo = loOpen ? value > lo : value >= lo;
+    const bool belowHi = hiOpen ? value < hi : value <= hi;
+    if (!(aboveLo && belowHi))
+    {
+        std::ostringstream message;
+        message << "must be in " << (loOpen ? "(" : "[") << lo << ", " << hi << (hiOpen ? ")" : "]") << " (got "
+                << value << ")";
+        o.fail(key, message.str());
+    }
+    return value;
+}
+
+BulletSpec readBullet(const JsonObject& o)
+{
+    BulletSpec bullet;
+    bridge::SoftBodyTwinSettings& s = bullet.settings;
+    auto optional = [&](const std::string& key, Real lo, bool loOpen, Real hi, bool hiOpen) -> std::optional<Real>
+    {
+        if (!o.has(key))
+        {
+            return std::nullopt;
+        }
+        return fraction(o, key, 0, lo, loOpen, hi, hiOpen);
+    };
+    s.kLST = optional("kLST", 0, true, 1, false);
+    s.kDP = optional("kDP", 0, false, 1, true);
+    s.kDF = optional("kDF", 0, false, 1, false);
+    s.kCHR = fraction(o, "kCHR", s.kCHR, 0, false, 1, false);
+    s.kKHR = fraction(o, "kKHR", s.kKHR, 0, false, 1, false);
+    s.margin = optional("margin", 0, true, 1, false);
+    s.piterations = o.integer("piterations", s.piterations, 1, 1000);
+    s.substeps = o.integer("substeps", s.substeps, 1, 10000);
+    s.sdfCellSize = fraction(o, "sdf_cell_size", s.sdfCellSize, 0.001, false, 1, false);
+    s.collisions = o.string("collisions", s.collisions);
+    bullet.calibrate = o.boolean("calibrate", false);
+    if (bullet.calibrate && s.kLST)
+    {
+        o.fail("calibrate", "give either kLST or calibrate: true, not both");
+    }
+    try
+    {
+        bridge::validate(s); // the collision modes it refuses, with the reason
+    }
+    catch (const InputError& e)
+    {
+        // "bullet.collisions CL_RS is not supported: ..." -> "bullet.collisions: CL_RS is not supported: ..."
+        const std::string message = e.what();
+        const std::string prefix = "bullet.collisions ";
+        o.fail("collisions", message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message);
+    }
+    o.finish();
+    return bullet;
+}
+
 /// Cross-checks of things that name other things: script targets, pins, contact obstacle lists.
 void checkReferences(const SceneSpec& scene, const JsonObject& top)
 {
@@ -452,6 +516,7 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
             scene.script.push_back(readAction(a));
         }
         scene.output = readOutput(top.object("output").value_or(JsonObject(empty, "output")));
+        scene.bullet = readBullet(top.object("bullet").value_or(JsonObject(empty, "bullet")));
         top.raw("expect"); // read by the regression runner
         top.finish();
         checkReferences(scene, top);

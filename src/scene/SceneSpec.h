@@ -5,6 +5,7 @@
 
 #include "bridge/ObstacleSpec.h"
 #include "bridge/Room.h"
+#include "bridge/SoftBodyTwinSettings.h"
 
 #include "core/Contact.h"
 #include "core/Integrator.h"
@@ -99,6 +100,29 @@ struct OutputSpec
     std::vector<std::string> formats; ///< "vtp", "obj"
 };
 
+/// The scene's Bullet soft-body twin, for `masse compare` (the top-level "bullet" object). Every key is optional;
+/// what is left out is derived from the sheet so that both engines describe the same material (see
+/// bridge/SoftBodyTwinSettings.h for the derivations). Keys, units, defaults and ranges:
+///   "kLST"          dimensionless, (0, 1]; default: per link, from its spring's k_s by the one-link formula
+///   "kDP"           dimensionless, [0, 1); default: 1 - exp(-c h), MaSSE's air drag c over one substep h
+///   "kDF"           dimensionless, [0, 1]; default: contact.friction (clamped to 1), 1 sticky, 0 frictionless
+///   "kCHR"          dimensionless, [0, 1]; default 1 (contact hardness against dynamic bodies)
+///   "kKHR"          dimensionless, [0, 1]; default 1 (contact hardness against static and kinematic obstacles;
+///                   Bullet's own default 0.1 lets a sheet sink through a box at dt = 0.03 s)
+///   "margin"        m, (0, 1]; default: contact.radius
+///   "piterations"   position-solver passes per substep, whole number in [1, 1000]; default 4
+///   "substeps"      Bullet steps per scene step, whole number in [1, 10000]; default 1 (h = dt / substeps)
+///   "sdf_cell_size" m, [0.001, 1]; default 0.25 (cell of Bullet's sparse signed-distance cache)
+///   "collisions"    "SDF_RS" only (the default); CL_RS and SDF_RD* are refused with the reason
+///   "calibrate"     true or false, default false: measure kLST instead (calibrateLinearStiffness: the sheet clamped
+///                   on its two x edges settles in both engines and one kLST is bisected until the sags match);
+///                   not together with "kLST"
+struct BulletSpec
+{
+    bridge::SoftBodyTwinSettings settings;
+    bool calibrate = false;
+};
+
 struct SceneSpec
 {
     std::string name;
@@ -112,5 +136,6 @@ struct SceneSpec
     RunSpec run;
     std::vector<ScriptAction> script;
     OutputSpec output;
+    BulletSpec bullet;
 };
 } // namespace masse::scene
