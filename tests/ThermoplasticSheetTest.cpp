@@ -363,6 +363,7 @@ public:
         const Real d = x.y() - m_height;
         return d > maxDistance ? SurfaceDistance{maxDistance, -1, -1} : SurfaceDistance{d, 0, 0};
     }
+    Vec3 pointVelocity(int, const Vec3&, Real) override { return Vec3::Zero(); } // a static mould
 
 private:
     Real m_height;

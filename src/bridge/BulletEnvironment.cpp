@@ -376,6 +376,20 @@ std::optional<SweepHit> BulletEnvironment::sweep(const Vec3& from, const Vec3& t
     return hit;
 }
 
+Vec3 BulletEnvironment::pointVelocity(int index, const Vec3& point, Real dt)
+{
+    if (index < 0 || index >= obstacleCount() || !(dt > 0))
+    {
+        return Vec3::Zero();
+    }
+    const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+    if (!obstacle.spec.isKinematic())
+    {
+        return Vec3::Zero();
+    }
+    return averageMotion(obstacle.spec, m_time, m_time + dt).at(point, obstacle.pose.position);
+}
+
 SurfaceDistance BulletEnvironment::nearestSurface(const Vec3& x, Real maxDistance)
 {
     SurfaceDistance nearest;

@@ -63,6 +63,7 @@ public:
                       std::vector<ContactPlane>& out) override;
     std::optional<SweepHit> sweep(const Vec3& from, const Vec3& to, Real radius) override;
     SurfaceDistance nearestSurface(const Vec3& x, Real maxDistance) override;
+    Vec3 pointVelocity(int obstacle, const Vec3& point, Real dt) override;
 
 private:
     struct Closest

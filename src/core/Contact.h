@@ -84,5 +84,8 @@ public:
     /// Distance from x to the nearest obstacle surface, searching no farther than maxDistance (returns a distance of
     /// at least maxDistance and obstacle -1 when nothing is that close).
     virtual SurfaceDistance nearestSurface(const Vec3& x, Real maxDistance) = 0;
+    /// Mean velocity over the next `dt` seconds of the obstacle's point now at `point` (zero for a static obstacle):
+    /// a mass stuck to a moving surface follows it with this.
+    virtual Vec3 pointVelocity(int obstacle, const Vec3& point, Real dt) = 0;
 };
 } // namespace masse

@@ -162,6 +162,17 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     m_planes.clear();
     m_detector.setTime(time);
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes);
+    // A stuck mass moves with the point of its obstacle it is stuck to, as that point moves during this frame.
+    if (m_anyStuck)
+    {
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            if (m_stuck[i])
+            {
+                m_stuckVelocity[i] = m_detector.pointVelocity(m_stuckObstacle[i], m_anchor[i], dt);
+            }
+        }
+    }
     m_detector.setTime(time + dt);
 
     // Constraints for the implicit integrator (see VelocityConstraint.h): stuck masses are held; a mass resting on

@@ -319,6 +319,16 @@ std::vector<Real> JsonObject::numbers(const std::string& key) const
     return result;
 }
 
+std::vector<std::string> JsonObject::keys() const
+{
+    std::vector<std::string> result;
+    for (auto it = m_value.begin(); it != m_value.end(); ++it)
+    {
+        result.push_back(it.key());
+    }
+    return result;
+}
+
 void JsonObject::finish() const
 {
     for (auto it = m_value.begin(); it != m_value.end(); ++it)

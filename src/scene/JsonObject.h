@@ -49,6 +49,9 @@ public:
     /// The raw value, for keys a caller parses itself (recorded as known).
     const nlohmann::json* raw(const std::string& key) const;
 
+    /// Every key of the object, in the file's order.
+    std::vector<std::string> keys() const;
+
     /// Throws InputError for the first key that no accessor asked for, with the nearest known key suggested.
     void finish() const;
 

@@ -90,15 +90,36 @@ void checkEvents(const JsonObject& expect, const Scene& scene, std::vector<Check
 void checkFinal(const JsonObject& final, const nlohmann::json& summary, std::vector<Check>& checks)
 {
     const nlohmann::json& actual = summary["final"];
-    for (const char* key : {"max_penetration", "kinetic_energy"})
+    // Bounds on any number of the summary's "final" block, by its dotted path ("thickness.min_ratio").
+    for (const std::string& key : final.keys())
     {
-        if (auto bound = final.object(key))
+        if (key == "bbox_min" || key == "bbox_max" || key == "state_hash")
         {
-            const Real max = bound->number("max");
-            bound->finish();
-            const Real value = actual[key].get<Real>();
-            checks.push_back({key, "<= " + format(max), format(value), format(value - max), value <= max});
+            continue;
         }
+        const JsonObject bound = *final.object(key);
+        const Real min = bound.number("min", -std::numeric_limits<Real>::infinity());
+        const Real max = bound.number("max", std::numeric_limits<Real>::infinity());
+        bound.finish();
+        const nlohmann::json* value = &actual;
+        std::size_t start = 0;
+        while (value && start <= key.size())
+        {
+            const std::size_t dot = std::min(key.find('.', start), key.size());
+            const std::string part = key.substr(start, dot - start);
+            value = value->is_object() && value->contains(part) ? &(*value)[part] : nullptr;
+            start = dot + 1;
+        }
+        if (!value || !value->is_number())
+        {
+            final.fail(key, "the summary has no number at final." + key);
+        }
+        const Real got = value->get<Real>();
+        const std::string expected = std::isinf(min)   ? "<= " + format(max)
+                                     : std::isinf(max) ? ">= " + format(min)
+                                                       : "in [" + format(min) + ", " + format(max) + "]";
+        checks.push_back(
+            {key, expected, format(got), got < min ? format(got - min) : format(got - max), got >= min && got <= max});
     }
     for (const char* key : {"bbox_min", "bbox_max"})
     {

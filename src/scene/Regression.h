@@ -5,6 +5,7 @@
 ///   "events":  [{"name": "contact", "object": "block", "sim_time": 0.51, "tolerance": 0.03}, ...],
 ///   "in_order": true,                     // the listed events must happen in the listed order
 ///   "final": {"max_penetration": {"max": 0.001}, "kinetic_energy": {"max": 1e-5},
+///             "thickness.min_ratio": {"min": 0.7, "max": 0.76},   // any number of the summary's final block
 ///             "bbox_min": {"value": [x, y, z], "tolerance": 0.01}, "bbox_max": {...},
 ///             "state_hash": {"Release": "0x..."}}      // bit-exact, per build type
 /// }

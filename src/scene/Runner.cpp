@@ -2,13 +2,17 @@
 
 #include "AtomicFile.h"
 #include "FrameWriter.h"
+#include "Plot.h"
 #include "Progress.h"
+#include "SheetReports.h"
 
 #include "core/StateHash.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #ifndef MASSE_BUILD_TYPE
@@ -37,6 +41,19 @@ void writeFrame(Scene& scene, const std::string& directory, std::uint64_t step, 
         {
             FrameFields fields;
             fields.contactObstacle = scene.contact().touchingObstacle();
+            if (const ThermalModel* thermal = scene.thermal())
+            {
+                std::vector<double> celsius;
+                for (Real kelvin : thermal->temperature())
+                {
+                    celsius.push_back(kelvin - 273.15);
+                }
+                fields.scalars.emplace_back("temperature_c", std::move(celsius));
+            }
+            if (const SheetThickness* thickness = scene.thickness())
+            {
+                fields.scalars.emplace_back("thickness", thickness->thickness());
+            }
             writeFileAtomically(path, toVtp(scene.system(), surface, fields));
         }
         else
@@ -72,6 +89,36 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         events.push_back({{"name", e.name}, {"object", e.object}, {"sim_time", e.simTime}, {"wall_time", e.wallTime}});
     }
     const LatticeSpec& lattice = spec.sheet.lattice;
+    nlohmann::json final = {
+        {"max_penetration", scene.contact().maxPenetration(scene.system())},
+        {"kinetic_energy", scene.kineticEnergy()},
+        {"bbox_min", {lo.x(), lo.y(), lo.z()}},
+        {"bbox_max", {hi.x(), hi.y(), hi.z()}},
+        {"state_hash", stateHashText(scene)},
+    };
+    if (const SheetThickness* thickness = scene.thickness())
+    {
+        final["thickness"] = {{"initial", thickness->initialThickness()},
+                              {"min", thickness->minimumThickness()},
+                              {"min_ratio", thickness->minimumThickness() / thickness->initialThickness()},
+                              {"min_mass", thickness->thinnestMass()},
+                              {"min_position",
+                               {p.position[thickness->thinnestMass()].x(), p.position[thickness->thinnestMass()].y(),
+                                p.position[thickness->thinnestMass()].z()}},
+                              {"volume_ratio", thickness->volume() / thickness->restVolume()}};
+    }
+    if (const ThermalModel* thermal = scene.thermal())
+    {
+        const std::vector<Real>& t = thermal->temperature();
+        Real sum = 0;
+        for (Real kelvin : t)
+        {
+            sum += kelvin;
+        }
+        final["temperature_c"] = {{"min", *std::min_element(t.begin(), t.end()) - 273.15},
+                                  {"max", *std::max_element(t.begin(), t.end()) - 273.15},
+                                  {"mean", sum / Real(t.size()) - 273.15}};
+    }
     return {
         {"scene", spec.name},
         {"scene_file", spec.path},
@@ -90,12 +137,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"contact", contactResponseName(spec.contact.response)},
         {"build_type", MASSE_BUILD_TYPE},
         {"events", events},
-        {"final",
-         {{"max_penetration", scene.contact().maxPenetration(scene.system())},
-          {"kinetic_energy", scene.kineticEnergy()},
-          {"bbox_min", {lo.x(), lo.y(), lo.z()}},
-          {"bbox_max", {hi.x(), hi.y(), hi.z()}},
-          {"state_hash", stateHashText(scene)}}},
+        {"final", final},
     };
 }
 
@@ -135,11 +177,20 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     Clock::duration inStep{};
     std::size_t eventsShown = 0;
     std::string latest;
+    std::optional<SagRecorder> sag;
+    if (scene.spec().report.sag)
+    {
+        sag.emplace(scene);
+    }
     while (!scene.finished())
     {
         const Clock::time_point before = Clock::now();
         scene.step();
         inStep += Clock::now() - before;
+        if (sag)
+        {
+            sag->record(scene);
+        }
         if (writing && framesEvery > 0 && scene.steps() % std::uint64_t(framesEvery) == 0)
         {
             writeFrame(scene, frameDirectory, scene.steps(), surface);
@@ -165,8 +216,25 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     result.overheadSeconds = wall - result.stepSeconds;
     result.summary = summarize(scene, wall);
     result.summary["runner_overhead"] = result.stepSeconds > 0 ? result.overheadSeconds / result.stepSeconds : 0.0;
+    if (sag)
+    {
+        result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
+    }
     if (writing)
     {
+        const std::string title = scene.spec().name;
+        if (sag)
+        {
+            writeFileAtomically(options.outDir + "/sag.csv", sag->csv());
+            plotPng(SagRecorder::plotScript(options.outDir + "/sag.csv", title), options.outDir + "/sag.png");
+        }
+        if (scene.spec().report.section && scene.thickness())
+        {
+            const std::vector<SectionPoint> section = thicknessSection(scene);
+            writeFileAtomically(options.outDir + "/thickness_section.csv", sectionCsv(section));
+            plotPng(sectionPlotScript(options.outDir + "/thickness_section.csv", title),
+                    options.outDir + "/thickness_section.png");
+        }
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
     }

@@ -4,6 +4,11 @@
 
 #include "core/Energy.h"
 #include "core/InputError.h"
+#include "core/MaterialSheet.h"
+#include "core/MembraneStiffness.h"
+
+#include <algorithm>
+#include <limits>
 
 namespace masse::scene
 {
@@ -22,6 +27,9 @@ void Scene::reset()
 void Scene::build()
 {
     // Tear down in dependency order before building again.
+    m_springs.reset();
+    m_thermal.reset();
+    m_thickness.reset();
     m_script.reset();
     m_simulator.reset();
     m_contact.reset();
@@ -44,7 +52,18 @@ void Scene::build()
                 x = centre + turn * (x - centre);
             }
         }
-        MassSpringSystem sheet = makeSheet(m_lattice, m_spec.sheet.params);
+        const MaterialSpec& material = m_spec.material;
+        const Real startTemperature =
+            m_spec.heat.enabled ? m_spec.heat.settings.initialTemperature : material.springs.initialTemperature;
+        if (m_spec.heat.enabled)
+        {
+            m_thermal =
+                std::make_unique<ThermalModel>(m_lattice, material.material, material.thickness, m_spec.heat.settings);
+            m_heaterOn = m_spec.heat.heaterOn;
+        }
+        MassSpringSystem sheet = material.enabled ? makeMaterialSheet(m_lattice, material.material, material.thickness,
+                                                                      startTemperature, material.springs.dampingRatio)
+                                                  : makeSheet(m_lattice, m_spec.sheet.params);
         sheet.forces.gravity = m_spec.environment.gravity;
         sheet.forces.airDamping = m_spec.environment.airDampingRate;
         sheet.forces.repulsion = m_spec.sheet.repulsion;
@@ -65,12 +84,56 @@ void Scene::build()
         settings.integrator = m_spec.time.integrator;
         settings.implicit = m_spec.time.implicit;
         settings.stabilitySafety = m_spec.time.stabilitySafety;
+        if (material.enabled)
+        {
+            SpringModelSettings springSettings = material.springs;
+            springSettings.initialTemperature = startTemperature;
+            m_springs = std::make_unique<ViscoelasticSprings>(sheet, stiffnessPerModulus(m_lattice, material.thickness),
+                                                              material.material, springSettings);
+            if (m_thermal)
+            {
+                m_springs->setTemperatures(&m_thermal->temperature());
+                m_springs->setThickness(&m_thermal->sheetThickness());
+            }
+            else
+            {
+                m_thickness = std::make_unique<SheetThickness>(m_lattice, material.thickness);
+                m_springs->setThickness(m_thickness.get());
+            }
+        }
         m_simulator = std::make_unique<Simulator>(std::move(sheet), settings);
         m_simulator->setContactSolver(m_contact.get());
-        m_script = std::make_unique<ScriptRunner>(m_spec.script, m_lattice, *m_environment,
-                                                  [this](const std::string& name, const std::string& object, Real t)
-                                                  { record(name, object, t); });
+        m_script = std::make_unique<ScriptRunner>(
+            m_spec.script, m_lattice, *m_environment,
+            [this](const std::string& name, const std::string& object, Real t) { record(name, object, t); },
+            [this](const ScriptAction& action)
+            {
+                if (action.kind == ScriptAction::Kind::Ambient)
+                {
+                    setAmbientTemperature(action.temperature);
+                    return;
+                }
+                const auto& names = m_spec.heat.heaterNames;
+                setHeater(std::size_t(std::find(names.begin(), names.end(), action.heater) - names.begin()), action.on);
+            });
         m_simulator->addHook(m_script.get());
+        if (m_thermal)
+        {
+            // Obstacles exchange heat at their own temperature; the room's walls (and obstacles without one) none.
+            std::vector<Real> obstacleTemperature(std::size_t(m_environment->obstacleCount()),
+                                                  std::numeric_limits<Real>::quiet_NaN());
+            for (std::size_t k = 0; k < m_spec.obstacles.size(); ++k)
+            {
+                obstacleTemperature[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
+                    m_spec.obstacleTemperature[k];
+            }
+            m_thermal->setContact(&m_contact->touchingObstacle(), obstacleTemperature);
+            m_simulator->addHook(m_thermal.get());
+        }
+        if (m_springs)
+        {
+            m_simulator->addHook(m_springs.get());
+        }
     }
     catch (const InputError& e)
     {
@@ -83,6 +146,38 @@ void Scene::build()
         m_restPrerequisites.push_back(m_environment->findObstacle(name));
     }
     m_start = std::chrono::steady_clock::now();
+}
+
+const SheetThickness* Scene::thickness() const
+{
+    if (m_thermal)
+    {
+        return &m_thermal->sheetThickness();
+    }
+    return m_thickness.get();
+}
+
+void Scene::setHeater(std::size_t heater, bool on)
+{
+    if (!m_thermal || heater >= m_heaterOn.size())
+    {
+        return;
+    }
+    m_heaterOn[heater] = on;
+    ThermalSettings settings = m_thermal->settings();
+    settings.heaters[heater].power = on ? m_spec.heat.heaterPower[heater] : Real(0);
+    m_thermal->setSettings(settings);
+}
+
+void Scene::setAmbientTemperature(Real kelvin)
+{
+    if (!m_thermal)
+    {
+        return;
+    }
+    ThermalSettings settings = m_thermal->settings();
+    settings.airTemperature = kelvin;
+    m_thermal->setSettings(settings);
 }
 
 Real Scene::wallSeconds() const
@@ -128,6 +223,10 @@ StepReport Scene::step()
 
 void Scene::updateRest()
 {
+    if (!m_spec.run.stopAtRest)
+    {
+        return; // rest means something only to a scene that waits for it
+    }
     for (int obstacle : m_restPrerequisites)
     {
         if (!m_contact->everTouched(obstacle))

@@ -9,6 +9,8 @@
 
 #include "core/ContactSolver.h"
 #include "core/Simulator.h"
+#include "core/ThermalModel.h"
+#include "core/ViscoelasticSprings.h"
 
 #include <chrono>
 #include <memory>
@@ -49,6 +51,17 @@ public:
     ContactSolver& contact() { return *m_contact; }
     const ContactSolver& contact() const { return *m_contact; }
     const ScriptRunner& script() const { return *m_script; }
+    /// The heat model (nullptr without a "heat" section) and the material springs (nullptr without a "material").
+    ThermalModel* thermal() { return m_thermal.get(); }
+    const ThermalModel* thermal() const { return m_thermal.get(); }
+    const ViscoelasticSprings* materialSprings() const { return m_springs.get(); }
+    /// Local thickness of the sheet (nullptr without a material); current as of the last frame.
+    const SheetThickness* thickness() const;
+    /// Switches a heater (by its index in the scene's heat section) on or off, as the script's "heater" action.
+    void setHeater(std::size_t heater, bool on);
+    bool heaterOn(std::size_t heater) const { return m_heaterOn.at(heater); }
+    /// Sets the room air temperature (K), as the script's "ambient" action.
+    void setAmbientTemperature(Real kelvin);
 
     const std::vector<SceneEvent>& events() const { return m_events; }
     /// Time of the first event with this name and object, or a negative number.
@@ -73,6 +86,10 @@ private:
     std::unique_ptr<ContactSolver> m_contact;
     std::unique_ptr<Simulator> m_simulator;
     std::unique_ptr<ScriptRunner> m_script;
+    std::unique_ptr<ThermalModel> m_thermal;
+    std::unique_ptr<ViscoelasticSprings> m_springs;
+    std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat
+    std::vector<bool> m_heaterOn;
     std::vector<SceneEvent> m_events;
     std::size_t m_contactsSeen = 0;
     std::vector<int> m_restPrerequisites;

@@ -1,6 +1,7 @@
 #include "SceneFile.h"
 
 #include "JsonObject.h"
+#include "MaterialFile.h"
 
 #include "core/Damping.h"
 #include "core/InputError.h"
@@ -149,9 +150,16 @@ std::vector<bridge::PathKey> readPath(const JsonObject& owner, const std::string
     return path;
 }
 
-bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory)
+constexpr Real kelvinAtZeroCelsius = 273.15;
+
+bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature)
 {
     bridge::ObstacleSpec spec;
+    temperature = std::numeric_limits<Real>::quiet_NaN();
+    if (o.has("temperature_c"))
+    {
+        temperature = o.number("temperature_c", 20.0, -kelvinAtZeroCelsius + 1e-6) + kelvinAtZeroCelsius;
+    }
     spec.name = o.string("name");
     const std::string type = o.choice("type", "box", {"box", "prism", "hull", "mesh"});
     spec.position = o.vec3("position", Vec3::Zero());
@@ -252,7 +260,8 @@ ScriptAction readAction(const JsonObject& o)
 {
     ScriptAction action;
     action.time = o.number("time", 0.0, 0.0);
-    const std::string kind = o.choice("action", "grab", {"grab", "release", "pin", "unpin", "gravity", "move"});
+    const std::string kind =
+        o.choice("action", "grab", {"grab", "release", "pin", "unpin", "gravity", "move", "heater", "ambient"});
     action.label = o.string("label", "");
     if (kind == "grab")
     {
@@ -296,6 +305,21 @@ ScriptAction readAction(const JsonObject& o)
     {
         action.kind = ScriptAction::Kind::Gravity;
         action.vector = o.vec3("value");
+    }
+    else if (kind == "heater")
+    {
+        action.kind = ScriptAction::Kind::Heater;
+        action.heater = o.string("heater");
+        action.on = o.boolean("on", true);
+    }
+    else if (kind == "ambient")
+    {
+        action.kind = ScriptAction::Kind::Ambient;
+        action.temperature = o.number("temperature_c") + kelvinAtZeroCelsius;
+        if (!(action.temperature > 0))
+        {
+            o.fail("temperature_c", "must be above absolute zero, -273.15 C");
+        }
     }
     else
     {
@@ -358,6 +382,126 @@ Real fraction(const JsonObject& o, const std::string& key, Real fallback, Real l
     return value;
 }
 
+MaterialSpec readMaterialSection(const JsonObject& o, const std::string& baseDirectory)
+{
+    MaterialSpec spec;
+    spec.enabled = true;
+    if (o.has("file") == o.has("properties"))
+    {
+        o.fail("file",
+               "give the material as a file (\"file\": \"../materials/abs.json\") or inline (\"properties\": {...})");
+    }
+    if (o.has("file"))
+    {
+        const std::filesystem::path file = o.string("file");
+        spec.file = file.is_absolute() ? file.string() : (std::filesystem::path(baseDirectory) / file).string();
+        spec.material = readMaterialFile(spec.file);
+    }
+    else
+    {
+        spec.material = parseMaterial(*o.object("properties"));
+    }
+    spec.thickness = o.positive("thickness", spec.thickness);
+    spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", {"elastic", "maxwell", "burgers"}));
+    spec.springs.dampingRatio = o.number("damping_ratio", spec.springs.dampingRatio, 0.0, 1.0);
+    spec.springs.followThickness = o.boolean("follow_thickness", spec.springs.followThickness);
+    o.finish();
+    return spec;
+}
+
+Real celsius(const JsonObject& o, const std::string& key, Real fallbackKelvin)
+{
+    const Real value = o.number(key, fallbackKelvin - kelvinAtZeroCelsius) + kelvinAtZeroCelsius;
+    if (!(value > 0))
+    {
+        o.fail(key, "must be above absolute zero, -273.15 C");
+    }
+    return value;
+}
+
+HeatSpec readHeat(const JsonObject& o)
+{
+    HeatSpec heat;
+    heat.enabled = true;
+    ThermalSettings& t = heat.settings;
+    t.initialTemperature = celsius(o, "initial_temperature_c", t.initialTemperature);
+    t.airTemperature = celsius(o, "air_temperature_c", t.airTemperature);
+    t.airHeatTransfer = o.number("air_heat_transfer", t.airHeatTransfer, 0.0);
+    t.absorptivity = o.number("absorptivity", t.absorptivity, 0.0, 1.0);
+    t.contactHeatTransfer = o.number("contact_heat_transfer", t.contactHeatTransfer, 0.0);
+    t.solverTolerance = o.number("solver_tolerance", t.solverTolerance, 1e-14, 1e-3);
+    t.maxIterations = o.integer("max_iterations", t.maxIterations, 1, 1000000);
+    for (const JsonObject& h : o.objects("heaters"))
+    {
+        RadiantHeater heater;
+        const std::string name = h.string("name");
+        heater.centre = h.vec3("centre", heater.centre);
+        heater.normal = h.vec3("normal", heater.normal);
+        heater.widthAxis = h.vec3("width_axis", heater.widthAxis);
+        heater.width = h.number("width", heater.width);
+        heater.length = h.number("length", heater.length);
+        heater.power = h.number("power", heater.power);
+        const bool on = h.boolean("on", true);
+        h.finish();
+        heat.heaterNames.push_back(name);
+        heat.heaterPower.push_back(heater.power);
+        heat.heaterOn.push_back(on);
+        if (!on)
+        {
+            heater.power = 0;
+        }
+        t.heaters.push_back(heater);
+    }
+    for (const JsonObject& z : o.objects("hot_air_zones"))
+    {
+        HotAirZone zone;
+        heat.zoneNames.push_back(z.string("name", "zone " + std::to_string(heat.zoneNames.size())));
+        zone.minCorner = z.vec3("min", zone.minCorner);
+        zone.maxCorner = z.vec3("max", zone.maxCorner);
+        zone.temperature = celsius(z, "temperature_c", zone.temperature);
+        zone.heatTransfer = z.number("heat_transfer", zone.heatTransfer);
+        z.finish();
+        t.hotAirZones.push_back(zone);
+    }
+    o.finish();
+    // Heaters with their full power are checked even if they start switched off.
+    ThermalSettings check = t;
+    for (std::size_t i = 0; i < check.heaters.size(); ++i)
+    {
+        check.heaters[i].power = heat.heaterPower[i];
+    }
+    within("heat", [&] { validate(check); });
+    return heat;
+}
+
+ReportSpec readReport(const JsonObject& o)
+{
+    ReportSpec report;
+    if (auto section = o.object("thickness_section"))
+    {
+        report.section = true;
+        report.sectionAxis = section->choice("axis", "x", {"x", "z"}) == "x" ? 0 : 2;
+        report.sectionThrough = section->vec3("through", Vec3::Zero());
+        section->finish();
+    }
+    if (const nlohmann::json* sag = o.raw("sag"))
+    {
+        if (sag->is_boolean())
+        {
+            report.sag = sag->get<bool>();
+        }
+        else
+        {
+            const JsonObject s(*sag, o.pathOf("sag"));
+            report.sag = true;
+            report.sagMass = s.integer("mass", -1, -1, std::numeric_limits<int>::max());
+            s.finish();
+        }
+    }
+    o.finish();
+    return report;
+}
+
 BulletSpec readBullet(const JsonObject& o)
 {
     BulletSpec bullet;
@@ -416,6 +560,11 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
         }
     };
     checkPins(scene.sheet.pinned, "sheet.pinned.masses");
+    if (scene.report.sag && scene.report.sagMass >= int(masses))
+    {
+        top.fail("report.sag.mass", "mass " + std::to_string(scene.report.sagMass) + " does not exist (the sheet has " +
+                                        std::to_string(masses) + " masses)");
+    }
 
     std::vector<std::string> names;
     if (scene.environment.room.enabled)
@@ -483,6 +632,19 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
             break;
         case ScriptAction::Kind::Gravity:
             break;
+        case ScriptAction::Kind::Heater:
+            if (std::find(scene.heat.heaterNames.begin(), scene.heat.heaterNames.end(), a.heater) ==
+                scene.heat.heaterNames.end())
+            {
+                top.fail(key + ".heater", "no heater is named '" + a.heater + "'");
+            }
+            break;
+        case ScriptAction::Kind::Ambient:
+            if (!scene.heat.enabled)
+            {
+                top.fail(key + ".action", "an ambient temperature needs a \"heat\" section");
+            }
+            break;
         }
     }
 }
@@ -506,7 +668,33 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         scene.environment = readEnvironment(top.object("environment").value_or(JsonObject(empty, "environment")));
         for (const JsonObject& o : top.objects("obstacles"))
         {
-            scene.obstacles.push_back(readObstacle(o, baseDirectory));
+            Real temperature = 0;
+            scene.obstacles.push_back(readObstacle(o, baseDirectory, temperature));
+            scene.obstacleTemperature.push_back(temperature);
+        }
+        if (auto material = top.object("material"))
+        {
+            scene.material = readMaterialSection(*material, baseDirectory);
+            for (const char* key : {"mass", "stiffness"})
+            {
+                if (top.object("sheet") && top.object("sheet")->has(key))
+                {
+                    top.fail(std::string("sheet.") + key,
+                             "not used with a material: its density, modulus and thickness set the masses and springs");
+                }
+            }
+        }
+        if (auto heat = top.object("heat"))
+        {
+            if (!scene.material.enabled)
+            {
+                top.fail("heat", "needs a \"material\" to know how the sheet heats and softens");
+            }
+            scene.heat = readHeat(*heat);
+        }
+        if (auto report = top.object("report"))
+        {
+            scene.report = readReport(*report);
         }
         scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")));
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));

@@ -11,6 +11,9 @@
 #include "core/Integrator.h"
 #include "core/Lattice.h"
 #include "core/MassSpringSystem.h"
+#include "core/Material.h"
+#include "core/ThermalModel.h"
+#include "core/ViscoelasticSprings.h"
 
 #include <string>
 #include <vector>
@@ -33,6 +36,39 @@ struct SheetSpec
     /// Degrees about x, then y, then z (fixed axes), turning the sheet about the centre of its box.
     Vec3 rotationDegrees = Vec3::Zero();
     PinSpec pinned;
+};
+
+/// What the sheet is made of, when it is a real material rather than the paper's spring constants.
+struct MaterialSpec
+{
+    bool enabled = false;
+    std::string file; ///< where it was read from ("" if given inline)
+    Material material;
+    Real thickness = 0.002; ///< m, h0 of the sheet
+    SpringModelSettings springs;
+};
+
+/// Heat: temperatures, heaters and hot-air zones (needs a material).
+struct HeatSpec
+{
+    bool enabled = false;
+    ThermalSettings settings;
+    std::vector<std::string> heaterNames;
+    std::vector<Real> heaterPower; ///< W when on, per heater
+    std::vector<bool> heaterOn;    ///< at the start
+    std::vector<std::string> zoneNames;
+};
+
+/// Reports written by `masse run` besides the summary.
+struct ReportSpec
+{
+    /// Thickness along a section of the bottom layer: the masses nearest the line through `through` along `axis`.
+    bool section = false;
+    int sectionAxis = 0; ///< 0: x, 2: z
+    Vec3 sectionThrough = Vec3::Zero();
+    /// Sag against time: how far a mass (the bottom-layer centre by default) has dropped below its start.
+    bool sag = false;
+    int sagMass = -1; ///< -1: the bottom-layer mass nearest the sheet's centre
 };
 
 struct EnvironmentSpec
@@ -72,6 +108,8 @@ struct ScriptAction
         Unpin,
         Gravity, ///< sets gravity to `vector`
         Move,    ///< moves a kinematic obstacle along `obstaclePath` (times absolute)
+        Heater,  ///< switches a heater on or off (`heater`, `on`)
+        Ambient, ///< sets the room air temperature (`temperature`, K)
     };
     Kind kind = Kind::Grab;
     Real time = 0;     ///< s
@@ -91,6 +129,10 @@ struct ScriptAction
     // Move
     std::string obstacle;
     std::vector<bridge::PathKey> obstaclePath;
+    // Heater, Ambient
+    std::string heater;
+    bool on = true;
+    Real temperature = 293.15; ///< K
 };
 
 /// What the outputs of a run contain.
@@ -131,6 +173,11 @@ struct SceneSpec
     SheetSpec sheet;
     EnvironmentSpec environment;
     std::vector<bridge::ObstacleSpec> obstacles;
+    /// K per obstacle, for heat exchange on contact (NaN: none); the room's walls exchange none.
+    std::vector<Real> obstacleTemperature;
+    MaterialSpec material;
+    HeatSpec heat;
+    ReportSpec report;
     ContactSettings contact;
     TimeSpec time;
     RunSpec run;

@@ -24,8 +24,9 @@ Index nearestMass(const Particles& particles, const Vec3& point)
 }
 
 ScriptRunner::ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice,
-                           bridge::BulletEnvironment& environment, EventSink sink)
-    : m_actions(std::move(actions)), m_lattice(lattice), m_environment(environment), m_sink(std::move(sink))
+                           bridge::BulletEnvironment& environment, EventSink sink, HeatAction heat)
+    : m_actions(std::move(actions)), m_lattice(lattice), m_environment(environment), m_sink(std::move(sink)),
+      m_heat(std::move(heat))
 {
     // Fire in time order; actions at the same time keep the file's order.
     std::stable_sort(m_actions.begin(), m_actions.end(),
@@ -109,6 +110,15 @@ void ScriptRunner::fire(MassSpringSystem& system, const ScriptAction& action, Re
     case ScriptAction::Kind::Move:
         m_environment.extendPath(m_environment.findObstacle(action.obstacle), action.obstaclePath);
         m_sink("move", action.obstacle, time);
+        break;
+    case ScriptAction::Kind::Heater:
+    case ScriptAction::Kind::Ambient:
+        if (m_heat)
+        {
+            m_heat(action);
+        }
+        m_sink(action.kind == ScriptAction::Kind::Heater ? (action.on ? "heater on" : "heater off") : "ambient",
+               action.kind == ScriptAction::Kind::Heater ? action.heater : "air", time);
         break;
     }
 }

@@ -15,11 +15,14 @@ namespace masse::scene
 /// Receives events: a name ("grab", "release", "pin", "unpin", "gravity", "move"), the object concerned, a time.
 using EventSink = std::function<void(const std::string& name, const std::string& object, Real time)>;
 
+/// Carries out the actions on heat (heater, ambient), which the scene owns.
+using HeatAction = std::function<void(const ScriptAction& action)>;
+
 class ScriptRunner final : public StepHook
 {
 public:
     ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice, bridge::BulletEnvironment& environment,
-                 EventSink sink);
+                 EventSink sink, HeatAction heat = {});
 
     void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, Real h, Real time) override;
@@ -43,6 +46,7 @@ private:
     const Lattice& m_lattice;
     bridge::BulletEnvironment& m_environment;
     EventSink m_sink;
+    HeatAction m_heat;
     std::vector<Grab> m_grabs;
 };
 
