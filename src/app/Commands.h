@@ -13,4 +13,5 @@ void addBenchCommand(CLI::App& app);
 void addDemoCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 void addPaperCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 } // namespace masse::app

@@ -20,6 +20,7 @@ int main(int argc, char** argv)
     masse::app::addDemoCommand(app);
     masse::app::addRunCommand(app);
     masse::app::addPaperCommand(app);
+    masse::app::addViewCommand(app);
 
     try
     {
