@@ -2,6 +2,7 @@
 // (keeping the previous scene on failure), the pick spring and its caps, per-mass scalars, screen regions.
 
 #include "viewer/ViewerSession.h"
+#include "viewer/DrawPacer.h"
 #include "viewer/MassScalars.h"
 #include "viewer/PickSpring.h"
 #include "viewer/ScreenRegions.h"
@@ -71,14 +72,47 @@ TEST(RateMeter, PublishesRatesOncePerWindow)
     RateMeter meter(0.5);
     for (int i = 0; i < 7; ++i)
     {
-        meter.addFrame(0.0625, 2, 0.03); // 16 frames/s, 32 steps/s, 0.48 s simulated per wall second
+        meter.add(0.0625, 1, 2, 0.03); // 16 frames/s, 32 steps/s, 0.48 s simulated per wall second
     }
     EXPECT_FALSE(meter.hasFigures());
-    meter.addFrame(0.0625, 2, 0.03);
+    meter.add(0.0625, 1, 2, 0.03);
     ASSERT_TRUE(meter.hasFigures());
     EXPECT_NEAR(meter.framesPerSecond(), 16, 1e-9);
     EXPECT_NEAR(meter.stepsPerSecond(), 32, 1e-9);
     EXPECT_NEAR(meter.realTimeFactor(), 0.48, 1e-9);
+}
+
+TEST(DrawPacer, DrawingGetsWhatTheSimulationLeavesOver)
+{
+    DrawPacer pacer({0.1, 0.5, 0.1, 0.01}); // a minimum share of 0.1 for the test
+    EXPECT_TRUE(pacer.due(0, true)) << "the first frame comes at once";
+    EXPECT_NEAR(pacer.drawShare(), 0.5, 1e-12) << "an idle simulation leaves the most";
+    // Steps costing 20 ms per 30 ms of simulated time (the 64x2x64 sheet): two thirds of the clock.
+    for (int i = 0; i < 40; ++i)
+    {
+        pacer.stepped(3, 0.06, 0.03);
+        pacer.drew(i, 0.02);
+    }
+    EXPECT_NEAR(pacer.simulationLoad(), 2.0 / 3, 1e-3);
+    EXPECT_NEAR(pacer.drawShare(), 1 - 2.0 / 3 - 0.1, 1e-3);
+    EXPECT_NEAR(pacer.interval(true), 0.02 / (1 - 2.0 / 3 - 0.1), 1e-3)
+        << "20 ms frames about every 86 ms: steps, frames and the margin fill the clock";
+    EXPECT_FALSE(pacer.due(39.05, true));
+    EXPECT_TRUE(pacer.due(39.09, true));
+    EXPECT_NEAR(pacer.interval(false), 0.01, 1e-12) << "paused, frames come as often as the cap allows";
+
+    // A simulation slower than real time on its own still shows a frame now and then.
+    pacer.stepped(1, 0.5, 0.03);
+    for (int i = 0; i < 40; ++i)
+    {
+        pacer.stepped(1, 0.5, 0.03);
+    }
+    EXPECT_NEAR(pacer.drawShare(), 0.1, 1e-12);
+    // A slow frame is followed slowly, a cheap one believed at once.
+    pacer.drew(100, 1.0);
+    EXPECT_NEAR(pacer.drawCost(), 0.8 * 0.02 + 0.2 * 1.0, 1e-5);
+    pacer.drew(101, 0.001);
+    EXPECT_NEAR(pacer.drawCost(), 0.001, 1e-12);
 }
 
 TEST(ViewerSession, RunsInRealTimeWithinTheFramesBudget)

@@ -66,7 +66,7 @@ bool nonNegativeDouble(const char* label, double& value, const char* format)
 } // namespace
 
 PanelRequests Panel::draw(ViewerSession& session, DrawSettings& draw, bool& pickMode, const FrameStats& stats,
-                          const MassScalarRegistry& scalars, const ScalarRange& legend)
+                          const MassScalarRegistry& scalars, const Renderer& renderer)
 {
     PanelRequests requests;
     if (m_generation != session.generation())
@@ -82,9 +82,9 @@ PanelRequests Panel::draw(ViewerSession& session, DrawSettings& draw, bool& pick
     }
     if (visible)
     {
-        drawControls(session, draw, pickMode, scalars, legend, requests);
+        drawControls(session, draw, pickMode, scalars, renderer.scalarRange(), requests);
     }
-    drawHud(session, stats);
+    drawHud(session, stats, draw, renderer);
     return requests;
 }
 
@@ -254,7 +254,7 @@ void Panel::drawSceneEditor(ViewerSession& session)
     ImGui::EndDisabled();
 }
 
-void Panel::drawHud(ViewerSession& session, const FrameStats& stats)
+void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer)
 {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
@@ -280,6 +280,10 @@ void Panel::drawHud(ViewerSession& session, const FrameStats& stats)
         {
             ImGui::TextUnformatted("real-time factor: paused");
         }
+        else if (stats.fixedSteps > 0)
+        {
+            ImGui::Text("%d step(s) per frame, not following the clock (capture)", stats.fixedSteps);
+        }
         else if (stats.realTimeFactor < 0.95)
         {
             ImGui::PushStyleColor(ImGuiCol_Text, warningColour);
@@ -290,6 +294,10 @@ void Panel::drawHud(ViewerSession& session, const FrameStats& stats)
         {
             ImGui::Text("real-time factor %.2f", stats.realTimeFactor);
         }
+    }
+    if (draw.mode == DrawMode::MassesAndSprings && !renderer.springsShown())
+    {
+        ImGui::TextUnformatted("springs hidden while under 3 px apart: zoom in to see them");
     }
     const std::vector<scene::SceneEvent>& events = scene.events();
     const std::size_t shown = std::min<std::size_t>(events.size(), 5);

@@ -20,6 +20,7 @@ struct FrameStats
     Real realTimeFactor = 0;
     bool measured = false; ///< the rates cover at least one full window of time
     bool behind = false;   ///< the last frame ran out of compute budget
+    int fixedSteps = 0;    ///< steps per frame when the loop ignores the clock (captures); 0 in real time
 };
 
 /// What the window should do after the panel was drawn.
@@ -33,7 +34,7 @@ class Panel
 public:
     /// Draws the panel (when shown) and the HUD; carries out run, load and rebuild requests on the session.
     PanelRequests draw(ViewerSession& session, DrawSettings& draw, bool& pickMode, const FrameStats& stats,
-                       const MassScalarRegistry& scalars, const ScalarRange& legend);
+                       const MassScalarRegistry& scalars, const Renderer& renderer);
 
     bool visible = true;
 
@@ -41,7 +42,7 @@ private:
     void drawControls(ViewerSession& session, DrawSettings& draw, bool& pickMode, const MassScalarRegistry& scalars,
                       const ScalarRange& legend, PanelRequests& requests);
     void drawSceneEditor(ViewerSession& session);
-    void drawHud(ViewerSession& session, const FrameStats& stats);
+    void drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer);
 
     scene::SceneSpec m_pending; ///< the spec being edited, applied with Apply
     bool m_edited = false;

@@ -76,6 +76,7 @@ void main()
 )";
 
 constexpr float ambientLight = 0.45f;
+constexpr Real minSpringSpacingPixels = 3;
 
 void setMatrix(const ShaderProgram& program, const char* name, const Mat4& matrix)
 {
@@ -447,17 +448,22 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     if (settings.mode == DrawMode::MassesAndSprings)
     {
         m_flat->use();
-        // Springs in one colour: the colour array is switched off and its attribute's constant value used.
-        glDisableVertexAttribArray(colourAttribute);
-        glVertexAttrib3f(colourAttribute, palette::spring.r, palette::spring.g, palette::spring.b);
-        glUniform1i(m_flat->uniform("roundPoints"), 0);
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_springIndices);
-        glDrawElements(GL_LINES, m_springIndexCount, GL_UNSIGNED_INT, nullptr);
-        glEnableVertexAttribArray(colourAttribute);
-
-        // Masses as round points about half a lattice spacing across on screen, within readable bounds.
         const Real depth = std::max((m_sheetCentre - camera.eye()).norm(), camera.nearPlane());
         const Real spacingPixels = m_spacing / (depth * camera.pixelSizeAtUnitDepth(viewport));
+        // Springs closer together on screen than a few pixels only fill the sheet with grey, and they are most of
+        // a dense sheet's drawing cost; below that the masses alone show it.
+        m_springsShown = spacingPixels >= minSpringSpacingPixels;
+        if (m_springsShown)
+        {
+            // Springs in one colour: the colour array is switched off and its attribute's constant value used.
+            glDisableVertexAttribArray(colourAttribute);
+            glVertexAttrib3f(colourAttribute, palette::spring.r, palette::spring.g, palette::spring.b);
+            glUniform1i(m_flat->uniform("roundPoints"), 0);
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_springIndices);
+            glDrawElements(GL_LINES, m_springIndexCount, GL_UNSIGNED_INT, nullptr);
+            glEnableVertexAttribArray(colourAttribute);
+        }
+        // Masses as round points about half a lattice spacing across on screen, within readable bounds.
         glUniform1f(m_flat->uniform("pointSize"), float(std::clamp(Real(0.45) * spacingPixels, Real(2), Real(9))));
         glUniform1i(m_flat->uniform("roundPoints"), 1);
         glDrawArrays(GL_POINTS, 0, GLsizei(m_positionData.size() / 3));

@@ -49,6 +49,9 @@ public:
 
     /// The range the last Scalar frame mapped onto the colour map (for the panel's legend).
     const ScalarRange& scalarRange() const { return m_scalarRange; }
+    /// Whether the last frame drew the springs (in masses mode they are left out while they lie closer together
+    /// on screen than a few pixels).
+    bool springsShown() const { return m_springsShown; }
 
 private:
     /// One vertex of the room, the obstacles and the overlays: position, colour, normal (zero for lines).
@@ -96,6 +99,7 @@ private:
     std::vector<float> m_scalarValues;
     Vec3 m_sheetCentre = Vec3::Zero();
     ScalarRange m_scalarRange;
+    bool m_springsShown = true;
 
     VertexStream m_roomFaces;  ///< inward faces of the room, drawn with back faces culled
     VertexStream m_solidFaces; ///< polyhedra

@@ -29,10 +29,10 @@ void StepScheduler::forgetBacklog()
     m_owed = std::fmod(m_owed, m_dt);
 }
 
-void RateMeter::addFrame(Real wallSeconds, int steps, Real simSeconds)
+void RateMeter::add(Real wallSeconds, int frames, int steps, Real simSeconds)
 {
     m_wall += wallSeconds;
-    ++m_frames;
+    m_frames += frames;
     m_steps += steps;
     m_sim += simSeconds;
     if (m_wall < m_window)

@@ -34,15 +34,15 @@ private:
     Real m_owed = 0;
 };
 
-/// Rates over a short window of wall time: frames, steps and simulated seconds per wall second, for the HUD and the
-/// benchmark. A new figure is published once per window so the numbers hold still long enough to read.
+/// Rates over a short window of wall time: frames drawn, steps and simulated seconds per wall second, for the HUD
+/// and the benchmark. A new figure is published once per window so the numbers hold still long enough to read.
 class RateMeter
 {
 public:
     explicit RateMeter(Real windowSeconds = Real(0.5)) : m_window(windowSeconds) {}
 
-    /// One frame: wall seconds it took, steps taken, simulated seconds advanced.
-    void addFrame(Real wallSeconds, int steps, Real simSeconds);
+    /// One pass of the loop: wall seconds it took, frames drawn, steps taken, simulated seconds advanced.
+    void add(Real wallSeconds, int frames, int steps, Real simSeconds);
 
     Real framesPerSecond() const { return m_fps; }
     Real stepsPerSecond() const { return m_sps; }

@@ -1,6 +1,7 @@
 #include "ViewerApp.h"
 
 #include "Display.h"
+#include "DrawPacer.h"
 #include "GlHeaders.h"
 #include "Panel.h"
 #include "Picking.h"
@@ -38,8 +39,6 @@ Real secondsBetween(Clock::time_point from, Clock::time_point to)
 
 /// Pixels within which a click catches a mass.
 constexpr Real pickTolerancePixels = 12;
-/// Without vsync (Xvfb, some drivers) an idle loop would spin a core; 120 frames a second is plenty to watch.
-constexpr Real minFrameSeconds = Real(1) / 120;
 
 enum class Drag
 {
@@ -79,8 +78,11 @@ public:
 
 private:
     void openWindow();
-    /// One frame: advance the scene, draw it and the UI, maybe capture; returns false when the run should stop.
-    bool frame();
+    /// One pass of the loop: advance the scene, and draw a frame when one is due (the draw pacer) or it is the
+    /// last; returns false when the run should stop.
+    bool tick();
+    /// Draws the scene and the UI and swaps; the last frame is also captured.
+    void drawFrame(bool last);
     bool eventSeen() const;
     void setView(ViewPreset preset);
     void beginPick(int x, int y);
@@ -95,6 +97,7 @@ private:
     OrbitCamera m_camera;
     Viewport m_viewport;
     RateMeter m_rates;
+    DrawPacer m_pacer;
     FrameStats m_stats;
     bool m_pickMode = false;
 
@@ -107,7 +110,8 @@ private:
     int m_lastY = 0;
     DragPlane m_dragPlane;
 
-    Clock::time_point m_lastFrame;
+    Clock::time_point m_start;
+    Clock::time_point m_lastTick;
     ViewerReport m_report;
     Real m_simAtFirstFrame = 0;
     Clock::time_point m_firstFrameEnd;
@@ -445,24 +449,52 @@ void ViewerApp::capture()
     }
 }
 
-bool ViewerApp::frame()
+bool ViewerApp::tick()
 {
     if (!m_windowOpen)
     {
         return false;
     }
     const Clock::time_point start = Clock::now();
-    const Real wall = secondsBetween(m_lastFrame, start);
-    m_lastFrame = start;
-    const Advance advance = m_options.stepsPerFrame > 0 ? m_session.advanceSteps(m_options.stepsPerFrame)
-                                                        : m_session.advance(wall, m_options.computeBudget);
-    ++m_report.frames;
+    const Real wall = secondsBetween(m_lastTick, start);
+    m_lastTick = start;
+    const bool fixedSteps = m_options.stepsPerFrame > 0;
+    const Advance advance =
+        fixedSteps ? m_session.advanceSteps(m_options.stepsPerFrame) : m_session.advance(wall, m_options.computeBudget);
     m_report.steps += std::uint64_t(advance.steps);
     m_report.stepSeconds += advance.stepSeconds;
+    m_pacer.stepped(advance.steps, advance.stepSeconds, m_session.spec().time.dt);
     m_report.eventSeen = eventSeen();
-    const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames >= m_options.frames);
+    const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
+    const Real now = secondsBetween(m_start, start);
+    const bool draw = fixedSteps || last || m_pacer.due(now, !m_session.paused());
+    if (draw)
+    {
+        const Clock::time_point drawStart = Clock::now();
+        drawFrame(last);
+        const Real cost = secondsBetween(drawStart, Clock::now());
+        m_pacer.drew(now, cost);
+        m_report.drawSeconds += cost;
+        if (++m_report.frames == 1)
+        {
+            // The first frame includes opening the window; rates are measured from its end.
+            m_firstFrameEnd = Clock::now();
+            m_simAtFirstFrame = m_session.scene().time();
+        }
+    }
+    m_rates.add(wall, draw ? 1 : 0, advance.steps, advance.simSeconds);
+    m_stats = {m_rates.framesPerSecond(), m_rates.stepsPerSecond(), m_rates.realTimeFactor(),
+               m_rates.hasFigures(),      advance.behind,           m_options.stepsPerFrame};
+    if (!draw && advance.steps == 0)
+    {
+        // Nothing was due: wait a little rather than spin a core the simulation or the rasteriser could use.
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return !last;
+}
 
-    const Clock::time_point drawStart = Clock::now();
+void ViewerApp::drawFrame(bool last)
+{
     // ImGui sizes auto-resizing windows from the previous frame's contents; a captured frame is laid out twice so
     // a line added this frame (a new event in the HUD) is not clipped in the picture.
     const int uiPasses = last ? 2 : 1;
@@ -472,8 +504,7 @@ bool ViewerApp::frame()
         ImGui_ImplGLUT_NewFrame();
         if (m_options.showUi)
         {
-            const PanelRequests requests =
-                m_panel.draw(m_session, m_draw, m_pickMode, m_stats, m_scalars, m_renderer->scalarRange());
+            const PanelRequests requests = m_panel.draw(m_session, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
             if (requests.view)
             {
                 setView(*requests.view);
@@ -488,37 +519,17 @@ bool ViewerApp::frame()
         capture();
     }
     glutSwapBuffers();
-    m_report.drawSeconds += secondsBetween(drawStart, Clock::now());
-
-    m_rates.addFrame(wall, advance.steps, advance.simSeconds);
-    m_stats = {m_rates.framesPerSecond(), m_rates.stepsPerSecond(), m_rates.realTimeFactor(), m_rates.hasFigures(),
-               advance.behind};
-    if (m_report.frames == 1)
-    {
-        // The first frame includes opening the window; rates are measured from its end.
-        m_firstFrameEnd = Clock::now();
-        m_simAtFirstFrame = m_session.scene().time();
-    }
-    if (!m_options.benchmark && m_options.stepsPerFrame == 0)
-    {
-        const Real spent = secondsBetween(start, Clock::now());
-        if (spent < minFrameSeconds)
-        {
-            std::this_thread::sleep_for(std::chrono::duration<Real>(minFrameSeconds - spent));
-        }
-    }
-    return !last;
 }
 
 ViewerReport ViewerApp::run()
 {
     openWindow();
-    m_lastFrame = Clock::now();
-    bool more = true;
-    while (more)
+    m_start = Clock::now();
+    m_lastTick = m_start;
+    m_firstFrameEnd = m_start;
+    while (tick())
     {
         glutMainLoopEvent();
-        more = frame();
     }
     m_report.wallSeconds = secondsBetween(m_firstFrameEnd, Clock::now());
     m_report.simSeconds = m_session.scene().time() - m_simAtFirstFrame;
