@@ -42,10 +42,12 @@ bool enumCombo(const char* label, Enum& value, const std::array<Enum, N>& values
     return changed;
 }
 
+// The editor's fields take every keystroke (intermediate values included) into the pending spec: nothing is built
+// until Apply, so a value half typed does no harm, and a value typed without Enter is not lost.
 bool positiveDouble(const char* label, double& value, const char* format)
 {
     double edited = value;
-    if (ImGui::InputDouble(label, &edited, 0, 0, format, ImGuiInputTextFlags_EnterReturnsTrue) && edited > 0)
+    if (ImGui::InputDouble(label, &edited, 0, 0, format) && edited > 0)
     {
         value = edited;
         return true;
@@ -56,7 +58,7 @@ bool positiveDouble(const char* label, double& value, const char* format)
 bool nonNegativeDouble(const char* label, double& value, const char* format)
 {
     double edited = value;
-    if (ImGui::InputDouble(label, &edited, 0, 0, format, ImGuiInputTextFlags_EnterReturnsTrue) && edited >= 0)
+    if (ImGui::InputDouble(label, &edited, 0, 0, format) && edited >= 0)
     {
         value = edited;
         return true;
@@ -96,6 +98,8 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
     ImGui::SetNextWindowSizeConstraints(ImVec2(panelWidth, 0), ImVec2(panelWidth, viewport->WorkSize.y - 16));
     ImGui::SetNextWindowBgAlpha(0.85f);
     ImGui::Begin("MaSSE viewer (Tab hides)", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    // Fields narrow enough that their labels fit beside them.
+    ImGui::PushItemWidth(ImGui::GetFontSize() * 11);
 
     if (ImGui::Button(session.paused() ? "Run" : "Pause"))
     {
@@ -187,6 +191,7 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
                                "m: draw mode   p: pick mode   tab: panel\n"
                                "q or esc: quit");
     }
+    ImGui::PopItemWidth();
     ImGui::End();
 }
 
@@ -198,7 +203,7 @@ void Panel::drawSceneEditor(ViewerSession& session)
     {
         changed |= enumCombo("structure", spec.sheet.lattice.structure, structures, structureName);
         int size[3] = {spec.sheet.lattice.countX, spec.sheet.lattice.layers, spec.sheet.lattice.countZ};
-        if (ImGui::InputInt3("size N x L x N", size, ImGuiInputTextFlags_EnterReturnsTrue))
+        if (ImGui::InputInt3("size N x L x N", size))
         {
             spec.sheet.lattice.countX = std::max(1, size[0]);
             spec.sheet.lattice.layers = std::max(1, size[1]);
@@ -215,8 +220,7 @@ void Panel::drawSceneEditor(ViewerSession& session)
     if (ImGui::CollapsingHeader("Environment and time"))
     {
         double gravity[3] = {spec.environment.gravity.x(), spec.environment.gravity.y(), spec.environment.gravity.z()};
-        if (ImGui::InputScalarN("gravity (m/s2)", ImGuiDataType_Double, gravity, 3, nullptr, nullptr, "%.3g",
-                                ImGuiInputTextFlags_EnterReturnsTrue))
+        if (ImGui::InputScalarN("gravity (m/s2)", ImGuiDataType_Double, gravity, 3, nullptr, nullptr, "%.3g"))
         {
             spec.environment.gravity = Vec3(gravity[0], gravity[1], gravity[2]);
             changed = true;

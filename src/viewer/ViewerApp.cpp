@@ -22,9 +22,11 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <thread>
+#include <utility>
 
 namespace masse::viewer
 {
@@ -76,6 +78,12 @@ public:
     void onReshape(int width, int height);
     void onClose() { m_windowOpen = false; }
 
+    /// ImGui 1.86 reads button and key states once per frame, so a press and its release between two frames (a
+    /// quick click while frames are paced far apart) would be lost. Releases that follow a press not yet seen by
+    /// a frame are handed to ImGui after the next frame has seen the press, and a press brings that frame forward.
+    void pressToImGui(const std::function<void()>& press);
+    void releaseToImGui(std::function<void()> release);
+
 private:
     void openWindow();
     /// One pass of the loop: advance the scene, and draw a frame when one is due (the draw pacer) or it is the
@@ -100,6 +108,8 @@ private:
     DrawPacer m_pacer;
     FrameStats m_stats;
     bool m_pickMode = false;
+    bool m_pressSinceFrame = false;
+    std::vector<std::function<void()>> m_deferredReleases;
 
     int m_window = 0;
     bool m_windowOpen = false;
@@ -138,6 +148,59 @@ void wheelTrampoline(int wheel, int direction, int x, int y)
 void keyTrampoline(unsigned char key, int x, int y)
 {
     g_app->onKey(key, x, y);
+}
+/// ImGui's GLUT backend on a key release, for a release handed over after the callback: freeglut reports the
+/// modifiers only inside a callback, so they are read when the key went up and applied here.
+void setImGuiModifiers(int modifiers)
+{
+    ImGuiIO& io = ImGui::GetIO();
+    io.KeyCtrl = (modifiers & GLUT_ACTIVE_CTRL) != 0;
+    io.KeyShift = (modifiers & GLUT_ACTIVE_SHIFT) != 0;
+    io.KeyAlt = (modifiers & GLUT_ACTIVE_ALT) != 0;
+}
+
+void releaseImGuiKey(unsigned char c, int modifiers)
+{
+    // The backend stores letters as both cases, and Ctrl+letter (1..26) as the letter too.
+    bool* down = ImGui::GetIO().KeysDown;
+    down[c] = false;
+    if (c >= 1 && c <= 26)
+    {
+        down[c - 1 + 'a'] = down[c - 1 + 'A'] = false;
+    }
+    else if (c >= 'a' && c <= 'z')
+    {
+        down[c - 'a' + 'A'] = false;
+    }
+    else if (c >= 'A' && c <= 'Z')
+    {
+        down[c - 'A' + 'a'] = false;
+    }
+    setImGuiModifiers(modifiers);
+}
+
+void keyUpTrampoline(unsigned char key, int, int)
+{
+    const int modifiers = glutGetModifiers();
+    g_app->releaseToImGui([=] { releaseImGuiKey(key, modifiers); });
+}
+void specialTrampoline(int key, int x, int y)
+{
+    g_app->pressToImGui([=] { ImGui_ImplGLUT_SpecialFunc(key, x, y); });
+}
+void specialUpTrampoline(int key, int, int)
+{
+    const int modifiers = glutGetModifiers();
+    g_app->releaseToImGui(
+        [=]
+        {
+            ImGuiIO& io = ImGui::GetIO();
+            if (key + 256 < IM_ARRAYSIZE(io.KeysDown))
+            {
+                io.KeysDown[key + 256] = false;
+            }
+            setImGuiModifiers(modifiers);
+        });
 }
 void reshapeTrampoline(int width, int height)
 {
@@ -225,9 +288,9 @@ void ViewerApp::openWindow()
     glutPassiveMotionFunc(passiveMotionTrampoline);
     glutMouseWheelFunc(wheelTrampoline);
     glutKeyboardFunc(keyTrampoline);
-    glutKeyboardUpFunc(ImGui_ImplGLUT_KeyboardUpFunc);
-    glutSpecialFunc(ImGui_ImplGLUT_SpecialFunc);
-    glutSpecialUpFunc(ImGui_ImplGLUT_SpecialUpFunc);
+    glutKeyboardUpFunc(keyUpTrampoline);
+    glutSpecialFunc(specialTrampoline);
+    glutSpecialUpFunc(specialUpTrampoline);
     glutCloseFunc(closeTrampoline);
 
     m_renderer = std::make_unique<Renderer>();
@@ -290,9 +353,32 @@ void ViewerApp::beginPick(int x, int y)
     m_drag = Drag::Pick;
 }
 
+void ViewerApp::pressToImGui(const std::function<void()>& press)
+{
+    press();
+    m_pressSinceFrame = true;
+}
+
+void ViewerApp::releaseToImGui(std::function<void()> release)
+{
+    if (m_pressSinceFrame)
+    {
+        m_deferredReleases.push_back(std::move(release));
+        return;
+    }
+    release();
+}
+
 void ViewerApp::onMouse(int button, int state, int x, int y)
 {
-    ImGui_ImplGLUT_MouseFunc(button, state, x, y);
+    if (state == GLUT_DOWN)
+    {
+        pressToImGui([=] { ImGui_ImplGLUT_MouseFunc(button, state, x, y); });
+    }
+    else
+    {
+        releaseToImGui([=] { ImGui_ImplGLUT_MouseFunc(button, state, x, y); });
+    }
     if (state == GLUT_UP)
     {
         if (m_drag == Drag::Pick)
@@ -369,7 +455,7 @@ void ViewerApp::onWheel(int wheel, int direction, int x, int y)
 
 void ViewerApp::onKey(unsigned char key, int x, int y)
 {
-    ImGui_ImplGLUT_KeyboardFunc(key, x, y);
+    pressToImGui([=] { ImGui_ImplGLUT_KeyboardFunc(key, x, y); });
     if (ImGui::GetIO().WantTextInput)
     {
         return;
@@ -467,7 +553,7 @@ bool ViewerApp::tick()
     m_report.eventSeen = eventSeen();
     const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
     const Real now = secondsBetween(m_start, start);
-    const bool draw = fixedSteps || last || m_pacer.due(now, !m_session.paused());
+    const bool draw = fixedSteps || last || m_pressSinceFrame || m_pacer.due(now, !m_session.paused());
     if (draw)
     {
         const Clock::time_point drawStart = Clock::now();
@@ -502,6 +588,12 @@ void ViewerApp::drawFrame(bool last)
     {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGLUT_NewFrame();
+        // This frame has seen the presses; the releases that waited for it now count from the next one.
+        m_pressSinceFrame = false;
+        for (const std::function<void()>& release : std::exchange(m_deferredReleases, {}))
+        {
+            release();
+        }
         if (m_options.showUi)
         {
             const PanelRequests requests = m_panel.draw(m_session, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
