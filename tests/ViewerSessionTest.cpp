@@ -80,6 +80,12 @@ TEST(RateMeter, PublishesRatesOncePerWindow)
     EXPECT_NEAR(meter.framesPerSecond(), 16, 1e-9);
     EXPECT_NEAR(meter.stepsPerSecond(), 32, 1e-9);
     EXPECT_NEAR(meter.realTimeFactor(), 0.48, 1e-9);
+    EXPECT_FALSE(meter.fellBehind());
+    meter.add(0.25, 1, 1, 0.03, true);
+    meter.add(0.25, 1, 1, 0.03);
+    EXPECT_TRUE(meter.fellBehind()) << "a pass out of budget marks the window";
+    meter.add(0.5, 1, 16, 0.48);
+    EXPECT_FALSE(meter.fellBehind());
 }
 
 TEST(DrawPacer, DrawingGetsWhatTheSimulationLeavesOver)

@@ -288,7 +288,7 @@ void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawS
         {
             ImGui::Text("%d step(s) per frame, not following the clock (capture)", stats.fixedSteps);
         }
-        else if (stats.realTimeFactor < 0.95)
+        else if (stats.behind)
         {
             ImGui::PushStyleColor(ImGuiCol_Text, warningColour);
             ImGui::Text("real-time factor %.2f: slow motion, this machine cannot keep up", stats.realTimeFactor);

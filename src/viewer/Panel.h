@@ -19,7 +19,7 @@ struct FrameStats
     Real stepsPerSecond = 0;
     Real realTimeFactor = 0;
     bool measured = false; ///< the rates cover at least one full window of time
-    bool behind = false;   ///< the last frame ran out of compute budget
+    bool behind = false;   ///< the simulation could not keep real time during the last measurement
     int fixedSteps = 0;    ///< steps per frame when the loop ignores the clock (captures); 0 in real time
 };
 

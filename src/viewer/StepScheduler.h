@@ -41,14 +41,18 @@ class RateMeter
 public:
     explicit RateMeter(Real windowSeconds = Real(0.5)) : m_window(windowSeconds) {}
 
-    /// One pass of the loop: wall seconds it took, frames drawn, steps taken, simulated seconds advanced.
-    void add(Real wallSeconds, int frames, int steps, Real simSeconds);
+    /// One pass of the loop: wall seconds it took, frames drawn, steps taken, simulated seconds advanced, and
+    /// whether it ran out of compute budget with steps still owed.
+    void add(Real wallSeconds, int frames, int steps, Real simSeconds, bool behind = false);
 
     Real framesPerSecond() const { return m_fps; }
     Real stepsPerSecond() const { return m_sps; }
     /// Simulated seconds per wall second (1: real time; below: slow motion). Zero while nothing was simulated.
     Real realTimeFactor() const { return m_realTime; }
     bool hasFigures() const { return m_published; }
+    /// Some pass of the last window ran out of budget: the simulation could not keep real time. (The factor alone
+    /// cannot tell: a window holds a whole number of steps, so it wanders by a step's worth around 1.)
+    bool fellBehind() const { return m_fellBehind; }
 
 private:
     Real m_window;
@@ -56,9 +60,11 @@ private:
     int m_frames = 0;
     int m_steps = 0;
     Real m_sim = 0;
+    bool m_behind = false;
     Real m_fps = 0;
     Real m_sps = 0;
     Real m_realTime = 0;
     bool m_published = false;
+    bool m_fellBehind = false;
 };
 } // namespace masse::viewer

@@ -568,9 +568,9 @@ bool ViewerApp::tick()
             m_simAtFirstFrame = m_session.scene().time();
         }
     }
-    m_rates.add(wall, draw ? 1 : 0, advance.steps, advance.simSeconds);
+    m_rates.add(wall, draw ? 1 : 0, advance.steps, advance.simSeconds, advance.behind);
     m_stats = {m_rates.framesPerSecond(), m_rates.stepsPerSecond(), m_rates.realTimeFactor(),
-               m_rates.hasFigures(),      advance.behind,           m_options.stepsPerFrame};
+               m_rates.hasFigures(),      m_rates.fellBehind(),     m_options.stepsPerFrame};
     if (!draw && advance.steps == 0)
     {
         // Nothing was due: wait a little rather than spin a core the simulation or the rasteriser could use.
