@@ -149,6 +149,21 @@ TEST(ViewerSession, PauseHoldsTimeAndSingleStepsAdvanceByOneStep)
     EXPECT_EQ(session.advanceSteps(5).steps, 5);
 }
 
+TEST(ViewerSession, ResetStartsTheSceneAgainFromItsSpec)
+{
+    scene::SceneSpec spec = dropScene();
+    spec.sheet.lattice.countX = 6;
+    ViewerSession session(spec);
+    session.advanceSteps(20);
+    ASSERT_GT(session.scene().events().size(), 0u);
+    const std::uint64_t generation = session.generation();
+    session.reset();
+    EXPECT_EQ(session.scene().time(), 0);
+    EXPECT_TRUE(session.scene().events().empty());
+    EXPECT_EQ(session.spec().sheet.lattice.countX, 6) << "the spec it runs, not the file's";
+    EXPECT_GT(session.generation(), generation);
+}
+
 TEST(ViewerSession, AFileThatDoesNotLoadKeepsTheSceneAndShowsItsOwnError)
 {
     ViewerSession session(dropScene());

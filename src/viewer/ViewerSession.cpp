@@ -72,13 +72,10 @@ bool ViewerSession::rebuild(const scene::SceneSpec& spec)
 
 void ViewerSession::reset()
 {
-    m_pick.reset();
-    m_scene->reset();
-    ++m_generation;
-    m_scheduler.clear();
-    m_endNoticed = false;
-    m_notice.clear();
-    m_error.clear();
+    // A fresh scene from the same spec rather than Scene::reset, which tears the scene down before building it
+    // again: should the build fail now (a mesh file gone since), the scene shown must survive.
+    const scene::SceneSpec spec = m_scene->spec();
+    rebuild(spec);
 }
 
 void ViewerSession::setPaused(bool paused)

@@ -40,7 +40,7 @@ public:
     bool load(const std::string& path);
     /// Builds a scene from a changed spec (the panel's edits). On failure the current scene stays.
     bool rebuild(const scene::SceneSpec& spec);
-    /// Starts the current scene again.
+    /// Starts the current scene again (on failure, as rebuild).
     void reset();
     /// The last failure of a load, rebuild or step, for the window to show; "" when there is none.
     const std::string& error() const { return m_error; }
