@@ -56,15 +56,16 @@ TEST(StepScheduler, SpendsBankedWallTimeInWholeSteps)
     EXPECT_TRUE(scheduler.stepDue());
 }
 
-TEST(StepScheduler, CapsWhatOneFrameBanksAndForgetsTheBacklog)
+TEST(StepScheduler, OwesNoMoreThanItsCapAndSaysWhenItDropsTime)
 {
     StepScheduler scheduler(0.03, 0.25);
-    scheduler.addWallTime(5); // a stall: a window drag, a scene load
+    EXPECT_FALSE(scheduler.addWallTime(0.2));
+    EXPECT_TRUE(scheduler.addWallTime(5)) << "a stall (a window drag, a scene load) is not caught up";
     EXPECT_NEAR(scheduler.owed(), 0.25, 1e-12);
-    scheduler.stepTaken();
-    scheduler.forgetBacklog();
-    EXPECT_FALSE(scheduler.stepDue()) << "a frame out of budget does not pass its debt on";
-    EXPECT_NEAR(scheduler.owed(), std::fmod(0.22, 0.03), 1e-12) << "the part of a step already banked stays";
+
+    StepScheduler slow(0.5, 0.25);
+    slow.addWallTime(1);
+    EXPECT_TRUE(slow.stepDue()) << "a step longer than the cap still comes due";
 }
 
 TEST(RateMeter, PublishesRatesOncePerWindow)
@@ -114,14 +115,12 @@ TEST(DrawPacer, DrawingGetsWhatTheSimulationLeavesOver)
         pacer.stepped(1, 0.5, 0.03);
     }
     EXPECT_NEAR(pacer.drawShare(), 0.1, 1e-12);
-    // A slow frame is followed slowly, a cheap one believed at once.
+    // The cost is a moving average: one slow frame moves it a fifth of the way.
     pacer.drew(100, 1.0);
-    EXPECT_NEAR(pacer.drawCost(), 0.8 * 0.02 + 0.2 * 1.0, 1e-5);
-    pacer.drew(101, 0.001);
-    EXPECT_NEAR(pacer.drawCost(), 0.001, 1e-12);
+    EXPECT_NEAR(pacer.drawCost(), 0.8 * 0.02 + 0.2 * 1.0, 1e-9);
 }
 
-TEST(ViewerSession, RunsInRealTimeWithinTheFramesBudget)
+TEST(ViewerSession, RunsInRealTimeWithinABudgetPerPass)
 {
     ViewerSession session(dropScene());
     const Advance first = session.advance(0.1, 10);
@@ -129,11 +128,17 @@ TEST(ViewerSession, RunsInRealTimeWithinTheFramesBudget)
     EXPECT_NEAR(session.scene().time(), 0.09, 1e-12);
     EXPECT_FALSE(first.behind);
 
-    // No budget: one step, then the rest is forgotten (slow motion, no spiral).
-    const Advance starved = session.advance(0.25, 0);
-    EXPECT_EQ(starved.steps, 1);
-    EXPECT_TRUE(starved.behind);
-    EXPECT_EQ(session.advance(0, 10).steps, 0);
+    // A pass without budget takes no step; what it owes is taken by the next passes (a hiccup is caught up).
+    const Advance starved = session.advance(0.2, 0);
+    EXPECT_EQ(starved.steps, 0);
+    EXPECT_FALSE(starved.behind);
+    EXPECT_EQ(session.advance(0, 10).steps, 7);
+    EXPECT_NEAR(session.scene().time(), 0.3, 1e-12);
+
+    // Owing more than the cap (a quarter of a second) drops the excess: slow motion, not a spiral.
+    const Advance stalled = session.advance(2, 10);
+    EXPECT_TRUE(stalled.behind);
+    EXPECT_EQ(stalled.steps, 8);
 }
 
 TEST(ViewerSession, PauseHoldsTimeAndSingleStepsAdvanceByOneStep)

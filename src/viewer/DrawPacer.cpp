@@ -6,11 +6,11 @@ namespace masse::viewer
 {
 namespace
 {
-/// Follows a rising cost slowly, so one slow frame or step (a scene rebuilt, a screenshot) does not stall the
-/// next ones; a falling cost is taken at once.
-Real smoothed(Real previous, Real latest)
+/// A moving average over the last few samples: a frame's cost wanders (llvmpipe, other processes), and pacing by a
+/// low or high outlier would give drawing more or less than its share.
+Real averaged(Real previous, Real latest, bool first)
 {
-    return std::min(latest, Real(0.8) * previous + Real(0.2) * latest);
+    return first ? latest : Real(0.8) * previous + Real(0.2) * latest;
 }
 } // namespace
 
@@ -18,13 +18,15 @@ void DrawPacer::stepped(int steps, Real seconds, Real dt)
 {
     if (steps > 0 && dt > 0)
     {
-        m_load = smoothed(m_load, seconds / (Real(steps) * dt));
+        m_load = averaged(m_load, seconds / (Real(steps) * dt), !m_stepped);
+        m_stepped = true;
     }
 }
 
 void DrawPacer::drew(Real start, Real cost)
 {
-    m_drawCost = smoothed(m_drawCost, cost);
+    m_drawCost = averaged(m_drawCost, cost, !m_drawn);
+    m_drawn = true;
     m_lastStart = start;
 }
 

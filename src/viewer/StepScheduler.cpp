@@ -1,11 +1,10 @@
 #include "StepScheduler.h"
 
 #include <algorithm>
-#include <cmath>
 
 namespace masse::viewer
 {
-StepScheduler::StepScheduler(Real dt, Real maxFrameSeconds) : m_dt(dt), m_maxFrameSeconds(maxFrameSeconds) {}
+StepScheduler::StepScheduler(Real dt, Real maxLag) : m_dt(dt), m_maxLag(maxLag) {}
 
 void StepScheduler::setStep(Real dt)
 {
@@ -13,20 +12,22 @@ void StepScheduler::setStep(Real dt)
     m_owed = std::min(m_owed, dt);
 }
 
-void StepScheduler::addWallTime(Real seconds)
+bool StepScheduler::addWallTime(Real seconds)
 {
-    m_owed += std::clamp(seconds, Real(0), m_maxFrameSeconds);
+    m_owed += std::max(seconds, Real(0));
+    // Never less than one step, or a step longer than the cap could never come due.
+    const Real cap = std::max(m_maxLag, m_dt);
+    if (m_owed <= cap)
+    {
+        return false;
+    }
+    m_owed = cap;
+    return true;
 }
 
 void StepScheduler::stepTaken()
 {
     m_owed = std::max(Real(0), m_owed - m_dt);
-}
-
-void StepScheduler::forgetBacklog()
-{
-    // Keep the fraction of a step already banked, so the next frame's step comes on time.
-    m_owed = std::fmod(m_owed, m_dt);
 }
 
 void RateMeter::add(Real wallSeconds, int frames, int steps, Real simSeconds, bool behind)

@@ -28,7 +28,7 @@ struct ViewerOptions
     bool showPanel = true;
     bool showUi = true; ///< false: the scene alone, no panel or HUD (clean screenshots)
     bool startPaused = false;
-    Real computeBudget = 0.05; ///< s of stepping per frame at most before the simulation falls behind real time
+    Real computeBudget = 0.05; ///< s of stepping per pass of the loop at most; the rest stays owed to later passes
 };
 
 /// What a run of the window did (the benchmark's figures).

@@ -144,19 +144,15 @@ Advance ViewerSession::advance(Real wallSeconds, Real computeBudgetSeconds)
     }
     if (!m_paused)
     {
-        m_scheduler.addWallTime(wallSeconds);
-        while (!m_paused && m_scheduler.stepDue())
+        advance.behind = m_scheduler.addWallTime(wallSeconds);
+        // Within the budget only: what is left stays owed for the next passes, so input and frames keep coming.
+        while (!m_paused && m_scheduler.stepDue() && secondsSince(start) < computeBudgetSeconds)
         {
             if (!stepOnce(advance))
             {
                 break;
             }
             m_scheduler.stepTaken();
-            if (m_scheduler.stepDue() && secondsSince(start) > computeBudgetSeconds)
-            {
-                m_scheduler.forgetBacklog();
-                advance.behind = true;
-            }
         }
     }
     advance.stepSeconds = secondsSince(start);

@@ -20,7 +20,7 @@ struct Advance
     int steps = 0;
     Real simSeconds = 0;  ///< simulated time advanced
     Real stepSeconds = 0; ///< wall time spent stepping
-    bool behind = false;  ///< the frame's compute budget ran out with steps still owed (slow motion)
+    bool behind = false;  ///< time owed to the simulation was dropped: it cannot keep real time (slow motion)
 };
 
 class ViewerSession
@@ -55,7 +55,8 @@ public:
     /// Pause once when the scene's run is over (on by default; a benchmark runs on).
     void setPauseAtEnd(bool pause) { m_pauseAtEnd = pause; }
 
-    /// Real time: banks wallSeconds and takes the steps owed, spending at most computeBudgetSeconds of wall time.
+    /// Real time: banks wallSeconds and takes the steps owed while less than computeBudgetSeconds of wall time has
+    /// gone (at least one step when one is owed and the budget is not zero).
     Advance advance(Real wallSeconds, Real computeBudgetSeconds);
     /// Exactly `steps` steps, whatever the clock says (deterministic captures); none while paused.
     Advance advanceSteps(int steps);
