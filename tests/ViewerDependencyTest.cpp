@@ -40,8 +40,8 @@ TEST(ViewerDependency, SceneAndBridgeKnowNothingOfGraphics)
 TEST(ViewerDependency, ViewerModelFilesKnowNothingOfGraphics)
 {
     const std::filesystem::path viewer = std::filesystem::path(MASSE_SOURCE_DIR) / "src" / "viewer";
-    for (const char* stem : {"Camera", "Picking", "PickSpring", "StepScheduler", "DrawPacer", "MassScalars",
-                             "ScreenRegions", "ViewerSession"})
+    for (const char* stem : {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "DrawPacer",
+                             "MassScalars", "ScreenRegions", "ViewerSession"})
     {
         for (const char* extension : {".h", ".cpp"})
         {

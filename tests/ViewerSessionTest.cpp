@@ -5,6 +5,7 @@
 #include "viewer/DrawPacer.h"
 #include "viewer/MassScalars.h"
 #include "viewer/PickSpring.h"
+#include "viewer/RateMeter.h"
 #include "viewer/ScreenRegions.h"
 #include "viewer/StepScheduler.h"
 

@@ -5,6 +5,7 @@
 #include "GlHeaders.h"
 #include "Panel.h"
 #include "Picking.h"
+#include "RateMeter.h"
 #include "ScreenRegions.h"
 #include "Screenshot.h"
 #include "ViewerSession.h"
