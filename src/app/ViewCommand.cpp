@@ -121,8 +121,7 @@ void runView(ViewCommandOptions& options)
 void addViewCommand(CLI::App& app)
 {
     auto options = std::make_shared<ViewCommandOptions>();
-    CLI::App* command = app.add_subcommand(
-        "view", "Open the viewer on a scene (default: the paper's drop scene); mouse and keys: see the panel");
+    CLI::App* command = app.add_subcommand("view", "Open the viewer on a scene (default: the paper's drop scene)");
     command->add_option("scene", options->scene, "Scene file (JSON)");
     command->add_option("--frames", options->viewer.frames, "Close after N frames (0: when the window is closed)");
     command->add_option("--steps-per-frame", options->viewer.stepsPerFrame,
@@ -142,6 +141,10 @@ void addViewCommand(CLI::App& app)
     command->add_flag("--no-ui", options->noUi, "Draw the scene alone: no panel, no HUD");
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");
     addSceneOverrides(*command, options->overrides);
+    command->footer("Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
+                    "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
+                    "v starting view,\nm draw mode, p pick mode, Tab panel, q or Esc quit.\nWithout a display: "
+                    "xvfb-run -a masse view ... (see --screenshot, --benchmark).");
     command->callback([options] { runView(*options); });
 }
 } // namespace masse::app
