@@ -99,8 +99,7 @@ bool ViewerSession::stepOnce(Advance& advance)
     catch (const NumericalError& e)
     {
         m_error = std::string("the simulation diverged: ") + e.what() +
-                  " (reset, or rebuild with a smaller dt or the "
-                  "implicit integrator)";
+                  " (reset, or rebuild with a smaller dt or the implicit integrator)";
         m_paused = true;
         return false;
     }
