@@ -15,4 +15,5 @@ void addRunCommand(CLI::App& app);
 void addPaperCommand(CLI::App& app);
 void addCheckCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);
 } // namespace masse::app

@@ -1,5 +1,5 @@
 /// `masse paper` (the Figure 18 report) and `masse demo` (the main job): the paper's drop experiment for the five
-/// sheet sizes of Table 2.
+/// sheet sizes of Table 2; with a display, `masse demo` opens the viewer on the drop scene instead.
 
 #include "Commands.h"
 #include "SceneOptions.h"
@@ -8,6 +8,8 @@
 #include "scene/PaperExperiment.h"
 #include "scene/Plot.h"
 #include "scene/SceneFile.h"
+#include "viewer/Display.h"
+#include "viewer/ViewerApp.h"
 
 #include <CLI/CLI.hpp>
 
@@ -103,8 +105,24 @@ void addPaperCommand(CLI::App& app)
 void addDemoCommand(CLI::App& app)
 {
     auto options = std::make_shared<PaperOptions>();
+    auto headless = std::make_shared<bool>(false);
     CLI::App* command = app.add_subcommand(
-        "demo", "The main job: the paper's drop scene (a table of its four stages for the Table 2 sizes)");
-    command->callback([options] { runPaper(*options, false); });
+        "demo", "The main job: the paper's drop scene, in the viewer when there is a display, otherwise (or with "
+                "--headless) a table of its four stages for the Table 2 sizes");
+    command->add_flag("--headless", *headless, "Print the table even when a display is available");
+    command->callback(
+        [options, headless]
+        {
+            if (!*headless)
+            {
+                const viewer::DisplayConnection display;
+                if (display.connected())
+                {
+                    viewer::runViewer(scene::loadScene(dataDirectory() + "/scenes/paper-drop.json"), {});
+                    return;
+                }
+            }
+            runPaper(*options, false);
+        });
 }
 } // namespace masse::app

@@ -22,6 +22,7 @@ int main(int argc, char** argv)
     masse::app::addPaperCommand(app);
     masse::app::addCheckCommand(app);
     masse::app::addCompareCommand(app);
+    masse::app::addViewCommand(app);
 
     try
     {

@@ -1,0 +1,328 @@
+#include "Panel.h"
+
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+
+namespace masse::viewer
+{
+namespace
+{
+constexpr float panelWidth = 340;
+const ImVec4 errorColour(1.0f, 0.45f, 0.4f, 1.0f);
+const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
+
+constexpr std::array<Structure, 4> structures{Structure::Square2D, Structure::SaMM, Structure::SLaMM, Structure::TRiMM};
+constexpr std::array<IntegratorKind, 4> integrators{IntegratorKind::ExplicitEuler, IntegratorKind::SymplecticEuler,
+                                                    IntegratorKind::VelocityVerlet, IntegratorKind::ImplicitEuler};
+constexpr std::array<ContactResponse, 3> responses{ContactResponse::Sticky, ContactResponse::Friction,
+                                                   ContactResponse::Frictionless};
+constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
+
+/// A combo box over an enum, labelled by the enum's own names (the same words the scene files use).
+template <typename Enum, std::size_t N, typename NameOf>
+bool enumCombo(const char* label, Enum& value, const std::array<Enum, N>& values, NameOf nameOf)
+{
+    bool changed = false;
+    if (ImGui::BeginCombo(label, std::string(nameOf(value)).c_str()))
+    {
+        for (Enum candidate : values)
+        {
+            if (ImGui::Selectable(std::string(nameOf(candidate)).c_str(), candidate == value))
+            {
+                changed = candidate != value;
+                value = candidate;
+            }
+        }
+        ImGui::EndCombo();
+    }
+    return changed;
+}
+
+// The editor's fields take every keystroke (intermediate values included) into the pending spec: nothing is built
+// until Apply, so a value half typed does no harm, and a value typed without Enter is not lost.
+bool positiveDouble(const char* label, double& value, const char* format)
+{
+    double edited = value;
+    if (ImGui::InputDouble(label, &edited, 0, 0, format) && edited > 0)
+    {
+        value = edited;
+        return true;
+    }
+    return false;
+}
+
+bool nonNegativeDouble(const char* label, double& value, const char* format)
+{
+    double edited = value;
+    if (ImGui::InputDouble(label, &edited, 0, 0, format) && edited >= 0)
+    {
+        value = edited;
+        return true;
+    }
+    return false;
+}
+} // namespace
+
+PanelRequests Panel::draw(ViewerSession& session, DrawSettings& draw, bool& pickMode, const FrameStats& stats,
+                          const MassScalarRegistry& scalars, const Renderer& renderer)
+{
+    PanelRequests requests;
+    if (m_generation != session.generation())
+    {
+        // A new scene: the editor starts from what is running now.
+        m_pending = session.spec();
+        m_edited = false;
+        m_generation = session.generation();
+        if (m_path.empty())
+        {
+            m_path = session.spec().path;
+        }
+    }
+    if (visible)
+    {
+        drawControls(session, draw, pickMode, scalars, renderer.scalarRange(), requests);
+    }
+    drawHud(session, stats, draw, renderer);
+    return requests;
+}
+
+void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickMode, const MassScalarRegistry& scalars,
+                         const ScalarRange& legend, PanelRequests& requests)
+{
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + 8, viewport->WorkPos.y + 8), ImGuiCond_Always);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(panelWidth, 0), ImVec2(panelWidth, viewport->WorkSize.y - 16));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    ImGui::Begin("MaSSE viewer (Tab hides)", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    // Fields narrow enough that their labels fit beside them.
+    ImGui::PushItemWidth(ImGui::GetFontSize() * 11);
+
+    if (ImGui::Button(session.paused() ? "Run" : "Pause"))
+    {
+        session.setPaused(!session.paused());
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Step"))
+    {
+        session.setPaused(true);
+        session.requestStep();
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Reset"))
+    {
+        session.reset();
+    }
+
+    ImGui::Separator();
+    ImGui::TextUnformatted("Scene file");
+    ImGui::SetNextItemWidth(-60);
+    const bool entered = ImGui::InputText("##path", &m_path, ImGuiInputTextFlags_EnterReturnsTrue);
+    ImGui::SameLine();
+    if (ImGui::Button("Load") || entered)
+    {
+        // On failure the session keeps the scene it has and holds the file's own message, shown below.
+        session.load(m_path);
+    }
+    if (!session.error().empty())
+    {
+        ImGui::PushStyleColor(ImGuiCol_Text, errorColour);
+        ImGui::TextWrapped("%s", session.error().c_str());
+        ImGui::PopStyleColor();
+        if (ImGui::SmallButton("Dismiss"))
+        {
+            session.clearError();
+        }
+    }
+
+    ImGui::Separator();
+    ImGui::TextUnformatted("View");
+    enumCombo("draw", draw.mode, drawModes, drawModeName);
+    if (draw.mode == DrawMode::Scalar)
+    {
+        if (ImGui::BeginCombo("scalar", draw.scalar.c_str()))
+        {
+            for (const MassScalar& scalar : scalars.all())
+            {
+                if (ImGui::Selectable(scalar.name.c_str(), scalar.name == draw.scalar))
+                {
+                    draw.scalar = scalar.name;
+                }
+                if (ImGui::IsItemHovered())
+                {
+                    ImGui::SetTooltip("%s", scalar.description.c_str());
+                }
+            }
+            ImGui::EndCombo();
+        }
+        const MassScalar* shown = scalars.find(draw.scalar);
+        ImGui::Text("colours %.3g (dark) .. %.3g (yellow) %s", double(legend.low), double(legend.high),
+                    shown ? shown->unit.c_str() : "");
+    }
+    ImGui::Checkbox("pick mode (left drag pulls a mass)", &pickMode);
+    ImGui::Checkbox("room", &draw.showRoom);
+    if (ImGui::Button("Overview (1)"))
+    {
+        requests.view = ViewPreset::Overview;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("From below (2)"))
+    {
+        requests.view = ViewPreset::FromBelow;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Left (3)"))
+    {
+        requests.view = ViewPreset::ElevatedLeft;
+    }
+
+    drawSceneEditor(session);
+
+    if (ImGui::CollapsingHeader("Mouse and keys"))
+    {
+        ImGui::TextUnformatted("left drag: orbit    right drag: pan\n"
+                               "wheel or middle drag: zoom\n"
+                               "ctrl or shift + left drag: pull a mass\n"
+                               "space: run/pause   n: step   r: reset\n"
+                               "1 2 3: views   v: reset view\n"
+                               "m: draw mode   p: pick mode   tab: panel\n"
+                               "q or esc: quit");
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+}
+
+void Panel::drawSceneEditor(ViewerSession& session)
+{
+    scene::SceneSpec& spec = m_pending;
+    bool changed = false;
+    if (ImGui::CollapsingHeader("Sheet"))
+    {
+        changed |= enumCombo("structure", spec.sheet.lattice.structure, structures, structureName);
+        int size[3] = {spec.sheet.lattice.countX, spec.sheet.lattice.layers, spec.sheet.lattice.countZ};
+        if (ImGui::InputInt3("size N x L x N", size))
+        {
+            spec.sheet.lattice.countX = std::max(1, size[0]);
+            spec.sheet.lattice.layers = std::max(1, size[1]);
+            spec.sheet.lattice.countZ = std::max(1, size[2]);
+            changed = true;
+        }
+        changed |= positiveDouble("mass per mass (kg)", spec.sheet.params.massPerMass, "%.4g");
+        changed |= nonNegativeDouble("planar k (N/m)", spec.sheet.params.springClasses[0].stiffness, "%.4g");
+        changed |= nonNegativeDouble("inter-layer k (N/m)", spec.sheet.params.springClasses[1].stiffness, "%.4g");
+        changed |= nonNegativeDouble("planar damping ratio", spec.sheet.params.springClasses[0].dampingRatio, "%.3g");
+        changed |=
+            nonNegativeDouble("inter-layer damping ratio", spec.sheet.params.springClasses[1].dampingRatio, "%.3g");
+    }
+    if (ImGui::CollapsingHeader("Environment and time"))
+    {
+        double gravity[3] = {spec.environment.gravity.x(), spec.environment.gravity.y(), spec.environment.gravity.z()};
+        if (ImGui::InputScalarN("gravity (m/s2)", ImGuiDataType_Double, gravity, 3, nullptr, nullptr, "%.3g"))
+        {
+            spec.environment.gravity = Vec3(gravity[0], gravity[1], gravity[2]);
+            changed = true;
+        }
+        changed |= nonNegativeDouble("air damping (1/s)", spec.environment.airDampingRate, "%.4g");
+        changed |= enumCombo("integrator", spec.time.integrator, integrators, integratorName);
+        changed |= positiveDouble("dt (s)", spec.time.dt, "%.4g");
+    }
+    if (ImGui::CollapsingHeader("Contact"))
+    {
+        changed |= enumCombo("response", spec.contact.response, responses, contactResponseName);
+        changed |= nonNegativeDouble("friction", spec.contact.friction, "%.3g");
+        changed |= positiveDouble("radius (m)", spec.contact.radius, "%.4g");
+        if (spec.contact.response == ContactResponse::Sticky)
+        {
+            changed |= nonNegativeDouble("release force (N)", spec.contact.stickReleaseForce, "%.3g");
+        }
+    }
+    m_edited |= changed;
+    ImGui::BeginDisabled(!m_edited);
+    if (ImGui::Button("Apply (rebuilds the scene)"))
+    {
+        // On failure the scene shown stays and the error appears above; the edits are kept for correcting.
+        if (session.rebuild(spec))
+        {
+            m_edited = false;
+        }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Revert"))
+    {
+        m_pending = session.spec();
+        m_edited = false;
+    }
+    ImGui::EndDisabled();
+}
+
+void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer)
+{
+    const ImGuiViewport* viewport = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
+                            ImGuiCond_Always, ImVec2(1, 0));
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGui::Begin("HUD", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
+                     ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+    scene::Scene& scene = session.scene();
+    const scene::SceneSpec& spec = scene.spec();
+    ImGui::Text("%s: %s %s %dx%dx%d, %s dt %.3g s", spec.name.c_str(),
+                std::string(structureName(spec.sheet.lattice.structure)).c_str(),
+                std::string(contactResponseName(spec.contact.response)).c_str(), spec.sheet.lattice.countX,
+                spec.sheet.lattice.layers, spec.sheet.lattice.countZ,
+                std::string(integratorName(spec.time.integrator)).c_str(), spec.time.dt);
+    ImGui::Text("t = %.3f s%s", scene.time(), session.paused() ? "  (paused)" : "");
+    ImGui::Text("%zu masses, %zu springs, %zu in contact", scene.system().massCount(), scene.system().springCount(),
+                scene.contact().touchingCount());
+    if (stats.measured)
+    {
+        ImGui::Text("%.0f frames/s, %.1f steps/s", stats.framesPerSecond, stats.stepsPerSecond);
+        if (session.paused())
+        {
+            ImGui::TextUnformatted("real-time factor: paused");
+        }
+        else if (stats.fixedSteps > 0)
+        {
+            ImGui::Text("%d step(s) per frame, not following the clock (capture)", stats.fixedSteps);
+        }
+        else if (stats.behind)
+        {
+            ImGui::PushStyleColor(ImGuiCol_Text, warningColour);
+            ImGui::Text("real-time factor %.2f: slow motion, this machine cannot keep up", stats.realTimeFactor);
+            ImGui::PopStyleColor();
+        }
+        else
+        {
+            ImGui::Text("real-time factor %.2f", stats.realTimeFactor);
+        }
+    }
+    if (draw.mode == DrawMode::MassesAndSprings && !renderer.springsShown())
+    {
+        ImGui::TextUnformatted("springs hidden while under 3 px apart: zoom in to see them");
+    }
+    const std::vector<scene::SceneEvent>& events = scene.events();
+    const std::size_t shown = std::min<std::size_t>(events.size(), 5);
+    for (std::size_t k = events.size() - shown; k < events.size(); ++k)
+    {
+        ImGui::Text("%8.3f s  %s %s", events[k].simTime, events[k].name.c_str(), events[k].object.c_str());
+    }
+    if (!session.notice().empty())
+    {
+        ImGui::PushStyleColor(ImGuiCol_Text, warningColour);
+        ImGui::TextUnformatted(session.notice().c_str());
+        ImGui::PopStyleColor();
+    }
+    if (!session.error().empty() && !visible)
+    {
+        ImGui::PushStyleColor(ImGuiCol_Text, errorColour);
+        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30);
+        ImGui::TextUnformatted(session.error().c_str());
+        ImGui::PopTextWrapPos();
+        ImGui::PopStyleColor();
+    }
+    ImGui::End();
+}
+} // namespace masse::viewer

@@ -1,0 +1,52 @@
+#pragma once
+/// The Dear ImGui side of the window: the control panel (run, load, view, and the scene's parameters, rebuilt on
+/// Apply) and the HUD (time, rates, counts, latest events, errors).
+
+#include "Camera.h"
+#include "MassScalars.h"
+#include "Renderer.h"
+#include "ViewerSession.h"
+
+#include <optional>
+#include <string>
+
+namespace masse::viewer
+{
+/// The rates the HUD shows, measured by the window's loop.
+struct FrameStats
+{
+    Real framesPerSecond = 0;
+    Real stepsPerSecond = 0;
+    Real realTimeFactor = 0;
+    bool measured = false; ///< the rates cover at least one full window of time
+    bool behind = false;   ///< the simulation could not keep real time during the last measurement
+    int fixedSteps = 0;    ///< steps per frame when the loop ignores the clock (captures); 0 in real time
+};
+
+/// What the window should do after the panel was drawn.
+struct PanelRequests
+{
+    std::optional<ViewPreset> view;
+};
+
+class Panel
+{
+public:
+    /// Draws the panel (when shown) and the HUD; carries out run, load and rebuild requests on the session.
+    PanelRequests draw(ViewerSession& session, DrawSettings& draw, bool& pickMode, const FrameStats& stats,
+                       const MassScalarRegistry& scalars, const Renderer& renderer);
+
+    bool visible = true;
+
+private:
+    void drawControls(ViewerSession& session, DrawSettings& draw, bool& pickMode, const MassScalarRegistry& scalars,
+                      const ScalarRange& legend, PanelRequests& requests);
+    void drawSceneEditor(ViewerSession& session);
+    void drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer);
+
+    scene::SceneSpec m_pending; ///< the spec being edited, applied with Apply
+    bool m_edited = false;
+    std::uint64_t m_generation = ~std::uint64_t(0);
+    std::string m_path;
+};
+} // namespace masse::viewer

@@ -1,0 +1,222 @@
+#include "ViewerSession.h"
+
+#include "core/InputError.h"
+#include "core/Simulator.h"
+#include "scene/SceneFile.h"
+
+#include <chrono>
+#include <cstdio>
+
+namespace masse::viewer
+{
+namespace
+{
+Real secondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<Real>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string formatTime(Real t)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3f", t);
+    return text;
+}
+} // namespace
+
+ViewerSession::ViewerSession(scene::SceneSpec spec)
+    : m_scene(std::make_unique<scene::Scene>(std::move(spec))), m_scheduler(m_scene->spec().time.dt)
+{
+}
+
+void ViewerSession::replaceScene(std::unique_ptr<scene::Scene> scene)
+{
+    // The pick spring lived in the old system; it goes with it.
+    m_pick.reset();
+    m_scene = std::move(scene);
+    ++m_generation;
+    m_scheduler.setStep(m_scene->spec().time.dt);
+    m_scheduler.clear();
+    m_endNoticed = false;
+    m_notice.clear();
+    m_error.clear();
+}
+
+bool ViewerSession::load(const std::string& path)
+{
+    try
+    {
+        replaceScene(std::make_unique<scene::Scene>(scene::loadScene(path)));
+        return true;
+    }
+    catch (const std::exception& e)
+    {
+        m_error = e.what();
+        return false;
+    }
+}
+
+bool ViewerSession::rebuild(const scene::SceneSpec& spec)
+{
+    try
+    {
+        replaceScene(std::make_unique<scene::Scene>(spec));
+        return true;
+    }
+    catch (const std::exception& e)
+    {
+        m_error = e.what();
+        return false;
+    }
+}
+
+void ViewerSession::reset()
+{
+    // A fresh scene from the same spec rather than Scene::reset, which tears the scene down before building it
+    // again: should the build fail now (a mesh file gone since), the scene shown must survive.
+    const scene::SceneSpec spec = m_scene->spec();
+    rebuild(spec);
+}
+
+void ViewerSession::setPaused(bool paused)
+{
+    m_paused = paused;
+    // Time that passes while paused is not owed to the simulation afterwards.
+    m_scheduler.clear();
+    if (!paused)
+    {
+        m_notice.clear();
+    }
+}
+
+bool ViewerSession::stepOnce(Advance& advance)
+{
+    const Real before = m_scene->time();
+    try
+    {
+        m_scene->step();
+    }
+    catch (const NumericalError& e)
+    {
+        m_error = std::string("the simulation diverged: ") + e.what() +
+                  " (reset, or rebuild with a smaller dt or the implicit integrator)";
+        m_paused = true;
+        return false;
+    }
+    catch (const InputError& e)
+    {
+        m_error = std::string("the step was refused: ") + e.what();
+        m_paused = true;
+        return false;
+    }
+    ++advance.steps;
+    advance.simSeconds += m_scene->time() - before;
+    noticeEnd();
+    return true;
+}
+
+void ViewerSession::noticeEnd()
+{
+    if (!m_pauseAtEnd || m_endNoticed || !m_scene->finished())
+    {
+        return;
+    }
+    m_endNoticed = true;
+    m_paused = true;
+    const Real rest = m_scene->eventTime("rest", "sheet");
+    m_notice = rest >= 0 ? "the sheet came to rest at t = " + formatTime(rest) + " s; the run is over (space runs on)"
+                         : "the run reached its duration of " + formatTime(m_scene->spec().run.duration) +
+                               " s (space runs on)";
+}
+
+Advance ViewerSession::advance(Real wallSeconds, Real computeBudgetSeconds)
+{
+    Advance advance;
+    const auto start = std::chrono::steady_clock::now();
+    for (; m_stepRequests > 0; --m_stepRequests)
+    {
+        if (!stepOnce(advance))
+        {
+            m_stepRequests = 0;
+            break;
+        }
+    }
+    if (!m_paused)
+    {
+        advance.behind = m_scheduler.addWallTime(wallSeconds);
+        // Within the budget only: what is left stays owed for the next passes, so input and frames keep coming.
+        while (!m_paused && m_scheduler.stepDue() && secondsSince(start) < computeBudgetSeconds)
+        {
+            if (!stepOnce(advance))
+            {
+                break;
+            }
+            m_scheduler.stepTaken();
+        }
+    }
+    advance.stepSeconds = secondsSince(start);
+    return advance;
+}
+
+Advance ViewerSession::advanceSteps(int steps)
+{
+    Advance advance;
+    const auto start = std::chrono::steady_clock::now();
+    const int wanted = (m_paused ? 0 : steps) + m_stepRequests;
+    m_stepRequests = 0;
+    for (int i = 0; i < wanted; ++i)
+    {
+        if (!stepOnce(advance))
+        {
+            break;
+        }
+    }
+    advance.stepSeconds = secondsSince(start);
+    return advance;
+}
+
+void ViewerSession::beginPick(Index mass, const Vec3& target)
+{
+    endPick();
+    MassSpringSystem& system = m_scene->system();
+    m_pick = system.userSprings.add(makePickSpring(system, mass, target));
+    m_pickedMass = mass;
+    m_pickTarget = target;
+    system.markChanged();
+}
+
+void ViewerSession::movePick(const Vec3& target)
+{
+    if (!m_pick)
+    {
+        return;
+    }
+    if (UserSpring* spring = m_scene->system().userSprings.find(*m_pick))
+    {
+        spring->target = target;
+        m_pickTarget = target;
+    }
+}
+
+void ViewerSession::endPick()
+{
+    if (!m_pick)
+    {
+        return;
+    }
+    MassSpringSystem& system = m_scene->system();
+    system.userSprings.remove(*m_pick);
+    system.markChanged();
+    m_pick.reset();
+}
+
+std::optional<Index> ViewerSession::pickedMass() const
+{
+    return m_pick ? std::optional<Index>(m_pickedMass) : std::nullopt;
+}
+
+std::optional<Vec3> ViewerSession::pickTarget() const
+{
+    return m_pick ? std::optional<Vec3>(m_pickTarget) : std::nullopt;
+}
+} // namespace masse::viewer

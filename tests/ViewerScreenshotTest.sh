@@ -1,0 +1,37 @@
+#!/bin/sh
+# The viewer in a virtual display: the paper's drop scene a few frames in (no contact yet: red masses, no green, no
+# black) and at the frame of its first contact with the block (green masses, the block's top face black), each
+# screenshot checked by colour where the viewer says the sheet and obstacles are.
+#
+# usage: ViewerScreenshotTest.sh MASSE CHECKER SCENE OUTDIR
+# Xvfb is started (xvfb-run -a) whenever it is installed, so the pictures do not depend on the desktop running the
+# tests; without it the test uses $DISPLAY.
+set -eu
+masse=$1
+check=$2
+scene=$3
+out=$4
+mkdir -p "$out"
+
+in_display() {
+    if command -v xvfb-run >/dev/null 2>&1; then
+        xvfb-run -a -s "-screen 0 1280x1024x24" "$@"
+    elif [ -n "${DISPLAY:-}" ]; then
+        "$@"
+    else
+        echo "no xvfb-run and no DISPLAY: install xvfb and xauth (.ci/build does)" >&2
+        exit 1
+    fi
+}
+
+capture="--no-ui --window 800x600 --steps-per-frame 1"
+# shellcheck disable=SC2086
+in_display "$masse" view "$scene" $capture --frames 3 \
+    --screenshot "$out/before-contact.png" --regions "$out/before-contact.json"
+"$check" "$out/before-contact.png" "$out/before-contact.json" no-contact
+
+# The first contact with the block comes at about 0.51 s, the 17th step of 0.03 s.
+# shellcheck disable=SC2086
+in_display "$masse" view "$scene" $capture --until contact:block --frames 60 \
+    --screenshot "$out/first-contact.png" --regions "$out/first-contact.json"
+"$check" "$out/first-contact.png" "$out/first-contact.json" contact
