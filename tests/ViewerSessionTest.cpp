@@ -373,3 +373,23 @@ TEST(ScreenRegions, NameThePolyhedraAndWhetherTheyWereTouched)
     }
     EXPECT_TRUE(screenRegions(scene, camera, {800, 600})["obstacles"][0]["touched"].get<bool>());
 }
+
+// --compare: the session runs the scene beside Bullet's twin, stepping both, and keeps doing so across a reset.
+TEST(ViewerSession, CompareModeStepsTheBulletTwinWithTheScene)
+{
+    scene::SceneSpec spec = scene::loadScene(std::string(MASSE_SOURCE_DIR) + "/data/scenes/box-landing.json");
+    spec.sheet.lattice.countX = 4;
+    spec.sheet.lattice.countZ = 4;
+    ViewerSession session(spec, true);
+    ASSERT_NE(session.comparison(), nullptr);
+    const std::size_t nodes = session.comparison()->twin(0).nodeCount();
+    EXPECT_EQ(nodes, session.scene().system().massCount());
+    const Vec3 start = session.comparison()->twin(0).position(0);
+    session.advanceSteps(10);
+    EXPECT_NEAR(session.scene().time(), 10 * spec.time.dt, 1e-9);
+    EXPECT_NEAR(session.comparison()->twin(0).time(), session.scene().time(), 1e-9);
+    EXPECT_LT(session.comparison()->twin(0).position(0).y(), start.y()); // it fell too
+    session.reset();
+    ASSERT_NE(session.comparison(), nullptr);
+    EXPECT_EQ(session.comparison()->twin(0).time(), 0.0);
+}

@@ -136,10 +136,12 @@ void addViewCommand(CLI::App& app)
     command->add_option("--window", options->window, "Window size WIDTHxHEIGHT (default 1024x720)");
     command->add_option("--view", options->view, "Initial view: overview, below (paper figure 8), left (figure 9)");
     command->add_option("--draw", options->draw, "Draw mode: masses, surface, scalar");
-    command->add_option("--scalar", options->scalar, "Scalar for --draw scalar: speed, strain");
+    command->add_option("--scalar", options->scalar, "Scalar for --draw scalar: speed, strain, temperature, thickness");
     command->add_flag("--hide-panel", options->hidePanel, "Start with the panel hidden (Tab shows it)");
     command->add_flag("--no-ui", options->noUi, "Draw the scene alone: no panel, no HUD");
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");
+    command->add_flag("--compare", options->viewer.compare,
+                      "Run Bullet's soft-body twin beside the sheet and draw it as a ghost (see masse compare)");
     addSceneOverrides(*command, options->overrides);
     command->footer("Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
                     "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "

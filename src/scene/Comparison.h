@@ -97,6 +97,8 @@ public:
     const std::vector<EngineResult>& results() const { return m_results; }
     const std::vector<Approximation>& approximations() const { return m_approximations; }
     const Scene& scene() const { return *m_scene; }
+    /// The MaSSE scene, for a viewer's pick spring or heater switches: what it changes is mirrored onto the twins.
+    Scene& scene() { return *m_scene; }
     /// The twin of Bullet run k (0-based, in results() order minus MaSSE).
     const bridge::SoftBodyTwin& twin(std::size_t k) const { return *m_twins[k].twin; }
 

@@ -77,6 +77,29 @@ MassScalarRegistry standardMassScalars()
     registry.add({"strain", "", "Mean relative stretch of the springs at each mass (negative: compressed)",
                   [](const scene::Scene& scene, std::vector<float>& values)
                   { meanSpringStrain(scene.system(), values); }});
+    // Heat scenes: without a heat model the sheet is at its start temperature, without a material it has no
+    // thickness to show (0).
+    registry.add({"temperature", "C", "Temperature of each mass (scenes with a \"heat\" section)",
+                  [](const scene::Scene& scene, std::vector<float>& values)
+                  {
+                      values.assign(scene.system().massCount(),
+                                    float(scene.spec().heat.settings.initialTemperature - 273.15));
+                      if (const ThermalModel* thermal = scene.thermal())
+                      {
+                          std::transform(thermal->temperature().begin(), thermal->temperature().end(), values.begin(),
+                                         [](Real kelvin) { return float(kelvin - 273.15); });
+                      }
+                  }});
+    registry.add({"thickness", "mm", "Local sheet thickness h = h0 A0 / A (scenes with a \"material\")",
+                  [](const scene::Scene& scene, std::vector<float>& values)
+                  {
+                      values.assign(scene.system().massCount(), 0.0f);
+                      if (const SheetThickness* thickness = scene.thickness())
+                      {
+                          std::transform(thickness->thickness().begin(), thickness->thickness().end(), values.begin(),
+                                         [](Real h) { return float(1000 * h); });
+                      }
+                  }});
     return registry;
 }
 

@@ -34,7 +34,8 @@ private:
     std::vector<MassScalar> m_scalars;
 };
 
-/// speed (|v|, m/s) and strain (mean relative stretch of the springs at each mass; negative when compressed).
+/// speed (|v|, m/s), strain (mean relative stretch of the springs at each mass; negative when compressed),
+/// temperature (C, heat scenes) and thickness (mm, material scenes).
 MassScalarRegistry standardMassScalars();
 
 /// Mean (length - rest) / rest over the springs of each mass (0 for a mass without springs).

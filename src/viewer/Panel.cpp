@@ -179,6 +179,7 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
         requests.view = ViewPreset::ElevatedLeft;
     }
 
+    drawHeatControls(session);
     drawSceneEditor(session);
 
     if (ImGui::CollapsingHeader("Mouse and keys"))
@@ -193,6 +194,42 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
     }
     ImGui::PopItemWidth();
     ImGui::End();
+}
+
+void Panel::drawHeatControls(ViewerSession& session)
+{
+    scene::Scene& scene = session.scene();
+    const ThermalModel* thermal = scene.thermal();
+    if (!thermal || !ImGui::CollapsingHeader("Heat (live)", ImGuiTreeNodeFlags_DefaultOpen))
+    {
+        return;
+    }
+    // These act on the running scene at once, as the script's "ambient" and "heater" actions do.
+    float ambient = float(thermal->settings().airTemperature - 273.15);
+    if (ImGui::SliderFloat("ambient (C)", &ambient, -20.0f, 250.0f, "%.1f"))
+    {
+        scene.setAmbientTemperature(Real(ambient) + 273.15);
+    }
+    const std::vector<std::string>& heaters = scene.spec().heat.heaterNames;
+    for (std::size_t i = 0; i < heaters.size(); ++i)
+    {
+        bool on = scene.heaterOn(i);
+        const std::string label =
+            "heater " + heaters[i] + " (" + std::to_string(int(std::lround(scene.spec().heat.heaterPower[i]))) + " W)";
+        if (ImGui::Checkbox(label.c_str(), &on))
+        {
+            scene.setHeater(i, on);
+        }
+    }
+    const std::vector<Real>& t = thermal->temperature();
+    const auto [low, high] = std::minmax_element(t.begin(), t.end());
+    ImGui::Text("sheet %.1f .. %.1f C", *low - 273.15, *high - 273.15);
+    if (const SheetThickness* thickness = scene.thickness())
+    {
+        ImGui::Text("thinnest %.3f mm (%.0f%% of %.3f)", 1000 * thickness->minimumThickness(),
+                    100 * thickness->minimumThickness() / thickness->initialThickness(),
+                    1000 * thickness->initialThickness());
+    }
 }
 
 void Panel::drawSceneEditor(ViewerSession& session)
@@ -277,6 +314,17 @@ void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawS
     ImGui::Text("t = %.3f s%s", scene.time(), session.paused() ? "  (paused)" : "");
     ImGui::Text("%zu masses, %zu springs, %zu in contact", scene.system().massCount(), scene.system().springCount(),
                 scene.contact().touchingCount());
+    if (const scene::Comparison* comparison = session.comparison())
+    {
+        // The ghost: Bullet's twin, with the figures that set the two apart.
+        const scene::EngineResult& masse = comparison->results().front();
+        const scene::EngineResult& bullet = comparison->results().at(1);
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.78f, 0.62f, 0.98f, 1.0f));
+        ImGui::Text("ghost: Bullet soft body, %zu nodes in contact", comparison->twin(0).touchingCount());
+        ImGui::Text("deepest penetration so far: MaSSE %.3g mm, Bullet %.3g mm", 1000 * masse.penetration.max(),
+                    1000 * bullet.penetration.max());
+        ImGui::PopStyleColor();
+    }
     if (stats.measured)
     {
         ImGui::Text("%.0f frames/s, %.1f steps/s", stats.framesPerSecond, stats.stepsPerSecond);

@@ -42,6 +42,8 @@ private:
     void drawControls(ViewerSession& session, DrawSettings& draw, bool& pickMode, const MassScalarRegistry& scalars,
                       const ScalarRange& legend, PanelRequests& requests);
     void drawSceneEditor(ViewerSession& session);
+    /// Ambient temperature and heaters of a heat scene, acting on the running scene.
+    void drawHeatControls(ViewerSession& session);
     void drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer);
 
     scene::SceneSpec m_pending; ///< the spec being edited, applied with Apply

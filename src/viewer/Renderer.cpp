@@ -438,6 +438,23 @@ void Renderer::buildOverlays(ViewerSession& session)
         add(points, x, palette::pick);
         add(points, target, palette::pick);
     }
+    // Bullet's twin (--compare) as a ghost over MaSSE's sheet: its links and nodes, nodes in contact coloured.
+    if (const scene::Comparison* comparison = session.comparison())
+    {
+        const bridge::SoftBodyTwin& twin = comparison->twin(0);
+        const std::vector<Vec3> nodes = twin.positions();
+        for (std::size_t link = 0; link < twin.linkCount(); ++link)
+        {
+            const SpringEnds ends = twin.linkEnds(link);
+            add(lines, nodes[ends.a], palette::ghost);
+            add(lines, nodes[ends.b], palette::ghost);
+        }
+        const std::vector<int>& touching = twin.touchingObstacle();
+        for (std::size_t i = 0; i < nodes.size(); ++i)
+        {
+            add(points, nodes[i], i < touching.size() && touching[i] >= 0 ? palette::ghostInContact : palette::ghost);
+        }
+    }
     upload(m_overlayLines, lines);
     upload(m_overlayPoints, points);
 }

@@ -225,7 +225,8 @@ void glutFatal(const char* format, va_list arguments)
 } // namespace
 
 ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassScalarRegistry scalars)
-    : m_options(options), m_scalars(std::move(scalars)), m_session(std::move(spec)), m_draw(options.draw)
+    : m_options(options), m_scalars(std::move(scalars)), m_session(std::move(spec), options.compare),
+      m_draw(options.draw)
 {
     if (m_draw.mode == DrawMode::Scalar && !m_scalars.find(m_draw.scalar))
     {

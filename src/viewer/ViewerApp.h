@@ -28,6 +28,7 @@ struct ViewerOptions
     bool showPanel = true;
     bool showUi = true; ///< false: the scene alone, no panel or HUD (clean screenshots)
     bool startPaused = false;
+    bool compare = false;      ///< run Bullet's soft-body twin beside the sheet and draw it as a ghost
     Real computeBudget = 0.05; ///< s of stepping per pass of the loop at most; the rest stays owed to later passes
 };
 

@@ -24,16 +24,29 @@ std::string formatTime(Real t)
 }
 } // namespace
 
-ViewerSession::ViewerSession(scene::SceneSpec spec)
-    : m_scene(std::make_unique<scene::Scene>(std::move(spec))), m_scheduler(m_scene->spec().time.dt)
+ViewerSession::ViewerSession(scene::SceneSpec spec, bool compare) : m_scheduler(spec.time.dt), m_compare(compare)
 {
+    replaceScene(std::move(spec));
 }
 
-void ViewerSession::replaceScene(std::unique_ptr<scene::Scene> scene)
+void ViewerSession::replaceScene(scene::SceneSpec spec)
 {
+    // Build first: on failure the current scene stays as it is.
+    std::unique_ptr<scene::Comparison> comparison;
+    std::unique_ptr<scene::Scene> owned;
+    if (m_compare)
+    {
+        comparison = std::make_unique<scene::Comparison>(std::move(spec), scene::CompareOptions{});
+    }
+    else
+    {
+        owned = std::make_unique<scene::Scene>(std::move(spec));
+    }
     // The pick spring lived in the old system; it goes with it.
     m_pick.reset();
-    m_scene = std::move(scene);
+    m_comparison = std::move(comparison);
+    m_ownedScene = std::move(owned);
+    m_scene = m_comparison ? &m_comparison->scene() : m_ownedScene.get();
     ++m_generation;
     m_scheduler.setStep(m_scene->spec().time.dt);
     m_scheduler.clear();
@@ -46,7 +59,7 @@ bool ViewerSession::load(const std::string& path)
 {
     try
     {
-        replaceScene(std::make_unique<scene::Scene>(scene::loadScene(path)));
+        replaceScene(scene::loadScene(path));
         return true;
     }
     catch (const std::exception& e)
@@ -60,7 +73,7 @@ bool ViewerSession::rebuild(const scene::SceneSpec& spec)
 {
     try
     {
-        replaceScene(std::make_unique<scene::Scene>(spec));
+        replaceScene(spec);
         return true;
     }
     catch (const std::exception& e)
@@ -94,7 +107,14 @@ bool ViewerSession::stepOnce(Advance& advance)
     const Real before = m_scene->time();
     try
     {
-        m_scene->step();
+        if (m_comparison)
+        {
+            m_comparison->step(); // the scene, then every twin the same frame
+        }
+        else
+        {
+            m_scene->step();
+        }
     }
     catch (const NumericalError& e)
     {

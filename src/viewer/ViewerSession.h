@@ -6,6 +6,7 @@
 #include "PickSpring.h"
 #include "StepScheduler.h"
 
+#include "scene/Comparison.h"
 #include "scene/Scene.h"
 
 #include <memory>
@@ -27,8 +28,11 @@ class ViewerSession
 {
 public:
     /// Builds the first scene; throws InputError for a spec that cannot be built (on the command line that is bad
-    /// input; later failures keep the scene shown).
-    explicit ViewerSession(scene::SceneSpec spec);
+    /// input; later failures keep the scene shown). With `compare`, the scene runs beside its Bullet soft-body twin
+    /// (scene::Comparison), which the window draws as a ghost.
+    explicit ViewerSession(scene::SceneSpec spec, bool compare = false);
+    /// The comparison when the session runs one (--compare), else nullptr.
+    const scene::Comparison* comparison() const { return m_comparison.get(); }
 
     scene::Scene& scene() { return *m_scene; }
     const scene::Scene& scene() const { return *m_scene; }
@@ -69,12 +73,16 @@ public:
     std::optional<Vec3> pickTarget() const;
 
 private:
-    void replaceScene(std::unique_ptr<scene::Scene> scene);
+    /// Builds a scene (or a comparison) from a spec and makes it current; throws what building throws.
+    void replaceScene(scene::SceneSpec spec);
     /// One step, catching a diverged or refused step: the session pauses and reports it instead of dying.
     bool stepOnce(Advance& advance);
     void noticeEnd();
 
-    std::unique_ptr<scene::Scene> m_scene;
+    bool m_compare = false;
+    std::unique_ptr<scene::Scene> m_ownedScene;
+    std::unique_ptr<scene::Comparison> m_comparison;
+    scene::Scene* m_scene = nullptr; ///< m_ownedScene's, or m_comparison's
     std::uint64_t m_generation = 0;
     StepScheduler m_scheduler;
     bool m_paused = false;
