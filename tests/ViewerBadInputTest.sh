@@ -35,7 +35,7 @@ rm -f "$bad"
 expect_input_error "an unknown view" "--view: unknown view" env -u DISPLAY "$masse" view --view sideways
 expect_input_error "a capture without an end" "need --frames" \
     env -u DISPLAY "$masse" view --screenshot out.png
-expect_input_error "an unknown scalar" "unknown scalar 'temperature'" \
-    env -u DISPLAY "$masse" view --draw scalar --scalar temperature --frames 1
+expect_input_error "an unknown scalar" "unknown scalar 'pressure'" \
+    env -u DISPLAY "$masse" view --draw scalar --scalar pressure --frames 1
 
 [ "$failures" -eq 0 ]

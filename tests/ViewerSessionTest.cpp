@@ -289,17 +289,19 @@ TEST(PickSpring, AFarCursorLiftsTheSheetWithoutUpsettingEitherIntegrator)
 TEST(MassScalars, RegistryFindsReplacesAndNamesScalars)
 {
     MassScalarRegistry registry = standardMassScalars();
-    ASSERT_TRUE(registry.find("speed"));
-    ASSERT_TRUE(registry.find("strain"));
-    EXPECT_FALSE(registry.find("temperature"));
-    // A heat model adds its field by name, and the panel lists it.
-    registry.add({"temperature", "K", "", [](const scene::Scene& s, std::vector<float>& values) {
-                      values.assign(s.system().massCount(), 300.0f);
+    for (const char* name : {"speed", "strain", "temperature", "thickness"})
+    {
+        ASSERT_TRUE(registry.find(name)) << name;
+    }
+    EXPECT_FALSE(registry.find("stress"));
+    // A model adds its field by name, and the panel lists it; the same name again replaces it.
+    registry.add({"stress", "Pa", "", [](const scene::Scene& s, std::vector<float>& values) {
+                      values.assign(s.system().massCount(), 1.0f);
                   }});
-    EXPECT_EQ(registry.names(), "speed, strain, temperature");
-    registry.add({"temperature", "C", "", {}});
-    EXPECT_EQ(registry.all().size(), 3u);
-    EXPECT_EQ(registry.find("temperature")->unit, "C");
+    EXPECT_EQ(registry.names(), "speed, strain, temperature, thickness, stress");
+    registry.add({"stress", "MPa", "", {}});
+    EXPECT_EQ(registry.all().size(), 5u);
+    EXPECT_EQ(registry.find("stress")->unit, "MPa");
 }
 
 TEST(MassScalars, SpeedAndStrainReadTheSheet)
