@@ -24,7 +24,7 @@ std::string formatTime(Real t)
 }
 } // namespace
 
-ViewerSession::ViewerSession(scene::SceneSpec spec, bool compare) : m_scheduler(spec.time.dt), m_compare(compare)
+ViewerSession::ViewerSession(scene::SceneSpec spec, bool compare) : m_compare(compare), m_scheduler(spec.time.dt)
 {
     replaceScene(std::move(spec));
 }
