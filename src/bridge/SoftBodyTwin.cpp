@@ -1,4 +1,5 @@
 #include "SoftBodyTwin.h"
+#include "core/Format.h"
 
 #include "BulletEnvironment.h"
 #include "BulletMath.h"
@@ -60,13 +61,6 @@ namespace
 /// (StiffnessCalibrationTest measures it on the Table 1 sheet).
 constexpr Real maxFormulaLoad = 0.25;
 
-std::string number(Real value)
-{
-    std::ostringstream text;
-    text << value;
-    return text.str();
-}
-
 /// What the twin represents only approximately in this scene, each with the scene key it concerns.
 std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const BulletEnvironment& environment,
                                           const ContactSettings& contact, const SoftBodyTwinSettings& settings,
@@ -97,7 +91,7 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
                 {"springs.stiffness",
                  "kLST comes from the one-link formula (StiffnessCalibration.h), which holds while "
                  "k h^2 / mu is about 0.2 or less; here it reaches " +
-                     number(load) +
+                     formatNumber(load) +
                      ", and Gauss-Seidel projection over the whole lattice leaves the twin softer than "
                      "MaSSE's sheet (the Table 1 sheet clamped on two edges sags 8 to 11 times as much at h = 0.03 s). "
                      "calibrateLinearStiffness measures the gap; more substeps close it."});
@@ -120,14 +114,14 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
         notes.push_back(
             {"forces.repulsion", "Bullet links resist compression exactly as they resist stretching; the compression "
                                  "repulsion k_r = " +
-                                     number(sheet.forces.repulsion) + " N m^2 is left out."});
+                                     formatNumber(sheet.forces.repulsion) + " N m^2 is left out."});
     }
     notes.push_back(
         {"contact",
          "Bullet tests nodes against obstacles only where the substep's prediction puts them (no sweep): a node that "
          "moves farther than an obstacle's thickness in one substep can pass through it. A node found within the "
          "margin loses its approach and is also lifted by kKHR = " +
-             number(settings.kKHR) +
+             formatNumber(settings.kKHR) +
              " times its predicted depth, so it can end above where it started the substep: landings bounce and "
              "resting nodes jitter by about g h^2."});
     const Real friction = settings.kDF ? *settings.kDF : std::min(contact.friction, Real(1));
@@ -136,7 +130,7 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
     case ContactResponse::Sticky:
         notes.push_back({"contact.response",
                          "Bullet has no sticky contact: approximated by friction kDF = " +
-                             number(settings.kDF ? *settings.kDF : Real(1)) +
+                             formatNumber(settings.kDF ? *settings.kDF : Real(1)) +
                              ", so a node in contact loses (up to) all its tangential motion, but it leaves the "
                              "surface as soon as it is pulled away (no hold, no release force) and is not pinned "
                              "where it first touched."});
@@ -148,12 +142,12 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
                 {"contact.friction",
                  "Bullet's node friction is not Coulomb's: a node whose tangential motion in a substep "
                  "is below kDF = " +
-                     number(friction) +
+                     formatNumber(friction) +
                      " times its approach stops, otherwise it loses the fraction kDF of it, whatever the "
                      "load. Sliding speeds differ from MaSSE's mu law." +
-                     std::string(!settings.kDF && contact.friction > 1
-                                     ? " mu = " + number(contact.friction) + " is above Bullet's range [0, 1]: kDF = 1."
-                                     : "")});
+                     std::string(!settings.kDF && contact.friction > 1 ? " mu = " + formatNumber(contact.friction) +
+                                                                             " is above Bullet's range [0, 1]: kDF = 1."
+                                                                       : "")});
         }
         break;
     case ContactResponse::Frictionless:
@@ -223,7 +217,7 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
     validate(contact);
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("twin: the time step must be a positive number of seconds (got " + number(dt) + ")");
+        throw InputError("twin: the time step must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     validateSheet(sheet);
     const Real h = substep();
@@ -451,8 +445,8 @@ void SoftBodyTwin::checkFinite() const
         const btSoftBody::Node& node = m_body->m_nodes[i];
         if (!toVec3(node.m_x).allFinite() || !toVec3(node.m_v).allFinite())
         {
-            throw NumericalError("Bullet twin: node " + std::to_string(i) + " is not finite at t = " + number(time()) +
-                                 " s");
+            throw NumericalError("Bullet twin: node " + std::to_string(i) +
+                                 " is not finite at t = " + formatNumber(time()) + " s");
         }
     }
 }

@@ -1,4 +1,5 @@
 #include "SoftBodyTwinSettings.h"
+#include "core/Format.h"
 
 #include "core/InputError.h"
 
@@ -9,13 +10,6 @@ namespace masse::bridge
 {
 namespace
 {
-std::string number(Real value)
-{
-    std::ostringstream text;
-    text << value;
-    return text.str();
-}
-
 /// Requires lo <= value <= hi, with either end excluded when asked; NaN fails every test.
 void requireRange(const char* field, Real value, Real lo, bool loOpen, Real hi, bool hiOpen)
 {
@@ -23,8 +17,8 @@ void requireRange(const char* field, Real value, Real lo, bool loOpen, Real hi, 
     const bool belowHi = hiOpen ? value < hi : value <= hi;
     if (!(aboveLo && belowHi))
     {
-        throw InputError(std::string("bullet.") + field + " must be in " + (loOpen ? "(" : "[") + number(lo) + ", " +
-                         number(hi) + (hiOpen ? ")" : "]") + " (got " + number(value) + ")");
+        throw InputError(std::string("bullet.") + field + " must be in " + (loOpen ? "(" : "[") + formatNumber(lo) +
+                         ", " + formatNumber(hi) + (hiOpen ? ")" : "]") + " (got " + formatNumber(value) + ")");
     }
 }
 

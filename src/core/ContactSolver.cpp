@@ -1,6 +1,7 @@
 #include "ContactSolver.h"
 
 #include "InputError.h"
+#include "NamedEnum.h"
 
 #include <algorithm>
 #include <chrono>
@@ -25,12 +26,7 @@ private:
     std::chrono::steady_clock::time_point m_start;
 };
 
-struct ResponseName
-{
-    ContactResponse response;
-    std::string_view name;
-};
-constexpr ResponseName responseNames[] = {
+constexpr EnumName<ContactResponse> responseNames[] = {
     {ContactResponse::Sticky, "sticky"},
     {ContactResponse::Friction, "friction"},
     {ContactResponse::Frictionless, "frictionless"},
@@ -39,27 +35,12 @@ constexpr ResponseName responseNames[] = {
 
 ContactResponse parseContactResponse(std::string_view name)
 {
-    for (const ResponseName& entry : responseNames)
-    {
-        if (entry.name == name)
-        {
-            return entry.response;
-        }
-    }
-    throw InputError("contact.response: unknown response '" + std::string(name) +
-                     "' (expected one of sticky, friction, frictionless)");
+    return parseEnum(responseNames, name, "contact.response", "response");
 }
 
 std::string_view contactResponseName(ContactResponse response)
 {
-    for (const ResponseName& entry : responseNames)
-    {
-        if (entry.response == response)
-        {
-            return entry.name;
-        }
-    }
-    return "unknown";
+    return enumName(responseNames, response);
 }
 
 void validate(const ContactSettings& settings)

@@ -1,4 +1,5 @@
 #include "HeatSources.h"
+#include "Format.h"
 
 #include "InputError.h"
 
@@ -13,13 +14,6 @@ namespace masse
 {
 namespace
 {
-std::string format(Real value)
-{
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
-
 /// Unit normal and unit width and length directions of the panel.
 struct PanelFrame
 {
@@ -42,15 +36,15 @@ void validate(const RadiantHeater& heater, const std::string& path)
 {
     if (!(heater.power >= 0) || !std::isfinite(heater.power))
     {
-        throw InputError(path + ".power: must be >= 0 W (got " + format(heater.power) + ")");
+        throw InputError(path + ".power: must be >= 0 W (got " + formatNumber(heater.power) + ")");
     }
     if (!(heater.width > 0) || !std::isfinite(heater.width))
     {
-        throw InputError(path + ".width: must be a positive number of m (got " + format(heater.width) + ")");
+        throw InputError(path + ".width: must be a positive number of m (got " + formatNumber(heater.width) + ")");
     }
     if (!(heater.length > 0) || !std::isfinite(heater.length))
     {
-        throw InputError(path + ".length: must be a positive number of m (got " + format(heater.length) + ")");
+        throw InputError(path + ".length: must be a positive number of m (got " + formatNumber(heater.length) + ")");
     }
     if (!heater.centre.allFinite())
     {
@@ -78,11 +72,11 @@ void validate(const HotAirZone& zone, const std::string& path)
     if (!(zone.temperature > 0) || !std::isfinite(zone.temperature))
     {
         throw InputError(path + ".temperature_c: must be above absolute zero (got " +
-                         format(zone.temperature - 273.15) + " C)");
+                         formatNumber(zone.temperature - 273.15) + " C)");
     }
     if (!(zone.heatTransfer >= 0) || !std::isfinite(zone.heatTransfer))
     {
-        throw InputError(path + ".heat_transfer: must be >= 0 W/(m^2 K) (got " + format(zone.heatTransfer) + ")");
+        throw InputError(path + ".heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(zone.heatTransfer) + ")");
     }
 }
 

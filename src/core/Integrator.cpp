@@ -1,6 +1,6 @@
 #include "Integrator.h"
 
-#include "InputError.h"
+#include "NamedEnum.h"
 
 #include <string>
 
@@ -8,12 +8,7 @@ namespace masse
 {
 namespace
 {
-struct IntegratorName
-{
-    IntegratorKind kind;
-    std::string_view name;
-};
-constexpr IntegratorName integratorNames[] = {
+constexpr EnumName<IntegratorKind> integratorNames[] = {
     {IntegratorKind::ExplicitEuler, "euler"},
     {IntegratorKind::SymplecticEuler, "symplectic"},
     {IntegratorKind::VelocityVerlet, "verlet"},
@@ -23,27 +18,12 @@ constexpr IntegratorName integratorNames[] = {
 
 IntegratorKind parseIntegrator(std::string_view name)
 {
-    for (const IntegratorName& entry : integratorNames)
-    {
-        if (entry.name == name)
-        {
-            return entry.kind;
-        }
-    }
-    throw InputError("integrator: unknown integrator '" + std::string(name) +
-                     "' (expected one of euler, symplectic, verlet, implicit)");
+    return parseEnum(integratorNames, name, "integrator", "integrator");
 }
 
 std::string_view integratorName(IntegratorKind kind)
 {
-    for (const IntegratorName& entry : integratorNames)
-    {
-        if (entry.kind == kind)
-        {
-            return entry.name;
-        }
-    }
-    return "unknown";
+    return enumName(integratorNames, kind);
 }
 
 bool isExplicit(IntegratorKind kind)

@@ -1,6 +1,7 @@
 #include "Lattice.h"
 
 #include "InputError.h"
+#include "NamedEnum.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,12 +12,7 @@ namespace masse
 {
 namespace
 {
-struct StructureName
-{
-    Structure structure;
-    std::string_view name;
-};
-constexpr StructureName structureNames[] = {
+constexpr EnumName<Structure> structureNames[] = {
     {Structure::Square2D, "square2d"},
     {Structure::SaMM, "samm"},
     {Structure::SLaMM, "slamm"},
@@ -31,29 +27,12 @@ constexpr int maxLayers = 64;
 
 Structure parseStructure(std::string_view name)
 {
-    std::string lower(name);
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    for (const StructureName& entry : structureNames)
-    {
-        if (entry.name == lower)
-        {
-            return entry.structure;
-        }
-    }
-    throw InputError("structure: unknown structure '" + std::string(name) +
-                     "' (expected one of square2d, samm, slamm, trimm)");
+    return parseEnum(structureNames, name, "structure", "structure");
 }
 
 std::string_view structureName(Structure structure)
 {
-    for (const StructureName& entry : structureNames)
-    {
-        if (entry.structure == structure)
-        {
-            return entry.name;
-        }
-    }
-    return "unknown";
+    return enumName(structureNames, structure);
 }
 
 void parseSize(std::string_view text, LatticeSpec& spec)

@@ -1,4 +1,5 @@
 #include "Material.h"
+#include "Format.h"
 
 #include "InputError.h"
 
@@ -10,19 +11,12 @@ namespace masse
 {
 namespace
 {
-std::string format(Real value)
-{
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
-
 void requirePositive(Real value, const char* key, const char* unit)
 {
     if (!(value > 0) || !std::isfinite(value))
     {
         throw InputError(std::string(key) + ": must be a positive number" + (*unit ? std::string(" of ") + unit : "") +
-                         " (got " + format(value) + ")");
+                         " (got " + formatNumber(value) + ")");
     }
 }
 
@@ -32,7 +26,7 @@ void requireTemperature(Real kelvin, const char* key)
     if (!(kelvin > 0) || !std::isfinite(kelvin))
     {
         throw InputError(std::string(key) + ": must be a finite temperature above absolute zero (got " +
-                         format(kelvinToCelsius(kelvin)) + " C)");
+                         formatNumber(kelvinToCelsius(kelvin)) + " C)");
     }
 }
 
@@ -41,7 +35,8 @@ void requireBelow(Real lowKelvin, const char* lowKey, Real highKelvin, const cha
     if (!(lowKelvin < highKelvin))
     {
         throw InputError(std::string(lowKey) + ": must be below " + highKey + " (" + why + "; got " +
-                         format(kelvinToCelsius(lowKelvin)) + " C and " + format(kelvinToCelsius(highKelvin)) + " C)");
+                         formatNumber(kelvinToCelsius(lowKelvin)) + " C and " +
+                         formatNumber(kelvinToCelsius(highKelvin)) + " C)");
     }
 }
 } // namespace
@@ -59,8 +54,8 @@ void validate(const Material& m)
     if (m.transitionTemperature < m.glassTransition)
     {
         throw InputError("transition_c: must be at or above glass_transition_c (got " +
-                         format(kelvinToCelsius(m.transitionTemperature)) + " C and " +
-                         format(kelvinToCelsius(m.glassTransition)) + " C)");
+                         formatNumber(kelvinToCelsius(m.transitionTemperature)) + " C and " +
+                         formatNumber(kelvinToCelsius(m.glassTransition)) + " C)");
     }
     requireBelow(m.transitionTemperature, "transition_c", m.upperTemperature, "upper_c",
                  "flow must start inside the model's range");
@@ -68,8 +63,8 @@ void validate(const Material& m)
     requirePositive(m.glassyModulus, "glassy_modulus", "Pa");
     if (!(m.glassyModulus > m.rubberyModulus))
     {
-        throw InputError("glassy_modulus: must exceed rubbery_modulus (got " + format(m.glassyModulus) + " Pa and " +
-                         format(m.rubberyModulus) + " Pa)");
+        throw InputError("glassy_modulus: must exceed rubbery_modulus (got " + formatNumber(m.glassyModulus) +
+                         " Pa and " + formatNumber(m.rubberyModulus) + " Pa)");
     }
     requirePositive(m.transitionWidth, "transition_width", "K");
     requirePositive(m.wlfC1, "wlf_c1", "");
@@ -77,7 +72,8 @@ void validate(const Material& m)
     requirePositive(m.viscosityAtTransition, "viscosity_at_transition", "Pa s");
     if (!(m.solidActivationEnergy >= 0) || !std::isfinite(m.solidActivationEnergy))
     {
-        throw InputError("solid_activation_energy: must be >= 0 J/mol (got " + format(m.solidActivationEnergy) + ")");
+        throw InputError("solid_activation_energy: must be >= 0 J/mol (got " + formatNumber(m.solidActivationEnergy) +
+                         ")");
     }
     requirePositive(m.kelvinModulusRatio, "kelvin_modulus_ratio", "");
     requirePositive(m.kelvinViscosityRatio, "kelvin_viscosity_ratio", "");
@@ -92,8 +88,8 @@ void validate(const Material& m)
     if (!(f.lower <= f.normal && f.normal <= f.upper))
     {
         throw InputError("forming_window.normal_c: must lie between lower_c and upper_c (got " +
-                         format(kelvinToCelsius(f.lower)) + ", " + format(kelvinToCelsius(f.normal)) + ", " +
-                         format(kelvinToCelsius(f.upper)) + " C)");
+                         formatNumber(kelvinToCelsius(f.lower)) + ", " + formatNumber(kelvinToCelsius(f.normal)) +
+                         ", " + formatNumber(kelvinToCelsius(f.upper)) + " C)");
     }
 }
 

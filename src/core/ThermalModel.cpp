@@ -1,4 +1,5 @@
 #include "ThermalModel.h"
+#include "Format.h"
 
 #include "InputError.h"
 #include "Simulator.h"
@@ -17,13 +18,6 @@ namespace masse
 {
 namespace
 {
-std::string format(Real value)
-{
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
-
 constexpr std::uint8_t bottomFace = 1;
 constexpr std::uint8_t topFace = 2;
 
@@ -43,7 +37,7 @@ void validate(const ThermalSettings& s)
     {
         if (!(kelvin > 0) || !std::isfinite(kelvin))
         {
-            throw InputError(std::string(key) + ": must be above absolute zero (got " + format(kelvin - 273.15) +
+            throw InputError(std::string(key) + ": must be above absolute zero (got " + formatNumber(kelvin - 273.15) +
                              " C)");
         }
     };
@@ -51,19 +45,20 @@ void validate(const ThermalSettings& s)
     temperature(s.airTemperature, "air_temperature_c");
     if (!(s.airHeatTransfer >= 0) || !std::isfinite(s.airHeatTransfer))
     {
-        throw InputError("air_heat_transfer: must be >= 0 W/(m^2 K) (got " + format(s.airHeatTransfer) + ")");
+        throw InputError("air_heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(s.airHeatTransfer) + ")");
     }
     if (!(s.absorptivity >= 0 && s.absorptivity <= 1))
     {
-        throw InputError("absorptivity: must be in [0, 1] (got " + format(s.absorptivity) + ")");
+        throw InputError("absorptivity: must be in [0, 1] (got " + formatNumber(s.absorptivity) + ")");
     }
     if (!(s.contactHeatTransfer >= 0) || !std::isfinite(s.contactHeatTransfer))
     {
-        throw InputError("contact_heat_transfer: must be >= 0 W/(m^2 K) (got " + format(s.contactHeatTransfer) + ")");
+        throw InputError("contact_heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(s.contactHeatTransfer) +
+                         ")");
     }
     if (!(s.solverTolerance > 0 && s.solverTolerance <= 1e-3))
     {
-        throw InputError("solver_tolerance: must be in (0, 1e-3] (got " + format(s.solverTolerance) + ")");
+        throw InputError("solver_tolerance: must be in (0, 1e-3] (got " + formatNumber(s.solverTolerance) + ")");
     }
     if (s.maxIterations < 1)
     {
@@ -228,7 +223,7 @@ void ThermalModel::setContact(const std::vector<int>* touchingObstacle, std::vec
         if (!(obstacleTemperature[k] > 0) || !std::isfinite(obstacleTemperature[k]))
         {
             throw InputError("obstacles[" + std::to_string(k) + "].temperature_c: must be above absolute zero (got " +
-                             format(obstacleTemperature[k] - 273.15) + " C)");
+                             formatNumber(obstacleTemperature[k] - 273.15) + " C)");
         }
     }
     m_touching = touchingObstacle;
@@ -239,7 +234,7 @@ void ThermalModel::holdTemperature(Index mass, Real temperature)
 {
     if (!(temperature > 0) || !std::isfinite(temperature))
     {
-        throw InputError("held temperature: must be above absolute zero (got " + format(temperature) + " K)");
+        throw InputError("held temperature: must be above absolute zero (got " + formatNumber(temperature) + " K)");
     }
     m_held.at(mass) = 1;
     m_temperature[mass] = temperature;
@@ -287,7 +282,7 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("dt: must be a positive number of seconds (got " + format(dt) + ")");
+        throw InputError("dt: must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     const std::size_t n = m_temperature.size();
     const std::vector<Vec3>& x = system.particles.position;
@@ -415,8 +410,8 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
     m_report.solverResidual = m_solver.error();
     if (!m_solution.allFinite())
     {
-        throw NumericalError("the thermal model diverged: a temperature is not finite after a step of " + format(dt) +
-                             " s");
+        throw NumericalError("the thermal model diverged: a temperature is not finite after a step of " +
+                             formatNumber(dt) + " s");
     }
     for (std::size_t i = 0; i < n; ++i)
     {

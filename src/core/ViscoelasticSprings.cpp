@@ -2,6 +2,7 @@
 
 #include "Damping.h"
 #include "InputError.h"
+#include "NamedEnum.h"
 #include "Simulator.h"
 
 #include <algorithm>
@@ -15,12 +16,7 @@ namespace masse
 {
 namespace
 {
-struct SpringModelName
-{
-    SpringModel model;
-    std::string_view name;
-};
-constexpr SpringModelName springModelNames[] = {
+constexpr EnumName<SpringModel> springModelNames[] = {
     {SpringModel::Elastic, "elastic"},
     {SpringModel::Maxwell, "maxwell"},
     {SpringModel::Burgers, "burgers"},
@@ -32,29 +28,12 @@ constexpr Real troutonRatio = 3;
 
 SpringModel parseSpringModel(std::string_view name)
 {
-    std::string lower(name);
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    for (const SpringModelName& entry : springModelNames)
-    {
-        if (entry.name == lower)
-        {
-            return entry.model;
-        }
-    }
-    throw InputError("spring_model: unknown model '" + std::string(name) +
-                     "' (expected one of elastic, maxwell, burgers)");
+    return parseEnum(springModelNames, name, "spring_model", "model");
 }
 
 std::string_view springModelName(SpringModel model)
 {
-    for (const SpringModelName& entry : springModelNames)
-    {
-        if (entry.model == model)
-        {
-            return entry.name;
-        }
-    }
-    return "unknown";
+    return enumName(springModelNames, model);
 }
 
 void validate(const SpringModelSettings& settings)

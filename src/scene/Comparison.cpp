@@ -1,4 +1,5 @@
 #include "Comparison.h"
+#include "core/Format.h"
 
 #include "bridge/ObstacleProbe.h"
 
@@ -15,20 +16,6 @@ namespace masse::scene
 namespace
 {
 using Clock = std::chrono::steady_clock;
-
-std::string number(Real value)
-{
-    std::ostringstream text;
-    text << value;
-    return text.str();
-}
-
-std::string formatted(const char* format, double value)
-{
-    char text[64];
-    std::snprintf(text, sizeof(text), format, value);
-    return text;
-}
 
 bool isStage(const std::string& name)
 {
@@ -264,7 +251,7 @@ void Comparison::collectApproximations()
         {
             const bridge::StiffnessCalibration& c = *m_twins[k].calibration;
             add("bullet.calibrate",
-                "Even rigid links (kLST = 1) sag " + formatted("%.3g", c.bullet.sag / c.masse.sag) +
+                "Even rigid links (kLST = 1) sag " + formatNumber("%.3g", c.bullet.sag / c.masse.sag) +
                     " times as much as MaSSE's sheet at this substep and pass count: the twin is softer than the "
                     "sheet, kLST = 1 is used.",
                 run);
@@ -273,8 +260,8 @@ void Comparison::collectApproximations()
             "Bullet's first contact with an obstacle is the first frame in which it reports a rigid contact for a "
             "node (a node within the margin), dated at the end of that frame; MaSSE's is dated at the end of the "
             "integrator substep that made it, the dating alone can part the two by up to one dt (" +
-                number(s.time.dt) + " s). Rest uses the scene's threshold (kinetic energy below " +
-                number(s.run.restKineticEnergy) + " J for " + number(s.run.restHold) + " s) for both.",
+                formatNumber(s.time.dt) + " s). Rest uses the scene's threshold (kinetic energy below " +
+                formatNumber(s.run.restKineticEnergy) + " J for " + formatNumber(s.run.restHold) + " s) for both.",
             run);
     }
 }
@@ -453,7 +440,7 @@ void Comparison::run(const std::function<void(Real, const std::string&)>& progre
                 {
                     const StageEvent& e = m_results[k].events[seen[k]];
                     latest = m_results[k].label.substr(0, m_results[k].label.find(' ')) + ": " + e.name + " " +
-                             e.object + formatted(" at %.2f s", e.time);
+                             e.object + formatNumber(" at %.2f s", e.time);
                 }
             }
             progress(time(), latest);

@@ -1,4 +1,5 @@
 #include "Comparison.h"
+#include "core/Format.h"
 
 #include "AtomicFile.h"
 #include "Plot.h"
@@ -12,20 +13,6 @@ namespace masse::scene
 {
 namespace
 {
-std::string number(Real value)
-{
-    std::ostringstream text;
-    text << value;
-    return text.str();
-}
-
-std::string formatted(const char* format, double value)
-{
-    char text[64];
-    std::snprintf(text, sizeof(text), format, value);
-    return text;
-}
-
 nlohmann::json distanceJson(const bridge::PositionDistance& d)
 {
     return {{"rms", d.rms}, {"max", d.max}, {"mass", d.mass}};
@@ -216,7 +203,7 @@ std::string Comparison::table() const
     const LatticeSpec& lattice = s.sheet.lattice;
     out << "scene " << s.name << ": " << structureName(lattice.structure) << " " << lattice.countX << "x"
         << lattice.layers << "x" << lattice.countZ << ", " << m_scene->system().massCount() << " masses, "
-        << m_scene->system().springCount() << " springs; dt = " << s.time.dt << " s; " << formatted("%.2f", time())
+        << m_scene->system().springCount() << " springs; dt = " << s.time.dt << " s; " << formatNumber("%.2f", time())
         << " s simulated (" << m_times.size() << " frames)\n\n";
     row("", each([&](std::size_t k) { return m_results[k].label; }));
 
@@ -234,13 +221,13 @@ std::string Comparison::table() const
                 [&](std::size_t k)
                 {
                     const std::optional<Real> t = m_results[k].eventTime(name, object);
-                    return t ? formatted("%.3f", *t) : std::string("-");
+                    return t ? formatNumber("%.3f", *t) : std::string("-");
                 }));
     }
     row("max penetration (mm)",
-        each([&](std::size_t k) { return formatted("%.3g", 1000 * m_results[k].penetration.max()); }));
+        each([&](std::size_t k) { return formatNumber("%.3g", 1000 * m_results[k].penetration.max()); }));
     row("mean penetration (mm)",
-        each([&](std::size_t k) { return formatted("%.3g", 1000 * m_results[k].penetration.mean()); }));
+        each([&](std::size_t k) { return formatNumber("%.3g", 1000 * m_results[k].penetration.mean()); }));
     row("tunnelled nodes (inside/beyond)", each(
                                                [&](std::size_t k)
                                                {
@@ -253,10 +240,10 @@ std::string Comparison::table() const
                                         [&](std::size_t k)
                                         {
                                             const auto& e = m_results[k].run.kineticEnergy;
-                                            return e.empty() ? std::string("-") : formatted("%.3g", e.back());
+                                            return e.empty() ? std::string("-") : formatNumber("%.3g", e.back());
                                         }));
     row("wall ms per simulated s",
-        each([&](std::size_t k) { return formatted("%.1f", m_results[k].run.wallMsPerSimulatedSecond()); }));
+        each([&](std::size_t k) { return formatNumber("%.1f", m_results[k].run.wallMsPerSimulatedSecond()); }));
     auto distanceCell = [&](std::size_t k, std::optional<std::size_t> frame)
     {
         const EngineResult& r = m_results[k];
@@ -265,7 +252,7 @@ std::string Comparison::table() const
             return std::string("-");
         }
         const bridge::PositionDistance& d = r.distance[*frame];
-        return formatted("%.1f", 1000 * d.rms) + " / " + formatted("%.1f", 1000 * d.max);
+        return formatNumber("%.1f", 1000 * d.rms) + " / " + formatNumber("%.1f", 1000 * d.max);
     };
     for (const auto& [name, object] : stages)
     {
@@ -354,7 +341,7 @@ void Comparison::writeOutputs(const std::string& directory) const
     // j's distances after all engines' columns.
     const std::string common = "set datafile separator ','\nset grid\nset key top right\n"
                                "set xlabel 'simulated time (s)'\n";
-    const std::string title = m_scene->spec().name + ", dt = " + number(m_scene->spec().time.dt) + " s";
+    const std::string title = m_scene->spec().name + ", dt = " + formatNumber(m_scene->spec().time.dt) + " s";
     // One curve per engine; `value` turns a column reference ("$3") into the plotted expression.
     auto curves = [&](int firstColumn, const std::function<std::string(const std::string&)>& value)
     {

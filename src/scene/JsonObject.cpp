@@ -1,4 +1,5 @@
 #include "JsonObject.h"
+#include "core/Format.h"
 
 #include "core/InputError.h"
 
@@ -17,12 +18,6 @@ std::string describe(const nlohmann::json& value)
     return text.size() > 40 ? text.substr(0, 37) + "..." : text;
 }
 
-std::string format(Real value)
-{
-    std::ostringstream out;
-    out << value;
-    return out.str();
-}
 } // namespace
 
 std::size_t editDistance(const std::string& a, const std::string& b)
@@ -139,10 +134,10 @@ Real JsonObject::number(const std::string& key, Real fallback, Real min, Real ma
     const Real value = number(key);
     if (value < min || value > max)
     {
-        const std::string range = std::isinf(max)   ? ">= " + format(min)
-                                  : std::isinf(min) ? "<= " + format(max)
-                                                    : "in [" + format(min) + ", " + format(max) + "]";
-        fail(key, "must be " + range + " (got " + format(value) + ")");
+        const std::string range = std::isinf(max)   ? ">= " + formatNumber(min)
+                                  : std::isinf(min) ? "<= " + formatNumber(max)
+                                                    : "in [" + formatNumber(min) + ", " + formatNumber(max) + "]";
+        fail(key, "must be " + range + " (got " + formatNumber(value) + ")");
     }
     return value;
 }
@@ -156,7 +151,7 @@ Real JsonObject::positive(const std::string& key, Real fallback) const
     const Real value = number(key);
     if (!(value > 0))
     {
-        fail(key, "must be > 0 (got " + format(value) + ")");
+        fail(key, "must be > 0 (got " + formatNumber(value) + ")");
     }
     return value;
 }

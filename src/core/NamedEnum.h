@@ -1,0 +1,50 @@
+#pragma once
+/// Names of enum values for files and flags ("trimm", "implicit", "sticky"...): one table per enum, parsed and
+/// printed the same way everywhere, with the same message for a name that is not in the table.
+
+#include "InputError.h"
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+#include <string_view>
+
+namespace masse
+{
+template <typename Enum> struct EnumName
+{
+    Enum value;
+    std::string_view name;
+};
+
+/// The value named `name` (any case); throws InputError "<key>: unknown <what> '<name>' (expected one of a, b, c)".
+template <typename Enum, std::size_t N>
+Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view key, std::string_view what)
+{
+    std::string lower(name);
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::string list;
+    for (const EnumName<Enum>& entry : names)
+    {
+        if (entry.name == lower)
+        {
+            return entry.value;
+        }
+        list += (list.empty() ? "" : ", ") + std::string(entry.name);
+    }
+    throw InputError(std::string(key) + ": unknown " + std::string(what) + " '" + std::string(name) +
+                     "' (expected one of " + list + ")");
+}
+
+template <typename Enum, std::size_t N> std::string_view enumName(const EnumName<Enum> (&names)[N], Enum value)
+{
+    for (const EnumName<Enum>& entry : names)
+    {
+        if (entry.value == value)
+        {
+            return entry.name;
+        }
+    }
+    return "unknown";
+}
+} // namespace masse
