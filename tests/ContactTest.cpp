@@ -15,7 +15,26 @@ using namespace masse::test;
 namespace
 {
 const IntegratorKind contactIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitEuler};
+
+/// A long box tilted by `angle` degrees about z (its top face slopes down toward +x), and a small 4x2x4 sheet lying
+/// on that face: built flat at the origin, turned and lifted so its bottom masses just touch it.
+void startOnSlope(ContactRig& rig, Real angle, const ContactSettings& settings, IntegratorKind kind)
+{
+    rig.environment.addObstacle(makeBox("slope", Vec3(0, 0, 0), Vec3(20, 0.5, 2), Vec3(0, 0, -angle)));
+    LatticeSpec spec;
+    spec.countX = 4;
+    spec.countZ = 4;
+    spec.minCorner = Vec3(-0.25, 0.0, -0.25);
+    spec.maxCorner = Vec3(0.25, 0.05, 0.25);
+    MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
+    const auto turn = bridge::rotationFromDegrees(Vec3(0, 0, -angle));
+    for (Vec3& x : sheet.particles.position)
+    {
+        x = turn * x + turn * Vec3::UnitY() * (0.5 + settings.radius);
+    }
+    rig.start(std::move(sheet), kind, settings);
 }
+} // namespace
 
 // A Table 1 sheet dropped on a box comes to rest on it, and no mass's sphere ever ends a step inside the box by more
 // than 1% of the lattice spacing (measured with the closed-form box distance, not Bullet's).
@@ -60,25 +79,10 @@ TEST(Contact, SheetSlidesDownSlopeAtCoulombAcceleration)
     for (IntegratorKind kind : contactIntegrators)
     {
         ContactRig rig;
-        // A long box tilted about z: its top face slopes down toward +x.
-        const bridge::ObstacleSpec slope = makeBox("slope", Vec3(0, 0, 0), Vec3(20, 0.5, 2), Vec3(0, 0, -angle));
-        rig.environment.addObstacle(slope);
         ContactSettings settings;
         settings.friction = mu;
-        // A small sheet lying on the slope: built flat at the origin, then turned and lifted onto the top face.
-        LatticeSpec spec;
-        spec.countX = 4;
-        spec.countZ = 4;
-        spec.minCorner = Vec3(-0.25, 0.0, -0.25);
-        spec.maxCorner = Vec3(0.25, 0.05, 0.25);
-        MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
+        startOnSlope(rig, angle, settings, kind);
         const auto turn = bridge::rotationFromDegrees(Vec3(0, 0, -angle));
-        const Vec3 up = turn * Vec3::UnitY();
-        for (Vec3& x : sheet.particles.position)
-        {
-            x = turn * x + up * (0.5 + settings.radius);
-        }
-        rig.start(std::move(sheet), kind, settings);
 
         auto along = [&]
         {
@@ -110,22 +114,10 @@ TEST(Contact, SheetStaysOnSlopeWhenFrictionExceedsTangent)
 {
     const Real angle = 30.0;
     ContactRig rig;
-    rig.environment.addObstacle(makeBox("slope", Vec3(0, 0, 0), Vec3(20, 0.5, 2), Vec3(0, 0, -angle)));
     ContactSettings settings;
     settings.friction = 0.7; // tan 30 = 0.577
-    LatticeSpec spec;
-    spec.countX = 4;
-    spec.countZ = 4;
-    spec.minCorner = Vec3(-0.25, 0.0, -0.25);
-    spec.maxCorner = Vec3(0.25, 0.05, 0.25);
-    MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
-    const auto turn = bridge::rotationFromDegrees(Vec3(0, 0, -angle));
-    for (Vec3& x : sheet.particles.position)
-    {
-        x = turn * x + turn * Vec3::UnitY() * (0.5 + settings.radius);
-    }
-    const std::vector<Vec3> start = sheet.particles.position;
-    rig.start(std::move(sheet), IntegratorKind::SymplecticEuler, settings);
+    startOnSlope(rig, angle, settings, IntegratorKind::SymplecticEuler);
+    const std::vector<Vec3> start = rig.particles().position;
     simulate(*rig.simulator, 1.5, 0.01, [](const Simulator&) {});
     for (std::size_t i = 0; i < start.size(); ++i)
     {

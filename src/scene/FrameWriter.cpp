@@ -14,6 +14,16 @@ void number(std::ostringstream& out, double value)
     std::snprintf(buffer, sizeof(buffer), "%.9g", value);
     out << buffer;
 }
+
+/// "x y z" with enough digits to read back the same doubles' meaning (9 significant).
+void triple(std::ostringstream& out, const Vec3& v)
+{
+    number(out, v.x());
+    out << ' ';
+    number(out, v.y());
+    out << ' ';
+    number(out, v.z());
+}
 } // namespace
 
 std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& surface, const FrameFields& fields)
@@ -28,11 +38,7 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     out << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const Vec3& x : p.position)
     {
-        number(out, x.x());
-        out << ' ';
-        number(out, x.y());
-        out << ' ';
-        number(out, x.z());
+        triple(out, x);
         out << '\n';
     }
     out << "</DataArray>\n</Points>\n";
@@ -41,11 +47,7 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     out << "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const Vec3& v : p.velocity)
     {
-        number(out, v.x());
-        out << ' ';
-        number(out, v.y());
-        out << ' ';
-        number(out, v.z());
+        triple(out, v);
         out << '\n';
     }
     out << "</DataArray>\n<DataArray type=\"Float64\" Name=\"speed\" format=\"ascii\">\n";
@@ -119,11 +121,7 @@ std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& s
     for (const Vec3& x : system.particles.position)
     {
         out << "v ";
-        number(out, x.x());
-        out << ' ';
-        number(out, x.y());
-        out << ' ';
-        number(out, x.z());
+        triple(out, x);
         out << '\n';
     }
     for (const Triangle& t : surface)
