@@ -1,6 +1,8 @@
 #pragma once
 // A sheet, a Bullet environment and a contact solver wired to a simulator, for contact tests.
 
+#include "TestSystems.h"
+
 #include "bridge/BulletEnvironment.h"
 
 #include "core/ContactSolver.h"
@@ -49,19 +51,4 @@ inline Real boxDistance(const Vec3& p, const bridge::ObstacleSpec& box)
     return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
 }
 
-/// The paper's Table 1 TRiMM sheet of N x 2 x N masses with its air damping.
-inline MassSpringSystem paperSheet(int n, Lattice* latticeOut = nullptr)
-{
-    LatticeSpec spec;
-    spec.countX = n;
-    spec.countZ = n;
-    const Lattice lattice = buildLattice(spec);
-    if (latticeOut)
-    {
-        *latticeOut = lattice;
-    }
-    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
-    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
-    return sheet;
-}
 } // namespace masse::test

@@ -1,5 +1,7 @@
 // Heat in scenes: a drape-forming run conserves the sheet's material and freezes what touches the cold mould.
 
+#include "TestSystems.h"
+
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
@@ -112,15 +114,8 @@ TEST(FormingScene, BadHeatInputIsRefusedWithItsKey)
 {
     auto errorOf = [](const std::string& json)
     {
-        try
-        {
-            Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "inline"));
-        }
-        catch (const InputError& e)
-        {
-            return std::string(e.what());
-        }
-        return std::string();
+        return masse::test::inputErrorOf(
+            [&] { Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "inline")); });
     };
     EXPECT_NE(errorOf(R"({"material": {"file": "../materials/hips.json"},
                           "heat": {"heaters": [{"name": "p", "power": -5}]}})")

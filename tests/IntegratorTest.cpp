@@ -19,15 +19,6 @@ namespace
 const IntegratorKind allIntegrators[] = {IntegratorKind::ExplicitEuler, IntegratorKind::SymplecticEuler,
                                          IntegratorKind::VelocityVerlet, IntegratorKind::ImplicitEuler};
 
-MassSpringSystem paperSheet(int n)
-{
-    LatticeSpec spec;
-    spec.countX = n;
-    spec.countZ = n;
-    MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
-    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
-    return sheet;
-}
 } // namespace
 
 // Free fall from h without air: y(t) = h - g t^2 / 2. Velocity Verlet is exact for constant force (tolerance 1e-9 m);

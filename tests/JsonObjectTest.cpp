@@ -1,5 +1,7 @@
 // Reading JSON objects: typed access, ranges and unknown keys, each with the key's path in the message.
 
+#include "TestSystems.h"
+
 #include "scene/JsonObject.h"
 
 #include "core/InputError.h"
@@ -10,23 +12,8 @@
 #include <functional>
 
 using namespace masse;
+using masse::test::inputErrorOf;
 using namespace masse::scene;
-
-namespace
-{
-std::string errorOf(const std::function<void()>& action)
-{
-    try
-    {
-        action();
-    }
-    catch (const InputError& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-} // namespace
 
 TEST(JsonObject, ReadsTypedValuesWithDefaults)
 {
@@ -45,13 +32,13 @@ TEST(JsonObject, ErrorsNameThePathAndTheRange)
 {
     const nlohmann::json value = nlohmann::json::parse(R"({"stifness": 1, "mass": -1, "size": "big", "v": [1, 2]})");
     JsonObject o(value, "sheet");
-    EXPECT_EQ(errorOf([&] { o.positive("mass", 1.0); }), "sheet.mass: must be > 0 (got -1)");
-    EXPECT_EQ(errorOf([&] { o.number("mass", 1.0, 0.0, 2.0); }), "sheet.mass: must be in [0, 2] (got -1)");
-    EXPECT_EQ(errorOf([&] { o.integer("size", 2, 2, 100); }), "sheet.size: expected a whole number (got \"big\")");
-    EXPECT_EQ(errorOf([&] { o.vec3("v"); }), "sheet.v: expected [x, y, z] (got [1,2])");
-    EXPECT_EQ(errorOf([&] { o.number("missing"); }), "sheet.missing: is required");
+    EXPECT_EQ(inputErrorOf([&] { o.positive("mass", 1.0); }), "sheet.mass: must be > 0 (got -1)");
+    EXPECT_EQ(inputErrorOf([&] { o.number("mass", 1.0, 0.0, 2.0); }), "sheet.mass: must be in [0, 2] (got -1)");
+    EXPECT_EQ(inputErrorOf([&] { o.integer("size", 2, 2, 100); }), "sheet.size: expected a whole number (got \"big\")");
+    EXPECT_EQ(inputErrorOf([&] { o.vec3("v"); }), "sheet.v: expected [x, y, z] (got [1,2])");
+    EXPECT_EQ(inputErrorOf([&] { o.number("missing"); }), "sheet.missing: is required");
     o.number("stiffness", 1.0);
-    EXPECT_EQ(errorOf([&] { o.finish(); }), "sheet.stifness: unknown key (did you mean 'stiffness'?)");
+    EXPECT_EQ(inputErrorOf([&] { o.finish(); }), "sheet.stifness: unknown key (did you mean 'stiffness'?)");
 }
 
 TEST(JsonObject, MalformedFilesNameTheLine)
@@ -61,8 +48,8 @@ TEST(JsonObject, MalformedFilesNameTheLine)
         std::ofstream out(path);
         out << "{\n  \"a\": 1,\n  \"b\": \n}\n";
     }
-    const std::string message = errorOf([&] { readJsonFile(path); });
+    const std::string message = inputErrorOf([&] { readJsonFile(path); });
     EXPECT_NE(message.find(path + ": malformed JSON"), std::string::npos) << message;
     EXPECT_NE(message.find("line 4"), std::string::npos) << message;
-    EXPECT_NE(errorOf([] { readJsonFile("/no/such.json"); }).find("cannot be read"), std::string::npos);
+    EXPECT_NE(inputErrorOf([] { readJsonFile("/no/such.json"); }).find("cannot be read"), std::string::npos);
 }

@@ -1,8 +1,10 @@
 // Sheet materials: the modulus and viscosity curves against their defining formulas, validation that names the
 // field, and the material files of data/materials.
 
-#include "core/Material.h"
+#include "TestSystems.h"
+
 #include "core/InputError.h"
+#include "core/Material.h"
 #include "scene/MaterialFile.h"
 
 #include <gtest/gtest.h>
@@ -12,22 +14,10 @@
 #include <functional>
 
 using namespace masse;
+using masse::test::inputErrorOf;
 
 namespace
 {
-std::string errorOf(const std::function<void()>& action)
-{
-    try
-    {
-        action();
-    }
-    catch (const InputError& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-
 std::string materialPath(const std::string& name)
 {
     return std::string(MASSE_SOURCE_DIR) + "/data/materials/" + name + ".json";
@@ -104,7 +94,7 @@ TEST(Material, BadValuesAreRefusedWithTheFieldNamed)
     {
         Material m;
         spoil(m);
-        return errorOf([&] { validate(m); });
+        return inputErrorOf([&] { validate(m); });
     };
     EXPECT_EQ(refusal([](Material& m) { m.conductivity = -0.1; }).rfind("conductivity: ", 0), 0u);
     EXPECT_EQ(refusal([](Material& m) { m.density = 0; }).rfind("density: ", 0), 0u);
@@ -174,20 +164,22 @@ TEST(MaterialFile, BadFilesNameTheFileAndTheField)
 {
     const std::string negative =
         writeVariant("negative_conductivity.json", "\"conductivity\": 0.25", "\"conductivity\": -0.25");
-    const std::string message = errorOf([&] { scene::readMaterialFile(negative); });
+    const std::string message = inputErrorOf([&] { scene::readMaterialFile(negative); });
     EXPECT_EQ(message.rfind(negative + ": conductivity: ", 0), 0u) << message;
 
     const std::string typo = writeVariant("typo.json", "\"conductivity\"", "\"conductivty\"");
-    EXPECT_NE(errorOf([&] { scene::readMaterialFile(typo); }).find("conductivity"), std::string::npos);
+    EXPECT_NE(inputErrorOf([&] { scene::readMaterialFile(typo); }).find("conductivity"), std::string::npos);
 
     const std::string inverted =
         writeVariant("inverted.json", "\"glass_transition_c\": 110", "\"glass_transition_c\": 250");
-    EXPECT_EQ(errorOf([&] { scene::readMaterialFile(inverted); }).rfind(inverted + ": glass_transition_c: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { scene::readMaterialFile(inverted); }).rfind(inverted + ": glass_transition_c: ", 0),
+              0u);
 
     const std::string window = writeVariant("window.json", "\"lower_c\": 127", "\"lower_c\": \"warm\"");
-    EXPECT_EQ(errorOf([&] { scene::readMaterialFile(window); }).rfind(window + ": forming_window.lower_c: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { scene::readMaterialFile(window); }).rfind(window + ": forming_window.lower_c: ", 0),
+              0u);
 
-    EXPECT_NE(errorOf([&] { scene::readMaterialFile(testing::TempDir() + "/absent.json"); }).find("absent.json"),
+    EXPECT_NE(inputErrorOf([&] { scene::readMaterialFile(testing::TempDir() + "/absent.json"); }).find("absent.json"),
               std::string::npos);
 }
 
@@ -200,5 +192,5 @@ TEST(MaterialFile, EmbeddedMaterialErrorsCarryTheObjectPath)
     const scene::JsonObject root(wrapper, "");
     const std::optional<scene::JsonObject> object = root.object("material");
     ASSERT_TRUE(object);
-    EXPECT_EQ(errorOf([&] { scene::parseMaterial(*object); }).rfind("material.density: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { scene::parseMaterial(*object); }).rfind("material.density: ", 0), 0u);
 }

@@ -1,5 +1,7 @@
 // Obstacle shapes in Bullet: faces, distances against closed forms, and refusal of bad geometry.
 
+#include "TestSystems.h"
+
 #include "bridge/BulletEnvironment.h"
 
 #include "core/InputError.h"
@@ -34,16 +36,12 @@ Real boxDistance(const Vec3& p, const Vec3& centre, const Vec3& half)
 
 std::string errorOf(const ObstacleSpec& spec)
 {
-    try
-    {
-        BulletEnvironment environment;
-        environment.addObstacle(spec);
-    }
-    catch (const InputError& e)
-    {
-        return e.what();
-    }
-    return "";
+    return masse::test::inputErrorOf(
+        [&]
+        {
+            BulletEnvironment environment;
+            environment.addObstacle(spec);
+        });
 }
 } // namespace
 

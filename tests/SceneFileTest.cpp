@@ -1,7 +1,9 @@
 // Scene files: the shipped scenes load, every bad scene is refused with its key's path, and "extends" merges.
 
-#include "scene/SceneFile.h"
+#include "TestSystems.h"
+
 #include "scene/Scene.h"
+#include "scene/SceneFile.h"
 
 #include "core/InputError.h"
 
@@ -18,15 +20,7 @@ const std::string source = MASSE_SOURCE_DIR;
 
 std::string errorOf(const std::string& file)
 {
-    try
-    {
-        Scene scene(loadScene(file));
-    }
-    catch (const InputError& e)
-    {
-        return e.what();
-    }
-    return "";
+    return masse::test::inputErrorOf([&] { Scene scene(loadScene(file)); });
 }
 } // namespace
 

@@ -1,10 +1,14 @@
 #pragma once
 // Small mass-spring systems with known analytic behaviour, shared by the physics tests.
 
+#include "core/Damping.h"
+#include "core/InputError.h"
 #include "core/MassSpringSystem.h"
 #include "core/Simulator.h"
 
 #include <cmath>
+#include <functional>
+#include <string>
 
 namespace masse::test
 {
@@ -25,6 +29,36 @@ inline MassSpringSystem makeChain(int count, Real mass, Real stiffness, Real spa
     }
     system.forces.gravity = Vec3::Zero();
     return system;
+}
+
+/// The paper's Table 1 TRiMM sheet of N x 2 x N masses with its air damping; `latticeOut` receives its lattice.
+inline MassSpringSystem paperSheet(int n, Lattice* latticeOut = nullptr)
+{
+    LatticeSpec spec;
+    spec.countX = n;
+    spec.countZ = n;
+    const Lattice lattice = buildLattice(spec);
+    if (latticeOut)
+    {
+        *latticeOut = lattice;
+    }
+    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
+    return sheet;
+}
+
+/// The message of the InputError `action` throws, or "" if it throws none.
+inline std::string inputErrorOf(const std::function<void()>& action)
+{
+    try
+    {
+        action();
+    }
+    catch (const InputError& e)
+    {
+        return e.what();
+    }
+    return "";
 }
 
 /// Simulates for `duration` seconds in steps of dt, calling observe(simulator) after every step.

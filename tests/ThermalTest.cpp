@@ -57,19 +57,6 @@ Real heatContent(const ThermalModel& model, const Lattice& lattice, const Materi
     return sum;
 }
 
-std::string errorOf(const std::function<void()>& action)
-{
-    try
-    {
-        action();
-    }
-    catch (const InputError& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-
 /// Exact view factor from a patch to a parallel rectangle a x b whose corner lies straight above it at distance c.
 Real cornerViewFactor(Real a, Real b, Real c)
 {
@@ -461,7 +448,7 @@ TEST(Thermal, ContactWithAColdObstacleCoolsOnlyTheTouchingMasses)
     // The column on obstacle 1 loses heat only by conduction to its cooled neighbours: slower by far.
     EXPECT_GT(model.temperature()[lattice.index(0, 4, 8)], expected + 0.5 * (hot - expected));
 
-    EXPECT_NE(errorOf([&] { model.setContact(&touching, {-400}); }).find("obstacles[0].temperature_c"),
+    EXPECT_NE(inputErrorOf([&] { model.setContact(&touching, {-400}); }).find("obstacles[0].temperature_c"),
               std::string::npos);
 }
 
@@ -477,29 +464,31 @@ TEST(Thermal, BadSettingsAreRefusedWithTheFieldNamed)
     ThermalSettings negativePower;
     negativePower.heaters.resize(2);
     negativePower.heaters[1].power = -5;
-    EXPECT_EQ(errorOf([&] { ThermalModel(lattice, material, 0.002, negativePower); }),
+    EXPECT_EQ(inputErrorOf([&] { ThermalModel(lattice, material, 0.002, negativePower); }),
               "heaters[1].power: must be >= 0 W (got -5)");
 
     ThermalSettings flat;
     flat.heaters.resize(1);
     flat.heaters[0].width = 0;
-    EXPECT_EQ(errorOf([&] { validate(flat); }).rfind("heaters[0].width: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { validate(flat); }).rfind("heaters[0].width: ", 0), 0u);
 
     ThermalSettings absorbing;
     absorbing.absorptivity = 1.5;
-    EXPECT_EQ(errorOf([&] { validate(absorbing); }).rfind("absorptivity: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { validate(absorbing); }).rfind("absorptivity: ", 0), 0u);
 
     ThermalSettings inverted;
     inverted.hotAirZones.resize(1);
     inverted.hotAirZones[0].maxCorner = Vec3(-2, 1, 1);
-    EXPECT_EQ(errorOf([&] { validate(inverted); }).rfind("hot_air_zones[0].max: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { validate(inverted); }).rfind("hot_air_zones[0].max: ", 0), 0u);
 
     ThermalSettings convection;
     convection.airHeatTransfer = -1;
-    EXPECT_EQ(errorOf([&] { validate(convection); }).rfind("air_heat_transfer: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { validate(convection); }).rfind("air_heat_transfer: ", 0), 0u);
 
     Material leaky;
     leaky.conductivity = -0.2;
-    EXPECT_EQ(errorOf([&] { ThermalModel(lattice, leaky, 0.002, ThermalSettings{}); }).rfind("conductivity: ", 0), 0u);
-    EXPECT_EQ(errorOf([&] { ThermalModel(lattice, material, -0.002, ThermalSettings{}); }).rfind("thickness: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { ThermalModel(lattice, leaky, 0.002, ThermalSettings{}); }).rfind("conductivity: ", 0),
+              0u);
+    EXPECT_EQ(inputErrorOf([&] { ThermalModel(lattice, material, -0.002, ThermalSettings{}); }).rfind("thickness: ", 0),
+              0u);
 }

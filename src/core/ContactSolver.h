@@ -42,7 +42,6 @@ public:
 
     void setSettings(const ContactSettings& settings);
     const ContactSettings& settings() const { return m_settings; }
-    ContactDetector& detector() { return m_detector; }
 
     /// Called by the Simulator around the substeps of every frame. With `constrain`, the integrator honours velocity
     /// constraints, and stuck and resting masses are handed to it as such (see VelocityConstraint.h).

@@ -57,7 +57,6 @@ public:
     ContactSolver* contactSolver() { return m_contact; }
     /// Models advanced with the mechanics, in the order added (see StepHook.h). Each must outlive its use here.
     void addHook(StepHook* hook) { m_hooks.push_back(hook); }
-    void clearHooks() { m_hooks.clear(); }
     Real time() const { return m_time; }
     std::uint64_t substepCount() const { return m_substepCount; }
 

@@ -32,6 +32,15 @@ std::string formatVec(const nlohmann::json& v)
     return "[" + format(v[0].get<Real>()) + ", " + format(v[1].get<Real>()) + ", " + format(v[2].get<Real>()) + "]";
 }
 
+/// Runs a scene to its end with no progress display and no files.
+RunResult runQuietly(Scene& scene)
+{
+    RunOptions options;
+    options.showProgress = false;
+    std::ostringstream quiet;
+    return runScene(scene, options, quiet);
+}
+
 /// The "expect" block of a scene file (with "extends" merged), as JSON.
 nlohmann::json expectations(const std::string& path)
 {
@@ -167,10 +176,7 @@ RegressionResult runRegression(const std::string& path)
     const nlohmann::json expect = expectations(path);
     SceneSpec spec = loadScene(path);
     Scene scene(spec);
-    RunOptions options;
-    options.showProgress = false;
-    std::ostringstream quiet;
-    const RunResult run = runScene(scene, options, quiet);
+    const RunResult run = runQuietly(scene);
 
     RegressionResult result;
     result.file = path;
@@ -198,10 +204,7 @@ void recordRegression(const std::string& path)
     nlohmann::json document = readJsonFile(path);
     SceneSpec spec = loadScene(path);
     Scene scene(spec);
-    RunOptions options;
-    options.showProgress = false;
-    std::ostringstream quiet;
-    const RunResult run = runScene(scene, options, quiet);
+    const RunResult run = runQuietly(scene);
 
     nlohmann::json& expect = document["expect"];
     nlohmann::json events = nlohmann::json::array();

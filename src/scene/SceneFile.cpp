@@ -72,7 +72,7 @@ SheetSpec readSheet(const JsonObject& o)
     LatticeSpec& lattice = sheet.lattice;
     const std::string structure = o.choice("structure", "trimm", {"square2d", "samm", "slamm", "trimm"});
     lattice.structure = parseStructure(structure);
-    within(o.pathOf("").substr(0, o.pathOf("").size() - 1), [&] { parseSize(o.string("size", "8x2x8"), lattice); });
+    within("sheet", [&] { parseSize(o.string("size", "8x2x8"), lattice); });
     lattice.minCorner = o.vec3("min", lattice.minCorner);
     lattice.maxCorner = o.vec3("max", lattice.maxCorner);
     within("sheet", [&] { validate(lattice); });
