@@ -1,6 +1,7 @@
 /// `masse check PATH...`: runs regression scenes and prints a table of what each expected and got.
 
 #include "Commands.h"
+#include "SceneOptions.h"
 
 #include "scene/Regression.h"
 
@@ -64,6 +65,7 @@ void addCheckCommand(CLI::App& app)
     command->add_flag(
         "--record", options->record,
         "Write the observed events and state hash into each file's expect block (after an intended change)");
+    addThreadsOption(*command);
     command->callback([options] { runCheck(*options); });
 }
 } // namespace masse::app

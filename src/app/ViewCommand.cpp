@@ -142,6 +142,7 @@ void addViewCommand(CLI::App& app)
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");
     command->add_flag("--compare", options->viewer.compare,
                       "Run Bullet's soft-body twin beside the sheet and draw it as a ghost (see masse compare)");
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->footer("Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
                     "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
