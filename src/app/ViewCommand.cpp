@@ -72,6 +72,7 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
         {"step_ms", report.steps > 0 ? 1000 * report.stepSeconds / double(report.steps) : 0.0},
         {"draw_ms", 1000 * report.drawSeconds / report.frames},
         {"renderer", report.renderer},
+        {"final_scene", report.finalScene},
     };
     std::printf("%s\n", line.dump().c_str());
 }
