@@ -80,8 +80,7 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
 void runView(ViewCommandOptions& options)
 {
     const std::string path = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
-    scene::SceneSpec spec = scene::loadScene(path);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(path, options.overrides);
     viewer::ViewerOptions& viewer = options.viewer;
     parseWindowSize(options.window, viewer);
     try
