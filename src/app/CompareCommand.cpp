@@ -36,8 +36,7 @@ void runCompare(const CompareCommandOptions& options, bool substepsGiven)
 {
     // Everything that can be wrong with the input is found before the output folder is touched: the scene, the
     // flags, and what the twin refuses (it is built, and calibrated if asked, here).
-    scene::SceneSpec spec = scene::loadScene(options.scene);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
     scene::CompareOptions compare;
     compare.bulletIterations = options.bulletIterations;
     if (substepsGiven && options.bulletSubsteps < 1)

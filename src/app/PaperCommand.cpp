@@ -60,8 +60,7 @@ std::string figure18Script(const std::string& csv)
 void runPaper(const PaperOptions& options, bool writeFiles)
 {
     const std::string scenePath = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
-    scene::SceneSpec spec = scene::loadScene(scenePath);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(scenePath, options.overrides);
     std::printf(
         "The paper's drop experiment (%s): a Table 1 TRiMM sheet falls onto two polyhedra, slides between them\n"
         "to the floor and comes to rest; %s integrator, dt = %g s.\n\n",

@@ -32,8 +32,7 @@ struct RunOptions
 void runRun(const RunOptions& options)
 {
     // Everything that can be wrong with the input is found before the output folder is touched.
-    scene::SceneSpec spec = scene::loadScene(options.scene);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
     if (options.framesEvery >= 0)
     {
         spec.output.framesEvery = options.framesEvery;

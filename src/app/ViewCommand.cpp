@@ -72,6 +72,7 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
         {"step_ms", report.steps > 0 ? 1000 * report.stepSeconds / double(report.steps) : 0.0},
         {"draw_ms", 1000 * report.drawSeconds / report.frames},
         {"renderer", report.renderer},
+        {"final_scene", report.finalScene},
     };
     std::printf("%s\n", line.dump().c_str());
 }
@@ -79,8 +80,7 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
 void runView(ViewCommandOptions& options)
 {
     const std::string path = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
-    scene::SceneSpec spec = scene::loadScene(path);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(path, options.overrides);
     viewer::ViewerOptions& viewer = options.viewer;
     parseWindowSize(options.window, viewer);
     try
