@@ -78,7 +78,7 @@ FrameOutput::FrameOutput(Scene& scene, const std::string& outDir) : m_outDir(out
         {
             writeFileAtomically(m_outDir + "/" + m_obstacles.back().file,
                                 obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.spec, scene.time()),
-                                              obstacle.spec.name, i, scene.time()));
+                                              obstacle.spec.name, i, std::nullopt));
         }
     }
     write(scene);
@@ -97,6 +97,8 @@ void FrameOutput::write(Scene& scene)
             FrameFields fields;
             fields.time = time;
             fields.contactObstacle = scene.contact().touchingObstacle();
+            // Before the first step the contact solver has not looked yet: nothing touches.
+            fields.contactObstacle.resize(scene.system().massCount(), -1);
             fields.obstacleNames = m_obstacleNames;
             fields.scalars = materialScalars(scene);
             writeFileAtomically(path, toVtp(scene.system(), m_surface, fields));

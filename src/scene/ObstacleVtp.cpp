@@ -7,12 +7,15 @@
 namespace masse::scene
 {
 std::string obstacleToVtp(const bridge::ObstacleGeometry& geometry, const bridge::Pose& pose, const std::string& name,
-                          int index, Real time)
+                          int index, std::optional<Real> time)
 {
     std::ostringstream out;
     out << "<?xml version=\"1.0\"?>\n"
         << "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n<PolyData>\n<FieldData>\n";
-    vtkxml::timeValue(out, time);
+    if (time)
+    {
+        vtkxml::timeValue(out, *time);
+    }
     vtkxml::stringArray(out, "obstacle_name", {name});
     out << "<Array type=\"Int32\" Name=\"obstacle_index\" NumberOfTuples=\"1\" format=\"ascii\">\n"
         << index << "\n</Array>\n</FieldData>\n";
