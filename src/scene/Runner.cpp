@@ -1,6 +1,7 @@
 #include "Runner.h"
 
 #include "AtomicFile.h"
+#include "FiniteOutput.h"
 #include "FrameWriter.h"
 #include "Plot.h"
 #include "Progress.h"
@@ -32,6 +33,7 @@ Real seconds(Clock::duration d)
 
 void writeFrame(Scene& scene, const std::string& directory, std::uint64_t step, const std::vector<Triangle>& surface)
 {
+    requireFiniteState(scene); // a frame never holds an infinite speed
     char name[64];
     std::snprintf(name, sizeof(name), "frame_%06llu", static_cast<unsigned long long>(step));
     for (const std::string& format : scene.spec().output.formats)
@@ -220,6 +222,8 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
     }
+    requireFiniteState(scene);
+    requireFiniteJson(result.summary, "summary.json:");
     if (writing)
     {
         const std::string title = scene.spec().name;
