@@ -284,7 +284,7 @@ TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
     ASSERT_TRUE(std::filesystem::exists(out / "frames" / "frame_000005.vtp"));
     const Outcome again = masse(run);
     EXPECT_EQ(again.exitCode, 2) << again.output;
-    EXPECT_NE(again.output.find("already holds files (an earlier run?)"), std::string::npos) << again.output;
+    EXPECT_NE(again.output.find("already holds a run (summary.json)"), std::string::npos) << again.output;
     const Outcome forced = masse(run + " --frames-every 0 --force");
     ASSERT_EQ(forced.exitCode, 0) << forced.output;
     EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));

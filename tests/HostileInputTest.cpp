@@ -284,7 +284,7 @@ TEST(HostileInput, OutputFoldersNeverMixRuns)
         first.commit();
     }
     EXPECT_TRUE(std::filesystem::exists(folder / "run" / "frame_000001.vtp"));
-    EXPECT_NE(inputErrorOf([&] { OutputFolder again(target, false); }).find("already holds files"),
+    EXPECT_NE(inputErrorOf([&] { OutputFolder again(target, false); }).find("already holds a run (summary.json)"),
               std::string::npos);
     {
         OutputFolder failed(target, true);
@@ -304,6 +304,25 @@ TEST(HostileInput, OutputFoldersNeverMixRuns)
         ++entries;
     }
     EXPECT_EQ(entries, 1u) << "a staging or old folder was left beside the output";
+}
+
+// A folder holding other files only (a study's case folder: scene.json, run.log) keeps them; the run's files are
+// renamed in beside them when it has finished.
+TEST(HostileInput, OutputFoldersKeepFilesThatAreNotARun)
+{
+    const std::filesystem::path folder = freshFolder("out-beside");
+    std::filesystem::create_directories(folder / "case");
+    writeText(folder / "case" / "scene.json", "{}");
+    {
+        OutputFolder out((folder / "case").string(), false);
+        writeText(std::filesystem::path(out.staging()) / "summary.json", "run");
+        std::filesystem::create_directories(std::filesystem::path(out.staging()) / "frames");
+        EXPECT_FALSE(std::filesystem::exists(folder / "case" / "summary.json"));
+        out.commit();
+    }
+    EXPECT_TRUE(std::filesystem::exists(folder / "case" / "scene.json"));
+    EXPECT_TRUE(std::filesystem::exists(folder / "case" / "summary.json"));
+    EXPECT_TRUE(std::filesystem::is_directory(folder / "case" / "frames"));
 }
 
 // Row 12: names the file system cannot hold and files where a folder should be are refused before anything runs.

@@ -50,6 +50,20 @@ long pidAfter(const std::string& name, const std::string& marker)
     return pid;
 }
 
+/// What marks a folder as holding the output of an earlier run ("summary.json"), or "" if nothing does.
+std::string earlierRunIn(const fs::path& folder)
+{
+    for (const char* marker : {"summary.json", "events.csv", "frames", "compare.json", "figure18.csv"})
+    {
+        std::error_code error;
+        if (fs::exists(folder / marker, error))
+        {
+            return marker;
+        }
+    }
+    return "";
+}
+
 std::string failure(const std::string& flag, const std::string& path, const std::string& what)
 {
     return flag + ": '" + path + "' " + what;
@@ -119,12 +133,16 @@ OutputFolder::OutputFolder(const std::string& path, bool force, const std::strin
         {
             throw InputError(failure(flag, path, "cannot be written (" + std::string(std::strerror(errno)) + ")"));
         }
-        if (!force && !fs::is_empty(folder, error))
+        const std::string earlier = earlierRunIn(folder);
+        if (!earlier.empty() && !force)
         {
             throw InputError(failure(flag, path,
-                                     "already holds files (an earlier run?): choose another folder, or give --force "
-                                     "to replace it once this run has finished"));
+                                     "already holds a run (" + earlier +
+                                         "): choose another folder, or give --force to replace it once this run has "
+                                         "finished"));
         }
+        // Other files (a study's scene.json and run.log) stay: the run's files are moved in beside them.
+        m_beside = earlier.empty() && !fs::is_empty(folder, error);
     }
     const fs::path parent = folder.parent_path();
     // The outermost folder this creates: removed again if the run never commits, so bad input leaves nothing.
@@ -188,6 +206,11 @@ void OutputFolder::commit()
     const std::string old =
         (target.parent_path() / ("." + target.filename().string() + ".old-" + std::to_string(::getpid()))).string();
     std::error_code error;
+    if (m_beside)
+    {
+        commitBeside(old);
+        return;
+    }
     const bool replacing = fs::exists(target, error);
     if (replacing && ::rename(m_target.c_str(), old.c_str()) != 0)
     {
@@ -207,5 +230,35 @@ void OutputFolder::commit()
     {
         fs::remove_all(old, error);
     }
+}
+
+void OutputFolder::commitBeside(const std::string& old)
+{
+    // Each file is renamed into place (atomic on its own); a folder of the same name (frames/) is moved aside first,
+    // as rename cannot replace a folder that holds files.
+    std::error_code error;
+    for (const fs::directory_entry& entry : fs::directory_iterator(m_staging, error))
+    {
+        const fs::path destination = fs::path(m_target) / entry.path().filename();
+        if (fs::is_directory(destination, error))
+        {
+            fs::create_directories(old, error);
+            if (::rename(destination.c_str(), (fs::path(old) / entry.path().filename()).c_str()) != 0)
+            {
+                throw std::runtime_error("cannot replace " + destination.string() + ": " + std::strerror(errno));
+            }
+        }
+        if (::rename(entry.path().c_str(), destination.c_str()) != 0)
+        {
+            throw std::runtime_error("cannot write " + destination.string() + ": " + std::strerror(errno));
+        }
+    }
+    if (error)
+    {
+        throw std::runtime_error("cannot read " + m_staging + ": " + error.message());
+    }
+    m_committed = true;
+    fs::remove_all(m_staging, error);
+    fs::remove_all(old, error);
 }
 } // namespace masse::scene

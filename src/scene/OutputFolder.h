@@ -3,8 +3,10 @@
 /// beside it (".NAME.partial-PID"), which replaces the folder in one rename when the run succeeds and is removed when
 /// it fails. A run killed outright leaves its staging folder behind; the next run into the same folder removes it.
 ///
-/// A folder that already holds files (an earlier run, or anything else) is refused unless `force` is given; with it,
-/// the old folder is replaced only once the new run is complete.
+/// A folder that already holds a run (summary.json, events.csv, frames/, compare.json or figure18.csv) is refused unless
+/// `force` is given; with it, the old folder is replaced whole, only once the new run is complete. A folder holding
+/// other files only (a study's case folder with its scene.json and run.log) keeps them: the run's files are renamed
+/// into it one by one when the run has finished.
 
 #include <cstddef>
 #include <string>
@@ -33,7 +35,10 @@ private:
     std::string m_target;
     std::string m_staging;
     std::string m_createdParent; ///< the outermost missing parent this created, "" if none
+    bool m_beside = false;       ///< the target holds other files: move the run's files in beside them
     bool m_committed = false;
+
+    void commitBeside(const std::string& old);
 };
 
 /// Removes leftovers of killed MaSSE processes in `directory`: files "NAME.tmp-PID" and folders ".NAME.partial-PID"
