@@ -755,46 +755,6 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
     }
 }
 
-nlohmann::json readSceneDocument(const std::string& path, int depth)
-{
-    nlohmann::json document = readJsonFile(path);
-    if (!document.is_object() || !document.contains("extends"))
-    {
-        return document;
-    }
-    // "extends": a base scene this file patches (RFC 7386 merge patch: keys given here replace the base's).
-    if (!document["extends"].is_string())
-    {
-        throw InputError(path + ": extends: expected the path of a base scene file");
-    }
-    if (depth > 8)
-    {
-        throw InputError(path + ": extends: too many levels (a loop?)");
-    }
-    const std::filesystem::path base =
-        std::filesystem::path(path).parent_path() / document["extends"].get<std::string>();
-    nlohmann::json merged = readSceneDocument(base.string(), depth + 1);
-    // Relative mesh paths of the base stay relative to the base's folder.
-    if (merged.contains("obstacles") && merged["obstacles"].is_array())
-    {
-        for (nlohmann::json& obstacle : merged["obstacles"])
-        {
-            if (obstacle.is_object() && obstacle.contains("file") && obstacle["file"].is_string() &&
-                std::filesystem::path(obstacle["file"].get<std::string>()).is_relative())
-            {
-                obstacle["file"] = std::filesystem::relative(base.parent_path() / obstacle["file"].get<std::string>(),
-                                                             std::filesystem::path(path).parent_path())
-                                       .string();
-            }
-        }
-    }
-    merged.erase("expect");
-    nlohmann::json patch = document;
-    patch.erase("extends");
-    merged.merge_patch(patch);
-    return merged;
-}
-
 namespace
 {
 /// Whether `text` is valid UTF-8 (no overlong forms, no surrogates, nothing past U+10FFFF).
@@ -849,14 +809,54 @@ std::string escaped(const std::string& text)
 }
 } // namespace
 
-SceneSpec loadScene(const std::string& path)
+nlohmann::json readSceneDocument(const std::string& path, int depth)
 {
-    // The scene's path goes into summary.json and the reports, which are UTF-8 JSON and text.
+    // A scene's path goes into summary.json and the reports, which are UTF-8 JSON and text.
     if (!validUtf8(path))
     {
         throw InputError(escaped(path) + ": the file name is not valid UTF-8 (summary.json records it): rename the "
                                          "file");
     }
+    nlohmann::json document = readJsonFile(path);
+    if (!document.is_object() || !document.contains("extends"))
+    {
+        return document;
+    }
+    // "extends": a base scene this file patches (RFC 7386 merge patch: keys given here replace the base's).
+    if (!document["extends"].is_string())
+    {
+        throw InputError(path + ": extends: expected the path of a base scene file");
+    }
+    if (depth > 8)
+    {
+        throw InputError(path + ": extends: too many levels (a loop?)");
+    }
+    const std::filesystem::path base =
+        std::filesystem::path(path).parent_path() / document["extends"].get<std::string>();
+    nlohmann::json merged = readSceneDocument(base.string(), depth + 1);
+    // Relative mesh paths of the base stay relative to the base's folder.
+    if (merged.contains("obstacles") && merged["obstacles"].is_array())
+    {
+        for (nlohmann::json& obstacle : merged["obstacles"])
+        {
+            if (obstacle.is_object() && obstacle.contains("file") && obstacle["file"].is_string() &&
+                std::filesystem::path(obstacle["file"].get<std::string>()).is_relative())
+            {
+                obstacle["file"] = std::filesystem::relative(base.parent_path() / obstacle["file"].get<std::string>(),
+                                                             std::filesystem::path(path).parent_path())
+                                       .string();
+            }
+        }
+    }
+    merged.erase("expect");
+    nlohmann::json patch = document;
+    patch.erase("extends");
+    merged.merge_patch(patch);
+    return merged;
+}
+
+SceneSpec loadScene(const std::string& path)
+{
     const nlohmann::json document = readSceneDocument(path, 0);
     return parseScene(document, std::filesystem::path(path).parent_path().string(), path);
 }
