@@ -11,6 +11,7 @@
 #include "core/ContactSolver.h"
 #include "core/Damping.h"
 #include "core/Forces.h"
+#include "core/Format.h"
 #include "core/InputError.h"
 #include "core/Lattice.h"
 #include "core/Simulator.h"
@@ -65,7 +66,7 @@ void runBench(const BenchOptions& options)
     }
     if (!(options.dt > 0))
     {
-        throw InputError("--dt: must be > 0 seconds (got " + std::to_string(options.dt) + ")");
+        throw InputError("--dt: must be > 0 seconds (got " + formatNumber(options.dt) + ")");
     }
 
     MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});

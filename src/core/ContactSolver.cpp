@@ -1,5 +1,6 @@
 #include "ContactSolver.h"
 
+#include "Format.h"
 #include "InputError.h"
 #include "NamedEnum.h"
 #include "TaskPool.h"
@@ -48,16 +49,16 @@ void validate(const ContactSettings& settings)
 {
     if (!(settings.radius > 0) || !std::isfinite(settings.radius))
     {
-        throw InputError("contact.radius: must be a positive number of metres (got " + std::to_string(settings.radius) +
+        throw InputError("contact.radius: must be a positive number of metres (got " + formatNumber(settings.radius) +
                          ")");
     }
     if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
     {
-        throw InputError("contact.friction: must be >= 0 (got " + std::to_string(settings.friction) + ")");
+        throw InputError("contact.friction: must be >= 0 (got " + formatNumber(settings.friction) + ")");
     }
     if (!(settings.stickReleaseForce >= 0) || !std::isfinite(settings.stickReleaseForce))
     {
-        throw InputError("contact.release_force: must be >= 0 N (got " + std::to_string(settings.stickReleaseForce) +
+        throw InputError("contact.release_force: must be >= 0 N (got " + formatNumber(settings.stickReleaseForce) +
                          ")");
     }
 }

@@ -1,6 +1,7 @@
 #include "Runner.h"
 
 #include "AtomicFile.h"
+#include "FiniteOutput.h"
 #include "FrameOutput.h"
 #include "Plot.h"
 #include "Progress.h"
@@ -189,6 +190,8 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
     }
+    requireFiniteState(scene);
+    requireFiniteJson(result.summary, "summary.json:");
     if (frames)
     {
         frames->finish(scene); // the final state is a frame even when the step count is not a multiple of k

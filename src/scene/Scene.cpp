@@ -1,5 +1,6 @@
 #include "Scene.h"
 
+#include "MemoryBudget.h"
 #include "Pins.h"
 
 #include "core/Energy.h"
@@ -12,6 +13,22 @@
 
 namespace masse::scene
 {
+namespace
+{
+/// Re-throws a core validation error ("dt: ...") under the section it belongs to ("integrator.dt: ...").
+template <typename Check> void within(const std::string& section, Check&& check)
+{
+    try
+    {
+        check();
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(section + "." + e.what());
+    }
+}
+} // namespace
+
 Scene::Scene(SceneSpec spec) : m_spec(std::move(spec))
 {
     build();
@@ -42,6 +59,8 @@ void Scene::build()
 
     try
     {
+        // A sheet that cannot fit in memory is refused before anything is allocated for it.
+        within("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
         m_lattice = buildLattice(m_spec.sheet.lattice);
         if (m_spec.sheet.rotationDegrees != Vec3::Zero())
         {
@@ -134,6 +153,9 @@ void Scene::build()
         {
             m_simulator->addHook(m_springs.get());
         }
+        // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
+        // step.
+        within("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
     }
     catch (const InputError& e)
     {
@@ -207,9 +229,18 @@ Real Scene::kineticEnergy() const
     return masse::kineticEnergy(system().particles);
 }
 
+Real Scene::nextStep() const
+{
+    // The last step of a run ends on its duration exactly: --duration 0.1 at dt = 0.03 s is three steps and one of
+    // 0.01 s. A remainder within rounding of a whole step is taken as the whole step.
+    const Real remaining = m_spec.run.duration - time();
+    const Real dt = m_spec.time.dt;
+    return remaining > 1e-9 && remaining < dt * (1 - 1e-9) ? remaining : dt;
+}
+
 StepReport Scene::step()
 {
-    const StepReport report = m_simulator->step(m_spec.time.dt);
+    const StepReport report = m_simulator->step(nextStep());
     ++m_steps;
     const std::vector<ContactEvent>& contacts = m_contact->firstContacts();
     for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)

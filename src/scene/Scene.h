@@ -35,7 +35,8 @@ public:
     explicit Scene(SceneSpec spec);
     ~Scene();
 
-    /// Advances one step of the scene's dt; returns what the simulator did.
+    /// Advances one step of the scene's dt (the last step of the run, shorter, ends on its duration exactly); returns
+    /// what the simulator did.
     StepReport step();
     /// Starts again from the spec (used by the viewer's reset).
     void reset();
@@ -77,6 +78,7 @@ public:
 
 private:
     void build();
+    Real nextStep() const;
     void record(const std::string& name, const std::string& object, Real simTime);
     void updateRest();
 
