@@ -91,6 +91,21 @@ void runRun(const RunOptions& options)
         s["sim_seconds"].get<double>(), s["wall_seconds"].get<double>(), s["realtime_factor"].get<double>(),
         s["final"]["kinetic_energy"].get<double>(), s["final"]["max_penetration"].get<double>(),
         s["final"]["state_hash"].get<std::string>().c_str());
+    if (s.contains("solver"))
+    {
+        const nlohmann::json& solver = s["solver"];
+        std::printf("implicit solver (%s): %.2f iterations a step (largest %d), %llu steps at the cap of %d, final "
+                    "residual %.3g\n",
+                    solver["preconditioner"].get<std::string>().c_str(), solver["mean_iterations"].get<double>(),
+                    solver["largest_iterations"].get<int>(),
+                    static_cast<unsigned long long>(solver["steps_at_iteration_cap"].get<std::uint64_t>()),
+                    solver["max_iterations"].get<int>(), solver["final_residual"].get<double>());
+        const std::string warning = scene::solverCapWarning(scene.simulator().solverTally(), spec.time.implicit);
+        if (!warning.empty())
+        {
+            std::fprintf(stderr, "%s\n", warning.c_str());
+        }
+    }
     if (!options.out.empty())
     {
         std::printf("wrote %s/summary.json and events.csv\n", options.out.c_str());

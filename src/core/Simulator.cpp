@@ -74,6 +74,11 @@ StepReport Simulator::step(Real dt)
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
+        report.solverCapHits += stats.hitIterationCap ? 1 : 0;
+        if (!isExplicit(m_settings.integrator))
+        {
+            m_solverTally.add(stats);
+        }
         if (m_contact)
         {
             m_contact->afterSubstep(m_system, report.substep);

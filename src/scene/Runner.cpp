@@ -43,6 +43,36 @@ std::string stateHashText(const Scene& scene)
     return text;
 }
 
+nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings)
+{
+    return {
+        {"preconditioner", settings.preconditioner == PreconditionerKind::Cholesky ? "cholesky" : "jacobi"},
+        {"tolerance", settings.tolerance},
+        {"max_iterations", settings.maxIterations},
+        {"steps", tally.solves},
+        {"mean_iterations", tally.meanIterations()},
+        {"largest_iterations", tally.largestIterations},
+        {"steps_at_iteration_cap", tally.capHits},
+        {"final_residual", tally.finalResidual},
+        {"largest_residual", tally.largestResidual},
+    };
+}
+
+std::string solverCapWarning(const SolverTally& tally, const ImplicitSettings& settings)
+{
+    if (tally.capHits == 0)
+    {
+        return "";
+    }
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "warning: %llu of %llu implicit steps stopped at the iteration cap (%d) short of the tolerance %g "
+                  "(largest residual %.3g); raise integrator.max_iterations or shorten dt",
+                  static_cast<unsigned long long>(tally.capHits), static_cast<unsigned long long>(tally.solves),
+                  settings.maxIterations, settings.tolerance, tally.largestResidual);
+    return line;
+}
+
 nlohmann::json summarize(Scene& scene, Real wallSeconds)
 {
     const SceneSpec& spec = scene.spec();
@@ -90,7 +120,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
                                   {"max", *std::max_element(t.begin(), t.end()) - 273.15},
                                   {"mean", sum / Real(t.size()) - 273.15}};
     }
-    return {
+    nlohmann::json summary = {
         {"scene", spec.name},
         {"scene_file", spec.path},
         {"structure", structureName(lattice.structure)},
@@ -112,6 +142,11 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"events", events},
         {"final", final},
     };
+    if (!isExplicit(spec.time.integrator))
+    {
+        summary["solver"] = solverSummary(scene.simulator().solverTally(), spec.time.implicit);
+    }
+    return summary;
 }
 
 std::string eventsCsv(const Scene& scene)

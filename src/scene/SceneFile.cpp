@@ -232,11 +232,15 @@ ContactSettings readContact(const JsonObject& o)
 TimeSpec readTime(const JsonObject& o)
 {
     TimeSpec time;
-    time.integrator = parseIntegrator(o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit"}));
+    time.integrator =
+        parseIntegrator(o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit", "bdf2"}));
     time.dt = o.number("dt", time.dt, limits::minTimeStep, limits::maxTimeStep);
     time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
     time.implicit.tolerance = o.number("tolerance", time.implicit.tolerance, 1e-14, 0.1);
     time.implicit.maxIterations = o.integer("max_iterations", time.implicit.maxIterations, 1, 1000000);
+    time.implicit.preconditioner = o.choice("preconditioner", "cholesky", {"cholesky", "jacobi"}) == "jacobi"
+                                       ? PreconditionerKind::Jacobi
+                                       : PreconditionerKind::Cholesky;
     o.finish();
     return time;
 }
