@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sys/wait.h>
@@ -135,10 +136,10 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
     const Real r0 = 0.08;
     const Real radius = 0.001; // contact radius: the sheet's underside rides this far off the mould
     const Real theta = (90.0 - halfAngleDegrees) * M_PI / 180; // wall angle from the sheet plane
-    const int countX = 30;
+    const int countX = 22;
     const Real width = 0.2;
     const Real spacing = width / (countX - 0.5);
-    const int countZ = 35;
+    const int countZ = 26;
     const Real depth = (countZ - 1) * spacing * std::sqrt(3.0) / 2;
     nlohmann::json scene = {
         {"name", "cone-" + std::to_string(halfAngleDegrees)},
@@ -152,19 +153,25 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
         {"heat", {{"initial_temperature_c", 150}, {"air_temperature_c", 150}, {"contact_heat_transfer", 0}}},
         {"environment", {{"room", {{"enabled", false}}}, {"gravity", {0, 0, 0}}}},
         {"obstacles",
-         {{{"name", "mould"}, {"type", "mesh"}, {"file", "../meshes/cone-" + std::to_string(halfAngleDegrees) + ".stl"}}}},
+         {{{"name", "mould"},
+           {"type", "mesh"},
+           {"file", "../meshes/cone-" + std::to_string(halfAngleDegrees) + ".stl"},
+           {"temperature_c", 150}}}},
         {"forming",
          {{"pressure", {{{"time", 0}, {"pressure", 0}}, {{"time", 2.0}, {"pressure", finalPressure}}}},
           {"mould", "mould"}}},
         {"contact", {{"response", "sticky"}, {"radius", radius}}},
-        {"integrator", {{"type", "implicit"}, {"dt", 0.01}}},
-        {"run", {{"duration", 2.5}, {"stop_at_rest", false}}},
+        {"integrator", {{"type", "implicit"}, {"dt", 0.02}}},
+        {"run", {{"duration", 2.4}, {"stop_at_rest", false}}},
     };
     Scene run(parseScene(scene, source + "/data/scenes", "cone test"));
+    int iterations = 0;
     while (!run.finished())
     {
-        run.step();
+        iterations += run.step().solverIterations;
     }
+    std::printf("cone %d: %zu masses, %llu steps, %d solver iterations, %.1f s wall\n", halfAngleDegrees,
+                run.system().massCount(), static_cast<unsigned long long>(run.steps()), iterations, run.wallSeconds());
     // The sheet's underside (mass centres) follows the mould's surface offset by the contact radius: a cone of the
     // same angle whose rim, in the sheet's plane y = radius, is r0' = r0 - radius (sec theta - 1) / tan theta, and
     // whose depth to its apex is H' = r0' tan theta.
@@ -189,6 +196,10 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
         const Real theory = (1 + std::cos(theta)) / 2 *
                             std::pow(1 - slant * std::sin(theta) / cavityDepth, 1 / std::cos(theta) - 1);
         const Real error = std::abs(thickness.thickness()[i] / h0 / theory - 1);
+        if (std::getenv("CONE_DUMP"))
+        {
+            std::printf("DUMP %.4f %.4f %.4f %.4f\n", r / rim, x.y(), thickness.thickness()[i] / h0, theory);
+        }
         result.worst = std::max(result.worst, error);
         sumError += error;
         result.deepest = std::min(result.deepest, r / rim);
@@ -214,6 +225,11 @@ TEST(Forming, ConeLawAtTwoAngles)
 {
     for (const auto& [halfAngle, pressure] : {std::pair{45, 60000.0}, std::pair{60, 40000.0}})
     {
+        if (std::getenv("CONE_ONLY") && std::atoi(std::getenv("CONE_ONLY")) != halfAngle)
+        {
+            continue;
+        }
+    {
         const ConeResult r = blowIntoCone(halfAngle, pressure);
         std::printf("cone half-angle %d: %d masses on the wall down to r/r0 = %.2f; error worst %.1f%%, mean %.1f%%\n",
                     halfAngle, r.compared, r.deepest, 100 * r.worst, 100 * r.meanError);
@@ -221,6 +237,7 @@ TEST(Forming, ConeLawAtTwoAngles)
         EXPECT_LT(r.deepest, 0.5) << halfAngle << ": the sheet did not get far down the wall";
         EXPECT_LT(r.worst, 0.10) << halfAngle;
         EXPECT_LT(r.meanError, 0.05) << halfAngle;
+    }
     }
 }
 
