@@ -8,6 +8,8 @@
 #include "SheetReports.h"
 
 #include "core/StateHash.h"
+#include "core/SimdPath.h"
+#include "core/TaskPool.h"
 
 #include <algorithm>
 #include <chrono>
@@ -129,6 +131,8 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"masses", p.size()},
         {"springs", scene.system().springCount()},
         {"integrator", integratorName(spec.time.integrator)},
+        {"threads", threadCount()},
+        {"simd", simdPathName(activeSimdPath())},
         {"dt", spec.time.dt},
         {"steps", scene.steps()},
         {"substeps", scene.simulator().substepCount()},
