@@ -2,7 +2,7 @@
 
 #include "AtomicFile.h"
 #include "FormingReports.h"
-#include "FrameWriter.h"
+#include "FrameOutput.h"
 #include "Plot.h"
 #include "Progress.h"
 #include "SheetReports.h"
@@ -33,38 +33,6 @@ Real seconds(Clock::duration d)
     return std::chrono::duration<Real>(d).count();
 }
 
-void writeFrame(Scene& scene, const std::string& directory, std::uint64_t step, const std::vector<Triangle>& surface)
-{
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06llu", static_cast<unsigned long long>(step));
-    for (const std::string& format : scene.spec().output.formats)
-    {
-        const std::string path = directory + "/" + name + "." + format;
-        if (format == "vtp")
-        {
-            FrameFields fields;
-            fields.contactObstacle = scene.contact().touchingObstacle();
-            if (const ThermalModel* thermal = scene.thermal())
-            {
-                std::vector<double> celsius;
-                for (Real kelvin : thermal->temperature())
-                {
-                    celsius.push_back(kelvin - 273.15);
-                }
-                fields.scalars.emplace_back("temperature_c", std::move(celsius));
-            }
-            if (const SheetThickness* thickness = scene.thickness())
-            {
-                fields.scalars.emplace_back("thickness", thickness->thickness());
-            }
-            writeFileAtomically(path, toVtp(scene.system(), surface, fields));
-        }
-        else
-        {
-            writeFileAtomically(path, toObj(scene.system(), surface, scene.spec().name));
-        }
-    }
-}
 } // namespace
 
 std::string stateHashText(const Scene& scene)
@@ -149,7 +117,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
 std::string eventsCsv(const Scene& scene)
 {
     std::ostringstream out;
-    out << "name,object,sim_time,wall_time\n";
+    out << "name,object,sim_time_s,wall_time_s\n";
     for (const SceneEvent& e : scene.events())
     {
         char times[64];
@@ -165,16 +133,13 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     RunResult result;
     const bool writing = !options.outDir.empty();
     const int framesEvery = scene.spec().output.framesEvery;
-    const std::string frameDirectory = options.outDir + "/frames";
-    std::vector<Triangle> surface;
+    std::optional<FrameOutput> frames;
     if (writing)
     {
         std::filesystem::create_directories(options.outDir);
         if (framesEvery > 0)
         {
-            std::filesystem::create_directories(frameDirectory);
-            surface = layerTriangles(scene.lattice(), 0);
-            writeFrame(scene, frameDirectory, 0, surface);
+            frames.emplace(scene, options.outDir);
         }
     }
     Progress progress(progressOut, options.terminal, scene.spec().run.duration);
@@ -196,9 +161,9 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         {
             sag->record(scene);
         }
-        if (writing && framesEvery > 0 && scene.steps() % std::uint64_t(framesEvery) == 0)
+        if (frames && scene.steps() % std::uint64_t(framesEvery) == 0)
         {
-            writeFrame(scene, frameDirectory, scene.steps(), surface);
+            frames->write(scene);
         }
         if (options.showProgress)
         {
@@ -228,6 +193,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
+    }
+    if (frames)
+    {
+        frames->finish(scene); // the final state is a frame even when the step count is not a multiple of k
     }
     if (writing)
     {
