@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "FiniteOutput.h"
+#include "FormingReports.h"
 #include "FrameOutput.h"
 #include "Plot.h"
 #include "Progress.h"
@@ -221,6 +222,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     result.overheadSeconds = wall - result.stepSeconds;
     result.summary = summarize(scene, wall);
     result.summary["runner_overhead"] = result.stepSeconds > 0 ? result.overheadSeconds / result.stepSeconds : 0.0;
+    if (scene.spec().forming.enabled || scene.spec().formingReport.thicknessMap)
+    {
+        result.summary["forming"] = formingSummary(scene);
+    }
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
@@ -246,6 +251,7 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
             plotPng(sectionPlotScript(options.outDir + "/thickness_section.csv", title),
                     options.outDir + "/thickness_section.png");
         }
+        writeFormingReports(scene, options.outDir);
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
     }

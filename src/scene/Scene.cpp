@@ -3,6 +3,8 @@
 #include "MemoryBudget.h"
 #include "Pins.h"
 
+#include "bridge/MeshTopology.h"
+
 #include "core/Energy.h"
 #include "core/InputError.h"
 #include "core/MaterialSheet.h"
@@ -44,6 +46,7 @@ void Scene::reset()
 void Scene::build()
 {
     // Tear down in dependency order before building again.
+    m_pressure.reset();
     m_springs.reset();
     m_thermal.reset();
     m_thickness.reset();
@@ -97,7 +100,14 @@ void Scene::build()
         {
             m_environment->addObstacle(obstacle);
         }
-        m_contact = std::make_unique<ContactSolver>(*m_environment, m_spec.contact);
+        ContactSettings contact = m_spec.contact;
+        contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
+        for (std::size_t k = 0; k < m_spec.obstacles.size() && k < m_spec.obstacleContact.size(); ++k)
+        {
+            contact.perObstacle[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
+                m_spec.obstacleContact[k];
+        }
+        m_contact = std::make_unique<ContactSolver>(*m_environment, contact);
 
         SimulatorSettings settings;
         settings.integrator = m_spec.time.integrator;
@@ -153,6 +163,16 @@ void Scene::build()
         {
             m_simulator->addHook(m_springs.get());
         }
+        if (m_spec.forming.enabled)
+        {
+            requireSealedMould();
+            m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure));
+            if (m_spec.forming.seal)
+            {
+                m_pressure->setContact(&m_contact->touchingObstacle());
+            }
+            m_simulator->addHook(m_pressure.get());
+        }
         // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
         // step.
         within("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
@@ -168,6 +188,31 @@ void Scene::build()
         m_restPrerequisites.push_back(m_environment->findObstacle(name));
     }
     m_start = std::chrono::steady_clock::now();
+}
+
+void Scene::requireSealedMould() const
+{
+    if (m_spec.forming.mould.empty())
+    {
+        return;
+    }
+    const bridge::Obstacle& mould = m_environment->obstacle(m_environment->findObstacle(m_spec.forming.mould));
+    if (mould.geometry.convex)
+    {
+        return; // a box, prism or hull is closed by construction
+    }
+    std::vector<std::vector<int>> faces;
+    for (const bridge::Face& face : mould.geometry.faces)
+    {
+        faces.push_back(face.vertices);
+    }
+    if (const auto open = bridge::findOpenEdge(faces))
+    {
+        throw InputError("forming.mould: obstacle '" + mould.spec.name + "' (" + mould.spec.meshPath +
+                         ") is not a closed surface: the edge between vertices " + std::to_string(open->a + 1) +
+                         " and " + std::to_string(open->b + 1) + " belongs to " + std::to_string(open->faces) +
+                         " face(s) instead of 2, so the sheet cannot seal the cavity over its rim");
+    }
 }
 
 const SheetThickness* Scene::thickness() const

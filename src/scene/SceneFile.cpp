@@ -170,8 +170,18 @@ std::vector<bridge::PathKey> readPath(const JsonObject& owner, const std::string
 
 constexpr Real kelvinAtZeroCelsius = 273.15;
 
-bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature)
+bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature,
+                                  ObstacleContact& contact)
 {
+    if (auto own = o.object("contact"))
+    {
+        // An obstacle's own response (a plug that slides while the mould grips): response and friction only.
+        contact.own = true;
+        contact.response =
+            parseContactResponse(own->choice("response", "friction", {"sticky", "friction", "frictionless"}));
+        contact.friction = own->number("friction", 0.3, 0.0);
+        own->finish();
+    }
     bridge::ObstacleSpec spec;
     temperature = std::numeric_limits<Real>::quiet_NaN();
     if (o.has("temperature_c"))
@@ -507,8 +517,9 @@ HeatSpec readHeat(const JsonObject& o)
     return heat;
 }
 
-ReportSpec readReport(const JsonObject& o)
+ReportSpec readReport(const JsonObject& o, FormingReportSpec& forming)
 {
+    forming = readFormingReport(o);
     ReportSpec report;
     if (auto section = o.object("thickness_section"))
     {
@@ -612,6 +623,10 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
         names.push_back(o.name);
     }
     auto exists = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+    if (!scene.forming.mould.empty() && !exists(scene.forming.mould))
+    {
+        top.fail("forming.mould", "no obstacle is named '" + scene.forming.mould + "'");
+    }
     for (std::size_t i = 0; i < scene.run.restAfterContactWith.size(); ++i)
     {
         if (!exists(scene.run.restAfterContactWith[i]))
@@ -712,8 +727,10 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         for (const JsonObject& o : top.objects("obstacles"))
         {
             Real temperature = 0;
-            scene.obstacles.push_back(readObstacle(o, baseDirectory, temperature));
+            ObstacleContact contact;
+            scene.obstacles.push_back(readObstacle(o, baseDirectory, temperature, contact));
             scene.obstacleTemperature.push_back(temperature);
+            scene.obstacleContact.push_back(contact);
         }
         if (auto material = top.object("material"))
         {
@@ -737,7 +754,11 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         }
         if (auto report = top.object("report"))
         {
-            scene.report = readReport(*report);
+            scene.report = readReport(*report, scene.formingReport);
+        }
+        if (auto forming = top.object("forming"))
+        {
+            scene.forming = readForming(*forming);
         }
         scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")));
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
