@@ -36,8 +36,7 @@ void runCompare(const CompareCommandOptions& options, bool substepsGiven)
 {
     // Everything that can be wrong with the input is found before the output folder is touched: the scene, the
     // flags, and what the twin refuses (it is built, and calibrated if asked, here).
-    scene::SceneSpec spec = scene::loadScene(options.scene);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
     scene::CompareOptions compare;
     compare.bulletIterations = options.bulletIterations;
     if (substepsGiven && options.bulletSubsteps < 1)
@@ -116,6 +115,7 @@ void addCompareCommand(CLI::App& app)
         command->add_option("--bullet-substeps", options->bulletSubsteps,
                             "Bullet substeps per scene step (default: the scene's bullet.substeps)");
     command->add_flag("--quiet", options->quiet, "No progress display");
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options, substeps] { runCompare(*options, substeps->count() > 0); });
 }

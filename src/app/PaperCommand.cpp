@@ -60,8 +60,7 @@ std::string figure18Script(const std::string& csv)
 void runPaper(const PaperOptions& options, bool writeFiles)
 {
     const std::string scenePath = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
-    scene::SceneSpec spec = scene::loadScene(scenePath);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(scenePath, options.overrides);
     std::printf(
         "The paper's drop experiment (%s): a Table 1 TRiMM sheet falls onto two polyhedra, slides between them\n"
         "to the floor and comes to rest; %s integrator, dt = %g s.\n\n",
@@ -98,6 +97,7 @@ void addPaperCommand(CLI::App& app)
     command->add_option("--out", options->out, "Output folder for figure18.csv and figure18.png")->required();
     command->add_option("--scene", options->scene, "Drop scene (default: data/scenes/paper-drop.json)");
     command->add_option("--sizes", options->sizes, "Sheet sizes N (default 3,6,8,9,12)")->delimiter(',');
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runPaper(*options, true); });
 }
@@ -110,6 +110,7 @@ void addDemoCommand(CLI::App& app)
         "demo", "The main job: the paper's drop scene, in the viewer when there is a display, otherwise (or with "
                 "--headless) a table of its four stages for the Table 2 sizes");
     command->add_flag("--headless", *headless, "Print the table even when a display is available");
+    addThreadsOption(*command);
     command->callback(
         [options, headless]
         {

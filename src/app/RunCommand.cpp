@@ -32,8 +32,7 @@ struct RunOptions
 void runRun(const RunOptions& options)
 {
     // Everything that can be wrong with the input is found before the output folder is touched.
-    scene::SceneSpec spec = scene::loadScene(options.scene);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
     if (options.framesEvery >= 0)
     {
         spec.output.framesEvery = options.framesEvery;
@@ -113,6 +112,7 @@ void addRunCommand(CLI::App& app)
     command->add_option("--frames-every", options->framesEvery, "Write the sheet every K steps (0: never)");
     command->add_option("--format", options->formats, "Frame formats: vtp, obj")->delimiter(',');
     command->add_flag("--quiet", options->quiet, "No progress display");
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runRun(*options); });
 }

@@ -7,6 +7,8 @@
 #include "SheetReports.h"
 
 #include "core/StateHash.h"
+#include "core/SimdPath.h"
+#include "core/TaskPool.h"
 
 #include <algorithm>
 #include <chrono>
@@ -158,6 +160,8 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"masses", p.size()},
         {"springs", scene.system().springCount()},
         {"integrator", integratorName(spec.time.integrator)},
+        {"threads", threadCount()},
+        {"simd", simdPathName(activeSimdPath())},
         {"dt", spec.time.dt},
         {"steps", scene.steps()},
         {"substeps", scene.simulator().substepCount()},

@@ -3,6 +3,8 @@
 #include "Display.h"
 #include "DrawPacer.h"
 #include "GlHeaders.h"
+#include "ImGuiInput.h"
+#include "InputEvents.h"
 #include "Panel.h"
 #include "Picking.h"
 #include "RateMeter.h"
@@ -71,19 +73,10 @@ public:
     ~ViewerApp();
     ViewerReport run();
 
-    // GLUT callbacks (through the trampolines below).
-    void onMouse(int button, int state, int x, int y);
-    void onMotion(int x, int y);
-    void onWheel(int wheel, int direction, int x, int y);
-    void onKey(unsigned char key, int x, int y);
+    /// GLUT callbacks (through the trampolines below) only queue the event; a frame takes its batch before NewFrame.
+    void queue(const InputEvent& event) { m_input.push(event); }
     void onReshape(int width, int height);
     void onClose() { m_windowOpen = false; }
-
-    /// ImGui 1.86 reads button and key states once per frame, so a press and its release between two frames (a
-    /// quick click while frames are paced far apart) would be lost. Releases that follow a press not yet seen by
-    /// a frame are handed to ImGui after the next frame has seen the press, and a press brings that frame forward.
-    void pressToImGui(const std::function<void()>& press);
-    void releaseToImGui(std::function<void()> release);
 
 private:
     void openWindow();
@@ -96,6 +89,11 @@ private:
     void setView(ViewPreset preset);
     void beginPick(int x, int y);
     void capture();
+    /// The window's own response to an event ImGui has already been given (camera, pick, keys).
+    void handle(const InputEvent& event);
+    void onMouseButton(const InputEvent& event);
+    void onMotion(int x, int y);
+    void onKey(unsigned char key);
 
     ViewerOptions m_options;
     MassScalarRegistry m_scalars;
@@ -109,8 +107,7 @@ private:
     DrawPacer m_pacer;
     FrameStats m_stats;
     bool m_pickMode = false;
-    bool m_pressSinceFrame = false;
-    std::vector<std::function<void()>> m_deferredReleases;
+    InputQueue m_input;
 
     int m_window = 0;
     bool m_windowOpen = false;
@@ -130,78 +127,106 @@ private:
 
 ViewerApp* g_app = nullptr;
 
+/// Modifier keys GLUT reports as special keys (freeglut 3): their own events carry the state after them.
+Modifiers modifiersNow(int specialKey = -1, bool down = false)
+{
+    const int held = glutGetModifiers();
+    Modifiers m{(held & GLUT_ACTIVE_CTRL) != 0, (held & GLUT_ACTIVE_SHIFT) != 0, (held & GLUT_ACTIVE_ALT) != 0};
+    switch (specialKey)
+    {
+    case GLUT_KEY_CTRL_L:
+    case GLUT_KEY_CTRL_R:
+        m.ctrl = down;
+        break;
+    case GLUT_KEY_SHIFT_L:
+    case GLUT_KEY_SHIFT_R:
+        m.shift = down;
+        break;
+    case GLUT_KEY_ALT_L:
+    case GLUT_KEY_ALT_R:
+        m.alt = down;
+        break;
+    default:
+        break;
+    }
+    return m;
+}
+
 void mouseTrampoline(int button, int state, int x, int y)
 {
-    g_app->onMouse(button, state, x, y);
+    InputEvent event;
+    event.kind = state == GLUT_DOWN ? InputKind::MouseDown : InputKind::MouseUp;
+    event.button = button == GLUT_LEFT_BUTTON ? 0 : button == GLUT_RIGHT_BUTTON ? 1 : button == GLUT_MIDDLE_BUTTON ? 2 : -1;
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow();
+    if (event.button >= 0)
+    {
+        g_app->queue(event);
+    }
 }
 void motionTrampoline(int x, int y)
 {
-    g_app->onMotion(x, y);
+    InputEvent event;
+    event.kind = InputKind::MouseMove;
+    event.x = x;
+    event.y = y;
+    g_app->queue(event);
 }
-void passiveMotionTrampoline(int x, int y)
+void wheelTrampoline(int, int direction, int x, int y)
 {
-    ImGui_ImplGLUT_MotionFunc(x, y);
-}
-void wheelTrampoline(int wheel, int direction, int x, int y)
-{
-    g_app->onWheel(wheel, direction, x, y);
+    InputEvent event;
+    event.kind = InputKind::Wheel;
+    event.wheel = direction > 0 ? 1 : -1;
+    event.x = x;
+    event.y = y;
+    g_app->queue(event);
 }
 void keyTrampoline(unsigned char key, int x, int y)
 {
-    g_app->onKey(key, x, y);
-}
-/// ImGui's GLUT backend on a key release, for a release handed over after the callback: freeglut reports the
-/// modifiers only inside a callback, so they are read when the key went up and applied here.
-void setImGuiModifiers(int modifiers)
-{
-    ImGuiIO& io = ImGui::GetIO();
-    io.KeyCtrl = (modifiers & GLUT_ACTIVE_CTRL) != 0;
-    io.KeyShift = (modifiers & GLUT_ACTIVE_SHIFT) != 0;
-    io.KeyAlt = (modifiers & GLUT_ACTIVE_ALT) != 0;
-}
-
-void releaseImGuiKey(unsigned char c, int modifiers)
-{
-    // The backend stores letters as both cases, and Ctrl+letter (1..26) as the letter too.
-    bool* down = ImGui::GetIO().KeysDown;
-    down[c] = false;
-    if (c >= 1 && c <= 26)
+    InputEvent event;
+    event.kind = InputKind::KeyDown;
+    event.key = characterKeySlot(key);
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow();
+    g_app->queue(event);
+    if (key >= 32)
     {
-        down[c - 1 + 'a'] = down[c - 1 + 'A'] = false;
+        event.kind = InputKind::Character;
+        event.character = key;
+        g_app->queue(event);
     }
-    else if (c >= 'a' && c <= 'z')
-    {
-        down[c - 'a' + 'A'] = false;
-    }
-    else if (c >= 'A' && c <= 'Z')
-    {
-        down[c - 'A' + 'a'] = false;
-    }
-    setImGuiModifiers(modifiers);
 }
-
-void keyUpTrampoline(unsigned char key, int, int)
+void keyUpTrampoline(unsigned char key, int x, int y)
 {
-    const int modifiers = glutGetModifiers();
-    g_app->releaseToImGui([=] { releaseImGuiKey(key, modifiers); });
+    InputEvent event;
+    event.kind = InputKind::KeyUp;
+    event.key = characterKeySlot(key);
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow();
+    g_app->queue(event);
 }
 void specialTrampoline(int key, int x, int y)
 {
-    g_app->pressToImGui([=] { ImGui_ImplGLUT_SpecialFunc(key, x, y); });
+    InputEvent event;
+    event.kind = InputKind::KeyDown;
+    event.key = specialKeyBase + key;
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow(key, true);
+    g_app->queue(event);
 }
-void specialUpTrampoline(int key, int, int)
+void specialUpTrampoline(int key, int x, int y)
 {
-    const int modifiers = glutGetModifiers();
-    g_app->releaseToImGui(
-        [=]
-        {
-            ImGuiIO& io = ImGui::GetIO();
-            if (key + 256 < IM_ARRAYSIZE(io.KeysDown))
-            {
-                io.KeysDown[key + 256] = false;
-            }
-            setImGuiModifiers(modifiers);
-        });
+    InputEvent event;
+    event.kind = InputKind::KeyUp;
+    event.key = specialKeyBase + key;
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow(key, false);
+    g_app->queue(event);
 }
 void reshapeTrampoline(int width, int height)
 {
@@ -280,14 +305,15 @@ void ViewerApp::openWindow()
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working folder
     ImGui::StyleColorsDark();
     ImGui_ImplGLUT_Init();
+    mapImGuiKeys();
     ImGui_ImplOpenGL3_Init("#version 330 core");
 
-    // Our callbacks pass every event to ImGui first and act on it only when ImGui does not want it.
+    // Our callbacks queue every event; a frame gives its batch to ImGui first and acts on what ImGui does not want.
     glutDisplayFunc(displayNothing);
     glutReshapeFunc(reshapeTrampoline);
     glutMouseFunc(mouseTrampoline);
     glutMotionFunc(motionTrampoline);
-    glutPassiveMotionFunc(passiveMotionTrampoline);
+    glutPassiveMotionFunc(motionTrampoline);
     glutMouseWheelFunc(wheelTrampoline);
     glutKeyboardFunc(keyTrampoline);
     glutKeyboardUpFunc(keyUpTrampoline);
@@ -355,33 +381,42 @@ void ViewerApp::beginPick(int x, int y)
     m_drag = Drag::Pick;
 }
 
-void ViewerApp::pressToImGui(const std::function<void()>& press)
+void ViewerApp::handle(const InputEvent& event)
 {
-    press();
-    m_pressSinceFrame = true;
+    const ImGuiIO& io = ImGui::GetIO();
+    switch (event.kind)
+    {
+    case InputKind::MouseDown:
+    case InputKind::MouseUp:
+        onMouseButton(event);
+        break;
+    case InputKind::MouseMove:
+        onMotion(event.x, event.y);
+        break;
+    case InputKind::Wheel:
+        if (!io.WantCaptureMouse)
+        {
+            m_camera.zoom(event.wheel > 0 ? Real(0.9) : Real(1) / Real(0.9));
+        }
+        break;
+    case InputKind::KeyDown:
+        if (!ImGui::IsAnyItemActive() && !event.modifiers.ctrl && !event.modifiers.alt && event.key < specialKeyBase)
+        {
+            // Letters arrive as their upper-case slot; the keys are lower case.
+            const int key = event.key >= 'A' && event.key <= 'Z' && !event.modifiers.shift ? event.key - 'A' + 'a'
+                                                                                               : event.key;
+            onKey(static_cast<unsigned char>(key));
+        }
+        break;
+    case InputKind::KeyUp:
+    case InputKind::Character:
+        break;
+    }
 }
 
-void ViewerApp::releaseToImGui(std::function<void()> release)
+void ViewerApp::onMouseButton(const InputEvent& event)
 {
-    if (m_pressSinceFrame)
-    {
-        m_deferredReleases.push_back(std::move(release));
-        return;
-    }
-    release();
-}
-
-void ViewerApp::onMouse(int button, int state, int x, int y)
-{
-    if (state == GLUT_DOWN)
-    {
-        pressToImGui([=] { ImGui_ImplGLUT_MouseFunc(button, state, x, y); });
-    }
-    else
-    {
-        releaseToImGui([=] { ImGui_ImplGLUT_MouseFunc(button, state, x, y); });
-    }
-    if (state == GLUT_UP)
+    if (event.kind == InputKind::MouseUp)
     {
         if (m_drag == Drag::Pick)
         {
@@ -394,23 +429,22 @@ void ViewerApp::onMouse(int button, int state, int x, int y)
     {
         return;
     }
-    m_lastX = x;
-    m_lastY = y;
-    const int modifiers = glutGetModifiers();
-    const bool pickModifier = (modifiers & (GLUT_ACTIVE_CTRL | GLUT_ACTIVE_SHIFT)) != 0;
-    if (button == GLUT_LEFT_BUTTON && (m_pickMode || pickModifier))
+    m_lastX = event.x;
+    m_lastY = event.y;
+    const bool pickModifier = event.modifiers.ctrl || event.modifiers.shift;
+    if (event.button == 0 && (m_pickMode || pickModifier))
     {
-        beginPick(x, y);
+        beginPick(event.x, event.y);
     }
-    else if (button == GLUT_LEFT_BUTTON)
+    else if (event.button == 0)
     {
         m_drag = Drag::Orbit;
     }
-    else if (button == GLUT_RIGHT_BUTTON)
+    else if (event.button == 1)
     {
         m_drag = Drag::Pan;
     }
-    else if (button == GLUT_MIDDLE_BUTTON)
+    else if (event.button == 2)
     {
         m_drag = Drag::Zoom;
     }
@@ -418,7 +452,6 @@ void ViewerApp::onMouse(int button, int state, int x, int y)
 
 void ViewerApp::onMotion(int x, int y)
 {
-    ImGui_ImplGLUT_MotionFunc(x, y);
     const Real dx = x - m_lastX;
     const Real dy = y - m_lastY;
     m_lastX = x;
@@ -446,22 +479,8 @@ void ViewerApp::onMotion(int x, int y)
     }
 }
 
-void ViewerApp::onWheel(int wheel, int direction, int x, int y)
+void ViewerApp::onKey(unsigned char key)
 {
-    ImGui_ImplGLUT_MouseWheelFunc(wheel, direction, x, y);
-    if (!ImGui::GetIO().WantCaptureMouse)
-    {
-        m_camera.zoom(direction > 0 ? Real(0.9) : Real(1) / Real(0.9));
-    }
-}
-
-void ViewerApp::onKey(unsigned char key, int x, int y)
-{
-    pressToImGui([=] { ImGui_ImplGLUT_KeyboardFunc(key, x, y); });
-    if (ImGui::GetIO().WantTextInput)
-    {
-        return;
-    }
     switch (key)
     {
     case ' ':
@@ -555,7 +574,7 @@ bool ViewerApp::tick()
     m_report.eventSeen = eventSeen();
     const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
     const Real now = secondsBetween(m_start, start);
-    const bool draw = fixedSteps || last || m_pressSinceFrame || m_pacer.due(now, !m_session.paused());
+    const bool draw = fixedSteps || last || !m_input.empty() || m_pacer.due(now, !m_session.paused());
     if (draw)
     {
         const Clock::time_point drawStart = Clock::now();
@@ -588,13 +607,16 @@ void ViewerApp::drawFrame(bool last)
     const int uiPasses = last ? 2 : 1;
     for (int pass = 0; pass < uiPasses; ++pass)
     {
+        // Input reaches ImGui before NewFrame, never between it and Render (ImGui 1.86 asserts on modifiers that
+        // change mid-frame). The window acts after NewFrame, on what ImGui did not take as of this frame: a key typed
+        // just after Enter left a text field is the window's, not the field's.
+        const std::vector<InputEvent> batch = pass == 0 ? m_input.takeFrame() : std::vector<InputEvent>{};
+        applyToImGui(batch);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGLUT_NewFrame();
-        // This frame has seen the presses; the releases that waited for it now count from the next one.
-        m_pressSinceFrame = false;
-        for (const std::function<void()>& release : std::exchange(m_deferredReleases, {}))
+        for (const InputEvent& event : batch)
         {
-            release();
+            handle(event);
         }
         if (m_options.showUi)
         {
@@ -627,6 +649,7 @@ ViewerReport ViewerApp::run()
     }
     m_report.wallSeconds = secondsBetween(m_firstFrameEnd, Clock::now());
     m_report.simSeconds = m_session.scene().time() - m_simAtFirstFrame;
+    m_report.finalScene = m_session.spec().name;
     return m_report;
 }
 

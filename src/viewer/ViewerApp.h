@@ -44,6 +44,7 @@ struct ViewerReport
     std::string renderer;   ///< GL_RENDERER
     std::string version;    ///< GL_VERSION
     bool eventSeen = false; ///< the `untilEvent` happened
+    std::string finalScene; ///< the name of the scene shown when the window closed (one loaded from the panel)
 };
 
 /// Opens the window on the scene and runs until it is closed (or the options' frame count or event). Throws
