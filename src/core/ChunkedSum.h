@@ -1,8 +1,9 @@
 #pragma once
 /// Reductions whose bits do not depend on how the work is split: a vector is cut into chunks of a fixed size, each
-/// chunk is summed in index order, and the chunk sums are added in chunk order. A thread pool may hand the chunks to
-/// any number of workers and the result stays the same bit for bit, because the chunking never changes.
+/// chunk is summed in index order, and the chunk sums are added in chunk order. The task pool hands the chunks to
+/// any number of threads and the result stays the same bit for bit, because the chunking never changes.
 
+#include "TaskPool.h"
 #include "Types.h"
 
 #include <Eigen/Core>
@@ -15,12 +16,6 @@ namespace masse
 /// Entries per chunk: large enough that one chunk's loop vectorises and amortises a task, small enough that a
 /// 64x2x64 sheet (24,576 unknowns) still splits into a dozen pieces.
 inline constexpr std::size_t reductionChunk = 2048;
-
-/// Number of chunks a vector of `size` entries is cut into.
-inline std::size_t chunkCount(std::size_t size)
-{
-    return (size + reductionChunk - 1) / reductionChunk;
-}
 
 /// a . b over chunk `chunk`: entries [chunk * reductionChunk, min(size, (chunk + 1) * reductionChunk)).
 inline Real chunkDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>& b, std::size_t chunk)
@@ -51,15 +46,13 @@ inline Real chunkDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>& 
 /// resized only when the size changes.
 inline Real chunkedDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>& b, Eigen::VectorX<Real>& partial)
 {
-    const std::size_t chunks = chunkCount(std::size_t(a.size()));
+    const std::size_t chunks = chunkCount(std::size_t(a.size()), reductionChunk);
     if (std::size_t(partial.size()) != chunks)
     {
         partial.resize(Eigen::Index(chunks));
     }
-    for (std::size_t c = 0; c < chunks; ++c) // the loop a task system runs in parallel
-    {
-        partial[Eigen::Index(c)] = chunkDot(a, b, c);
-    }
+    parallelFor(std::size_t(a.size()), reductionChunk, [&](std::size_t begin, std::size_t)
+                { partial[Eigen::Index(begin / reductionChunk)] = chunkDot(a, b, begin / reductionChunk); });
     Real sum = 0;
     for (std::size_t c = 0; c < chunks; ++c) // always serial and in order
     {

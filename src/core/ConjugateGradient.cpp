@@ -1,6 +1,7 @@
 #include "ConjugateGradient.h"
 
 #include "ChunkedSum.h"
+#include "TaskPool.h"
 
 #include <cmath>
 
@@ -60,11 +61,8 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
 
 void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector& y) const
 {
-    const Eigen::Index n = a.rows();
-    for (Eigen::Index begin = 0; begin < n; begin += productChunk) // independent pieces: parallel in a task system
-    {
-        multiplySymmetricRows(a, x, y, begin, std::min(n, begin + productChunk));
-    }
+    parallelFor(std::size_t(a.rows()), std::size_t(productChunk), [&](std::size_t begin, std::size_t end)
+                { multiplySymmetricRows(a, x, y, Eigen::Index(begin), Eigen::Index(end)); });
 }
 
 Real ConjugateGradient::dot(const Vector& u, const Vector& v)
@@ -110,8 +108,12 @@ SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vec
     {
         multiply(a, m_direction, m_product);
         const Real alpha = absNew / dot(m_direction, m_product);
-        addScaled(x, alpha, m_direction, 0, n);
-        addScaled(m_residual, -alpha, m_product, 0, n);
+        parallelFor(std::size_t(n), std::size_t(productChunk),
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        addScaled(x, alpha, m_direction, Eigen::Index(begin), Eigen::Index(end));
+                        addScaled(m_residual, -alpha, m_product, Eigen::Index(begin), Eigen::Index(end));
+                    });
         residualNorm2 = dot(m_residual, m_residual);
         ++i;
         if (residualNorm2 <= threshold)
@@ -122,7 +124,8 @@ SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vec
         const Real absOld = absNew;
         absNew = dot(m_residual, m_preconditioned);
         const Real beta = absNew / absOld;
-        updateDirection(m_direction, m_preconditioned, beta, 0, n);
+        parallelFor(std::size_t(n), std::size_t(productChunk), [&](std::size_t begin, std::size_t end)
+                    { updateDirection(m_direction, m_preconditioned, beta, Eigen::Index(begin), Eigen::Index(end)); });
     }
     result.iterations = i;
     result.residual = std::sqrt(residualNorm2 / rhsNorm2);
