@@ -149,7 +149,7 @@ void addViewCommand(CLI::App& app)
     addSceneOverrides(*command, options->overrides);
     command->footer("Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
                     "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
-                    "v starting view,\nm draw mode, p pick mode, Tab panel, q or Esc quit.\nWithout a display: "
+                    "v starting view,\nm draw mode, p pick mode, f follow the sheet, Tab panel, q or Esc quit.\nWithout a display: "
                     "xvfb-run -a masse view ... (see --screenshot, --benchmark).");
     command->callback([options] { runView(*options); });
 }

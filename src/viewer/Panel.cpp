@@ -68,7 +68,7 @@ bool nonNegativeDouble(const char* label, double& value, const char* format)
 } // namespace
 
 PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
-                          bool& pickMode, const FrameStats& stats, const MassScalarRegistry& scalars,
+                          bool& pickMode, bool& follow, const FrameStats& stats, const MassScalarRegistry& scalars,
                           const Renderer& renderer)
 {
     PanelRequests requests;
@@ -85,14 +85,14 @@ PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simul
     }
     if (visible)
     {
-        drawControls(snapshot, simulation, draw, pickMode, scalars, renderer.scalarRange(), requests);
+        drawControls(snapshot, simulation, draw, pickMode, follow, scalars, renderer.scalarRange(), requests);
     }
     drawHud(snapshot, stats, draw, renderer);
     return requests;
 }
 
 void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
-                         bool& pickMode, const MassScalarRegistry& scalars, const ScalarRange& legend,
+                         bool& pickMode, bool& follow, const MassScalarRegistry& scalars, const ScalarRange& legend,
                          PanelRequests& requests)
 {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
@@ -178,6 +178,7 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
         }
     }
     ImGui::Checkbox("pick mode (left drag pulls a mass)", &pickMode);
+    ImGui::Checkbox("follow the sheet (f)", &follow);
     ImGui::Checkbox("room", &draw.showRoom);
     if (ImGui::Button("Overview (1)"))
     {
@@ -205,6 +206,7 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
                                "space: run/pause   n: step   r: reset\n"
                                "1 2 3: views   v: reset view\n"
                                "m: draw mode   p: pick mode   tab: panel\n"
+                               "f: follow the sheet\n"
                                "q or esc: quit");
     }
     ImGui::PopItemWidth();

@@ -36,13 +36,14 @@ public:
     /// Draws the panel (when shown) and the HUD; carries out run, load and rebuild requests on the session.
     /// Reads the snapshot only; what the user asks of the scene goes to the simulation thread as commands.
     PanelRequests draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
-                       const FrameStats& stats, const MassScalarRegistry& scalars, const Renderer& renderer);
+                       bool& follow, const FrameStats& stats, const MassScalarRegistry& scalars,
+                       const Renderer& renderer);
 
     bool visible = true;
 
 private:
     void drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
-                      const MassScalarRegistry& scalars, const ScalarRange& legend, PanelRequests& requests);
+                      bool& follow, const MassScalarRegistry& scalars, const ScalarRange& legend, PanelRequests& requests);
     void drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation);
     /// Ambient temperature and heaters of a heat scene, acting on the running scene.
     void drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation);

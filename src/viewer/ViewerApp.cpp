@@ -1,5 +1,6 @@
 #include "ViewerApp.h"
 
+#include "Controls.h"
 #include "Display.h"
 #include "GlHeaders.h"
 #include "ImGuiInput.h"
@@ -42,30 +43,6 @@ Real secondsBetween(Clock::time_point from, Clock::time_point to)
     return std::chrono::duration<Real>(to - from).count();
 }
 
-/// Pixels within which a click catches a mass.
-constexpr Real pickTolerancePixels = 12;
-
-enum class Drag
-{
-    None,
-    Orbit,
-    Pan,
-    Zoom,
-    Pick,
-};
-
-/// Box around the current sheet and the scene's polyhedra (not the room): what the views frame.
-struct Bounds
-{
-    Vec3 low = Vec3::Constant(std::numeric_limits<Real>::infinity());
-    Vec3 high = Vec3::Constant(-std::numeric_limits<Real>::infinity());
-    void add(const Vec3& p)
-    {
-        low = low.cwiseMin(p);
-        high = high.cwiseMax(p);
-    }
-};
-
 class ViewerApp
 {
 public:
@@ -86,16 +63,9 @@ private:
     /// Draws the scene and the UI and swaps; the last frame is also captured.
     void drawFrame(bool last);
     bool eventSeen() const;
-    void setView(ViewPreset preset);
-    void beginPick(int x, int y);
     void capture();
     /// --benchmark: a pick on the middle mass halfway through, timed until the simulation carries it out.
     void benchmarkPick();
-    /// The window's own response to an event ImGui has already been given (camera, pick, keys).
-    void handle(const InputEvent& event);
-    void onMouseButton(const InputEvent& event);
-    void onMotion(int x, int y);
-    void onKey(unsigned char key);
 
     ViewerOptions m_options;
     MassScalarRegistry m_scalars;
@@ -104,23 +74,14 @@ private:
     std::shared_ptr<const SceneSnapshot> m_snapshot; ///< what this frame draws
     std::unique_ptr<Renderer> m_renderer;
     Panel m_panel;
-    DrawSettings m_draw;
-    OrbitCamera m_camera;
-    Viewport m_viewport;
+    Controls m_controls;
     RateMeter m_rates;
     FrameStats m_stats;
-    bool m_pickMode = false;
-    std::optional<std::pair<Index, Vec3>> m_pick; ///< the window's pick (mass, target), drawn before the simulation has it
     InputQueue m_input;
 
     int m_window = 0;
     bool m_windowOpen = false;
     bool m_imguiStarted = false;
-    bool m_quit = false;
-    Drag m_drag = Drag::None;
-    int m_lastX = 0;
-    int m_lastY = 0;
-    DragPlane m_dragPlane;
 
     Clock::time_point m_start;
     Clock::time_point m_lastTick;
@@ -263,16 +224,17 @@ void glutFatal(const char* format, va_list arguments)
 
 ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassScalarRegistry scalars)
     : m_options(options), m_scalars(std::move(scalars)), m_session(std::move(spec), options.compare),
-      m_draw(options.draw)
+      m_controls(options.view, options.draw)
 {
-    if (m_draw.mode == DrawMode::Scalar && !m_scalars.find(m_draw.scalar))
+    if (m_controls.draw.mode == DrawMode::Scalar && !m_scalars.find(m_controls.draw.scalar))
     {
-        throw InputError("--scalar: unknown scalar '" + m_draw.scalar + "' (expected " + m_scalars.names() + ")");
+        throw InputError("--scalar: unknown scalar '" + m_controls.draw.scalar + "' (expected " + m_scalars.names() +
+                         ")");
     }
-    m_panel.visible = options.showPanel;
+    m_controls.panelVisible = options.showPanel;
     m_session.setPaused(options.startPaused);
     m_session.setPauseAtEnd(!options.benchmark);
-    m_viewport = {options.width, options.height};
+    m_controls.viewport = {options.width, options.height};
     m_simulation = std::make_unique<SimulationThread>(m_session, m_scalars, options.stepsPerFrame == 0,
                                                       options.computeBudget);
 }
@@ -340,210 +302,13 @@ void ViewerApp::openWindow()
     m_report.renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     m_report.version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     onReshape(glutGet(GLUT_WINDOW_WIDTH), glutGet(GLUT_WINDOW_HEIGHT));
-    setView(m_options.view);
-}
-
-void ViewerApp::setView(ViewPreset preset)
-{
-    Bounds sheet;
-    for (const Vec3& p : m_snapshot->positions)
-    {
-        sheet.add(p);
-    }
-    if (preset == ViewPreset::FromBelow)
-    {
-        // The paper's figure 8 looks up through the sheet itself.
-        m_camera = presetCamera(preset, sheet.low, sheet.high, m_viewport.aspect());
-        return;
-    }
-    Bounds all = sheet;
-    for (const ObstacleShape& obstacle : m_snapshot->obstacles)
-    {
-        if (!obstacle.partOfRoom)
-        {
-            for (const Vec3& p : obstacle.vertices)
-            {
-                all.add(p);
-            }
-        }
-    }
-    m_camera = presetCamera(preset, all.low, all.high, m_viewport.aspect());
+    m_controls.setView(m_options.view, *m_snapshot);
 }
 
 void ViewerApp::onReshape(int width, int height)
 {
     ImGui_ImplGLUT_ReshapeFunc(width, height);
-    m_viewport = {std::max(1, width), std::max(1, height)};
-}
-
-void ViewerApp::beginPick(int x, int y)
-{
-    const std::vector<Vec3>& positions = m_snapshot->positions;
-    const Ray ray = rayThroughPixel(m_camera, m_viewport, x + Real(0.5), y + Real(0.5));
-    const std::optional<MassPick> hit =
-        pickNearestMass(positions, ray, m_camera.pixelSizeAtUnitDepth(m_viewport), pickTolerancePixels);
-    if (!hit)
-    {
-        // Nothing under the cursor: the drag turns the view instead.
-        m_drag = Drag::Orbit;
-        return;
-    }
-    const Vec3 picked = positions[hit->mass];
-    m_dragPlane = dragPlaneFacing(m_camera, picked);
-    m_pick = std::pair<Index, Vec3>(hit->mass, picked);
-    m_simulation->post([mass = hit->mass, picked](ViewerSession& session) { session.beginPick(mass, picked); });
-    m_drag = Drag::Pick;
-}
-
-void ViewerApp::handle(const InputEvent& event)
-{
-    const ImGuiIO& io = ImGui::GetIO();
-    switch (event.kind)
-    {
-    case InputKind::MouseDown:
-    case InputKind::MouseUp:
-        onMouseButton(event);
-        break;
-    case InputKind::MouseMove:
-        onMotion(event.x, event.y);
-        break;
-    case InputKind::Wheel:
-        if (!io.WantCaptureMouse)
-        {
-            m_camera.zoom(event.wheel > 0 ? Real(0.9) : Real(1) / Real(0.9));
-        }
-        break;
-    case InputKind::KeyDown:
-        if (!ImGui::IsAnyItemActive() && !event.modifiers.ctrl && !event.modifiers.alt && event.key < specialKeyBase)
-        {
-            // Letters arrive as their upper-case slot; the keys are lower case.
-            const int key = event.key >= 'A' && event.key <= 'Z' && !event.modifiers.shift ? event.key - 'A' + 'a'
-                                                                                               : event.key;
-            onKey(static_cast<unsigned char>(key));
-        }
-        break;
-    case InputKind::KeyUp:
-    case InputKind::Character:
-        break;
-    }
-}
-
-void ViewerApp::onMouseButton(const InputEvent& event)
-{
-    if (event.kind == InputKind::MouseUp)
-    {
-        if (m_drag == Drag::Pick)
-        {
-            m_pick.reset();
-            m_simulation->post([](ViewerSession& session) { session.endPick(); });
-        }
-        m_drag = Drag::None;
-        return;
-    }
-    if (ImGui::GetIO().WantCaptureMouse)
-    {
-        return;
-    }
-    m_lastX = event.x;
-    m_lastY = event.y;
-    const bool pickModifier = event.modifiers.ctrl || event.modifiers.shift;
-    if (event.button == 0 && (m_pickMode || pickModifier))
-    {
-        beginPick(event.x, event.y);
-    }
-    else if (event.button == 0)
-    {
-        m_drag = Drag::Orbit;
-    }
-    else if (event.button == 1)
-    {
-        m_drag = Drag::Pan;
-    }
-    else if (event.button == 2)
-    {
-        m_drag = Drag::Zoom;
-    }
-}
-
-void ViewerApp::onMotion(int x, int y)
-{
-    const Real dx = x - m_lastX;
-    const Real dy = y - m_lastY;
-    m_lastX = x;
-    m_lastY = y;
-    switch (m_drag)
-    {
-    case Drag::Orbit:
-        m_camera.orbit(dx, dy);
-        break;
-    case Drag::Pan:
-        m_camera.pan(dx, dy, m_viewport);
-        break;
-    case Drag::Zoom:
-        m_camera.zoom(std::exp(dy * Real(0.01)));
-        break;
-    case Drag::Pick:
-        if (const std::optional<Vec3> target =
-                intersect(rayThroughPixel(m_camera, m_viewport, x + Real(0.5), y + Real(0.5)), m_dragPlane))
-        {
-            if (m_pick)
-            {
-                m_pick->second = *target;
-            }
-            m_simulation->post([target = *target](ViewerSession& session) { session.movePick(target); });
-        }
-        break;
-    case Drag::None:
-        break;
-    }
-}
-
-void ViewerApp::onKey(unsigned char key)
-{
-    switch (key)
-    {
-    case ' ':
-        m_simulation->post([](ViewerSession& session) { session.setPaused(!session.paused()); });
-        break;
-    case 'n':
-        m_simulation->post(
-            [](ViewerSession& session)
-            {
-                session.setPaused(true);
-                session.requestStep();
-            });
-        break;
-    case 'r':
-        m_simulation->post([](ViewerSession& session) { session.reset(); });
-        break;
-    case 'v':
-        setView(m_options.view);
-        break;
-    case '1':
-        setView(ViewPreset::Overview);
-        break;
-    case '2':
-        setView(ViewPreset::FromBelow);
-        break;
-    case '3':
-        setView(ViewPreset::ElevatedLeft);
-        break;
-    case 'm':
-        m_draw.mode = DrawMode((int(m_draw.mode) + 1) % 3);
-        break;
-    case 'p':
-        m_pickMode = !m_pickMode;
-        break;
-    case '\t':
-        m_panel.visible = !m_panel.visible;
-        break;
-    case 'q':
-    case 27:
-        m_quit = true;
-        break;
-    default:
-        break;
-    }
+    m_controls.viewport = {std::max(1, width), std::max(1, height)};
 }
 
 bool ViewerApp::eventSeen() const
@@ -570,12 +335,12 @@ void ViewerApp::capture()
 {
     if (!m_options.screenshot.empty())
     {
-        writePng(m_options.screenshot, readFrame(m_viewport), m_viewport);
+        writePng(m_options.screenshot, readFrame(m_controls.viewport), m_controls.viewport);
     }
     if (!m_options.regions.empty())
     {
         scene::writeFileAtomically(m_options.regions,
-                                   screenRegions(*m_snapshot, m_camera, m_viewport).dump(2) + "\n");
+                                   screenRegions(*m_snapshot, m_controls.camera, m_controls.viewport).dump(2) + "\n");
     }
 }
 
@@ -588,7 +353,7 @@ void ViewerApp::benchmarkPick()
     }
     const Index mass = positions.size() / 2;
     const Vec3 target = positions[mass] + Vec3(0, Real(0.05), 0);
-    m_pick = std::pair<Index, Vec3>(mass, target);
+    m_controls.pick = std::pair<Index, Vec3>(mass, target);
     m_pickPosted = Clock::now();
     m_pickFrame = m_report.frames;
     m_pickTicket = m_simulation->post([mass, target](ViewerSession& session) { session.beginPick(mass, target); });
@@ -609,7 +374,7 @@ bool ViewerApp::tick()
         // Captures: exactly k steps a frame, waited for (the only wait on the simulation, for repeatable pictures).
         m_simulation->waitFor(m_simulation->postSteps(m_options.stepsPerFrame));
     }
-    m_simulation->setScalar(m_draw.mode == DrawMode::Scalar ? m_draw.scalar : "");
+    m_simulation->setScalar(m_controls.draw.mode == DrawMode::Scalar ? m_controls.draw.scalar : "");
     m_snapshot = m_simulation->latest();
     const SceneSnapshot& snapshot = *m_snapshot;
     if (snapshot.generation != m_lastGeneration)
@@ -617,7 +382,7 @@ bool ViewerApp::tick()
         // A new scene: its steps and time count from zero.
         m_lastGeneration = snapshot.generation;
         m_lastSimTime = snapshot.time;
-        m_pick.reset();
+        m_controls.pick.reset();
     }
     const int steps = int(snapshot.steps - m_lastSteps);
     const Real simSeconds = std::max(Real(0), snapshot.time - m_lastSimTime);
@@ -631,12 +396,12 @@ bool ViewerApp::tick()
         m_report.pickAppliedFrames = m_report.frames - m_pickFrame;
         m_report.pickMeasured = true;
         m_pickTicket = 0;
-        m_pick.reset();
+        m_controls.pick.reset();
         m_simulation->post([](ViewerSession& session) { session.endPick(); });
     }
 
     m_report.eventSeen = eventSeen();
-    const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
+    const bool last = m_controls.quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
     // Frames at most every 1/30 s while the scene runs (the simulation thread and the rasteriser share the cores),
     // every 1/60 s while it is paused; at once when input waits.
     const Real interval = snapshot.paused ? Real(1) / 60 : Real(1) / 30;
@@ -686,22 +451,30 @@ void ViewerApp::drawFrame(bool last)
         applyToImGui(batch);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGLUT_NewFrame();
+        const UiCapture ui{ImGui::GetIO().WantCaptureMouse, ImGui::IsAnyItemActive()};
+        const CommandSink post = [this](SessionCommand command) { m_simulation->post(std::move(command)); };
         for (const InputEvent& event : batch)
         {
-            handle(event);
+            m_controls.handle(event, ui, *m_snapshot, post);
+        }
+        if (pass == 0)
+        {
+            m_controls.update(*m_snapshot);
         }
         if (m_options.showUi)
         {
-            const PanelRequests requests =
-                m_panel.draw(*m_snapshot, *m_simulation, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
+            m_panel.visible = m_controls.panelVisible;
+            const PanelRequests requests = m_panel.draw(*m_snapshot, *m_simulation, m_controls.draw, m_controls.pickMode,
+                                                        m_controls.follow, m_stats, m_scalars, *m_renderer);
+            m_controls.panelVisible = m_panel.visible;
             if (requests.view)
             {
-                setView(*requests.view);
+                m_controls.setView(*requests.view, *m_snapshot);
             }
         }
         ImGui::Render();
     }
-    m_renderer->draw(*m_snapshot, m_pick, m_camera, m_viewport, m_draw);
+    m_renderer->draw(*m_snapshot, m_controls.pick, m_controls.camera, m_controls.viewport, m_controls.draw);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (last)
     {
