@@ -70,9 +70,12 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
         {"sim_seconds", report.simSeconds},
         {"realtime_factor", report.simSeconds / wall},
         {"step_ms", report.steps > 0 ? 1000 * report.stepSeconds / double(report.steps) : 0.0},
+        {"threads", "simulation apart from drawing"},
         {"draw_ms", 1000 * report.drawSeconds / report.frames},
         {"renderer", report.renderer},
         {"final_scene", report.finalScene},
+        {"pick_applied_ms", report.pickMeasured ? nlohmann::json(1000 * report.pickAppliedSeconds) : nlohmann::json()},
+        {"pick_applied_frames", report.pickMeasured ? nlohmann::json(report.pickAppliedFrames) : nlohmann::json()},
     };
     std::printf("%s\n", line.dump().c_str());
 }

@@ -38,9 +38,9 @@ TaskPool::TaskPool(int threads)
 
 TaskPool::~TaskPool()
 {
-    m_stop = true;
-    m_generation.fetch_add(1, std::memory_order_release);
-    m_generation.notify_all();
+    m_stop.store(true, std::memory_order_release);
+    m_jobNumber.fetch_add(1, std::memory_order_release);
+    m_jobNumber.notify_all();
     for (std::thread& worker : m_workers)
     {
         worker.join();
@@ -53,32 +53,39 @@ void TaskPool::workerLoop()
     std::uint32_t seen = 0;
     for (;;)
     {
-        m_generation.wait(seen, std::memory_order_acquire);
-        seen = m_generation.load(std::memory_order_acquire);
-        if (m_stop)
+        m_jobNumber.wait(seen, std::memory_order_acquire);
+        seen = m_jobNumber.load(std::memory_order_acquire);
+        if (m_stop.load(std::memory_order_acquire))
         {
             return;
         }
-        workOnJob();
-        if (m_active.fetch_sub(1, std::memory_order_acq_rel) == 1)
-        {
-            m_active.notify_one();
-        }
+        workOn(seen);
     }
 }
 
-void TaskPool::workOnJob()
+void TaskPool::workOn(std::uint32_t job)
 {
+    std::uint64_t claim = m_claim.load(std::memory_order_acquire);
     for (;;)
     {
-        const std::size_t chunk = m_nextChunk.fetch_add(1, std::memory_order_relaxed);
-        if (chunk >= m_chunkCount)
+        if (std::uint32_t(claim >> 32) != job)
+        {
+            return; // a late wake-up: that job is over
+        }
+        const std::size_t chunk = std::size_t(claim & 0xffffffffu);
+        if (chunk >= m_chunkCount.load(std::memory_order_relaxed))
         {
             return;
         }
+        if (!m_claim.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel, std::memory_order_acquire))
+        {
+            continue;
+        }
+        // The claimed chunk keeps the job open (the caller waits for it), so its fields stay valid while it runs.
+        const std::size_t count = m_chunkCount.load(std::memory_order_relaxed);
         try
         {
-            m_call(m_context, chunk);
+            m_call.load(std::memory_order_relaxed)(m_context.load(std::memory_order_relaxed), chunk);
         }
         catch (...)
         {
@@ -88,13 +95,18 @@ void TaskPool::workOnJob()
                 m_error = std::current_exception();
             }
         }
+        if (m_done.fetch_add(1, std::memory_order_acq_rel) + 1 == count)
+        {
+            m_done.notify_one();
+        }
+        claim = m_claim.load(std::memory_order_acquire);
     }
 }
 
 void TaskPool::runErased(std::size_t chunkCount, const void* context, ChunkFunction call)
 {
     std::unique_lock lock(m_runMutex, std::try_to_lock);
-    if (insideChunk || m_workers.empty() || !lock.owns_lock() || chunkCount <= 1)
+    if (insideChunk || m_workers.empty() || !lock.owns_lock() || chunkCount <= 1 || chunkCount >= 0xffffffffu)
     {
         const bool wasInside = insideChunk;
         insideChunk = true;
@@ -113,22 +125,23 @@ void TaskPool::runErased(std::size_t chunkCount, const void* context, ChunkFunct
         insideChunk = wasInside;
         return;
     }
-    m_chunkCount = chunkCount;
-    m_context = context;
-    m_call = call;
+    const std::uint32_t job = m_jobNumber.load(std::memory_order_relaxed) + 1;
+    m_chunkCount.store(chunkCount, std::memory_order_relaxed);
+    m_context.store(context, std::memory_order_relaxed);
+    m_call.store(call, std::memory_order_relaxed);
+    m_done.store(0, std::memory_order_relaxed);
     m_error = nullptr;
-    m_nextChunk.store(0, std::memory_order_relaxed);
-    m_active.store(int(m_workers.size()), std::memory_order_relaxed);
-    m_generation.fetch_add(1, std::memory_order_release); // publishes the job to the workers
-    m_generation.notify_all();
+    m_claim.store(std::uint64_t(job) << 32, std::memory_order_release); // opens the job
+    m_jobNumber.store(job, std::memory_order_release);
+    m_jobNumber.notify_all();
     insideChunk = true;
-    workOnJob();
+    workOn(job);
     insideChunk = false;
-    // Every worker leaves the job before the next one may start, so none can miss a generation.
-    for (int active = m_active.load(std::memory_order_acquire); active != 0;
-         active = m_active.load(std::memory_order_acquire))
+    // Wait only for chunks that were claimed and are still running; unclaimed ones do not exist any more.
+    for (std::size_t done = m_done.load(std::memory_order_acquire); done != chunkCount;
+         done = m_done.load(std::memory_order_acquire))
     {
-        m_active.wait(active, std::memory_order_acquire);
+        m_done.wait(done, std::memory_order_acquire);
     }
     if (m_error)
     {

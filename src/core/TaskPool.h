@@ -43,17 +43,21 @@ private:
     using ChunkFunction = void (*)(const void* context, std::size_t chunk);
     void runErased(std::size_t chunkCount, const void* context, ChunkFunction call);
     void workerLoop();
-    void workOnJob();
+    /// Claims and runs chunks of job `job` until none is left or a newer job has started.
+    void workOn(std::uint32_t job);
 
     std::vector<std::thread> m_workers;
     std::mutex m_runMutex; ///< one job at a time; a second caller runs its chunks inline
-    std::atomic<std::uint32_t> m_generation{0};
-    std::atomic<int> m_active{0}; ///< workers still on the current job
-    std::atomic<std::size_t> m_nextChunk{0};
-    std::size_t m_chunkCount = 0;
-    const void* m_context = nullptr;
-    ChunkFunction m_call = nullptr;
-    bool m_stop = false;
+    /// The job number (high 32 bits) and its next unclaimed chunk (low 32 bits), in one word: a worker that wakes
+    /// late, after its job ended, fails to claim anything and goes back to sleep, so nobody waits for a worker the
+    /// scheduler has not run yet (on a loaded machine that wait cost milliseconds per loop).
+    std::atomic<std::uint64_t> m_claim{0};
+    std::atomic<std::uint32_t> m_jobNumber{0}; ///< what sleeping workers wait on
+    std::atomic<std::size_t> m_done{0};         ///< chunks of the current job finished
+    std::atomic<std::size_t> m_chunkCount{0};
+    std::atomic<const void*> m_context{nullptr};
+    std::atomic<ChunkFunction> m_call{nullptr};
+    std::atomic<bool> m_stop{false};
     std::mutex m_errorMutex;
     std::exception_ptr m_error;
 };

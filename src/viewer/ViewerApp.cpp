@@ -1,7 +1,6 @@
 #include "ViewerApp.h"
 
 #include "Display.h"
-#include "DrawPacer.h"
 #include "GlHeaders.h"
 #include "ImGuiInput.h"
 #include "InputEvents.h"
@@ -10,6 +9,7 @@
 #include "RateMeter.h"
 #include "ScreenRegions.h"
 #include "Screenshot.h"
+#include "SimulationThread.h"
 #include "ViewerSession.h"
 
 #include "core/InputError.h"
@@ -80,8 +80,8 @@ public:
 
 private:
     void openWindow();
-    /// One pass of the loop: advance the scene, and draw a frame when one is due (the draw pacer) or it is the
-    /// last; returns false when the run should stop.
+    /// One pass of the loop: take the latest snapshot and draw a frame when one is due (input waiting, the frame
+    /// interval gone, or the last); returns false when the run should stop. The simulation runs on its own thread.
     bool tick();
     /// Draws the scene and the UI and swaps; the last frame is also captured.
     void drawFrame(bool last);
@@ -89,6 +89,8 @@ private:
     void setView(ViewPreset preset);
     void beginPick(int x, int y);
     void capture();
+    /// --benchmark: a pick on the middle mass halfway through, timed until the simulation carries it out.
+    void benchmarkPick();
     /// The window's own response to an event ImGui has already been given (camera, pick, keys).
     void handle(const InputEvent& event);
     void onMouseButton(const InputEvent& event);
@@ -97,16 +99,18 @@ private:
 
     ViewerOptions m_options;
     MassScalarRegistry m_scalars;
-    ViewerSession m_session;
+    ViewerSession m_session; ///< the simulation thread's while it runs
+    std::unique_ptr<SimulationThread> m_simulation;
+    std::shared_ptr<const SceneSnapshot> m_snapshot; ///< what this frame draws
     std::unique_ptr<Renderer> m_renderer;
     Panel m_panel;
     DrawSettings m_draw;
     OrbitCamera m_camera;
     Viewport m_viewport;
     RateMeter m_rates;
-    DrawPacer m_pacer;
     FrameStats m_stats;
     bool m_pickMode = false;
+    std::optional<std::pair<Index, Vec3>> m_pick; ///< the window's pick (mass, target), drawn before the simulation has it
     InputQueue m_input;
 
     int m_window = 0;
@@ -120,8 +124,16 @@ private:
 
     Clock::time_point m_start;
     Clock::time_point m_lastTick;
+    Clock::time_point m_lastFrame;
+    std::uint64_t m_lastSteps = 0;
+    Real m_lastSimTime = 0;
+    std::uint64_t m_lastGeneration = 0;
+    std::uint64_t m_pickTicket = 0; ///< the benchmark's pick, until the simulation has carried it out
+    Clock::time_point m_pickPosted;
+    int m_pickFrame = 0;
     ViewerReport m_report;
     Real m_simAtFirstFrame = 0;
+    std::uint64_t m_stepsAtFirstFrame = 0;
     Clock::time_point m_firstFrameEnd;
 };
 
@@ -261,10 +273,13 @@ ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassSc
     m_session.setPaused(options.startPaused);
     m_session.setPauseAtEnd(!options.benchmark);
     m_viewport = {options.width, options.height};
+    m_simulation = std::make_unique<SimulationThread>(m_session, m_scalars, options.stepsPerFrame == 0,
+                                                      options.computeBudget);
 }
 
 ViewerApp::~ViewerApp()
 {
+    m_simulation->stop();
     if (m_windowOpen)
     {
         // GL objects go while their context still exists.
@@ -330,9 +345,8 @@ void ViewerApp::openWindow()
 
 void ViewerApp::setView(ViewPreset preset)
 {
-    scene::Scene& scene = m_session.scene();
     Bounds sheet;
-    for (const Vec3& p : scene.system().particles.position)
+    for (const Vec3& p : m_snapshot->positions)
     {
         sheet.add(p);
     }
@@ -343,12 +357,11 @@ void ViewerApp::setView(ViewPreset preset)
         return;
     }
     Bounds all = sheet;
-    for (int i = 0; i < scene.environment().obstacleCount(); ++i)
+    for (const ObstacleShape& obstacle : m_snapshot->obstacles)
     {
-        const bridge::Obstacle& obstacle = scene.environment().obstacle(i);
         if (!obstacle.partOfRoom)
         {
-            for (const Vec3& p : obstacleVertices(obstacle))
+            for (const Vec3& p : obstacle.vertices)
             {
                 all.add(p);
             }
@@ -365,7 +378,7 @@ void ViewerApp::onReshape(int width, int height)
 
 void ViewerApp::beginPick(int x, int y)
 {
-    const std::vector<Vec3>& positions = m_session.scene().system().particles.position;
+    const std::vector<Vec3>& positions = m_snapshot->positions;
     const Ray ray = rayThroughPixel(m_camera, m_viewport, x + Real(0.5), y + Real(0.5));
     const std::optional<MassPick> hit =
         pickNearestMass(positions, ray, m_camera.pixelSizeAtUnitDepth(m_viewport), pickTolerancePixels);
@@ -377,7 +390,8 @@ void ViewerApp::beginPick(int x, int y)
     }
     const Vec3 picked = positions[hit->mass];
     m_dragPlane = dragPlaneFacing(m_camera, picked);
-    m_session.beginPick(hit->mass, picked);
+    m_pick = std::pair<Index, Vec3>(hit->mass, picked);
+    m_simulation->post([mass = hit->mass, picked](ViewerSession& session) { session.beginPick(mass, picked); });
     m_drag = Drag::Pick;
 }
 
@@ -420,7 +434,8 @@ void ViewerApp::onMouseButton(const InputEvent& event)
     {
         if (m_drag == Drag::Pick)
         {
-            m_session.endPick();
+            m_pick.reset();
+            m_simulation->post([](ViewerSession& session) { session.endPick(); });
         }
         m_drag = Drag::None;
         return;
@@ -471,7 +486,11 @@ void ViewerApp::onMotion(int x, int y)
         if (const std::optional<Vec3> target =
                 intersect(rayThroughPixel(m_camera, m_viewport, x + Real(0.5), y + Real(0.5)), m_dragPlane))
         {
-            m_session.movePick(*target);
+            if (m_pick)
+            {
+                m_pick->second = *target;
+            }
+            m_simulation->post([target = *target](ViewerSession& session) { session.movePick(target); });
         }
         break;
     case Drag::None:
@@ -484,14 +503,18 @@ void ViewerApp::onKey(unsigned char key)
     switch (key)
     {
     case ' ':
-        m_session.setPaused(!m_session.paused());
+        m_simulation->post([](ViewerSession& session) { session.setPaused(!session.paused()); });
         break;
     case 'n':
-        m_session.setPaused(true);
-        m_session.requestStep();
+        m_simulation->post(
+            [](ViewerSession& session)
+            {
+                session.setPaused(true);
+                session.requestStep();
+            });
         break;
     case 'r':
-        m_session.reset();
+        m_simulation->post([](ViewerSession& session) { session.reset(); });
         break;
     case 'v':
         setView(m_options.view);
@@ -533,7 +556,7 @@ bool ViewerApp::eventSeen() const
     const std::size_t colon = wanted.find(':');
     const std::string name = wanted.substr(0, colon);
     const std::string object = colon == std::string::npos ? "" : wanted.substr(colon + 1);
-    for (const scene::SceneEvent& event : m_session.scene().events())
+    for (const scene::SceneEvent& event : m_snapshot->events)
     {
         if (event.name == name && (object.empty() || event.object == object))
         {
@@ -552,8 +575,23 @@ void ViewerApp::capture()
     if (!m_options.regions.empty())
     {
         scene::writeFileAtomically(m_options.regions,
-                                   screenRegions(m_session.scene(), m_camera, m_viewport).dump(2) + "\n");
+                                   screenRegions(*m_snapshot, m_camera, m_viewport).dump(2) + "\n");
     }
+}
+
+void ViewerApp::benchmarkPick()
+{
+    const std::vector<Vec3>& positions = m_snapshot->positions;
+    if (positions.empty())
+    {
+        return;
+    }
+    const Index mass = positions.size() / 2;
+    const Vec3 target = positions[mass] + Vec3(0, Real(0.05), 0);
+    m_pick = std::pair<Index, Vec3>(mass, target);
+    m_pickPosted = Clock::now();
+    m_pickFrame = m_report.frames;
+    m_pickTicket = m_simulation->post([mass, target](ViewerSession& session) { session.beginPick(mass, target); });
 }
 
 bool ViewerApp::tick()
@@ -566,36 +604,70 @@ bool ViewerApp::tick()
     const Real wall = secondsBetween(m_lastTick, start);
     m_lastTick = start;
     const bool fixedSteps = m_options.stepsPerFrame > 0;
-    const Advance advance =
-        fixedSteps ? m_session.advanceSteps(m_options.stepsPerFrame) : m_session.advance(wall, m_options.computeBudget);
-    m_report.steps += std::uint64_t(advance.steps);
-    m_report.stepSeconds += advance.stepSeconds;
-    m_pacer.stepped(advance.steps, advance.stepSeconds, m_session.spec().time.dt);
+    if (fixedSteps)
+    {
+        // Captures: exactly k steps a frame, waited for (the only wait on the simulation, for repeatable pictures).
+        m_simulation->waitFor(m_simulation->postSteps(m_options.stepsPerFrame));
+    }
+    m_simulation->setScalar(m_draw.mode == DrawMode::Scalar ? m_draw.scalar : "");
+    m_snapshot = m_simulation->latest();
+    const SceneSnapshot& snapshot = *m_snapshot;
+    if (snapshot.generation != m_lastGeneration)
+    {
+        // A new scene: its steps and time count from zero.
+        m_lastGeneration = snapshot.generation;
+        m_lastSimTime = snapshot.time;
+        m_pick.reset();
+    }
+    const int steps = int(snapshot.steps - m_lastSteps);
+    const Real simSeconds = std::max(Real(0), snapshot.time - m_lastSimTime);
+    m_lastSteps = snapshot.steps;
+    m_lastSimTime = snapshot.time;
+    m_report.steps = snapshot.steps;
+    m_report.stepSeconds = snapshot.stepSeconds;
+    if (m_pickTicket != 0 && snapshot.appliedTicket >= m_pickTicket)
+    {
+        m_report.pickAppliedSeconds = secondsBetween(m_pickPosted, start);
+        m_report.pickAppliedFrames = m_report.frames - m_pickFrame;
+        m_report.pickMeasured = true;
+        m_pickTicket = 0;
+        m_pick.reset();
+        m_simulation->post([](ViewerSession& session) { session.endPick(); });
+    }
+
     m_report.eventSeen = eventSeen();
     const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
-    const Real now = secondsBetween(m_start, start);
-    const bool draw = fixedSteps || last || !m_input.empty() || m_pacer.due(now, !m_session.paused());
+    // Frames at most every 1/30 s while the scene runs (the simulation thread and the rasteriser share the cores),
+    // every 1/60 s while it is paused; at once when input waits.
+    const Real interval = snapshot.paused ? Real(1) / 60 : Real(1) / 30;
+    const bool draw = fixedSteps || last || !m_input.empty() || m_report.frames == 0 ||
+                      secondsBetween(m_lastFrame, start) >= interval;
     if (draw)
     {
+        m_lastFrame = start;
         const Clock::time_point drawStart = Clock::now();
         drawFrame(last);
-        const Real cost = secondsBetween(drawStart, Clock::now());
-        m_pacer.drew(now, cost);
-        m_report.drawSeconds += cost;
+        m_report.drawSeconds += secondsBetween(drawStart, Clock::now());
         if (++m_report.frames == 1)
         {
             // The first frame includes opening the window; rates are measured from its end.
             m_firstFrameEnd = Clock::now();
-            m_simAtFirstFrame = m_session.scene().time();
+            m_simAtFirstFrame = snapshot.time;
+            m_stepsAtFirstFrame = snapshot.steps;
+        }
+        if (m_options.benchmark && m_report.frames == std::max(2, m_options.frames / 2) && !m_report.pickMeasured &&
+            m_pickTicket == 0)
+        {
+            benchmarkPick();
         }
     }
-    m_rates.add(wall, draw ? 1 : 0, advance.steps, advance.simSeconds, advance.behind);
+    m_rates.add(wall, draw ? 1 : 0, steps, simSeconds, snapshot.behind);
     m_stats = {m_rates.framesPerSecond(), m_rates.stepsPerSecond(), m_rates.realTimeFactor(),
                m_rates.hasFigures(),      m_rates.fellBehind(),     m_options.stepsPerFrame};
-    if (!draw && advance.steps == 0)
+    if (!draw)
     {
-        // Nothing was due: wait a little rather than spin a core the simulation or the rasteriser could use.
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        // Nothing due: wait a little rather than spin a core the simulation or the rasteriser could use.
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     return !last;
 }
@@ -620,7 +692,8 @@ void ViewerApp::drawFrame(bool last)
         }
         if (m_options.showUi)
         {
-            const PanelRequests requests = m_panel.draw(m_session, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
+            const PanelRequests requests =
+                m_panel.draw(*m_snapshot, *m_simulation, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
             if (requests.view)
             {
                 setView(*requests.view);
@@ -628,7 +701,7 @@ void ViewerApp::drawFrame(bool last)
         }
         ImGui::Render();
     }
-    m_renderer->draw(m_session, m_camera, m_viewport, m_draw, m_scalars);
+    m_renderer->draw(*m_snapshot, m_pick, m_camera, m_viewport, m_draw);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (last)
     {
@@ -639,6 +712,8 @@ void ViewerApp::drawFrame(bool last)
 
 ViewerReport ViewerApp::run()
 {
+    m_simulation->start();
+    m_snapshot = m_simulation->latest();
     openWindow();
     m_start = Clock::now();
     m_lastTick = m_start;
@@ -648,7 +723,10 @@ ViewerReport ViewerApp::run()
         glutMainLoopEvent();
     }
     m_report.wallSeconds = secondsBetween(m_firstFrameEnd, Clock::now());
+    m_simulation->stop();
+    // The session is this thread's again.
     m_report.simSeconds = m_session.scene().time() - m_simAtFirstFrame;
+    m_report.steps = m_report.steps - m_stepsAtFirstFrame;
     m_report.finalScene = m_session.spec().name;
     return m_report;
 }
