@@ -20,8 +20,8 @@ std::string fileSafe(const std::string& name)
     std::string out = name;
     for (char& c : out)
     {
-        const bool keep = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
-                          c == '_';
+        const bool keep =
+            (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
         c = keep ? c : '_';
     }
     return out;
@@ -123,9 +123,9 @@ void FrameOutput::write(Scene& scene)
             {
                 file.append("_").append(step).append(".vtp");
                 const bridge::Obstacle& obstacle = scene.environment().obstacle(o.index);
-                writeFileAtomically(m_outDir + "/" + file,
-                                    obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.spec, time), o.name,
-                                                  o.index, time));
+                writeFileAtomically(
+                    m_outDir + "/" + file,
+                    obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.spec, time), o.name, o.index, time));
             }
             m_collection.add(time, part++, o.name, file);
         }

@@ -28,7 +28,7 @@ public:
 private:
     struct ObstaclePart
     {
-        int index;        ///< in the environment, as in contact_obstacle
+        int index; ///< in the environment, as in contact_obstacle
         std::string name;
         std::string file; ///< relative to OUT; for a moving obstacle, the stem before _STEP.vtp
         bool moving;
