@@ -115,7 +115,7 @@ TEST(CommandLine, RunWritesSummaryEventsAndFrames)
     std::ifstream csv(out / "events.csv");
     std::string header;
     std::getline(csv, header);
-    EXPECT_EQ(header, "name,object,sim_time,wall_time");
+    EXPECT_EQ(header, "name,object,sim_time_s,wall_time_s");
 
     int vtp = 0;
     int obj = 0;

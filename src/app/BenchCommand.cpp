@@ -3,6 +3,8 @@
 /// is the figure to compare across sizes, integrators and machines. Each figure is the median of --repeat rounds.
 
 #include "Commands.h"
+#include "ScalarBaseline.h"
+#include "SceneOptions.h"
 
 #include "bridge/BulletEnvironment.h"
 
@@ -12,6 +14,8 @@
 #include "core/InputError.h"
 #include "core/Lattice.h"
 #include "core/Simulator.h"
+#include "core/SimdPath.h"
+#include "core/TaskPool.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -36,7 +40,14 @@ struct BenchOptions
     int repeat = 5;
     double dt = 0.03; // the paper's step; explicit integrators split it into stable substeps
     bool contact = false;
+    bool baseline = false;
 };
+
+double median(std::vector<double> values)
+{
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+}
 
 void runBench(const BenchOptions& options)
 {
@@ -94,6 +105,8 @@ void runBench(const BenchOptions& options)
     // Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander.
     std::vector<double> rates;
     std::vector<double> walls;
+    std::vector<double> baselineRates;
+    std::vector<double> ratios;
     std::uint64_t substeps = 0;
     long long solverIterations = 0;
     const double springs = double(simulator.system().springCount());
@@ -109,6 +122,14 @@ void runBench(const BenchOptions& options)
         substeps = simulator.substepCount() - substepsBefore;
         walls.push_back(wall);
         rates.push_back(springs * double(substeps) / wall);
+        if (options.baseline)
+        {
+            // Interleaved with the engine's rounds, so both see the same load on a shared machine.
+            const Real h = dt * double(options.steps) / double(substeps);
+            const double baselineWall = timeScalarBaseline(simulator.system(), h, substeps);
+            baselineRates.push_back(springs * double(substeps) / baselineWall);
+            ratios.push_back(rates.back() / baselineRates.back());
+        }
     }
     // The share of contact: its own clock against the whole step, and against the spring forces alone, timed on
     // the final state for as many evaluations as the last round made.
@@ -148,6 +169,8 @@ void runBench(const BenchOptions& options)
         {"structure", structureName(spec.structure)},
         {"size", options.size},
         {"integrator", integratorName(kind)},
+        {"threads", threadCount()},
+        {"simd", simdPathName(activeSimdPath())},
         {"masses", simulator.system().massCount()},
         {"springs", simulator.system().springCount()},
         {"steps", options.steps},
@@ -164,6 +187,15 @@ void runBench(const BenchOptions& options)
     if (contact)
     {
         out["contact"] = contactFigures;
+    }
+    if (options.baseline)
+    {
+        out["baseline"] = {
+            {"what", "plain single-threaded scalar loop: scatter f[a] += f, f[b] -= f, then symplectic Euler"},
+            {"spring_steps_per_second", median(baselineRates)},
+            {"speedup", median(ratios)},
+            {"round_speedups", ratios},
+        };
     }
     if (!isExplicit(kind))
     {
@@ -189,6 +221,10 @@ void addBenchCommand(CLI::App& app)
         ->capture_default_str();
     command->add_flag("--contact", options->contact,
                       "Rest the sheet on two boxes and report the share of step time spent on contact");
+    addThreadsOption(*command);
+    command->add_flag("--baseline", options->baseline,
+                      "Also time a plain single-threaded scalar loop over the same springs, round by round, and "
+                      "report the engine's speed-up over it (median of the rounds' ratios)");
     command->callback([options] { runBench(*options); });
 }
 } // namespace masse::app

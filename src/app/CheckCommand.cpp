@@ -72,6 +72,7 @@ void addCheckCommand(CLI::App& app)
     command->add_flag(
         "--record", options->record,
         "Write the observed events and state hash into each file's expect block (after an intended change)");
+    addThreadsOption(*command);
     addSetOption(*command, options->settings);
     command->callback([options] { runCheck(*options); });
 }

@@ -97,6 +97,7 @@ void addPaperCommand(CLI::App& app)
     command->add_option("--out", options->out, "Output folder for figure18.csv and figure18.png")->required();
     command->add_option("--scene", options->scene, "Drop scene (default: data/scenes/paper-drop.json)");
     command->add_option("--sizes", options->sizes, "Sheet sizes N (default 3,6,8,9,12)")->delimiter(',');
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runPaper(*options, true); });
 }
@@ -109,6 +110,7 @@ void addDemoCommand(CLI::App& app)
         "demo", "The main job: the paper's drop scene, in the viewer when there is a display, otherwise (or with "
                 "--headless) a table of its four stages for the Table 2 sizes");
     command->add_flag("--headless", *headless, "Print the table even when a display is available");
+    addThreadsOption(*command);
     command->callback(
         [options, headless]
         {

@@ -1,10 +1,12 @@
 #include "SceneOptions.h"
 
 #include "core/InputError.h"
+#include "core/TaskPool.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdlib>
+#include <memory>
 
 #ifndef MASSE_DATA_DIR
 #define MASSE_DATA_DIR "data"
@@ -89,6 +91,14 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
             throw InputError(std::string("--") + e.what());
         }
     }
+}
+
+void addThreadsOption(CLI::App& command)
+{
+    auto threads = std::make_shared<int>(0);
+    command.add_option("--threads", *threads, "Threads for the engine's kernels (default: $MASSE_THREADS, else every "
+                                              "core); results are the same bits at any count");
+    command.parse_complete_callback([threads] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); });
 }
 
 std::string dataDirectory()

@@ -27,6 +27,9 @@ struct SceneOverrides
 void addSceneOverrides(CLI::App& command, SceneOverrides& overrides);
 /// Applies the overrides given (throws InputError for bad values, naming the flag).
 void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec);
+/// Adds --threads N to a command that simulates. Before the command's action runs, the kernels' thread pool is sized:
+/// N if given, else $MASSE_THREADS, else every core (a bad value is an InputError naming the flag or variable).
+void addThreadsOption(CLI::App& command);
 /// Adds --set KEY=VALUE (repeatable) to a command.
 void addSetOption(CLI::App& command, std::vector<std::string>& settings);
 /// The --set settings parsed (throws InputError naming a malformed one).

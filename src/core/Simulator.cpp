@@ -1,7 +1,9 @@
 #include "Simulator.h"
 
 #include "InputError.h"
+#include "TaskPool.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -97,14 +99,19 @@ StepReport Simulator::step(Real dt)
 
 void Simulator::checkFinite() const
 {
-    // A NaN or infinity anywhere makes the sum non-finite; the sum vectorises, the search below runs only on failure.
+    // Each chunk checks its masses (a sum of every coordinate is non-finite if any is, and vectorises); the search
+    // for the culprit below runs only on failure.
     const Particles& p = m_system.particles;
-    Real sum = 0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-    {
-        sum += p.position[i].sum() + p.velocity[i].sum();
-    }
-    if (std::isfinite(sum))
+    std::vector<std::uint8_t> chunkFinite(chunkCount(p.size(), massChunkSize), 1);
+    parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
+        Real sum = 0;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            sum += p.position[i].sum() + p.velocity[i].sum();
+        }
+        chunkFinite[begin / massChunkSize] = std::isfinite(sum) ? 1 : 0;
+    });
+    if (std::all_of(chunkFinite.begin(), chunkFinite.end(), [](std::uint8_t finite) { return finite != 0; }))
     {
         return;
     }

@@ -281,7 +281,7 @@ std::string Comparison::table() const
 std::string Comparison::seriesCsv() const
 {
     std::ostringstream out;
-    out << "time";
+    out << "time_s";
     for (const EngineResult& r : m_results)
     {
         out << ',' << r.key << "_penetration_mm," << r.key << "_kinetic_energy_J";

@@ -1,12 +1,14 @@
 #include "Runner.h"
 
 #include "AtomicFile.h"
-#include "FrameWriter.h"
+#include "FrameOutput.h"
 #include "Plot.h"
 #include "Progress.h"
 #include "SheetReports.h"
 
 #include "core/StateHash.h"
+#include "core/SimdPath.h"
+#include "core/TaskPool.h"
 
 #include <algorithm>
 #include <chrono>
@@ -30,38 +32,6 @@ Real seconds(Clock::duration d)
     return std::chrono::duration<Real>(d).count();
 }
 
-void writeFrame(Scene& scene, const std::string& directory, std::uint64_t step, const std::vector<Triangle>& surface)
-{
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06llu", static_cast<unsigned long long>(step));
-    for (const std::string& format : scene.spec().output.formats)
-    {
-        const std::string path = directory + "/" + name + "." + format;
-        if (format == "vtp")
-        {
-            FrameFields fields;
-            fields.contactObstacle = scene.contact().touchingObstacle();
-            if (const ThermalModel* thermal = scene.thermal())
-            {
-                std::vector<double> celsius;
-                for (Real kelvin : thermal->temperature())
-                {
-                    celsius.push_back(kelvin - 273.15);
-                }
-                fields.scalars.emplace_back("temperature_c", std::move(celsius));
-            }
-            if (const SheetThickness* thickness = scene.thickness())
-            {
-                fields.scalars.emplace_back("thickness", thickness->thickness());
-            }
-            writeFileAtomically(path, toVtp(scene.system(), surface, fields));
-        }
-        else
-        {
-            writeFileAtomically(path, toObj(scene.system(), surface, scene.spec().name));
-        }
-    }
-}
 } // namespace
 
 std::string stateHashText(const Scene& scene)
@@ -128,6 +98,8 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"masses", p.size()},
         {"springs", scene.system().springCount()},
         {"integrator", integratorName(spec.time.integrator)},
+        {"threads", threadCount()},
+        {"simd", simdPathName(activeSimdPath())},
         {"dt", spec.time.dt},
         {"steps", scene.steps()},
         {"substeps", scene.simulator().substepCount()},
@@ -144,7 +116,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
 std::string eventsCsv(const Scene& scene)
 {
     std::ostringstream out;
-    out << "name,object,sim_time,wall_time\n";
+    out << "name,object,sim_time_s,wall_time_s\n";
     for (const SceneEvent& e : scene.events())
     {
         char times[64];
@@ -160,16 +132,13 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     RunResult result;
     const bool writing = !options.outDir.empty();
     const int framesEvery = scene.spec().output.framesEvery;
-    const std::string frameDirectory = options.outDir + "/frames";
-    std::vector<Triangle> surface;
+    std::optional<FrameOutput> frames;
     if (writing)
     {
         std::filesystem::create_directories(options.outDir);
         if (framesEvery > 0)
         {
-            std::filesystem::create_directories(frameDirectory);
-            surface = layerTriangles(scene.lattice(), 0);
-            writeFrame(scene, frameDirectory, 0, surface);
+            frames.emplace(scene, options.outDir);
         }
     }
     Progress progress(progressOut, options.terminal, scene.spec().run.duration);
@@ -191,9 +160,9 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         {
             sag->record(scene);
         }
-        if (writing && framesEvery > 0 && scene.steps() % std::uint64_t(framesEvery) == 0)
+        if (frames && scene.steps() % std::uint64_t(framesEvery) == 0)
         {
-            writeFrame(scene, frameDirectory, scene.steps(), surface);
+            frames->write(scene);
         }
         if (options.showProgress)
         {
@@ -219,6 +188,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
+    }
+    if (frames)
+    {
+        frames->finish(scene); // the final state is a frame even when the step count is not a multiple of k
     }
     if (writing)
     {

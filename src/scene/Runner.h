@@ -30,7 +30,7 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
 
 /// The summary of a scene as it stands now (see data/scenes/README.md for the fields).
 nlohmann::json summarize(Scene& scene, Real wallSeconds);
-/// The events as CSV: name,object,sim_time,wall_time.
+/// The events as CSV: name,object,sim_time_s,wall_time_s.
 std::string eventsCsv(const Scene& scene);
 /// "0x" and 16 hex digits of the state hash of every mass's position and velocity.
 std::string stateHashText(const Scene& scene);

@@ -358,6 +358,7 @@ OutputSpec readOutput(const JsonObject& o)
     {
         output.formats = {"vtp"};
     }
+    output.objSprings = o.boolean("obj_springs", false);
     o.finish();
     return output;
 }

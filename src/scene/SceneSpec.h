@@ -140,6 +140,7 @@ struct OutputSpec
 {
     int framesEvery = 0;              ///< write the sheet every k steps (0: never)
     std::vector<std::string> formats; ///< "vtp", "obj"
+    bool objSprings = false;          ///< OBJ frames also hold every spring as a line ("l a b")
 };
 
 /// The scene's Bullet soft-body twin, for `masse compare` (the top-level "bullet" object). Every key is optional;
