@@ -1,10 +1,13 @@
 #include "SceneOptions.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
+#include "scene/SceneFile.h"
 #include "core/TaskPool.h"
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <memory>
 
@@ -16,7 +19,7 @@ namespace masse::app
 {
 void addSceneOverrides(CLI::App& command, SceneOverrides& overrides)
 {
-    command.add_option("--integrator", overrides.integrator, "Override: euler, symplectic, verlet or implicit");
+    command.add_option("--integrator", overrides.integrator, "Override: euler, symplectic, verlet, implicit or bdf2");
     command.add_option("--dt", overrides.dt, "Override: step in seconds");
     command.add_option("--duration", overrides.duration, "Override: simulated seconds at most");
     command.add_option("--size", overrides.size, "Override: sheet size NxLxN");
@@ -50,6 +53,24 @@ scene::SceneSpec loadSceneWithOverrides(const std::string& path, const SceneOver
     return spec;
 }
 
+namespace
+{
+/// A number of seconds given to `flag`, in (lo, hi] when lo is 0, else in [lo, hi].
+double secondsFlag(const std::string& flag, const std::string& text, double lo, double hi)
+{
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    const std::string range = lo == 0 ? "(0, " + formatNumber(hi) + "]" : "[" + formatNumber(lo) + ", " +
+                                                                              formatNumber(hi) + "]";
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || !(lo == 0 ? value > 0 : value >= lo) ||
+        !(value <= hi))
+    {
+        throw InputError(flag + ": must be a number of seconds in " + range + " (got '" + text + "')");
+    }
+    return value;
+}
+} // namespace
+
 void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
 {
     if (!overrides.integrator.empty())
@@ -63,21 +84,18 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
             throw InputError(std::string("--") + e.what());
         }
     }
-    if (overrides.dt != 0)
+    if (!overrides.dt.empty())
     {
-        if (!(overrides.dt > 0))
-        {
-            throw InputError("--dt: must be > 0 seconds (got " + std::to_string(overrides.dt) + ")");
-        }
-        spec.time.dt = overrides.dt;
+        spec.time.dt = secondsFlag("--dt", overrides.dt, scene::limits::minTimeStep, scene::limits::maxTimeStep);
     }
-    if (overrides.duration != 0)
+    if (!overrides.duration.empty())
     {
-        if (!(overrides.duration > 0))
-        {
-            throw InputError("--duration: must be > 0 seconds (got " + std::to_string(overrides.duration) + ")");
-        }
-        spec.run.duration = overrides.duration;
+        spec.run.duration = secondsFlag("--duration", overrides.duration, 0, scene::limits::maxDuration);
+    }
+    if (!overrides.dt.empty() || !overrides.duration.empty())
+    {
+        scene::checkRunLength(spec.time.dt, spec.run.duration, overrides.dt.empty() ? "integrator.dt" : "--dt",
+                              overrides.duration.empty() ? "run.duration" : "--duration");
     }
     if (!overrides.size.empty())
     {

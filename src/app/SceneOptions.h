@@ -17,8 +17,8 @@ namespace masse::app
 struct SceneOverrides
 {
     std::string integrator;
-    double dt = 0;
-    double duration = 0;
+    std::string dt;       ///< "" when not given; read by applyOverrides, which names the flag of a bad value
+    std::string duration; ///< "" when not given
     std::string size;
     std::vector<std::string> settings; ///< --set KEY=VALUE, in the order given
 };

@@ -1,5 +1,6 @@
 #include "ContactSolver.h"
 
+#include "Format.h"
 #include "InputError.h"
 #include "NamedEnum.h"
 #include "TaskPool.h"
@@ -48,16 +49,16 @@ void validate(const ContactSettings& settings)
 {
     if (!(settings.radius > 0) || !std::isfinite(settings.radius))
     {
-        throw InputError("contact.radius: must be a positive number of metres (got " + std::to_string(settings.radius) +
+        throw InputError("contact.radius: must be a positive number of metres (got " + formatNumber(settings.radius) +
                          ")");
     }
     if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
     {
-        throw InputError("contact.friction: must be >= 0 (got " + std::to_string(settings.friction) + ")");
+        throw InputError("contact.friction: must be >= 0 (got " + formatNumber(settings.friction) + ")");
     }
     if (!(settings.stickReleaseForce >= 0) || !std::isfinite(settings.stickReleaseForce))
     {
-        throw InputError("contact.release_force: must be >= 0 N (got " + std::to_string(settings.stickReleaseForce) +
+        throw InputError("contact.release_force: must be >= 0 N (got " + formatNumber(settings.stickReleaseForce) +
                          ")");
     }
 }
@@ -70,7 +71,12 @@ ContactSolver::ContactSolver(ContactDetector& detector, const ContactSettings& s
 void ContactSolver::setSettings(const ContactSettings& settings)
 {
     validate(settings);
-    if (settings.response != ContactResponse::Sticky)
+    bool anySticky = settings.response == ContactResponse::Sticky;
+    for (const ObstacleContact& own : settings.perObstacle)
+    {
+        anySticky = anySticky || (own.own && own.response == ContactResponse::Sticky);
+    }
+    if (!anySticky)
     {
         releaseAll();
     }
@@ -201,12 +207,12 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
             continue;
         }
         Real damping = 0;
-        if (m_settings.response == ContactResponse::Friction)
+        if (m_settings.responseOf(plane.obstacle) == ContactResponse::Friction)
         {
             // The slip the damping is sized for: the current one, or, for a mass at rest pushed harder than
             // friction holds, the slip the excess push gives it within the frame. With the latter the first step
             // of a slide already has Coulomb's acceleration instead of creeping up from the regularisation speed.
-            const Real limit = m_settings.friction * press;
+            const Real limit = m_settings.frictionOf(plane.obstacle) * press;
             const Real push = (p.force[i] + press * plane.normal).norm();
             const Real slip =
                 std::max({(relative - relative.dot(plane.normal) * plane.normal).norm(),
@@ -257,11 +263,10 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
     const ScopeTimer timer(m_timings.projection);
     Particles& p = system.particles;
     m_elapsed += h;
-    const bool sticky = m_settings.response == ContactResponse::Sticky;
 
     // Stuck masses hold their anchors (moving with a kinematic surface) until the pull off the surface exceeds the
     // release force. The pull is the total force of this substep's evaluation, along the surface normal.
-    if (sticky && m_anyStuck)
+    if (m_anyStuck)
     {
         for (std::size_t i = 0; i < p.size(); ++i)
         {
@@ -331,7 +336,6 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
 void ContactSolver::projectMass(Particles& p, Index i, Real h, std::vector<int>& firstTouches, bool& madeStuck)
 {
     const Real radius = m_settings.radius;
-    const bool sticky = m_settings.response == ContactResponse::Sticky;
     const Real touchTolerance = Real(1e-6) * radius;
     for (std::size_t k = m_planeOffsets[i]; k < m_planeOffsets[std::size_t(i) + 1]; ++k)
     {
@@ -370,14 +374,15 @@ void ContactSolver::projectMass(Particles& p, Index i, Real h, std::vector<int>&
         }
         const Vec3 before = p.velocity[i];
         Vec3 tangential = relative - normalSpeed * plane.normal;
-        switch (m_settings.response)
+        const ContactResponse response = m_settings.responseOf(plane.obstacle);
+        switch (response)
         {
         case ContactResponse::Sticky:
             tangential.setZero();
             break;
         case ContactResponse::Friction:
         {
-            const Real budget = m_settings.friction * (-normalSpeed);
+            const Real budget = m_settings.frictionOf(plane.obstacle) * (-normalSpeed);
             const Real speed = tangential.norm();
             tangential = speed <= budget ? Vec3::Zero() : Vec3(tangential * ((speed - budget) / speed));
             break;
@@ -392,7 +397,7 @@ void ContactSolver::projectMass(Particles& p, Index i, Real h, std::vector<int>&
         // tangential change too, as if the impulse had come first; otherwise a mass held by static friction
         // would creep by h^2 g sin(a) every substep. (The normal part is handled by the projection.)
         p.position[i] += h * (change - change.dot(plane.normal) * plane.normal);
-        if (sticky)
+        if (response == ContactResponse::Sticky)
         {
             m_stuck[i] = 1;
             madeStuck = true;

@@ -1,5 +1,6 @@
 #include "Simulator.h"
 
+#include "Format.h"
 #include "InputError.h"
 #include "TaskPool.h"
 
@@ -36,7 +37,7 @@ int Simulator::substepsFor(Real dt) const
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("dt: must be a positive number of seconds (got " + std::to_string(dt) + ")");
+        throw InputError("dt: must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     const StabilityEstimate& estimate = stability();
     if (!std::isfinite(estimate.stableStep))
@@ -46,11 +47,11 @@ int Simulator::substepsFor(Real dt) const
     const Real needed = std::ceil(dt / estimate.stableStep);
     if (needed > Real(m_settings.maxSubsteps))
     {
+        // formatNumber, not llround or std::to_string: a count past 2^63 or a step below 1e-6 s stays readable.
         throw InputError("dt: the " + std::string(integratorName(m_settings.integrator)) + " integrator needs " +
-                         std::to_string(std::llround(needed)) + " substeps of at most " +
-                         std::to_string(estimate.stableStep) + " s for dt = " + std::to_string(dt) +
-                         " s, over the limit of " + std::to_string(m_settings.maxSubsteps) +
-                         "; use the implicit integrator or softer springs");
+                         formatNumber(needed) + " substeps of at most " + formatNumber(estimate.stableStep) +
+                         " s for dt = " + formatNumber(dt) + " s, over the limit of " +
+                         std::to_string(m_settings.maxSubsteps) + "; use the implicit integrator or softer springs");
     }
     return std::max(1, int(needed));
 }
@@ -73,6 +74,11 @@ StepReport Simulator::step(Real dt)
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
+        report.solverCapHits += stats.hitIterationCap ? 1 : 0;
+        if (!isExplicit(m_settings.integrator))
+        {
+            m_solverTally.add(stats);
+        }
         if (m_contact)
         {
             m_contact->afterSubstep(m_system, report.substep);
@@ -119,11 +125,11 @@ void Simulator::checkFinite() const
     {
         if (!p.position[i].allFinite() || !p.velocity[i].allFinite())
         {
-            throw NumericalError("the simulation diverged at t = " + std::to_string(m_time) + " s: mass " +
+            throw NumericalError("the simulation diverged at t = " + formatNumber(m_time) + " s: mass " +
                                  std::to_string(i) + " has a non-finite position or velocity");
         }
     }
-    throw NumericalError("the simulation diverged at t = " + std::to_string(m_time) +
+    throw NumericalError("the simulation diverged at t = " + formatNumber(m_time) +
                          " s: positions or velocities grew beyond the range of double precision");
 }
 } // namespace masse

@@ -4,6 +4,7 @@
 
 #include "ContactSolver.h"
 #include "Integrator.h"
+#include "SolverTally.h"
 #include "StabilityEstimate.h"
 #include "StepHook.h"
 
@@ -34,6 +35,7 @@ struct StepReport
     Real substep = 0;         ///< s
     int solverIterations = 0; ///< summed over substeps (implicit only)
     Real solverResidual = 0;  ///< worst over substeps (implicit only)
+    int solverCapHits = 0;    ///< substeps whose solve stopped at the iteration cap (implicit only)
 };
 
 class Simulator
@@ -59,6 +61,8 @@ public:
     void addHook(StepHook* hook) { m_hooks.push_back(hook); }
     Real time() const { return m_time; }
     std::uint64_t substepCount() const { return m_substepCount; }
+    /// The implicit solver's statistics since construction (empty for the explicit integrators).
+    const SolverTally& solverTally() const { return m_solverTally; }
 
 private:
     void checkFinite() const;
@@ -73,6 +77,7 @@ private:
     std::vector<StepHook*> m_hooks;
     Real m_time = 0;
     std::uint64_t m_substepCount = 0;
+    SolverTally m_solverTally;
     mutable StabilityEstimate m_stability;
     mutable std::uint64_t m_stabilityRevision = ~std::uint64_t(0);
 };

@@ -1,5 +1,7 @@
 #include "FrameOutput.h"
 
+#include "FiniteOutput.h"
+
 #include "AtomicFile.h"
 #include "FrameWriter.h"
 #include "ObstacleVtp.h"
@@ -86,6 +88,7 @@ FrameOutput::FrameOutput(Scene& scene, const std::string& outDir) : m_outDir(out
 
 void FrameOutput::write(Scene& scene)
 {
+    requireFiniteState(scene); // a frame never holds an infinite speed
     const std::string step = stepSuffix(scene.steps());
     const std::string frame = "frames/frame_" + step;
     const Real time = scene.time();

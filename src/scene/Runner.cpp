@@ -1,6 +1,8 @@
 #include "Runner.h"
 
 #include "AtomicFile.h"
+#include "FiniteOutput.h"
+#include "FormingReports.h"
 #include "FrameOutput.h"
 #include "Plot.h"
 #include "Progress.h"
@@ -40,6 +42,36 @@ std::string stateHashText(const Scene& scene)
     std::snprintf(text, sizeof(text), "0x%016llx",
                   static_cast<unsigned long long>(stateHash(scene.system().particles)));
     return text;
+}
+
+nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings)
+{
+    return {
+        {"preconditioner", settings.preconditioner == PreconditionerKind::Cholesky ? "cholesky" : "jacobi"},
+        {"tolerance", settings.tolerance},
+        {"max_iterations", settings.maxIterations},
+        {"steps", tally.solves},
+        {"mean_iterations", tally.meanIterations()},
+        {"largest_iterations", tally.largestIterations},
+        {"steps_at_iteration_cap", tally.capHits},
+        {"final_residual", tally.finalResidual},
+        {"largest_residual", tally.largestResidual},
+    };
+}
+
+std::string solverCapWarning(const SolverTally& tally, const ImplicitSettings& settings)
+{
+    if (tally.capHits == 0)
+    {
+        return "";
+    }
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "warning: %llu of %llu implicit steps stopped at the iteration cap (%d) short of the tolerance %g "
+                  "(largest residual %.3g); raise integrator.max_iterations or shorten dt",
+                  static_cast<unsigned long long>(tally.capHits), static_cast<unsigned long long>(tally.solves),
+                  settings.maxIterations, settings.tolerance, tally.largestResidual);
+    return line;
 }
 
 nlohmann::json summarize(Scene& scene, Real wallSeconds)
@@ -89,7 +121,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
                                   {"max", *std::max_element(t.begin(), t.end()) - 273.15},
                                   {"mean", sum / Real(t.size()) - 273.15}};
     }
-    return {
+    nlohmann::json summary = {
         {"scene", spec.name},
         {"scene_file", spec.path},
         {"structure", structureName(lattice.structure)},
@@ -111,6 +143,11 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"events", events},
         {"final", final},
     };
+    if (!isExplicit(spec.time.integrator))
+    {
+        summary["solver"] = solverSummary(scene.simulator().solverTally(), spec.time.implicit);
+    }
+    return summary;
 }
 
 std::string eventsCsv(const Scene& scene)
@@ -185,10 +222,16 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     result.overheadSeconds = wall - result.stepSeconds;
     result.summary = summarize(scene, wall);
     result.summary["runner_overhead"] = result.stepSeconds > 0 ? result.overheadSeconds / result.stepSeconds : 0.0;
+    if (scene.spec().forming.enabled || scene.spec().formingReport.thicknessMap)
+    {
+        result.summary["forming"] = formingSummary(scene);
+    }
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
     }
+    requireFiniteState(scene);
+    requireFiniteJson(result.summary, "summary.json:");
     if (frames)
     {
         frames->finish(scene); // the final state is a frame even when the step count is not a multiple of k
@@ -208,6 +251,7 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
             plotPng(sectionPlotScript(options.outDir + "/thickness_section.csv", title),
                     options.outDir + "/thickness_section.png");
         }
+        writeFormingReports(scene, options.outDir);
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
     }
