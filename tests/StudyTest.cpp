@@ -3,6 +3,7 @@
 
 #include "core/InputError.h"
 #include "scene/JsonPath.h"
+#include "scene/SceneFile.h"
 #include "scene/SceneOverrides.h"
 #include "scene/Study.h"
 #include "scene/StudyDesign.h"

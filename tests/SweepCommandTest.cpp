@@ -76,16 +76,15 @@ std::size_t finishedCases(const fs::path& dir)
     return count;
 }
 
-/// The results of a clean run with one worker, made once for the tests that compare with it.
-const std::string& referenceResults()
+/// The results of a clean run with one worker, for the tests that compare with it (in a folder of the test's own:
+/// ctest runs tests in parallel processes).
+std::string referenceResults()
 {
-    static const std::string results = [] {
-        const fs::path dir = freshFolder("sweep-reference");
-        const Outcome o = masse("sweep " + study + " --out " + dir.string() + " --jobs 1 --no-plots");
-        EXPECT_EQ(o.exitCode, 0) << o.output;
-        return readText(dir / "results.csv");
-    }();
-    return results;
+    const fs::path dir =
+        freshFolder(std::string("sweep-reference-") + testing::UnitTest::GetInstance()->current_test_info()->name());
+    const Outcome o = masse("sweep " + study + " --out " + dir.string() + " --jobs 1 --no-plots");
+    EXPECT_EQ(o.exitCode, 0) << o.output;
+    return readText(dir / "results.csv");
 }
 } // namespace
 
@@ -105,8 +104,9 @@ TEST(SetOption, RunTakesSetAndRefusesAnUnknownKeyWithCode2)
     EXPECT_NE(unknown.output.find("--set contact.frction=0.2: "), std::string::npos) << unknown.output;
     EXPECT_NE(unknown.output.find("did you mean 'friction'"), std::string::npos) << unknown.output;
     EXPECT_FALSE(fs::exists(bad)) << "nothing is written for bad input";
-    for (const std::string command : {"check " + source + "/data/regression/slope.json", "view", "compare " +
-                                          source + "/data/scenes/slope.json --out " + bad.string()})
+    const std::vector<std::string> commands = {"check " + source + "/data/regression/slope.json", "view",
+                                               "compare " + source + "/data/scenes/slope.json --out " + bad.string()};
+    for (const std::string& command : commands)
     {
         const Outcome o = masse(command + " --set contact.frction=0.2");
         EXPECT_EQ(o.exitCode, 2) << command << ": " << o.output;
@@ -116,7 +116,7 @@ TEST(SetOption, RunTakesSetAndRefusesAnUnknownKeyWithCode2)
 
 TEST(Sweep, TwoWorkersGiveTheSameResultsAsOne)
 {
-    const std::string& one = referenceResults();
+    const std::string one = referenceResults();
     const fs::path dir = freshFolder("sweep-two-jobs");
     const Outcome two = masse("sweep " + study + " --out " + dir.string() + " --jobs 2");
     ASSERT_EQ(two.exitCode, 0) << two.output;
@@ -154,7 +154,7 @@ TEST(Sweep, TwoWorkersGiveTheSameResultsAsOne)
 
 TEST(Sweep, AKilledSweepResumesWithOnlyTheMissingCases)
 {
-    const std::string& reference = referenceResults();
+    const std::string reference = referenceResults();
     const fs::path dir = freshFolder("sweep-killed");
     const fs::path log = fs::path(testing::TempDir()) / "sweep-killed.log";
     const pid_t pid = ::fork();

@@ -137,8 +137,8 @@ int submitToSlurm(const scene::Study& study, const std::string& dir, const std::
     slurm.jobName = "masse-" + study.name;
     slurm.partition = options.partition;
     slurm.timeLimit = options.timeLimit;
-    slurm.threads = options.threads;
-    slurm.cpusPerTask = options.cpusPerTask > 0 ? options.cpusPerTask : std::max(1, options.threads);
+    slurm.threads = std::max(1, options.threads);
+    slurm.cpusPerTask = options.cpusPerTask > 0 ? options.cpusPerTask : slurm.threads;
     slurm.throttle = options.throttle;
     const std::string script = (fs::path(dir) / "sweep.sbatch").string();
     fs::create_directories(fs::path(dir) / "slurm");
@@ -229,7 +229,8 @@ void runSweep(const SweepOptions& options)
     scene::LocalRunOptions local;
     local.masse = scene::currentExecutable();
     local.jobs = options.jobs;
-    local.threads = options.threads;
+    // One thread per case unless asked: --jobs N cases side by side use N cores (masse run alone takes them all).
+    local.threads = std::max(1, options.threads);
     local.terminal = ::isatty(STDERR_FILENO) != 0;
     std::fflush(stdout);
     const scene::LocalRunReport report = scene::runCasesLocally(dir, cases, local, std::cerr);
@@ -262,7 +263,7 @@ void addSweepCommand(CLI::App& app)
     command->add_option("--out", options->out, "Study folder (made, or resumed if it holds this study)");
     command->add_option("--collect", options->collect, "Collect a study folder: results.csv, plots and a table");
     command->add_option("--jobs", options->jobs, "Cases run at once here (worker processes; default 1)");
-    command->add_option("--threads", options->threads, "Threads per case, passed to masse run (default: its own)");
+    command->add_option("--threads", options->threads, "Threads per case, passed to masse run (default 1)");
     command->add_flag("--retry-failed", options->retryFailed, "Run failed cases again (finished ones never rerun)");
     command->add_flag("--slurm", options->slurm, "Write an sbatch job array over the cases and submit it");
     command->add_option("--partition", options->partition, "Slurm partition (default: the cluster's)");

@@ -3,6 +3,7 @@
 /// (after any "extends" is merged) before it is read, so a key set this way is checked like one in the file.
 
 #include "JsonPath.h"
+#include "SceneFile.h"
 #include "SceneSpec.h"
 
 #include <nlohmann/json.hpp>

@@ -166,18 +166,11 @@ void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, c
     }
     // Walk down as far as the summary goes and say what the last object reached holds.
     const nlohmann::json* at = &summary;
-    std::string reached = "summary.json";
+    JsonPath walked;
     for (const JsonPathStep& step : path.steps)
     {
-        const nlohmann::json* next = nullptr;
-        if (step.isIndex && at->is_array() && step.index < at->size())
-        {
-            next = &(*at)[step.index];
-        }
-        else if (!step.isIndex && at->is_object() && at->contains(step.key))
-        {
-            next = &(*at)[step.key];
-        }
+        walked.steps.push_back(step);
+        const nlohmann::json* next = findAt(summary, walked);
         if (!next)
         {
             std::string holds;
@@ -187,27 +180,19 @@ void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, c
                 {
                     holds += (holds.empty() ? "" : ", ") + item.key();
                 }
-                if (at == &summary)
-                {
-                    for (const std::string& key : summaryKeysAddedByTheRunner)
-                    {
-                        holds += ", " + key;
-                    }
-                }
                 holds = " (it holds " + holds + ")";
             }
             else if (at->is_array())
             {
                 holds = " (a list of " + std::to_string(at->size()) + ")";
             }
+            walked.steps.pop_back();
+            const std::string reached = walked.steps.empty() ? std::string("summary.json") : walked.text();
+            const std::string missing = step.isIndex ? "[" + std::to_string(step.index) + "]" : "'" + step.key + "'";
             throw InputError(where + ": " + output.path + ": the scene's summary.json has no such value: " +
-                             reached + " has no " + (step.isIndex ? "[" + std::to_string(step.index) + "]" : "'" +
-                             step.key + "'") + holds);
+                             reached + " has no " + missing + holds);
         }
         at = next;
-        reached = reached == "summary.json" ? step.key : reached + (step.isIndex ? "" : ".") +
-                                                             (step.isIndex ? "[" + std::to_string(step.index) + "]"
-                                                                           : step.key);
     }
     if (at->is_object() || at->is_array())
     {

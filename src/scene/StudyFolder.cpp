@@ -133,7 +133,9 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
         }
     }
 
+    // study.json first: a sweep interrupted while writing the cases finds its own study here and completes them.
     fs::create_directories(fs::path(dir) / "cases");
+    writeFileAtomically((fs::path(dir) / "study.json").string(), record.dump(2) + "\n");
     std::ostringstream manifest;
     manifest << "case,folder";
     for (const StudyParameter& p : study.parameters)
@@ -157,7 +159,6 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
         manifest << "\n";
     }
     writeFileAtomically((fs::path(dir) / "cases.csv").string(), manifest.str());
-    writeFileAtomically((fs::path(dir) / "study.json").string(), record.dump(2) + "\n");
 }
 
 StudyRecord readStudyRecord(const std::string& dir)

@@ -1,6 +1,6 @@
 #pragma once
 /// Runs a study's cases on this machine: N worker processes, each `masse run CASE/scene.json --out CASE` (single
-/// threaded unless `threads` is given), its output in CASE/run.log and its exit code and wall time in
+/// threaded unless `threads` says otherwise), its output in CASE/run.log and its exit code and wall time in
 /// CASE/status.txt. A case that fails is recorded and the others go on. Workers die with the sweep (a killed sweep
 /// leaves no orphans writing into case folders), and the cases they left without a status run again on resume.
 
@@ -14,7 +14,7 @@ struct LocalRunOptions
 {
     std::string masse;    ///< the masse executable the workers run
     int jobs = 1;         ///< worker processes at once
-    int threads = 0;      ///< passed to each run as --threads when > 0
+    int threads = 1;      ///< passed to each run as --threads
     bool terminal = false; ///< progress redrawn in place (else one line per finished case)
 };
 

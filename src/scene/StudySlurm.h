@@ -16,7 +16,7 @@ struct SlurmOptions
     std::string timeLimit = "01:00:00";
     int cpusPerTask = 1;
     int throttle = 0;      ///< at most this many tasks at once (0: no limit)
-    int threads = 0;       ///< passed to each run as --threads when > 0
+    int threads = 1;       ///< passed to each run as --threads
 };
 
 /// "0-3,5,7-9": Slurm's --array list for the indices (sorted, without repeats).
