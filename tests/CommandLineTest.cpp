@@ -245,3 +245,15 @@ TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
         EXPECT_FALSE(std::filesystem::exists(out)) << arguments;
     }
 }
+
+// `masse demo --headless --out DIR` prints the Figure 18 table and plots it, as the README says.
+TEST(CommandLine, DemoHeadlessPlotsFigure18)
+{
+    const std::filesystem::path folder = freshFolder("demo-headless");
+    const Outcome o = masse("demo --headless --out " + folder.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    EXPECT_NE(o.output.find("12x2x12"), std::string::npos) << o.output;
+    EXPECT_TRUE(std::filesystem::exists(folder / "figure18.csv"));
+    ASSERT_TRUE(std::filesystem::exists(folder / "figure18.png"));
+    EXPECT_GT(std::filesystem::file_size(folder / "figure18.png"), 1000u);
+}

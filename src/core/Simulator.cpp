@@ -62,10 +62,12 @@ StepReport Simulator::step(Real dt)
     {
         m_contact->beginFrame(m_system, m_time, dt, m_integrator->honoursConstraints());
     }
+    m_guard.beforeHooks(m_system);
     for (StepHook* hook : m_hooks)
     {
         hook->beginFrame(m_system, m_time, dt);
     }
+    m_guard.afterHooks(m_system);
     for (int i = 0; i < report.substeps; ++i)
     {
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
@@ -76,10 +78,12 @@ StepReport Simulator::step(Real dt)
             m_contact->afterSubstep(m_system, report.substep);
         }
         const Real substepEnd = m_time + Real(i + 1) * report.substep;
+        m_guard.beforeHooks(m_system);
         for (StepHook* hook : m_hooks)
         {
             hook->afterSubstep(m_system, report.substep, substepEnd);
         }
+        m_guard.afterHooks(m_system);
     }
     m_substepCount += std::uint64_t(report.substeps);
     m_time += dt;
@@ -87,36 +91,14 @@ StepReport Simulator::step(Real dt)
     {
         m_contact->endFrame(m_system, m_time);
     }
+    m_guard.beforeHooks(m_system);
     for (StepHook* hook : m_hooks)
     {
         hook->endFrame(m_system, m_time);
     }
-    checkFinite();
+    m_guard.afterHooks(m_system);
+    m_guard.check(m_system, m_time, dt, m_contact ? &m_contact->contactForce() : nullptr);
     return report;
 }
 
-void Simulator::checkFinite() const
-{
-    // A NaN or infinity anywhere makes the sum non-finite; the sum vectorises, the search below runs only on failure.
-    const Particles& p = m_system.particles;
-    Real sum = 0;
-    for (std::size_t i = 0; i < p.size(); ++i)
-    {
-        sum += p.position[i].sum() + p.velocity[i].sum();
-    }
-    if (std::isfinite(sum))
-    {
-        return;
-    }
-    for (std::size_t i = 0; i < p.size(); ++i)
-    {
-        if (!p.position[i].allFinite() || !p.velocity[i].allFinite())
-        {
-            throw NumericalError("the simulation diverged at t = " + std::to_string(m_time) + " s: mass " +
-                                 std::to_string(i) + " has a non-finite position or velocity");
-        }
-    }
-    throw NumericalError("the simulation diverged at t = " + std::to_string(m_time) +
-                         " s: positions or velocities grew beyond the range of double precision");
-}
 } // namespace masse

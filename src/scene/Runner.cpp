@@ -6,6 +6,7 @@
 #include "Progress.h"
 #include "SheetReports.h"
 
+#include "core/Format.h"
 #include "core/StateHash.h"
 
 #include <algorithm>
@@ -172,6 +173,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
             writeFrame(scene, frameDirectory, 0, surface);
         }
     }
+    if (const std::string warning = scene.substepWarning(); !warning.empty())
+    {
+        progressOut << "warning: " << warning << "\n";
+    }
     Progress progress(progressOut, options.terminal, scene.spec().run.duration);
     const Clock::time_point start = Clock::now();
     Clock::duration inStep{};
@@ -216,9 +221,26 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     result.overheadSeconds = wall - result.stepSeconds;
     result.summary = summarize(scene, wall);
     result.summary["runner_overhead"] = result.stepSeconds > 0 ? result.overheadSeconds / result.stepSeconds : 0.0;
+    const std::vector<const ScriptAction*> unfired = scene.pendingActions();
+    if (!unfired.empty())
+    {
+        nlohmann::json list = nlohmann::json::array();
+        std::string names;
+        for (const ScriptAction* action : unfired)
+        {
+            const std::string name = action->label.empty() ? actionName(action->kind) : action->label;
+            list.push_back({{"action", actionName(action->kind)}, {"label", action->label}, {"time", action->time}});
+            names += (names.empty() ? "" : ", ") + name + " (" + actionName(action->kind) + " at " +
+                     formatNumber(action->time) + " s)";
+        }
+        result.summary["unfired_actions"] = list;
+        progressOut << "warning: " << unfired.size() << " script action(s) never fired, the run ended at "
+                    << formatNumber(scene.time()) << " s: " << names << "\n";
+    }
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
+        result.summary["final"]["sag"] = sag->series().back().second; // so an expect block can bound it
     }
     if (writing)
     {

@@ -173,7 +173,7 @@ struct SceneSpec
     SheetSpec sheet;
     EnvironmentSpec environment;
     std::vector<bridge::ObstacleSpec> obstacles;
-    /// K per obstacle, for heat exchange on contact (NaN: none); the room's walls exchange none.
+    /// K per obstacle, for heat exchange on contact (NaN: at the air's temperature, as the room's walls are).
     std::vector<Real> obstacleTemperature;
     MaterialSpec material;
     HeatSpec heat;
