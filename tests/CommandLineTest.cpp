@@ -115,7 +115,7 @@ TEST(CommandLine, RunWritesSummaryEventsAndFrames)
     std::ifstream csv(out / "events.csv");
     std::string header;
     std::getline(csv, header);
-    EXPECT_EQ(header, "name,object,sim_time,wall_time");
+    EXPECT_EQ(header, "name,object,sim_time_s,wall_time_s");
 
     int vtp = 0;
     int obj = 0;
@@ -256,4 +256,86 @@ TEST(CommandLine, DemoHeadlessPlotsFigure18)
     EXPECT_TRUE(std::filesystem::exists(folder / "figure18.csv"));
     ASSERT_TRUE(std::filesystem::exists(folder / "figure18.png"));
     EXPECT_GT(std::filesystem::file_size(folder / "figure18.png"), 1000u);
+}
+
+// Issue 16, rows 6 and 11: flags out of range, and steps the integrator cannot take, exit with 2 naming the flag and
+// the range before the output folder exists.
+TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)
+{
+    const std::filesystem::path out = freshFolder("bad-steps");
+    const std::pair<std::string, std::string> cases[] = {
+        {"--dt 0", "--dt: must be a number of seconds in [1e-06, 1] (got '0')"},
+        {"--dt inf", "--dt: must be a number of seconds in [1e-06, 1] (got 'inf')"},
+        {"--dt 1000", "--dt: must be a number of seconds in [1e-06, 1] (got '1000')"},
+        {"--duration 0", "--duration: must be a number of seconds in (0, 1e+06] (got '0')"},
+        {"--duration inf", "--duration: must be a number of seconds in (0, 1e+06] (got 'inf')"},
+        {"--dt 1e-6 --duration 1e6", "--duration / --dt: 1e+06 s in steps of 1e-06 s is 1e+12 steps"},
+        {"--frames-every -5", "--frames-every: must be a whole number of steps in [0, 1000000] (got -5)"},
+    };
+    for (const auto& [flags, expected] : cases)
+    {
+        const Outcome o = masse("run " + source + "/data/scenes/slope.json " + flags + " --out " + out.string());
+        EXPECT_EQ(o.exitCode, 2) << flags << ": " << o.output;
+        EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << flags;
+    }
+    const Outcome stiff = masse("run " + source + "/tests/bad-scenes/stiff-explicit-step.json --frames-every 1 --out " +
+                                out.string());
+    EXPECT_EQ(stiff.exitCode, 2) << stiff.output;
+    EXPECT_NE(stiff.output.find("integrator.dt: the symplectic integrator needs"), std::string::npos) << stiff.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << "the first frame was written before the step was refused";
+}
+
+// Issue 16, row 7: a second run into a folder holding a run is refused; with --force it replaces it whole, so no
+// frame of the first run stays beside the second's summary.
+TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
+{
+    const std::filesystem::path out = freshFolder("mixed");
+    const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.3 --quiet --out " + out.string();
+    ASSERT_EQ(masse(run + " --frames-every 5").exitCode, 0);
+    ASSERT_TRUE(std::filesystem::exists(out / "frames" / "frame_000005.vtp"));
+    const Outcome again = masse(run);
+    EXPECT_EQ(again.exitCode, 2) << again.output;
+    EXPECT_NE(again.output.find("already holds a run (summary.json)"), std::string::npos) << again.output;
+    const Outcome forced = masse(run + " --frames-every 0 --force");
+    ASSERT_EQ(forced.exitCode, 0) << forced.output;
+    EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
+    EXPECT_FALSE(std::filesystem::exists(out / "frames")) << "frames of the first run kept beside the second's";
+    for (const auto& entry : std::filesystem::directory_iterator(out.parent_path()))
+    {
+        EXPECT_EQ(entry.path().filename().string().find(".mixed."), std::string::npos) << entry.path();
+    }
+}
+
+// Issue 16, row 3: a run whose speeds overflow stops with exit code 1 and writes nothing (it wrote speed = inf in
+// its frames and "kinetic_energy": null in summary.json, and exited with 0).
+TEST(CommandLine, ARunBeyondDoubleRangeExitsWithOneAndWritesNothing)
+{
+    const std::filesystem::path out = freshFolder("beyond-range");
+    const Outcome o = masse("run " + source + "/tests/bad-scenes/gravity-beyond-range.json --frames-every 1 --quiet --out " +
+                            out.string());
+    EXPECT_EQ(o.exitCode, 1) << o.output;
+    EXPECT_NE(o.output.find("is not a finite number"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Issue 16, row 12: output paths that cannot be written are refused before the experiment runs (masse paper ran all
+// five sizes, then failed on a file given as --out).
+TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)
+{
+    const std::filesystem::path folder = freshFolder("unwritable");
+    std::filesystem::create_directories(folder);
+    {
+        std::ofstream(folder / "file") << "a file";
+    }
+    const Outcome paper = masse("paper --out " + (folder / "file").string());
+    EXPECT_EQ(paper.exitCode, 2) << paper.output;
+    EXPECT_NE(paper.output.find("--out: '" + (folder / "file").string() + "' exists and is not a folder"),
+              std::string::npos)
+        << paper.output;
+    EXPECT_EQ(paper.output.find("done"), std::string::npos) << "the experiment ran before the output was checked";
+    const Outcome longName =
+        masse("run " + source + "/data/scenes/slope.json --out " + (folder / std::string(300, 'x')).string());
+    EXPECT_EQ(longName.exitCode, 2) << longName.output;
+    EXPECT_NE(longName.output.find("has a name of 300 bytes"), std::string::npos) << longName.output;
 }

@@ -56,7 +56,7 @@ TEST(SceneFile, BadScenesAreRefusedWithTheKeyPath)
         {"missing-mesh.json", "obstacle 'statue': mesh file"},
         {"negative-radius.json", "contact.radius: must be > 0 (got -0.01)"},
         {"unknown-grab.json", "script[0].grab: no earlier grab is labelled 'hand'"},
-        {"negative-dt.json", "integrator.dt: must be > 0 (got -0.03)"},
+        {"negative-dt.json", "integrator.dt: must be in [1e-06, 1] (got -0.03)"},
         {"unknown-structure.json",
          "sheet.structure: unknown value 'hexagon' (expected one of square2d, samm, slamm, trimm)"},
         {"missing-mass.json", "script[0].mass: mass 5000 does not exist (the sheet has 25 masses)"},

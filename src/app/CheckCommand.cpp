@@ -1,7 +1,9 @@
 /// `masse check PATH...`: runs regression scenes and prints a table of what each expected and got.
 
 #include "Commands.h"
+#include "SceneOptions.h"
 
+#include "core/InputError.h"
 #include "scene/Regression.h"
 
 #include <CLI/CLI.hpp>
@@ -18,6 +20,7 @@ struct CheckOptions
 {
     std::vector<std::string> paths;
     bool record = false;
+    std::vector<std::string> settings;
 };
 
 void runCheck(const CheckOptions& options)
@@ -29,6 +32,11 @@ void runCheck(const CheckOptions& options)
         {
             files.push_back(file);
         }
+    }
+    const std::vector<scene::KeyOverride> overrides = parseSettings(options.settings);
+    if (options.record && !overrides.empty())
+    {
+        throw InputError("--record with --set: the expected results would be recorded for a changed scene");
     }
     if (options.record)
     {
@@ -43,7 +51,7 @@ void runCheck(const CheckOptions& options)
     int failed = 0;
     for (const std::string& file : files)
     {
-        results.push_back(scene::runRegression(file));
+        results.push_back(scene::runRegression(file, overrides));
         failed += results.back().passed() ? 0 : 1;
     }
     std::printf("%s", scene::regressionTable(results).c_str());
@@ -64,6 +72,8 @@ void addCheckCommand(CLI::App& app)
     command->add_flag(
         "--record", options->record,
         "Write the observed events and state hash into each file's expect block (after an intended change)");
+    addThreadsOption(*command);
+    addSetOption(*command, options->settings);
     command->callback([options] { runCheck(*options); });
 }
 } // namespace masse::app

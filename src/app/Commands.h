@@ -16,4 +16,5 @@ void addPaperCommand(CLI::App& app);
 void addCheckCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
+void addSweepCommand(CLI::App& app);
 } // namespace masse::app

@@ -6,6 +6,7 @@
 
 #include "core/InputError.h"
 #include "scene/Comparison.h"
+#include "scene/OutputFolder.h"
 #include "scene/Progress.h"
 #include "scene/SceneFile.h"
 
@@ -29,6 +30,7 @@ struct CompareCommandOptions
     std::vector<int> bulletIterations;
     int bulletSubsteps = 0;
     bool quiet = false;
+    bool force = false;
     SceneOverrides overrides;
 };
 
@@ -36,8 +38,7 @@ void runCompare(const CompareCommandOptions& options, bool substepsGiven)
 {
     // Everything that can be wrong with the input is found before the output folder is touched: the scene, the
     // flags, and what the twin refuses (it is built, and calibrated if asked, here).
-    scene::SceneSpec spec = scene::loadScene(options.scene);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
     scene::CompareOptions compare;
     compare.bulletIterations = options.bulletIterations;
     if (substepsGiven && options.bulletSubsteps < 1)
@@ -47,10 +48,7 @@ void runCompare(const CompareCommandOptions& options, bool substepsGiven)
     }
     compare.bulletSubsteps = options.bulletSubsteps;
     scene::validate(compare);
-    if (std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
-    {
-        throw InputError("--out: '" + options.out + "' exists and is not a folder");
-    }
+    scene::OutputFolder folder(options.out, options.force);
     const bool quiet = options.quiet;
     scene::Comparison comparison(std::move(spec), compare,
                                  [quiet](const std::string& line)
@@ -77,7 +75,8 @@ void runCompare(const CompareCommandOptions& options, bool substepsGiven)
         progress.finish(comparison.time(),
                         std::chrono::duration<Real>(std::chrono::steady_clock::now() - start).count());
     }
-    comparison.writeOutputs(options.out);
+    comparison.writeOutputs(folder.staging());
+    folder.commit();
 
     std::printf("%s\n", comparison.table().c_str());
     std::printf("Approximations (how the Bullet twin differs from the scene):\n");
@@ -107,6 +106,7 @@ void addCompareCommand(CLI::App& app)
         "compare", "Run a scene in MaSSE and in its Bullet soft-body twin side by side; write compare.json and plots");
     command->add_option("scene", options->scene, "Scene file (JSON)")->required();
     command->add_option("--out", options->out, "Output folder (created if missing)")->required();
+    command->add_flag("--force", options->force, "Replace an --out folder that already holds files");
     command
         ->add_option("--bullet-iterations", options->bulletIterations,
                      "One Bullet run per count of position-solver passes, e.g. 1,2,4,10 (default: the scene's "
@@ -116,6 +116,7 @@ void addCompareCommand(CLI::App& app)
         command->add_option("--bullet-substeps", options->bulletSubsteps,
                             "Bullet substeps per scene step (default: the scene's bullet.substeps)");
     command->add_flag("--quiet", options->quiet, "No progress display");
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options, substeps] { runCompare(*options, substeps->count() > 0); });
 }

@@ -5,6 +5,7 @@
 #include "SceneOptions.h"
 
 #include "scene/AtomicFile.h"
+#include "scene/OutputFolder.h"
 #include "scene/PaperExperiment.h"
 #include "scene/Plot.h"
 #include "scene/SceneFile.h"
@@ -27,6 +28,7 @@ struct PaperOptions
     std::string scene;
     std::string out;
     std::vector<int> sizes = scene::paperSizes;
+    bool force = false;
     SceneOverrides overrides;
 };
 
@@ -60,8 +62,9 @@ std::string figure18Script(const std::string& csv)
 void runPaper(const PaperOptions& options, bool writeFiles)
 {
     const std::string scenePath = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
-    scene::SceneSpec spec = scene::loadScene(scenePath);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(scenePath, options.overrides);
+    // Checked before the experiment runs; written only when it has finished.
+    scene::OutputFolder folder(writeFiles ? options.out : std::string(), options.force);
     std::printf(
         "The paper's drop experiment (%s): a Table 1 TRiMM sheet falls onto two polyhedra, slides between them\n"
         "to the floor and comes to rest; %s integrator, dt = %g s.\n\n",
@@ -77,11 +80,11 @@ void runPaper(const PaperOptions& options, bool writeFiles)
     }
     if (writeFiles)
     {
-        std::filesystem::create_directories(options.out);
-        const std::string csv = options.out + "/figure18.csv";
+        const std::string csv = folder.staging() + "/figure18.csv";
         scene::writeFileAtomically(csv, scene::paperCsv(rows));
-        scene::plotPng(figure18Script(csv), options.out + "/figure18.png", 1200, 500);
-        std::printf("\nwrote %s and %s/figure18.png\n", csv.c_str(), options.out.c_str());
+        scene::plotPng(figure18Script(csv), folder.staging() + "/figure18.png", 1200, 500);
+        folder.commit();
+        std::printf("\nwrote %s/figure18.csv and %s/figure18.png\n", options.out.c_str(), options.out.c_str());
     }
     if (!allInOrder)
     {
@@ -96,8 +99,10 @@ void addPaperCommand(CLI::App& app)
     CLI::App* command =
         app.add_subcommand("paper", "The paper's Figure 18: the drop experiment for the Table 2 sheet sizes");
     command->add_option("--out", options->out, "Output folder for figure18.csv and figure18.png")->required();
+    command->add_flag("--force", options->force, "Replace an --out folder that already holds files");
     command->add_option("--scene", options->scene, "Drop scene (default: data/scenes/paper-drop.json)");
     command->add_option("--sizes", options->sizes, "Sheet sizes N (default 3,6,8,9,12)")->delimiter(',');
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runPaper(*options, true); });
 }
@@ -112,6 +117,7 @@ void addDemoCommand(CLI::App& app)
     command->add_flag("--headless", *headless, "Print the table even when a display is available");
     command->add_option("--out", options->out,
                         "Headless: also write figure18.csv and the plot figure18.png into this folder");
+    addThreadsOption(*command);
     command->callback(
         [options, headless]
         {

@@ -4,6 +4,7 @@
 #include "SceneOptions.h"
 
 #include "core/InputError.h"
+#include "scene/OutputFolder.h"
 #include "scene/Runner.h"
 #include "scene/SceneFile.h"
 
@@ -12,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <unistd.h>
 
@@ -19,21 +21,28 @@ namespace masse::app
 {
 namespace
 {
+constexpr int notGiven = std::numeric_limits<int>::min();
+
 struct RunOptions
 {
     std::string scene;
     std::string out;
-    int framesEvery = -1;
+    int framesEvery = notGiven;
     std::vector<std::string> formats;
     bool quiet = false;
+    bool force = false;
     SceneOverrides overrides;
 };
 
 void runRun(const RunOptions& options)
 {
     // Everything that can be wrong with the input is found before the output folder is touched.
-    scene::SceneSpec spec = scene::loadScene(options.scene);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
+    if (options.framesEvery != notGiven && (options.framesEvery < 0 || options.framesEvery > 1000000))
+    {
+        throw InputError("--frames-every: must be a whole number of steps in [0, 1000000] (got " +
+                         std::to_string(options.framesEvery) + ")");
+    }
     if (options.framesEvery >= 0)
     {
         spec.output.framesEvery = options.framesEvery;
@@ -53,17 +62,17 @@ void runRun(const RunOptions& options)
         }
         spec.output.formats = options.formats;
     }
-    if (!options.out.empty() && std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out))
-    {
-        throw InputError("--out: '" + options.out + "' exists and is not a folder");
-    }
+    // The run writes into a staging folder that replaces --out only when it has finished: never half a run, never
+    // an earlier run's files beside this one's.
+    scene::OutputFolder folder(options.out, options.force);
     scene::Scene scene(spec);
 
     scene::RunOptions run;
-    run.outDir = options.out;
+    run.outDir = folder.staging();
     run.showProgress = !options.quiet;
     run.terminal = ::isatty(STDERR_FILENO) != 0;
     const scene::RunResult result = scene::runScene(scene, run, std::cerr);
+    folder.commit();
 
     const nlohmann::json& s = result.summary;
     std::printf("scene %s: %s %s, %zu masses, %zu springs, %s dt = %g s\n", s["scene"].get<std::string>().c_str(),
@@ -82,6 +91,21 @@ void runRun(const RunOptions& options)
         s["sim_seconds"].get<double>(), s["wall_seconds"].get<double>(), s["realtime_factor"].get<double>(),
         s["final"]["kinetic_energy"].get<double>(), s["final"]["max_penetration"].get<double>(),
         s["final"]["state_hash"].get<std::string>().c_str());
+    if (s.contains("solver"))
+    {
+        const nlohmann::json& solver = s["solver"];
+        std::printf("implicit solver (%s): %.2f iterations a step (largest %d), %llu steps at the cap of %d, final "
+                    "residual %.3g\n",
+                    solver["preconditioner"].get<std::string>().c_str(), solver["mean_iterations"].get<double>(),
+                    solver["largest_iterations"].get<int>(),
+                    static_cast<unsigned long long>(solver["steps_at_iteration_cap"].get<std::uint64_t>()),
+                    solver["max_iterations"].get<int>(), solver["final_residual"].get<double>());
+        const std::string warning = scene::solverCapWarning(scene.simulator().solverTally(), spec.time.implicit);
+        if (!warning.empty())
+        {
+            std::fprintf(stderr, "%s\n", warning.c_str());
+        }
+    }
     if (!options.out.empty())
     {
         std::printf("wrote %s/summary.json and events.csv\n", options.out.c_str());
@@ -94,10 +118,13 @@ void addRunCommand(CLI::App& app)
     auto options = std::make_shared<RunOptions>();
     CLI::App* command = app.add_subcommand("run", "Run a scene headless; write summary.json, events.csv and frames");
     command->add_option("scene", options->scene, "Scene file (JSON)")->required();
-    command->add_option("--out", options->out, "Output folder (created if missing)");
+    command->add_option("--out", options->out,
+                        "Output folder (created if missing; written when the run has finished, never half)");
+    command->add_flag("--force", options->force, "Replace an --out folder that already holds files");
     command->add_option("--frames-every", options->framesEvery, "Write the sheet every K steps (0: never)");
     command->add_option("--format", options->formats, "Frame formats: vtp, obj")->delimiter(',');
     command->add_flag("--quiet", options->quiet, "No progress display");
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runRun(*options); });
 }

@@ -1,10 +1,15 @@
 #include "SceneOptions.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
+#include "scene/SceneFile.h"
+#include "core/TaskPool.h"
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 
 #ifndef MASSE_DATA_DIR
 #define MASSE_DATA_DIR "data"
@@ -14,11 +19,57 @@ namespace masse::app
 {
 void addSceneOverrides(CLI::App& command, SceneOverrides& overrides)
 {
-    command.add_option("--integrator", overrides.integrator, "Override: euler, symplectic, verlet or implicit");
+    command.add_option("--integrator", overrides.integrator, "Override: euler, symplectic, verlet, implicit or bdf2");
     command.add_option("--dt", overrides.dt, "Override: step in seconds");
     command.add_option("--duration", overrides.duration, "Override: simulated seconds at most");
     command.add_option("--size", overrides.size, "Override: sheet size NxLxN");
+    addSetOption(command, overrides.settings);
 }
+
+void addSetOption(CLI::App& command, std::vector<std::string>& settings)
+{
+    command
+        .add_option("--set", settings,
+                     "Set a scene key by its path, KEY=VALUE (JSON or plain text), e.g. heat.heaters[0].power=8000; "
+                     "repeatable")
+        ->take_all()
+        ->allow_extra_args(false);
+}
+
+std::vector<scene::KeyOverride> parseSettings(const std::vector<std::string>& settings)
+{
+    std::vector<scene::KeyOverride> overrides;
+    for (const std::string& setting : settings)
+    {
+        overrides.push_back(scene::parseKeyOverride(setting));
+    }
+    return overrides;
+}
+
+scene::SceneSpec loadSceneWithOverrides(const std::string& path, const SceneOverrides& overrides)
+{
+    scene::SceneSpec spec = scene::loadScene(path, parseSettings(overrides.settings));
+    applyOverrides(overrides, spec);
+    return spec;
+}
+
+namespace
+{
+/// A number of seconds given to `flag`, in (lo, hi] when lo is 0, else in [lo, hi].
+double secondsFlag(const std::string& flag, const std::string& text, double lo, double hi)
+{
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    const std::string range = lo == 0 ? "(0, " + formatNumber(hi) + "]" : "[" + formatNumber(lo) + ", " +
+                                                                              formatNumber(hi) + "]";
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || !(lo == 0 ? value > 0 : value >= lo) ||
+        !(value <= hi))
+    {
+        throw InputError(flag + ": must be a number of seconds in " + range + " (got '" + text + "')");
+    }
+    return value;
+}
+} // namespace
 
 void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
 {
@@ -33,21 +84,18 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
             throw InputError(std::string("--") + e.what());
         }
     }
-    if (overrides.dt != 0)
+    if (!overrides.dt.empty())
     {
-        if (!(overrides.dt > 0))
-        {
-            throw InputError("--dt: must be > 0 seconds (got " + std::to_string(overrides.dt) + ")");
-        }
-        spec.time.dt = overrides.dt;
+        spec.time.dt = secondsFlag("--dt", overrides.dt, scene::limits::minTimeStep, scene::limits::maxTimeStep);
     }
-    if (overrides.duration != 0)
+    if (!overrides.duration.empty())
     {
-        if (!(overrides.duration > 0))
-        {
-            throw InputError("--duration: must be > 0 seconds (got " + std::to_string(overrides.duration) + ")");
-        }
-        spec.run.duration = overrides.duration;
+        spec.run.duration = secondsFlag("--duration", overrides.duration, 0, scene::limits::maxDuration);
+    }
+    if (!overrides.dt.empty() || !overrides.duration.empty())
+    {
+        scene::checkRunLength(spec.time.dt, spec.run.duration, overrides.dt.empty() ? "integrator.dt" : "--dt",
+                              overrides.duration.empty() ? "run.duration" : "--duration");
     }
     if (!overrides.size.empty())
     {
@@ -61,6 +109,14 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
             throw InputError(std::string("--") + e.what());
         }
     }
+}
+
+void addThreadsOption(CLI::App& command)
+{
+    auto threads = std::make_shared<int>(0);
+    command.add_option("--threads", *threads, "Threads for the engine's kernels (default: $MASSE_THREADS, else every "
+                                              "core); results are the same bits at any count");
+    command.parse_complete_callback([threads] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); });
 }
 
 std::string dataDirectory()

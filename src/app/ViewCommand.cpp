@@ -70,8 +70,12 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
         {"sim_seconds", report.simSeconds},
         {"realtime_factor", report.simSeconds / wall},
         {"step_ms", report.steps > 0 ? 1000 * report.stepSeconds / double(report.steps) : 0.0},
+        {"threads", "simulation apart from drawing"},
         {"draw_ms", 1000 * report.drawSeconds / report.frames},
         {"renderer", report.renderer},
+        {"final_scene", report.finalScene},
+        {"pick_applied_ms", report.pickMeasured ? nlohmann::json(1000 * report.pickAppliedSeconds) : nlohmann::json()},
+        {"pick_applied_frames", report.pickMeasured ? nlohmann::json(report.pickAppliedFrames) : nlohmann::json()},
     };
     std::printf("%s\n", line.dump().c_str());
 }
@@ -79,8 +83,7 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
 void runView(ViewCommandOptions& options)
 {
     const std::string path = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
-    scene::SceneSpec spec = scene::loadScene(path);
-    applyOverrides(options.overrides, spec);
+    scene::SceneSpec spec = loadSceneWithOverrides(path, options.overrides);
     viewer::ViewerOptions& viewer = options.viewer;
     parseWindowSize(options.window, viewer);
     try
@@ -142,6 +145,7 @@ void addViewCommand(CLI::App& app)
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");
     command->add_flag("--compare", options->viewer.compare,
                       "Run Bullet's soft-body twin beside the sheet and draw it as a ghost (see masse compare)");
+    addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
     command->footer("Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
                     "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "

@@ -23,6 +23,7 @@ int main(int argc, char** argv)
     masse::app::addCheckCommand(app);
     masse::app::addCompareCommand(app);
     masse::app::addViewCommand(app);
+    masse::app::addSweepCommand(app);
 
     try
     {

@@ -4,10 +4,108 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
 
 namespace masse::bridge
 {
+namespace
+{
+/// The whitespace-separated words of a line after its tag.
+std::vector<std::string> words(const std::string& line)
+{
+    std::istringstream in(line);
+    std::vector<std::string> result;
+    std::string word;
+    while (in >> word)
+    {
+        result.push_back(word);
+    }
+    return result;
+}
+
+/// Checks what tinyobjloader would read wrongly or with undefined behaviour before it reads the file: it takes "nan"
+/// and "inf" for 0 silently, and casts a `vw` line's vertex number from a float to an int unchecked. Also counts the
+/// triangles Bullet will index (a face of n vertices makes n - 2), refusing more than it can address.
+void checkObjText(const std::string& path, const std::string& where)
+{
+    std::ifstream in(path);
+    if (!in)
+    {
+        throw InputError(where + " cannot be read");
+    }
+    std::string line;
+    std::size_t lineNumber = 0;
+    std::size_t triangles = 0;
+    while (std::getline(in, line))
+    {
+        ++lineNumber;
+        const std::vector<std::string> w = words(line);
+        if (w.empty())
+        {
+            continue;
+        }
+        const std::string at = where + ", line " + std::to_string(lineNumber);
+        if (w[0] == "v")
+        {
+            if (w.size() < 4)
+            {
+                throw InputError(at + ": a vertex needs x, y and z");
+            }
+            for (std::size_t k = 1; k < w.size(); ++k)
+            {
+                char* end = nullptr;
+                const double value = std::strtod(w[k].c_str(), &end); // an underflow to 0 is harmless
+                if (end == w[k].c_str() || *end != '\0' || !std::isfinite(value))
+                {
+                    throw InputError(at + ": vertex coordinate '" + w[k] + "' is not a finite number");
+                }
+            }
+        }
+        else if (w[0] == "vw")
+        {
+            char* end = nullptr;
+            errno = 0;
+            const long vertex = w.size() < 2 ? -1 : std::strtol(w[1].c_str(), &end, 10);
+            if (w.size() < 2 || end == w[1].c_str() || *end != '\0' || errno == ERANGE || vertex < 0 ||
+                vertex > std::numeric_limits<int>::max())
+            {
+                throw InputError(at + ": a vertex weight (vw) needs a vertex number in [0, " +
+                                 std::to_string(std::numeric_limits<int>::max()) + "]");
+            }
+        }
+        else if (w[0] == "mtllib")
+        {
+            // tinyobjloader opens material libraries beside the file; a device or pipe there would never end.
+            for (std::size_t k = 1; k < w.size(); ++k)
+            {
+                const std::filesystem::path library = std::filesystem::path(path).parent_path() / w[k];
+                std::error_code error;
+                if (std::filesystem::exists(library, error) && !std::filesystem::is_regular_file(library, error))
+                {
+                    throw InputError(at + ": material library '" + w[k] + "' is not a regular file");
+                }
+            }
+        }
+        else if (w[0] == "f" && w.size() >= 4)
+        {
+            triangles += w.size() - 3;
+            if (triangles > maxMeshTriangles)
+            {
+                throw InputError(at + ": more than " + std::to_string(maxMeshTriangles) +
+                                 " triangles (after splitting faces into triangles), the most one mesh obstacle may "
+                                 "have (Bullet indexes at most 2^21 per mesh); simplify the mesh");
+            }
+        }
+    }
+}
+} // namespace
+
 PolygonMesh loadObj(const std::string& path, const std::string& owner)
 {
     const std::string where = "obstacle '" + owner + "': mesh file '" + path + "'";
@@ -15,6 +113,7 @@ PolygonMesh loadObj(const std::string& path, const std::string& owner)
     {
         throw InputError(where + " does not exist");
     }
+    checkObjText(path, where);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false; // keep the file's own faces: contact reports name them
     config.vertex_color = false;

@@ -1,7 +1,7 @@
 #include "ObstacleGeometry.h"
 
 #include "BulletMath.h"
-#include "MeshFile.h"
+#include "StlFile.h"
 
 #include "core/InputError.h"
 
@@ -220,7 +220,7 @@ void makeHull(const ObstacleSpec& spec, ObstacleGeometry& g)
 void makeMesh(const ObstacleSpec& spec, ObstacleGeometry& g)
 {
     requirePositive(spec, "scale", spec.meshScale);
-    PolygonMesh mesh = loadObj(spec.meshPath, spec.name);
+    PolygonMesh mesh = loadMeshFile(spec.meshPath, spec.name);
     for (const Vec3& v : mesh.vertices)
     {
         g.vertices.push_back(spec.meshScale * v);

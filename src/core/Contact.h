@@ -22,6 +22,15 @@ enum class ContactResponse
 ContactResponse parseContactResponse(std::string_view name);
 std::string_view contactResponseName(ContactResponse response);
 
+/// An obstacle's own contact response, instead of the scene's (a plug that slides over the sheet while the mould
+/// grips it).
+struct ObstacleContact
+{
+    bool own = false; ///< false: the obstacle uses ContactSettings::response and friction
+    ContactResponse response = ContactResponse::Friction;
+    Real friction = 0.3;
+};
+
 struct ContactSettings
 {
     ContactResponse response = ContactResponse::Friction;
@@ -31,6 +40,22 @@ struct ContactSettings
     /// m/s. Below this slip the implicit integrator's friction turns viscous (regularised Coulomb), so a mass under
     /// static friction creeps at less than this fraction of it: (push / (mu press)) times this speed.
     Real slipRegularization = 1e-4;
+    /// Per obstacle (the detector's index): a response of its own, where `own` is set; obstacles past the end use
+    /// the response above.
+    std::vector<ObstacleContact> perObstacle;
+
+    ContactResponse responseOf(int obstacle) const
+    {
+        return obstacle >= 0 && std::size_t(obstacle) < perObstacle.size() && perObstacle[std::size_t(obstacle)].own
+                   ? perObstacle[std::size_t(obstacle)].response
+                   : response;
+    }
+    Real frictionOf(int obstacle) const
+    {
+        return obstacle >= 0 && std::size_t(obstacle) < perObstacle.size() && perObstacle[std::size_t(obstacle)].own
+                   ? perObstacle[std::size_t(obstacle)].friction
+                   : friction;
+    }
 };
 
 /// Throws InputError naming the first bad value (non-positive radius, negative friction or release force).

@@ -1,7 +1,9 @@
 #include "ContactSolver.h"
 
+#include "Format.h"
 #include "InputError.h"
 #include "NamedEnum.h"
+#include "TaskPool.h"
 
 #include <algorithm>
 #include <chrono>
@@ -47,16 +49,16 @@ void validate(const ContactSettings& settings)
 {
     if (!(settings.radius > 0) || !std::isfinite(settings.radius))
     {
-        throw InputError("contact.radius: must be a positive number of metres (got " + std::to_string(settings.radius) +
+        throw InputError("contact.radius: must be a positive number of metres (got " + formatNumber(settings.radius) +
                          ")");
     }
     if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
     {
-        throw InputError("contact.friction: must be >= 0 (got " + std::to_string(settings.friction) + ")");
+        throw InputError("contact.friction: must be >= 0 (got " + formatNumber(settings.friction) + ")");
     }
     if (!(settings.stickReleaseForce >= 0) || !std::isfinite(settings.stickReleaseForce))
     {
-        throw InputError("contact.release_force: must be >= 0 N (got " + std::to_string(settings.stickReleaseForce) +
+        throw InputError("contact.release_force: must be >= 0 N (got " + formatNumber(settings.stickReleaseForce) +
                          ")");
     }
 }
@@ -69,7 +71,12 @@ ContactSolver::ContactSolver(ContactDetector& detector, const ContactSettings& s
 void ContactSolver::setSettings(const ContactSettings& settings)
 {
     validate(settings);
-    if (settings.response != ContactResponse::Sticky)
+    bool anySticky = settings.response == ContactResponse::Sticky;
+    for (const ObstacleContact& own : settings.perObstacle)
+    {
+        anySticky = anySticky || (own.own && own.response == ContactResponse::Sticky);
+    }
+    if (!anySticky)
     {
         releaseAll();
     }
@@ -135,14 +142,17 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     // How far each mass can get this frame: its current speed plus twice the distance its current acceleration
     // would carry it, plus a radius of slack. A mass that outruns this is caught by the sweep at the end of the frame.
     const Real gravity = system.forces.gravity.norm();
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
-        m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
-    }
+    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
+            m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
+        }
+    });
     m_planes.clear();
     m_detector.setTime(time);
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes);
+    indexPlanesByMass(n);
     // A stuck mass moves with the point of its obstacle it is stuck to, as that point moves during this frame.
     if (m_anyStuck)
     {
@@ -197,12 +207,12 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
             continue;
         }
         Real damping = 0;
-        if (m_settings.response == ContactResponse::Friction)
+        if (m_settings.responseOf(plane.obstacle) == ContactResponse::Friction)
         {
             // The slip the damping is sized for: the current one, or, for a mass at rest pushed harder than
             // friction holds, the slip the excess push gives it within the frame. With the latter the first step
             // of a slide already has Coulomb's acceleration instead of creeping up from the regularisation speed.
-            const Real limit = m_settings.friction * press;
+            const Real limit = m_settings.frictionOf(plane.obstacle) * press;
             const Real push = (p.force[i] + press * plane.normal).norm();
             const Real slip =
                 std::max({(relative - relative.dot(plane.normal) * plane.normal).norm(),
@@ -222,6 +232,26 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     }
 }
 
+void ContactSolver::indexPlanesByMass(std::size_t masses)
+{
+    // The Bullet detector appends planes in mass order already; a test detector need not, so sort stably (each
+    // mass's planes keep their order, which is the order they are applied in).
+    const auto byMass = [](const ContactPlane& x, const ContactPlane& y) { return x.mass < y.mass; };
+    if (!std::is_sorted(m_planes.begin(), m_planes.end(), byMass))
+    {
+        std::stable_sort(m_planes.begin(), m_planes.end(), byMass);
+    }
+    m_planeOffsets.assign(masses + 1, 0);
+    for (const ContactPlane& plane : m_planes)
+    {
+        ++m_planeOffsets[std::size_t(plane.mass) + 1];
+    }
+    for (std::size_t i = 0; i < masses; ++i)
+    {
+        m_planeOffsets[i + 1] += m_planeOffsets[i];
+    }
+}
+
 void ContactSolver::recordFirstContact(int obstacle)
 {
     m_obstacleTouched[std::size_t(obstacle)] = 1;
@@ -233,12 +263,10 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
     const ScopeTimer timer(m_timings.projection);
     Particles& p = system.particles;
     m_elapsed += h;
-    const Real radius = m_settings.radius;
-    const bool sticky = m_settings.response == ContactResponse::Sticky;
 
     // Stuck masses hold their anchors (moving with a kinematic surface) until the pull off the surface exceeds the
     // release force. The pull is the total force of this substep's evaluation, along the surface normal.
-    if (sticky && m_anyStuck)
+    if (m_anyStuck)
     {
         for (std::size_t i = 0; i < p.size(); ++i)
         {
@@ -275,14 +303,46 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
         touch(Index(i), m_restingObstacle[i], m_restingFace[i]);
     }
 
+    // Each mass's planes, over mass ranges: a chunk touches only its own masses. First touches of an obstacle are
+    // collected per chunk and recorded in chunk order, the order a serial loop would find them.
+    const std::size_t masses = p.size();
+    std::vector<std::vector<int>> firstTouches(chunkCount(masses, massChunkSize));
+    std::vector<std::uint8_t> madeStuck(firstTouches.size(), 0);
+    parallelFor(masses, massChunkSize, [&](std::size_t begin, std::size_t end) {
+        const std::size_t chunk = begin / massChunkSize;
+        bool stuck = false;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            if (m_planeOffsets[i] != m_planeOffsets[i + 1])
+            {
+                projectMass(p, Index(i), h, firstTouches[chunk], stuck);
+            }
+        }
+        madeStuck[chunk] = stuck ? 1 : 0;
+    });
+    for (std::size_t chunk = 0; chunk < firstTouches.size(); ++chunk)
+    {
+        m_anyStuck = m_anyStuck || madeStuck[chunk] != 0;
+        for (const int obstacle : firstTouches[chunk])
+        {
+            if (!m_obstacleTouched[std::size_t(obstacle)])
+            {
+                recordFirstContact(obstacle);
+            }
+        }
+    }
+}
+
+void ContactSolver::projectMass(Particles& p, Index i, Real h, std::vector<int>& firstTouches, bool& madeStuck)
+{
+    const Real radius = m_settings.radius;
     const Real touchTolerance = Real(1e-6) * radius;
-    for (std::size_t k = 0; k < m_planes.size(); ++k)
+    for (std::size_t k = m_planeOffsets[i]; k < m_planeOffsets[std::size_t(i) + 1]; ++k)
     {
         const ContactPlane& plane = m_planes[k];
-        const Index i = plane.mass;
         if (p.pinned[i] || m_stuck[i])
         {
-            continue;
+            continue; // (a plane earlier in this loop may have just made it stuck)
         }
         const Real offset = plane.offset + plane.normal.dot(plane.velocity) * m_elapsed;
         const Real separation = plane.normal.dot(p.position[i]) - offset - radius;
@@ -304,7 +364,7 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
         {
             p.position[i] -= separation * plane.normal;
         }
-        touch(i, plane.obstacle, plane.face);
+        touchInChunk(i, plane.obstacle, plane.face, firstTouches);
 
         const Vec3 relative = p.velocity[i] - plane.velocity;
         const Real normalSpeed = relative.dot(plane.normal);
@@ -314,14 +374,15 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
         }
         const Vec3 before = p.velocity[i];
         Vec3 tangential = relative - normalSpeed * plane.normal;
-        switch (m_settings.response)
+        const ContactResponse response = m_settings.responseOf(plane.obstacle);
+        switch (response)
         {
         case ContactResponse::Sticky:
             tangential.setZero();
             break;
         case ContactResponse::Friction:
         {
-            const Real budget = m_settings.friction * (-normalSpeed);
+            const Real budget = m_settings.frictionOf(plane.obstacle) * (-normalSpeed);
             const Real speed = tangential.norm();
             tangential = speed <= budget ? Vec3::Zero() : Vec3(tangential * ((speed - budget) / speed));
             break;
@@ -336,10 +397,10 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
         // tangential change too, as if the impulse had come first; otherwise a mass held by static friction
         // would creep by h^2 g sin(a) every substep. (The normal part is handled by the projection.)
         p.position[i] += h * (change - change.dot(plane.normal) * plane.normal);
-        if (sticky)
+        if (response == ContactResponse::Sticky)
         {
             m_stuck[i] = 1;
-            m_anyStuck = true;
+            madeStuck = true;
             m_anchor[i] = p.position[i];
             m_stuckNormal[i] = plane.normal;
             m_stuckVelocity[i] = plane.velocity;

@@ -91,13 +91,33 @@ private:
             recordFirstContact(obstacle);
         }
     }
+    /// touch() for the parallel projection: the first-contact check is only read, and an obstacle touched for the
+    /// first time is noted in the chunk's list, merged in chunk order afterwards (so events do not depend on threads).
+    void touchInChunk(Index mass, int obstacle, int face, std::vector<int>& firstTouches)
+    {
+        if (m_touchObstacle[mass] < 0)
+        {
+            m_touchObstacle[mass] = obstacle;
+            m_touchFace[mass] = face;
+        }
+        if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
+            !m_obstacleTouched[std::size_t(obstacle)])
+        {
+            firstTouches.push_back(obstacle);
+        }
+    }
+    /// Projects mass i out of its planes after a substep of h (its part of afterSubstep; touches only mass i's state).
+    void projectMass(Particles& p, Index i, Real h, std::vector<int>& firstTouches, bool& madeStuck);
     void recordFirstContact(int obstacle);
+    /// Sorts the frame's planes by mass and fills m_planeOffsets.
+    void indexPlanesByMass(std::size_t masses);
     void resizeFor(std::size_t masses);
 
     ContactDetector& m_detector;
     ContactSettings m_settings;
 
-    std::vector<ContactPlane> m_planes;
+    std::vector<ContactPlane> m_planes; ///< sorted by mass (stably), so each mass's planes are contiguous
+    std::vector<std::size_t> m_planeOffsets; ///< mass i's planes are m_planes[m_planeOffsets[i], m_planeOffsets[i + 1])
     std::vector<Vec3> m_frameStart;
     std::vector<Real> m_reach;
     std::vector<Vec3> m_impulse;

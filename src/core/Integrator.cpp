@@ -13,6 +13,7 @@ constexpr EnumName<IntegratorKind> integratorNames[] = {
     {IntegratorKind::SymplecticEuler, "symplectic"},
     {IntegratorKind::VelocityVerlet, "verlet"},
     {IntegratorKind::ImplicitEuler, "implicit"},
+    {IntegratorKind::Bdf2, "bdf2"},
 };
 } // namespace
 
@@ -28,7 +29,7 @@ std::string_view integratorName(IntegratorKind kind)
 
 bool isExplicit(IntegratorKind kind)
 {
-    return kind != IntegratorKind::ImplicitEuler;
+    return kind != IntegratorKind::ImplicitEuler && kind != IntegratorKind::Bdf2;
 }
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSettings& implicit)
@@ -43,6 +44,8 @@ std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSe
         return makeVelocityVerlet();
     case IntegratorKind::ImplicitEuler:
         return makeImplicitEuler(implicit);
+    case IntegratorKind::Bdf2:
+        return makeBdf2(implicit);
     }
     return nullptr;
 }

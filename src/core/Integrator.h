@@ -1,6 +1,6 @@
 #pragma once
 /// Time integrators. The three explicit ones are conditionally stable and are substepped by the Simulator from a
-/// stability estimate; implicit Euler is stable at any step.
+/// stability estimate; implicit Euler and BDF2 are stable at any step.
 
 #include "MassSpringSystem.h"
 
@@ -15,12 +15,20 @@ enum class IntegratorKind
     SymplecticEuler, ///< v += h a, x += h v (new velocity); conserves energy on average
     VelocityVerlet,  ///< second order; forces re-evaluated at the new positions
     ImplicitEuler,   ///< backward Euler, linearised (Baraff and Witkin 1998), solved by conjugate gradient
+    Bdf2,            ///< second-order backward differentiation, linearised (Choi and Ko 2002); little numerical damping
 };
 
-/// Parses "euler", "symplectic", "verlet" or "implicit"; throws InputError naming the allowed names.
+/// Parses "euler", "symplectic", "verlet", "implicit" or "bdf2"; throws InputError naming the allowed names.
 IntegratorKind parseIntegrator(std::string_view name);
 std::string_view integratorName(IntegratorKind kind);
 bool isExplicit(IntegratorKind kind);
+
+/// The implicit solver's preconditioner (see CholeskyPreconditioner.h for why the factor is the default).
+enum class PreconditionerKind
+{
+    Cholesky, ///< a sparse LDL^T factor of a recent matrix, refactored only when it has drifted
+    Jacobi,   ///< the diagonal: the old solver's; iterations grow with size and stiffness
+};
 
 /// Settings of the implicit solver.
 struct ImplicitSettings
@@ -28,13 +36,18 @@ struct ImplicitSettings
     Real tolerance = 1e-5; ///< relative residual of the conjugate gradient (1e-5: the physics tests agree with 1e-7 at
                            ///< a third of the iterations)
     int maxIterations = 1000; ///< per step
+    PreconditionerKind preconditioner = PreconditionerKind::Cholesky;
+    /// Iterations the old factor gets before it is refactored from the current matrix (the solve then finishes in
+    /// one or two more): keeps every step near this count while refactoring only when the matrix has drifted.
+    int refreshAfterIterations = 8;
 };
 
 /// What one step of an integrator reports.
 struct IntegratorStats
 {
-    int solverIterations = 0; ///< conjugate-gradient iterations (implicit only)
-    Real solverResidual = 0;  ///< relative residual reached (implicit only)
+    int solverIterations = 0;     ///< conjugate-gradient iterations (implicit only)
+    Real solverResidual = 0;      ///< relative residual reached (implicit only)
+    bool hitIterationCap = false; ///< the solve stopped at maxIterations short of the tolerance
 };
 
 class Integrator
@@ -55,4 +68,5 @@ std::unique_ptr<Integrator> makeExplicitEuler();
 std::unique_ptr<Integrator> makeSymplecticEuler();
 std::unique_ptr<Integrator> makeVelocityVerlet();
 std::unique_ptr<Integrator> makeImplicitEuler(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeBdf2(const ImplicitSettings& settings);
 } // namespace masse

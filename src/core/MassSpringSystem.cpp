@@ -1,6 +1,7 @@
 #include "MassSpringSystem.h"
 
 #include "Damping.h"
+#include "Format.h"
 #include "InputError.h"
 
 #include <cmath>
@@ -20,7 +21,7 @@ void validate(const SheetParams& params)
 {
     if (!(params.massPerMass > 0) || !std::isfinite(params.massPerMass))
     {
-        throw InputError("mass: must be a positive number of kg (got " + std::to_string(params.massPerMass) + ")");
+        throw InputError("mass: must be a positive number of kg (got " + formatNumber(params.massPerMass) + ")");
     }
     for (int cls = 0; cls < springClassCount; ++cls)
     {
@@ -28,12 +29,12 @@ void validate(const SheetParams& params)
         if (!(p.stiffness > 0) || !std::isfinite(p.stiffness))
         {
             throw InputError(std::string("stiffness.") + springClassKey(cls) +
-                             ": must be a positive number of N/m (got " + std::to_string(p.stiffness) + ")");
+                             ": must be a positive number of N/m (got " + formatNumber(p.stiffness) + ")");
         }
         if (!(p.dampingRatio >= 0) || !std::isfinite(p.dampingRatio))
         {
             throw InputError(std::string("damping.") + springClassKey(cls) + ": damping ratio must be >= 0 (got " +
-                             std::to_string(p.dampingRatio) + ")");
+                             formatNumber(p.dampingRatio) + ")");
         }
     }
 }

@@ -1,7 +1,10 @@
 #include "Simulator.h"
 
+#include "Format.h"
 #include "InputError.h"
+#include "TaskPool.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -34,7 +37,7 @@ int Simulator::substepsFor(Real dt) const
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("dt: must be a positive number of seconds (got " + std::to_string(dt) + ")");
+        throw InputError("dt: must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     const StabilityEstimate& estimate = stability();
     if (!std::isfinite(estimate.stableStep))
@@ -44,11 +47,11 @@ int Simulator::substepsFor(Real dt) const
     const Real needed = std::ceil(dt / estimate.stableStep);
     if (needed > Real(m_settings.maxSubsteps))
     {
+        // formatNumber, not llround or std::to_string: a count past 2^63 or a step below 1e-6 s stays readable.
         throw InputError("dt: the " + std::string(integratorName(m_settings.integrator)) + " integrator needs " +
-                         std::to_string(std::llround(needed)) + " substeps of at most " +
-                         std::to_string(estimate.stableStep) + " s for dt = " + std::to_string(dt) +
-                         " s, over the limit of " + std::to_string(m_settings.maxSubsteps) +
-                         "; use the implicit integrator or softer springs");
+                         formatNumber(needed) + " substeps of at most " + formatNumber(estimate.stableStep) +
+                         " s for dt = " + formatNumber(dt) + " s, over the limit of " +
+                         std::to_string(m_settings.maxSubsteps) + "; use the implicit integrator or softer springs");
     }
     return std::max(1, int(needed));
 }
@@ -73,6 +76,11 @@ StepReport Simulator::step(Real dt)
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
+        report.solverCapHits += stats.hitIterationCap ? 1 : 0;
+        if (!isExplicit(m_settings.integrator))
+        {
+            m_solverTally.add(stats);
+        }
         if (m_contact)
         {
             m_contact->afterSubstep(m_system, report.substep);
@@ -97,8 +105,38 @@ StepReport Simulator::step(Real dt)
         hook->endFrame(m_system, m_time);
     }
     m_guard.afterHooks(m_system);
+    checkFinite(); // on every core; the guard's own finite check then only names the mass again
     m_guard.check(m_system, m_time, dt, m_contact ? &m_contact->contactForce() : nullptr);
     return report;
 }
 
+void Simulator::checkFinite() const
+{
+    // Each chunk checks its masses (a sum of every coordinate is non-finite if any is, and vectorises); the search
+    // for the culprit below runs only on failure.
+    const Particles& p = m_system.particles;
+    std::vector<std::uint8_t> chunkFinite(chunkCount(p.size(), massChunkSize), 1);
+    parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
+        Real sum = 0;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            sum += p.position[i].sum() + p.velocity[i].sum();
+        }
+        chunkFinite[begin / massChunkSize] = std::isfinite(sum) ? 1 : 0;
+    });
+    if (std::all_of(chunkFinite.begin(), chunkFinite.end(), [](std::uint8_t finite) { return finite != 0; }))
+    {
+        return;
+    }
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        if (!p.position[i].allFinite() || !p.velocity[i].allFinite())
+        {
+            throw NumericalError("the simulation diverged at t = " + formatNumber(m_time) + " s: mass " +
+                                 std::to_string(i) + " has a non-finite position or velocity");
+        }
+    }
+    throw NumericalError("the simulation diverged at t = " + formatNumber(m_time) +
+                         " s: positions or velocities grew beyond the range of double precision");
+}
 } // namespace masse

@@ -5,6 +5,7 @@
 #include "ContactSolver.h"
 #include "DivergenceGuard.h"
 #include "Integrator.h"
+#include "SolverTally.h"
 #include "StabilityEstimate.h"
 #include "StepHook.h"
 
@@ -28,6 +29,7 @@ struct StepReport
     Real substep = 0;         ///< s
     int solverIterations = 0; ///< summed over substeps (implicit only)
     Real solverResidual = 0;  ///< worst over substeps (implicit only)
+    int solverCapHits = 0;    ///< substeps whose solve stopped at the iteration cap (implicit only)
 };
 
 class Simulator
@@ -55,8 +57,11 @@ public:
     /// The divergence guard run after every step (its bounds come from the scene).
     DivergenceGuard& guard() { return m_guard; }
     std::uint64_t substepCount() const { return m_substepCount; }
+    /// The implicit solver's statistics since construction (empty for the explicit integrators).
+    const SolverTally& solverTally() const { return m_solverTally; }
 
 private:
+    void checkFinite() const;
     /// The stability estimate, recomputed only when the system changed (its revision) or the repulsion makes it
     /// depend on the current spring lengths.
     const StabilityEstimate& stability() const;
@@ -69,6 +74,7 @@ private:
     DivergenceGuard m_guard;
     Real m_time = 0;
     std::uint64_t m_substepCount = 0;
+    SolverTally m_solverTally;
     mutable StabilityEstimate m_stability;
     mutable std::uint64_t m_stabilityRevision = ~std::uint64_t(0);
 };

@@ -1,12 +1,15 @@
 #pragma once
 /// The springs of a sheet: topology (which masses, rest length, class) apart from coefficients.
 ///
-/// Topology is fixed once a lattice is built. Coefficients start from the spring's class (planar or inter-layer) and
+/// Topology (the ends) is append-only: springs are added while a lattice is built and never rewired, so the adjacency
+/// the force kernels gather through is built once, on first use, and shared by copies. Coefficients start from the spring's class (planar or inter-layer) and
 /// may later be rewritten per spring (heat changes stiffness), so the force kernel reads them per spring.
 
+#include "SpringAdjacency.h"
 #include "Types.h"
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace masse
@@ -46,6 +49,17 @@ struct SpringSet
 
     std::size_t size() const { return ends.size(); }
 
+    /// The springs at each of `massCount` masses; built on the first call (and again if springs were added since),
+    /// from one thread, before kernels run in parallel.
+    const SpringAdjacency& adjacency(std::size_t massCount) const
+    {
+        if (!m_adjacency || m_adjacency->springCount != ends.size() || m_adjacency->massCount() != massCount)
+        {
+            m_adjacency = std::make_shared<const SpringAdjacency>(buildSpringAdjacency(ends, massCount));
+        }
+        return *m_adjacency;
+    }
+
     void add(Index a, Index b, Real rest, SpringClass cls)
     {
         ends.push_back({a, b});
@@ -54,5 +68,8 @@ struct SpringSet
         stiffness.push_back(0);
         damping.push_back(0);
     }
+
+private:
+    mutable std::shared_ptr<const SpringAdjacency> m_adjacency;
 };
 } // namespace masse

@@ -3,6 +3,7 @@
 
 #include "Forces.h"
 #include "Integrator.h"
+#include "TaskPool.h"
 
 namespace masse
 {
@@ -15,11 +16,13 @@ public:
     {
         Particles& p = system.particles;
         evaluateForces(system, p.position, p.velocity, p.force);
-        for (std::size_t i = 0; i < p.size(); ++i)
-        {
-            p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
-            p.position[i] += h * p.velocity[i];
-        }
+        parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+            {
+                p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
+                p.position[i] += h * p.velocity[i];
+            }
+        });
         return {};
     }
     IntegratorKind kind() const override { return IntegratorKind::SymplecticEuler; }

@@ -1,6 +1,7 @@
 #include "ViscoelasticSprings.h"
 
 #include "Damping.h"
+#include "Format.h"
 #include "InputError.h"
 #include "NamedEnum.h"
 #include "Simulator.h"
@@ -40,7 +41,7 @@ void validate(const SpringModelSettings& settings)
 {
     if (!(settings.dampingRatio >= 0 && settings.dampingRatio <= 1))
     {
-        throw InputError("damping_ratio: must be in [0, 1] (got " + std::to_string(settings.dampingRatio) + ")");
+        throw InputError("damping_ratio: must be in [0, 1] (got " + formatNumber(settings.dampingRatio) + ")");
     }
     if (!(settings.initialTemperature > 0) || !std::isfinite(settings.initialTemperature))
     {
@@ -267,7 +268,7 @@ void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, Real h, Real ti
         {
             if (!std::isfinite(m_state[s].force) || !std::isfinite(m_state[s].kelvinExtension))
             {
-                throw NumericalError("the spring model diverged at t = " + std::to_string(time) + " s: spring " +
+                throw NumericalError("the spring model diverged at t = " + formatNumber(time) + " s: spring " +
                                      std::to_string(s) + " has a non-finite force or Kelvin extension");
             }
         }

@@ -214,8 +214,11 @@ std::string Comparison::table() const
         runs.push_back(&r);
     }
     const auto stages = stagesOf(runs);
-    for (const auto& [name, object] : stages)
+    for (const auto& stage : stages)
     {
+        // Named copies, not structured bindings: C++20 lets a lambda capture a binding, but clang 14 refuses it.
+        const std::string& name = stage.first;
+        const std::string& object = stage.second;
         row(name == "rest" ? "rest (s)" : "first contact " + object + " (s)",
             each(
                 [&](std::size_t k)
@@ -281,7 +284,7 @@ std::string Comparison::table() const
 std::string Comparison::seriesCsv() const
 {
     std::ostringstream out;
-    out << "time";
+    out << "time_s";
     for (const EngineResult& r : m_results)
     {
         out << ',' << r.key << "_penetration_mm," << r.key << "_kinetic_energy_J";

@@ -1,30 +1,53 @@
 #include "FrameWriter.h"
 
-#include <cmath>
-#include <cstdio>
+#include "VtkXml.h"
+
 #include <sstream>
 
 namespace masse::scene
 {
 namespace
 {
-void number(std::ostringstream& out, double value)
-{
-    char buffer[32];
-    std::snprintf(buffer, sizeof(buffer), "%.9g", value);
-    out << buffer;
-}
+using vtkxml::number;
+using vtkxml::triple;
 
-/// "x y z" with enough digits to read back the same doubles' meaning (9 significant).
-void triple(std::ostringstream& out, const Vec3& v)
+void scalarArray(std::ostringstream& out, const std::string& name, const std::vector<double>& values)
 {
-    number(out, v.x());
-    out << ' ';
-    number(out, v.y());
-    out << ' ';
-    number(out, v.z());
+    out << "<DataArray type=\"Float64\" Name=\"" << vtkxml::escaped(name) << "\" format=\"ascii\">\n";
+    for (double value : values)
+    {
+        number(out, value);
+        out << '\n';
+    }
+    out << "</DataArray>\n";
 }
 } // namespace
+
+std::vector<double> meanSpringStrain(const MassSpringSystem& system)
+{
+    const std::vector<Vec3>& x = system.particles.position;
+    const SpringSet& springs = system.springs;
+    std::vector<double> strain(x.size(), 0.0);
+    std::vector<int> count(x.size(), 0);
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds& e = springs.ends[s];
+        const Real rest = springs.restLength[s];
+        const Real stretch = ((x[e.a] - x[e.b]).norm() - rest) / rest;
+        strain[e.a] += stretch;
+        strain[e.b] += stretch;
+        ++count[e.a];
+        ++count[e.b];
+    }
+    for (std::size_t i = 0; i < strain.size(); ++i)
+    {
+        if (count[i] > 0)
+        {
+            strain[i] /= count[i];
+        }
+    }
+    return strain;
+}
 
 std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& surface, const FrameFields& fields)
 {
@@ -32,8 +55,14 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     const SpringSet& s = system.springs;
     std::ostringstream out;
     out << "<?xml version=\"1.0\"?>\n"
-        << "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n<PolyData>\n"
-        << "<Piece NumberOfPoints=\"" << p.size() << "\" NumberOfVerts=\"0\" NumberOfLines=\"" << s.size()
+        << "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n<PolyData>\n<FieldData>\n";
+    vtkxml::timeValue(out, fields.time);
+    if (!fields.obstacleNames.empty())
+    {
+        vtkxml::stringArray(out, "obstacle_names", fields.obstacleNames);
+    }
+    out << "</FieldData>\n";
+    out << "<Piece NumberOfPoints=\"" << p.size() << "\" NumberOfVerts=\"0\" NumberOfLines=\"" << s.size()
         << "\" NumberOfStrips=\"0\" NumberOfPolys=\"" << surface.size() << "\">\n";
     out << "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const Vec3& x : p.position)
@@ -43,20 +72,23 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     }
     out << "</DataArray>\n</Points>\n";
 
-    out << "<PointData Scalars=\"speed\" Vectors=\"velocity\">\n";
-    out << "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+    out << "<PointData Scalars=\"speed_m_s\" Vectors=\"velocity_m_s\">\n";
+    out << "<DataArray type=\"Float64\" Name=\"velocity_m_s\" NumberOfComponents=\"3\" format=\"ascii\">\n";
     for (const Vec3& v : p.velocity)
     {
         triple(out, v);
         out << '\n';
     }
-    out << "</DataArray>\n<DataArray type=\"Float64\" Name=\"speed\" format=\"ascii\">\n";
+    out << "</DataArray>\n";
+    std::vector<double> speed;
+    speed.reserve(p.size());
     for (const Vec3& v : p.velocity)
     {
-        number(out, v.norm());
-        out << '\n';
+        speed.push_back(v.norm());
     }
-    out << "</DataArray>\n<DataArray type=\"Int32\" Name=\"pinned\" format=\"ascii\">\n";
+    scalarArray(out, "speed_m_s", speed);
+    scalarArray(out, "strain", meanSpringStrain(system));
+    out << "<DataArray type=\"Int32\" Name=\"pinned\" format=\"ascii\">\n";
     for (std::uint8_t pinned : p.pinned)
     {
         out << int(pinned) << '\n';
@@ -73,17 +105,10 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     }
     for (const auto& [name, values] : fields.scalars)
     {
-        if (values.size() != p.size())
+        if (values.size() == p.size())
         {
-            continue;
+            scalarArray(out, name, values);
         }
-        out << "<DataArray type=\"Float64\" Name=\"" << name << "\" format=\"ascii\">\n";
-        for (double value : values)
-        {
-            number(out, value);
-            out << '\n';
-        }
-        out << "</DataArray>\n";
     }
     out << "</PointData>\n";
 
@@ -113,10 +138,12 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     return out.str();
 }
 
-std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& surface, const std::string& name)
+std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& surface, const std::string& name,
+                  bool springs)
 {
     std::ostringstream out;
-    out << "# MaSSE sheet frame: the masses as vertices, the bottom layer's surface as faces\n";
+    out << "# MaSSE sheet frame: the masses as vertices, the bottom layer's surface as faces"
+        << (springs ? ", the springs as lines\n" : "\n");
     out << "o " << name << '\n';
     for (const Vec3& x : system.particles.position)
     {
@@ -127,6 +154,13 @@ std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& s
     for (const Triangle& t : surface)
     {
         out << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+    }
+    if (springs)
+    {
+        for (const SpringEnds& e : system.springs.ends)
+        {
+            out << "l " << e.a + 1 << ' ' << e.b + 1 << '\n';
+        }
     }
     return out.str();
 }

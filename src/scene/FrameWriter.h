@@ -1,5 +1,10 @@
 #pragma once
-/// Snapshots of the sheet: VTK PolyData (.vtp, opens in ParaView) and Wavefront OBJ.
+/// Snapshots of the sheet: VTK XML PolyData (.vtp, opens in ParaView and VTK) and Wavefront OBJ.
+///
+/// Every point array's name ends in its unit, so ParaView's colour legend says what it shows: velocity_m_s,
+/// speed_m_s, strain (dimensionless), temperature_C, thickness_m; pinned is 0 or 1; contact_obstacle is the index
+/// of the obstacle a mass touches (-1 none) into the field-data table obstacle_names. The field TimeValue carries the
+/// simulated time (s), which ParaView and VTK readers take as the dataset's time.
 
 #include "core/LatticeSurface.h"
 #include "core/MassSpringSystem.h"
@@ -9,16 +14,21 @@
 
 namespace masse::scene
 {
-/// Per-mass values written with a frame (each array one value per mass; empty arrays are skipped).
+/// Per-mass values and the frame's context (each per-mass array one value per mass; empty arrays are skipped).
 struct FrameFields
 {
+    Real time = 0;                                                    ///< s, simulated
     std::vector<int> contactObstacle;                                 ///< the obstacle each mass touches, -1 none
-    std::vector<std::pair<std::string, std::vector<double>>> scalars; ///< more per-mass scalars, by name
+    std::vector<std::string> obstacleNames;                           ///< name of obstacle i, for contactObstacle
+    std::vector<std::pair<std::string, std::vector<double>>> scalars; ///< more per-mass scalars, by name and unit
 };
 
 /// VTK XML PolyData: the masses as points, the springs as lines, the bottom layer's surface as triangles, and per
-/// mass: velocity, speed, pinned, contact obstacle and any extra scalars.
+/// mass: velocity, speed, strain, pinned, contact obstacle and any extra scalars.
 std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& surface, const FrameFields& fields);
-/// OBJ: the masses as vertices and the bottom layer's surface as faces.
-std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& surface, const std::string& name);
+/// OBJ: the masses as vertices, the bottom layer's surface as faces and, with `springs`, every spring as a line.
+std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& surface, const std::string& name,
+                  bool springs);
+/// Mean relative stretch (|d| - s) / s of the springs at each mass; negative when compressed, 0 for a lone mass.
+std::vector<double> meanSpringStrain(const MassSpringSystem& system);
 } // namespace masse::scene

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 namespace masse::scene
@@ -41,23 +43,132 @@ std::size_t editDistance(const std::string& a, const std::string& b)
     return previous[b.size()];
 }
 
+namespace
+{
+/// Follows the parser through the document so that an error can name the key it was reading ("sheet.mass"), and
+/// refuses nesting deeper than any scene needs before it can exhaust the stack (dump, compare and copy recurse).
+class KeyTracker
+{
+public:
+    bool operator()(int /*depth*/, nlohmann::json::parse_event_t event, nlohmann::json& parsed)
+    {
+        using Event = nlohmann::json::parse_event_t;
+        switch (event)
+        {
+        case Event::object_start:
+        case Event::array_start:
+            if (m_frames.size() >= maxJsonDepth)
+            {
+                throw InputError(where() + ": nested deeper than " + std::to_string(maxJsonDepth) + " levels");
+            }
+            m_frames.push_back({event == Event::array_start, "", 0});
+            break;
+        case Event::key:
+            m_frames.back().key = parsed.get<std::string>();
+            break;
+        case Event::object_end:
+        case Event::array_end:
+            m_frames.pop_back();
+            advance();
+            break;
+        case Event::value:
+            advance();
+            break;
+        }
+        return true;
+    }
+
+    /// The path of the value being read: "sheet.pinned.masses[2]", or "the top level".
+    std::string where() const
+    {
+        std::string path;
+        for (const Frame& frame : m_frames)
+        {
+            if (frame.array)
+            {
+                path += "[" + std::to_string(frame.index) + "]";
+            }
+            else if (!frame.key.empty())
+            {
+                path += (path.empty() ? "" : ".") + frame.key;
+            }
+        }
+        return path.empty() ? "the top level" : path;
+    }
+
+private:
+    struct Frame
+    {
+        bool array;
+        std::string key;
+        std::size_t index;
+    };
+
+    void advance()
+    {
+        if (!m_frames.empty() && m_frames.back().array)
+        {
+            ++m_frames.back().index;
+        }
+    }
+
+    std::vector<Frame> m_frames;
+};
+
+/// The part of nlohmann's message after its "[json.exception...]" tag.
+std::string plainMessage(const std::string& message, const std::string& from)
+{
+    const std::size_t at = message.find(from);
+    if (at == std::string::npos)
+    {
+        return message;
+    }
+    return from == "] " ? message.substr(at + 2) : message.substr(at);
+}
+} // namespace
+
 nlohmann::json readJsonFile(const std::string& path)
 {
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (std::filesystem::is_directory(status))
+    {
+        throw InputError(path + ": is a folder, not a JSON file");
+    }
+    if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    {
+        // A device or a pipe ("extends": "/dev/stdin") could be read for ever.
+        throw InputError(path + ": is not a regular file");
+    }
     std::ifstream in(path);
     if (!in)
     {
         throw InputError(path + ": cannot be read (does the file exist?)");
     }
+    KeyTracker tracker;
     try
     {
-        return nlohmann::json::parse(in, nullptr, true, true); // comments allowed
+        // Comments allowed; the callback keeps every value and only watches.
+        return nlohmann::json::parse(in, std::ref(tracker), true, true);
     }
     catch (const nlohmann::json::parse_error& e)
     {
         // nlohmann's message names the line and column ("[json.exception.parse_error.101] parse error at line 3...").
-        std::string message = e.what();
-        const std::size_t at = message.find("parse error");
-        throw InputError(path + ": malformed JSON: " + (at == std::string::npos ? message : message.substr(at)));
+        throw InputError(path + ": malformed JSON: " + plainMessage(e.what(), "parse error"));
+    }
+    catch (const nlohmann::json::out_of_range& e)
+    {
+        // A number beyond double range ("1e400"): name the key it was given for.
+        throw InputError(path + ": " + tracker.where() + ": " + plainMessage(e.what(), "number overflow") +
+                         " (beyond the range of double precision)");
+    }
+    catch (const nlohmann::json::exception& e)
+    {
+        throw InputError(path + ": " + tracker.where() + ": " + plainMessage(e.what(), "] "));
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(path + ": " + e.what());
     }
 }
 

@@ -69,6 +69,9 @@ private:
 
 /// Edit distance between two strings (for suggestions).
 std::size_t editDistance(const std::string& a, const std::string& b);
-/// Parses a JSON file; throws InputError naming the file and the line of a syntax error.
+/// Deepest nesting of objects and arrays a JSON file may have (scenes need 5).
+constexpr std::size_t maxJsonDepth = 64;
+/// Parses a JSON file; throws InputError naming the file and the line of a syntax error, or the file and the key of a
+/// number beyond double range or of nesting deeper than maxJsonDepth. A folder is refused by name.
 nlohmann::json readJsonFile(const std::string& path);
 } // namespace masse::scene

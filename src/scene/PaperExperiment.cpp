@@ -89,8 +89,8 @@ std::string paperTable(const std::vector<PaperRow>& rows)
 std::string paperCsv(const std::vector<PaperRow>& rows)
 {
     std::ostringstream out;
-    out << "size,masses,springs,sim_first_polyhedron,sim_second_polyhedron,sim_floor,sim_rest,"
-           "wall_first_polyhedron,wall_second_polyhedron,wall_floor,wall_rest,in_order\n";
+    out << "size,masses,springs,sim_first_polyhedron_s,sim_second_polyhedron_s,sim_floor_s,sim_rest_s,"
+           "wall_first_polyhedron_s,wall_second_polyhedron_s,wall_floor_s,wall_rest_s,in_order\n";
     for (const PaperRow& r : rows)
     {
         out << r.size << ',' << r.masses << ',' << r.springs;

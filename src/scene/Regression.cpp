@@ -173,10 +173,10 @@ bool RegressionResult::passed() const
     return !checks.empty() && std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed; });
 }
 
-RegressionResult runRegression(const std::string& path)
+RegressionResult runRegression(const std::string& path, const std::vector<KeyOverride>& overrides)
 {
     const nlohmann::json expect = expectations(path);
-    SceneSpec spec = loadScene(path);
+    SceneSpec spec = loadScene(path, overrides);
     Scene scene(spec);
     const RunResult run = runQuietly(scene);
 

@@ -11,6 +11,7 @@
 /// }
 
 #include "Runner.h"
+#include "SceneOverrides.h"
 
 #include <string>
 #include <vector>
@@ -36,8 +37,9 @@ struct RegressionResult
     bool passed() const;
 };
 
-/// Runs one regression scene file and compares. Throws InputError for a bad file or a bad "expect" block.
-RegressionResult runRegression(const std::string& path);
+/// Runs one regression scene file (with any `--set` keys changed) and compares. Throws InputError for a bad file or a
+/// bad "expect" block.
+RegressionResult runRegression(const std::string& path, const std::vector<KeyOverride>& overrides = {});
 
 /// Writes the observed values into the file's "expect" block (events with their tolerances kept or 0.03 s, the
 /// state hash for this build type, bounds kept): for a maintainer after an intended change. An event expectation

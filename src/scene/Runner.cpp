@@ -1,13 +1,17 @@
 #include "Runner.h"
 
 #include "AtomicFile.h"
-#include "FrameWriter.h"
+#include "FiniteOutput.h"
+#include "FormingReports.h"
+#include "FrameOutput.h"
 #include "Plot.h"
 #include "Progress.h"
 #include "SheetReports.h"
 
 #include "core/Format.h"
 #include "core/StateHash.h"
+#include "core/SimdPath.h"
+#include "core/TaskPool.h"
 
 #include <algorithm>
 #include <chrono>
@@ -31,38 +35,6 @@ Real seconds(Clock::duration d)
     return std::chrono::duration<Real>(d).count();
 }
 
-void writeFrame(Scene& scene, const std::string& directory, std::uint64_t step, const std::vector<Triangle>& surface)
-{
-    char name[64];
-    std::snprintf(name, sizeof(name), "frame_%06llu", static_cast<unsigned long long>(step));
-    for (const std::string& format : scene.spec().output.formats)
-    {
-        const std::string path = directory + "/" + name + "." + format;
-        if (format == "vtp")
-        {
-            FrameFields fields;
-            fields.contactObstacle = scene.contact().touchingObstacle();
-            if (const ThermalModel* thermal = scene.thermal())
-            {
-                std::vector<double> celsius;
-                for (Real kelvin : thermal->temperature())
-                {
-                    celsius.push_back(kelvin - 273.15);
-                }
-                fields.scalars.emplace_back("temperature_c", std::move(celsius));
-            }
-            if (const SheetThickness* thickness = scene.thickness())
-            {
-                fields.scalars.emplace_back("thickness", thickness->thickness());
-            }
-            writeFileAtomically(path, toVtp(scene.system(), surface, fields));
-        }
-        else
-        {
-            writeFileAtomically(path, toObj(scene.system(), surface, scene.spec().name));
-        }
-    }
-}
 } // namespace
 
 std::string stateHashText(const Scene& scene)
@@ -71,6 +43,36 @@ std::string stateHashText(const Scene& scene)
     std::snprintf(text, sizeof(text), "0x%016llx",
                   static_cast<unsigned long long>(stateHash(scene.system().particles)));
     return text;
+}
+
+nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings)
+{
+    return {
+        {"preconditioner", settings.preconditioner == PreconditionerKind::Cholesky ? "cholesky" : "jacobi"},
+        {"tolerance", settings.tolerance},
+        {"max_iterations", settings.maxIterations},
+        {"steps", tally.solves},
+        {"mean_iterations", tally.meanIterations()},
+        {"largest_iterations", tally.largestIterations},
+        {"steps_at_iteration_cap", tally.capHits},
+        {"final_residual", tally.finalResidual},
+        {"largest_residual", tally.largestResidual},
+    };
+}
+
+std::string solverCapWarning(const SolverTally& tally, const ImplicitSettings& settings)
+{
+    if (tally.capHits == 0)
+    {
+        return "";
+    }
+    char line[256];
+    std::snprintf(line, sizeof(line),
+                  "warning: %llu of %llu implicit steps stopped at the iteration cap (%d) short of the tolerance %g "
+                  "(largest residual %.3g); raise integrator.max_iterations or shorten dt",
+                  static_cast<unsigned long long>(tally.capHits), static_cast<unsigned long long>(tally.solves),
+                  settings.maxIterations, settings.tolerance, tally.largestResidual);
+    return line;
 }
 
 nlohmann::json summarize(Scene& scene, Real wallSeconds)
@@ -120,7 +122,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
                                   {"max", *std::max_element(t.begin(), t.end()) - 273.15},
                                   {"mean", sum / Real(t.size()) - 273.15}};
     }
-    return {
+    nlohmann::json summary = {
         {"scene", spec.name},
         {"scene_file", spec.path},
         {"structure", structureName(lattice.structure)},
@@ -129,6 +131,8 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"masses", p.size()},
         {"springs", scene.system().springCount()},
         {"integrator", integratorName(spec.time.integrator)},
+        {"threads", threadCount()},
+        {"simd", simdPathName(activeSimdPath())},
         {"dt", spec.time.dt},
         {"steps", scene.steps()},
         {"substeps", scene.simulator().substepCount()},
@@ -140,12 +144,17 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"events", events},
         {"final", final},
     };
+    if (!isExplicit(spec.time.integrator))
+    {
+        summary["solver"] = solverSummary(scene.simulator().solverTally(), spec.time.implicit);
+    }
+    return summary;
 }
 
 std::string eventsCsv(const Scene& scene)
 {
     std::ostringstream out;
-    out << "name,object,sim_time,wall_time\n";
+    out << "name,object,sim_time_s,wall_time_s\n";
     for (const SceneEvent& e : scene.events())
     {
         char times[64];
@@ -161,16 +170,13 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     RunResult result;
     const bool writing = !options.outDir.empty();
     const int framesEvery = scene.spec().output.framesEvery;
-    const std::string frameDirectory = options.outDir + "/frames";
-    std::vector<Triangle> surface;
+    std::optional<FrameOutput> frames;
     if (writing)
     {
         std::filesystem::create_directories(options.outDir);
         if (framesEvery > 0)
         {
-            std::filesystem::create_directories(frameDirectory);
-            surface = layerTriangles(scene.lattice(), 0);
-            writeFrame(scene, frameDirectory, 0, surface);
+            frames.emplace(scene, options.outDir);
         }
     }
     if (const std::string warning = scene.substepWarning(); !warning.empty())
@@ -196,9 +202,9 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         {
             sag->record(scene);
         }
-        if (writing && framesEvery > 0 && scene.steps() % std::uint64_t(framesEvery) == 0)
+        if (frames && scene.steps() % std::uint64_t(framesEvery) == 0)
         {
-            writeFrame(scene, frameDirectory, scene.steps(), surface);
+            frames->write(scene);
         }
         if (options.showProgress)
         {
@@ -237,10 +243,20 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         progressOut << "warning: " << unfired.size() << " script action(s) never fired, the run ended at "
                     << formatNumber(scene.time()) << " s: " << names << "\n";
     }
+    if (scene.spec().forming.enabled || scene.spec().formingReport.thicknessMap)
+    {
+        result.summary["forming"] = formingSummary(scene);
+    }
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
         result.summary["final"]["sag"] = sag->series().back().second; // so an expect block can bound it
+    }
+    requireFiniteState(scene);
+    requireFiniteJson(result.summary, "summary.json:");
+    if (frames)
+    {
+        frames->finish(scene); // the final state is a frame even when the step count is not a multiple of k
     }
     if (writing)
     {
@@ -257,6 +273,7 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
             plotPng(sectionPlotScript(options.outDir + "/thickness_section.csv", title),
                     options.outDir + "/thickness_section.png");
         }
+        writeFormingReports(scene, options.outDir);
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
     }

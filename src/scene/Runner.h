@@ -30,7 +30,14 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
 
 /// The summary of a scene as it stands now (see data/scenes/README.md for the fields).
 nlohmann::json summarize(Scene& scene, Real wallSeconds);
-/// The events as CSV: name,object,sim_time,wall_time.
+
+/// The implicit solver's statistics as summary.json and `masse bench` report them: mean and largest iterations per
+/// step, the steps that stopped at the iteration cap, the final and largest relative residual, the preconditioner.
+nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings);
+
+/// A one-line warning for the terminal when steps stopped at the iteration cap, or "" when none did.
+std::string solverCapWarning(const SolverTally& tally, const ImplicitSettings& settings);
+/// The events as CSV: name,object,sim_time_s,wall_time_s.
 std::string eventsCsv(const Scene& scene);
 /// "0x" and 16 hex digits of the state hash of every mass's position and velocity.
 std::string stateHashText(const Scene& scene);

@@ -1,7 +1,10 @@
 #include "Scene.h"
 
 #include "GuardBounds.h"
+#include "MemoryBudget.h"
 #include "Pins.h"
+
+#include "bridge/MeshTopology.h"
 
 #include "core/Energy.h"
 #include "core/Format.h"
@@ -18,6 +21,19 @@ namespace
 {
 /// Substeps per step above which a run says, before it starts, that it will be slow.
 constexpr int warnedSubsteps = 1000;
+
+/// Re-throws a core validation error ("dt: ...") under the section it belongs to ("integrator.dt: ...").
+template <typename Check> void within(const std::string& section, Check&& check)
+{
+    try
+    {
+        check();
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(section + "." + e.what());
+    }
+}
 } // namespace
 
 Scene::Scene(SceneSpec spec) : m_spec(std::move(spec))
@@ -35,6 +51,7 @@ void Scene::reset()
 void Scene::build()
 {
     // Tear down in dependency order before building again.
+    m_pressure.reset();
     m_springs.reset();
     m_thermal.reset();
     m_thickness.reset();
@@ -50,6 +67,8 @@ void Scene::build()
 
     try
     {
+        // A sheet that cannot fit in memory is refused before anything is allocated for it.
+        within("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
         m_lattice = buildLattice(m_spec.sheet.lattice);
         if (m_spec.sheet.rotationDegrees != Vec3::Zero())
         {
@@ -86,7 +105,14 @@ void Scene::build()
         {
             m_environment->addObstacle(obstacle);
         }
-        m_contact = std::make_unique<ContactSolver>(*m_environment, m_spec.contact);
+        ContactSettings contact = m_spec.contact;
+        contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
+        for (std::size_t k = 0; k < m_spec.obstacles.size() && k < m_spec.obstacleContact.size(); ++k)
+        {
+            contact.perObstacle[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
+                m_spec.obstacleContact[k];
+        }
+        m_contact = std::make_unique<ContactSolver>(*m_environment, contact);
 
         SimulatorSettings settings;
         settings.integrator = m_spec.time.integrator;
@@ -146,6 +172,19 @@ void Scene::build()
         {
             m_simulator->addHook(m_springs.get());
         }
+        if (m_spec.forming.enabled)
+        {
+            requireSealedMould();
+            m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure));
+            if (m_spec.forming.seal)
+            {
+                m_pressure->setContact(&m_contact->touchingObstacle());
+            }
+            m_simulator->addHook(m_pressure.get());
+        }
+        // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
+        // step.
+        within("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
     }
     catch (const InputError& e)
     {
@@ -178,6 +217,31 @@ void Scene::build()
         m_restPrerequisites.push_back(m_environment->findObstacle(name));
     }
     m_start = std::chrono::steady_clock::now();
+}
+
+void Scene::requireSealedMould() const
+{
+    if (m_spec.forming.mould.empty())
+    {
+        return;
+    }
+    const bridge::Obstacle& mould = m_environment->obstacle(m_environment->findObstacle(m_spec.forming.mould));
+    if (mould.geometry.convex)
+    {
+        return; // a box, prism or hull is closed by construction
+    }
+    std::vector<std::vector<int>> faces;
+    for (const bridge::Face& face : mould.geometry.faces)
+    {
+        faces.push_back(face.vertices);
+    }
+    if (const auto open = bridge::findOpenEdge(faces))
+    {
+        throw InputError("forming.mould: obstacle '" + mould.spec.name + "' (" + mould.spec.meshPath +
+                         ") is not a closed surface: the edge between vertices " + std::to_string(open->a + 1) +
+                         " and " + std::to_string(open->b + 1) + " belongs to " + std::to_string(open->faces) +
+                         " face(s) instead of 2, so the sheet cannot seal the cavity over its rim");
+    }
 }
 
 const SheetThickness* Scene::thickness() const
@@ -239,9 +303,18 @@ Real Scene::kineticEnergy() const
     return masse::kineticEnergy(system().particles);
 }
 
+Real Scene::nextStep() const
+{
+    // The last step of a run ends on its duration exactly: --duration 0.1 at dt = 0.03 s is three steps and one of
+    // 0.01 s. A remainder within rounding of a whole step is taken as the whole step.
+    const Real remaining = m_spec.run.duration - time();
+    const Real dt = m_spec.time.dt;
+    return remaining > 1e-9 && remaining < dt * (1 - 1e-9) ? remaining : dt;
+}
+
 StepReport Scene::step()
 {
-    const StepReport report = m_simulator->step(m_spec.time.dt);
+    const StepReport report = m_simulator->step(nextStep());
     ++m_steps;
     const std::vector<ContactEvent>& contacts = m_contact->firstContacts();
     for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)

@@ -8,6 +8,7 @@
 #include "bridge/BulletEnvironment.h"
 
 #include "core/ContactSolver.h"
+#include "core/PressureLoad.h"
 #include "core/Simulator.h"
 #include "core/ThermalModel.h"
 #include "core/ViscoelasticSprings.h"
@@ -35,7 +36,8 @@ public:
     explicit Scene(SceneSpec spec);
     ~Scene();
 
-    /// Advances one step of the scene's dt; returns what the simulator did.
+    /// Advances one step of the scene's dt (the last step of the run, shorter, ends on its duration exactly); returns
+    /// what the simulator did.
     StepReport step();
     /// Starts again from the spec (used by the viewer's reset).
     void reset();
@@ -55,6 +57,8 @@ public:
     ThermalModel* thermal() { return m_thermal.get(); }
     const ThermalModel* thermal() const { return m_thermal.get(); }
     const ViscoelasticSprings* materialSprings() const { return m_springs.get(); }
+    /// The pressure across the sheet (nullptr without a "forming" section).
+    const PressureLoad* pressure() const { return m_pressure.get(); }
     /// Local thickness of the sheet (nullptr without a material); current as of the last frame.
     const SheetThickness* thickness() const;
     /// Switches a heater (by its index in the scene's heat section) on or off, as the script's "heater" action.
@@ -82,6 +86,9 @@ public:
 
 private:
     void build();
+    Real nextStep() const;
+    /// Throws InputError when the forming section names a mould that is a mesh with a gap (an edge of one face).
+    void requireSealedMould() const;
     void record(const std::string& name, const std::string& object, Real simTime);
     void updateRest();
 
@@ -94,6 +101,7 @@ private:
     std::unique_ptr<ThermalModel> m_thermal;
     std::unique_ptr<ViscoelasticSprings> m_springs;
     std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat
+    std::unique_ptr<PressureLoad> m_pressure;
     std::vector<bool> m_heaterOn;
     std::vector<SceneEvent> m_events;
     std::size_t m_contactsSeen = 0;

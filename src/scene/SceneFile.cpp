@@ -2,10 +2,13 @@
 
 #include "JsonObject.h"
 #include "MaterialFile.h"
+#include "MemoryBudget.h"
 
 #include "core/Damping.h"
+#include "core/Format.h"
 #include "core/InputError.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <sstream>
@@ -27,14 +30,28 @@ template <typename Check> void within(const std::string& section, Check&& check)
     }
 }
 
+/// A spring stiffness in (0, limits::maxStiffness] N/m.
+Real stiffnessValue(const JsonObject& o, const std::string& key, Real fallback)
+{
+    const Real value = o.positive(key, fallback);
+    if (value > limits::maxStiffness)
+    {
+        o.fail(key, "must be in (0, " + formatNumber(limits::maxStiffness) + "] N/m (got " + formatNumber(value) + ")");
+    }
+    return value;
+}
+
 PinSpec readPins(const JsonObject& o)
 {
     PinSpec pins;
     for (Real index : o.numbers("masses"))
     {
-        if (index < 0 || index != std::floor(index))
+        // Checked before the cast: a double beyond Index's range does not convert (undefined behaviour).
+        constexpr Real largest = Real(std::numeric_limits<Index>::max() - 1);
+        if (index < 0 || index != std::floor(index) || index > largest)
         {
-            o.fail("masses", "expected mass indices (whole numbers >= 0)");
+            o.fail("masses", "expected mass indices, whole numbers in [0, " + formatNumber("%.15g", largest) +
+                                 "] (got " + formatNumber("%.15g", index) + ")");
         }
         pins.masses.push_back(Index(index));
     }
@@ -42,7 +59,7 @@ PinSpec readPins(const JsonObject& o)
     {
         if (corner != 0 && corner != 1 && corner != 2 && corner != 3)
         {
-            o.fail("corners", "corners are 0, 1, 2, 3 (got " + std::to_string(corner) + ")");
+            o.fail("corners", "corners are 0, 1, 2, 3 (got " + formatNumber(corner) + ")");
         }
         pins.corners.push_back(int(corner));
     }
@@ -78,11 +95,12 @@ SheetSpec readSheet(const JsonObject& o)
     within("sheet", [&] { validate(lattice); });
 
     SheetParams& params = sheet.params;
-    params.massPerMass = o.positive("mass", params.massPerMass);
+    params.massPerMass = o.number("mass", params.massPerMass, limits::minMass, limits::maxMass);
     if (auto stiffness = o.object("stiffness"))
     {
-        params.springClasses[0].stiffness = stiffness->positive("planar", params.springClasses[0].stiffness);
-        params.springClasses[1].stiffness = stiffness->positive("inter_layer", params.springClasses[1].stiffness);
+        params.springClasses[0].stiffness = stiffnessValue(*stiffness, "planar", params.springClasses[0].stiffness);
+        params.springClasses[1].stiffness =
+            stiffnessValue(*stiffness, "inter_layer", params.springClasses[1].stiffness);
         stiffness->finish();
     }
     if (auto damping = o.object("damping"))
@@ -92,7 +110,7 @@ SheetSpec readSheet(const JsonObject& o)
             damping->number("inter_layer", params.springClasses[1].dampingRatio, 0, 10);
         damping->finish();
     }
-    sheet.repulsion = o.number("repulsion", 0.0, 0.0);
+    sheet.repulsion = o.number("repulsion", 0.0, 0.0, limits::maxRepulsion);
     sheet.rotationDegrees = o.vec3("rotation_deg", Vec3::Zero());
     if (auto pinned = o.object("pinned"))
     {
@@ -152,8 +170,18 @@ std::vector<bridge::PathKey> readPath(const JsonObject& owner, const std::string
 
 constexpr Real kelvinAtZeroCelsius = 273.15;
 
-bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature)
+bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature,
+                                  ObstacleContact& contact)
 {
+    if (auto own = o.object("contact"))
+    {
+        // An obstacle's own response (a plug that slides while the mould grips): response and friction only.
+        contact.own = true;
+        contact.response =
+            parseContactResponse(own->choice("response", "friction", {"sticky", "friction", "frictionless"}));
+        contact.friction = own->number("friction", 0.3, 0.0);
+        own->finish();
+    }
     bridge::ObstacleSpec spec;
     temperature = std::numeric_limits<Real>::quiet_NaN();
     if (o.has("temperature_c"))
@@ -199,6 +227,11 @@ ContactSettings readContact(const JsonObject& o)
     ContactSettings contact;
     contact.response = parseContactResponse(o.choice("response", "friction", {"sticky", "friction", "frictionless"}));
     contact.radius = o.positive("radius", contact.radius);
+    if (contact.radius > limits::maxContactRadius)
+    {
+        o.fail("radius", "must be in (0, " + formatNumber(limits::maxContactRadius) + "] m (got " +
+                             formatNumber(contact.radius) + ")");
+    }
     contact.friction = o.number("friction", contact.friction, 0.0);
     contact.stickReleaseForce = o.number("release_force", contact.stickReleaseForce, 0.0);
     contact.slipRegularization = o.positive("slip_regularization", contact.slipRegularization);
@@ -209,11 +242,15 @@ ContactSettings readContact(const JsonObject& o)
 TimeSpec readTime(const JsonObject& o)
 {
     TimeSpec time;
-    time.integrator = parseIntegrator(o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit"}));
-    time.dt = o.positive("dt", time.dt);
+    time.integrator =
+        parseIntegrator(o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit", "bdf2"}));
+    time.dt = o.number("dt", time.dt, limits::minTimeStep, limits::maxTimeStep);
     time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
     time.implicit.tolerance = o.number("tolerance", time.implicit.tolerance, 1e-14, 0.1);
     time.implicit.maxIterations = o.integer("max_iterations", time.implicit.maxIterations, 1, 1000000);
+    time.implicit.preconditioner = o.choice("preconditioner", "cholesky", {"cholesky", "jacobi"}) == "jacobi"
+                                       ? PreconditionerKind::Jacobi
+                                       : PreconditionerKind::Cholesky;
     o.finish();
     return time;
 }
@@ -222,6 +259,11 @@ RunSpec readRun(const JsonObject& o)
 {
     RunSpec run;
     run.duration = o.positive("duration", run.duration);
+    if (run.duration > limits::maxDuration)
+    {
+        o.fail("duration", "must be in (0, " + formatNumber(limits::maxDuration) + "] s (got " +
+                               formatNumber(run.duration) + ")");
+    }
     if (const nlohmann::json* rest = o.raw("stop_at_rest"))
     {
         if (rest->is_boolean())
@@ -358,6 +400,7 @@ OutputSpec readOutput(const JsonObject& o)
     {
         output.formats = {"vtp"};
     }
+    output.objSprings = o.boolean("obj_springs", false);
     o.finish();
     return output;
 }
@@ -474,8 +517,9 @@ HeatSpec readHeat(const JsonObject& o)
     return heat;
 }
 
-ReportSpec readReport(const JsonObject& o)
+ReportSpec readReport(const JsonObject& o, FormingReportSpec& forming)
 {
+    forming = readFormingReport(o);
     ReportSpec report;
     if (auto section = o.object("thickness_section"))
     {
@@ -547,7 +591,7 @@ BulletSpec readBullet(const JsonObject& o)
 /// Cross-checks of things that name other things: script targets, pins, contact obstacle lists.
 void checkReferences(const SceneSpec& scene, const JsonObject& top)
 {
-    const std::size_t masses = buildLattice(scene.sheet.lattice).massCount();
+    const std::size_t masses = massCountOf(scene.sheet.lattice); // counted, not built: a huge sheet is refused later
     auto checkPins = [&](const PinSpec& pins, const std::string& key)
     {
         for (Index m : pins.masses)
@@ -579,6 +623,10 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
         names.push_back(o.name);
     }
     auto exists = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) != names.end(); };
+    if (!scene.forming.mould.empty() && !exists(scene.forming.mould))
+    {
+        top.fail("forming.mould", "no obstacle is named '" + scene.forming.mould + "'");
+    }
     for (std::size_t i = 0; i < scene.run.restAfterContactWith.size(); ++i)
     {
         if (!exists(scene.run.restAfterContactWith[i]))
@@ -650,6 +698,16 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
 }
 } // namespace
 
+void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey)
+{
+    if (duration / dt > limits::maxSteps)
+    {
+        throw InputError(durationKey + " / " + stepKey + ": " + formatNumber(duration) + " s in steps of " +
+                         formatNumber(dt) + " s is " + formatNumber(duration / dt) + " steps, over the limit of " +
+                         formatNumber(limits::maxSteps));
+    }
+}
+
 SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDirectory, const std::string& origin)
 {
     if (document.is_object() && document.contains("extends"))
@@ -669,8 +727,10 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         for (const JsonObject& o : top.objects("obstacles"))
         {
             Real temperature = 0;
-            scene.obstacles.push_back(readObstacle(o, baseDirectory, temperature));
+            ObstacleContact contact;
+            scene.obstacles.push_back(readObstacle(o, baseDirectory, temperature, contact));
             scene.obstacleTemperature.push_back(temperature);
+            scene.obstacleContact.push_back(contact);
         }
         if (auto material = top.object("material"))
         {
@@ -694,7 +754,11 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         }
         if (auto report = top.object("report"))
         {
-            scene.report = readReport(*report);
+            scene.report = readReport(*report, scene.formingReport);
+        }
+        if (auto forming = top.object("forming"))
+        {
+            scene.forming = readForming(*forming);
         }
         scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")));
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
@@ -705,6 +769,7 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         }
         scene.output = readOutput(top.object("output").value_or(JsonObject(empty, "output")));
         scene.bullet = readBullet(top.object("bullet").value_or(JsonObject(empty, "bullet")));
+        checkRunLength(scene.time.dt, scene.run.duration, "integrator.dt", "run.duration");
         top.raw("expect"); // read by the regression runner
         top.finish();
         checkReferences(scene, top);
@@ -746,10 +811,67 @@ void makePathsAbsolute(nlohmann::json& document, const std::filesystem::path& fo
         }
     }
 }
+
+/// Whether `text` is valid UTF-8 (no overlong forms, no surrogates, nothing past U+10FFFF).
+bool validUtf8(const std::string& text)
+{
+    std::size_t i = 0;
+    while (i < text.size())
+    {
+        const unsigned char c = static_cast<unsigned char>(text[i]);
+        std::size_t length = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+        if (length == 0 || i + length > text.size() || (length == 2 && c < 0xC2))
+        {
+            return false;
+        }
+        std::uint32_t code = length == 1 ? c : c & (0x7F >> length);
+        for (std::size_t k = 1; k < length; ++k)
+        {
+            const unsigned char next = static_cast<unsigned char>(text[i + k]);
+            if ((next & 0xC0) != 0x80)
+            {
+                return false;
+            }
+            code = (code << 6) | (next & 0x3F);
+        }
+        if ((length == 3 && (code < 0x800 || (code >= 0xD800 && code <= 0xDFFF))) ||
+            (length == 4 && (code < 0x10000 || code > 0x10FFFF)))
+        {
+            return false;
+        }
+        i += length;
+    }
+    return true;
+}
+
+/// `text` with every byte outside printable ASCII as \xNN, for a message about a name that is not UTF-8.
+std::string escaped(const std::string& text)
+{
+    std::string result;
+    for (const char c : text)
+    {
+        const unsigned char byte = static_cast<unsigned char>(c);
+        if (byte >= 0x20 && byte < 0x7F)
+        {
+            result += c;
+            continue;
+        }
+        char hex[8];
+        std::snprintf(hex, sizeof(hex), "\\x%02X", unsigned(byte));
+        result += hex;
+    }
+    return result;
+}
 } // namespace
 
 nlohmann::json readSceneDocument(const std::string& path, int depth)
 {
+    // A scene's path goes into summary.json and the reports, which are UTF-8 JSON and text.
+    if (!validUtf8(path))
+    {
+        throw InputError(escaped(path) + ": the file name is not valid UTF-8 (summary.json records it): rename the "
+                                         "file");
+    }
     nlohmann::json document = readJsonFile(path);
     if (!document.is_object() || !document.contains("extends"))
     {

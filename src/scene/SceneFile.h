@@ -12,6 +12,24 @@ namespace masse::scene
 /// negative time or naming a missing obstacle, grab or mass.
 SceneSpec loadScene(const std::string& path);
 
+/// Ranges of the values that, out of them, make a run that never ends or flings the sheet away. Scene keys and flags
+/// are held to the same ones.
+namespace limits
+{
+constexpr Real minTimeStep = 1e-6;   ///< s: below it a run of seconds takes more than a million steps
+constexpr Real maxTimeStep = 1;      ///< s: the paper's step is 0.03 s
+constexpr Real maxDuration = 1e6;    ///< s of simulated time
+constexpr Real maxSteps = 1e9;       ///< duration / dt
+constexpr Real minMass = 1e-6;       ///< kg per mass (1 mg)
+constexpr Real maxMass = 1e3;        ///< kg per mass
+constexpr Real maxStiffness = 1e6;   ///< N/m per spring
+constexpr Real maxContactRadius = 0.1; ///< m: a mass's sphere, far below the sheet's size
+constexpr Real maxRepulsion = 1;     ///< N m^2
+} // namespace limits
+
+/// Throws InputError naming `stepKey` and `durationKey` when duration / dt is more than limits::maxSteps steps.
+void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey);
+
 /// The scene file as JSON, with any "extends" base merged in (RFC 7386 merge patch).
 nlohmann::json readSceneDocument(const std::string& path, int depth = 0);
 

@@ -3,6 +3,8 @@
 /// script. One description serves the headless runner, the viewer, the comparison with Bullet, the tests and the
 /// benchmarks. Keys, units, defaults and ranges: data/scenes/README.md.
 
+#include "FormingSpec.h"
+
 #include "bridge/ObstacleSpec.h"
 #include "bridge/Room.h"
 #include "bridge/SoftBodyTwinSettings.h"
@@ -140,6 +142,7 @@ struct OutputSpec
 {
     int framesEvery = 0;              ///< write the sheet every k steps (0: never)
     std::vector<std::string> formats; ///< "vtp", "obj"
+    bool objSprings = false;          ///< OBJ frames also hold every spring as a line ("l a b")
 };
 
 /// The scene's Bullet soft-body twin, for `masse compare` (the top-level "bullet" object). Every key is optional;
@@ -175,9 +178,13 @@ struct SceneSpec
     std::vector<bridge::ObstacleSpec> obstacles;
     /// K per obstacle, for heat exchange on contact (NaN: at the air's temperature, as the room's walls are).
     std::vector<Real> obstacleTemperature;
+    /// Per obstacle, its own contact response ("contact" in the obstacle; `own` false: the scene's).
+    std::vector<ObstacleContact> obstacleContact;
     MaterialSpec material;
     HeatSpec heat;
     ReportSpec report;
+    FormingSpec forming;               ///< pressure across the sheet (vacuum and pressure forming)
+    FormingReportSpec formingReport;   ///< maps and per-mass CSV
     ContactSettings contact;
     TimeSpec time;
     RunSpec run;

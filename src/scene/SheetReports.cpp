@@ -41,7 +41,7 @@ std::vector<SectionPoint> thicknessSection(const Scene& scene)
 std::string sectionCsv(const std::vector<SectionPoint>& section)
 {
     std::ostringstream out;
-    out << "mass,rest_coordinate,x,y,z,thickness,thickness_ratio\n";
+    out << "mass,rest_coordinate_m,x_m,y_m,z_m,thickness_m,thickness_ratio\n";
     char line[200];
     for (const SectionPoint& p : section)
     {
@@ -103,7 +103,7 @@ void SagRecorder::record(const Scene& scene)
 std::string SagRecorder::csv() const
 {
     std::ostringstream out;
-    out << "time,sag\n";
+    out << "time_s,sag_m\n";
     char line[64];
     for (const auto& [t, sag] : m_series)
     {

@@ -24,6 +24,7 @@ inline constexpr Rgb pinnedMass{0.25f, 0.45f, 1};
 inline constexpr Rgb spring{0.80f, 0.80f, 0.86f};
 inline constexpr Rgb pick{1, 0.85f, 0.1f};            ///< the picked mass and the mouse's spring
 inline constexpr Rgb scriptedGrab{0.2f, 0.9f, 0.95f}; ///< a scene script's grab
+inline constexpr Rgb missingScalar{0.55f, 0.55f, 0.55f}; ///< a scalar the scene does not have
 /// Bullet's twin of the sheet (--compare): pale violet links and nodes, its nodes in contact a paler green.
 inline constexpr Rgb ghost{0.78f, 0.62f, 0.98f};
 inline constexpr Rgb ghostInContact{0.62f, 0.98f, 0.70f};

@@ -67,31 +67,33 @@ bool nonNegativeDouble(const char* label, double& value, const char* format)
 }
 } // namespace
 
-PanelRequests Panel::draw(ViewerSession& session, DrawSettings& draw, bool& pickMode, const FrameStats& stats,
-                          const MassScalarRegistry& scalars, const Renderer& renderer)
+PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
+                          bool& pickMode, const FrameStats& stats, const MassScalarRegistry& scalars,
+                          const Renderer& renderer)
 {
     PanelRequests requests;
-    if (m_generation != session.generation())
+    if (m_generation != snapshot.generation)
     {
         // A new scene: the editor starts from what is running now.
-        m_pending = session.spec();
+        m_pending = *snapshot.spec;
         m_edited = false;
-        m_generation = session.generation();
+        m_generation = snapshot.generation;
         if (m_path.empty())
         {
-            m_path = session.spec().path;
+            m_path = snapshot.spec->path;
         }
     }
     if (visible)
     {
-        drawControls(session, draw, pickMode, scalars, renderer.scalarRange(), requests);
+        drawControls(snapshot, simulation, draw, pickMode, scalars, renderer.scalarRange(), requests);
     }
-    drawHud(session, stats, draw, renderer);
+    drawHud(snapshot, stats, draw, renderer);
     return requests;
 }
 
-void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickMode, const MassScalarRegistry& scalars,
-                         const ScalarRange& legend, PanelRequests& requests)
+void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
+                         bool& pickMode, const MassScalarRegistry& scalars, const ScalarRange& legend,
+                         PanelRequests& requests)
 {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + 8, viewport->WorkPos.y + 8), ImGuiCond_Always);
@@ -101,20 +103,24 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
     // Fields narrow enough that their labels fit beside them.
     ImGui::PushItemWidth(ImGui::GetFontSize() * 11);
 
-    if (ImGui::Button(session.paused() ? "Run" : "Pause"))
+    if (ImGui::Button(snapshot.paused ? "Run" : "Pause"))
     {
-        session.setPaused(!session.paused());
+        simulation.post([](ViewerSession& session) { session.setPaused(!session.paused()); });
     }
     ImGui::SameLine();
     if (ImGui::Button("Step"))
     {
-        session.setPaused(true);
-        session.requestStep();
+        simulation.post(
+            [](ViewerSession& session)
+            {
+                session.setPaused(true);
+                session.requestStep();
+            });
     }
     ImGui::SameLine();
     if (ImGui::Button("Reset"))
     {
-        session.reset();
+        simulation.post([](ViewerSession& session) { session.reset(); });
     }
 
     ImGui::Separator();
@@ -125,16 +131,16 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
     if (ImGui::Button("Load") || entered)
     {
         // On failure the session keeps the scene it has and holds the file's own message, shown below.
-        session.load(m_path);
+        simulation.post([path = m_path](ViewerSession& session) { session.load(path); });
     }
-    if (!session.error().empty())
+    if (!snapshot.error.empty())
     {
         ImGui::PushStyleColor(ImGuiCol_Text, errorColour);
-        ImGui::TextWrapped("%s", session.error().c_str());
+        ImGui::TextWrapped("%s", snapshot.error.c_str());
         ImGui::PopStyleColor();
         if (ImGui::SmallButton("Dismiss"))
         {
-            session.clearError();
+            simulation.post([](ViewerSession& session) { session.clearError(); });
         }
     }
 
@@ -159,8 +165,17 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
             ImGui::EndCombo();
         }
         const MassScalar* shown = scalars.find(draw.scalar);
-        ImGui::Text("colours %.3g (dark) .. %.3g (yellow) %s", double(legend.low), double(legend.high),
-                    shown ? shown->unit.c_str() : "");
+        if (!snapshot.scalarMissing.empty() && snapshot.scalarName == draw.scalar)
+        {
+            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.6f, 0.6f, 0.6f, 1.0f));
+            ImGui::TextWrapped("%s (the sheet is drawn grey)", snapshot.scalarMissing.c_str());
+            ImGui::PopStyleColor();
+        }
+        else
+        {
+            ImGui::Text("colours %.3g (dark) .. %.3g (yellow) %s", double(legend.low), double(legend.high),
+                        shown ? shown->unit.c_str() : "");
+        }
     }
     ImGui::Checkbox("pick mode (left drag pulls a mass)", &pickMode);
     ImGui::Checkbox("room", &draw.showRoom);
@@ -179,8 +194,8 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
         requests.view = ViewPreset::ElevatedLeft;
     }
 
-    drawHeatControls(session);
-    drawSceneEditor(session);
+    drawHeatControls(snapshot, simulation);
+    drawSceneEditor(snapshot, simulation);
 
     if (ImGui::CollapsingHeader("Mouse and keys"))
     {
@@ -196,43 +211,40 @@ void Panel::drawControls(ViewerSession& session, DrawSettings& draw, bool& pickM
     ImGui::End();
 }
 
-void Panel::drawHeatControls(ViewerSession& session)
+void Panel::drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation)
 {
-    scene::Scene& scene = session.scene();
-    const ThermalModel* thermal = scene.thermal();
-    if (!thermal || !ImGui::CollapsingHeader("Heat (live)", ImGuiTreeNodeFlags_DefaultOpen))
+    if (!snapshot.heat || !ImGui::CollapsingHeader("Heat (live)", ImGuiTreeNodeFlags_DefaultOpen))
     {
         return;
     }
+    const HeatState& heat = *snapshot.heat;
     // These act on the running scene at once, as the script's "ambient" and "heater" actions do.
-    float ambient = float(thermal->settings().airTemperature - 273.15);
+    float ambient = float(heat.ambientC);
     if (ImGui::SliderFloat("ambient (C)", &ambient, -20.0f, 250.0f, "%.1f"))
     {
-        scene.setAmbientTemperature(Real(ambient) + 273.15);
+        simulation.post([ambient](ViewerSession& session)
+                        { session.scene().setAmbientTemperature(Real(ambient) + 273.15); });
     }
-    const std::vector<std::string>& heaters = scene.spec().heat.heaterNames;
-    for (std::size_t i = 0; i < heaters.size(); ++i)
+    const std::vector<std::string>& heaters = snapshot.spec->heat.heaterNames;
+    for (std::size_t i = 0; i < heaters.size() && i < heat.heatersOn.size(); ++i)
     {
-        bool on = scene.heaterOn(i);
-        const std::string label =
-            "heater " + heaters[i] + " (" + std::to_string(int(std::lround(scene.spec().heat.heaterPower[i]))) + " W)";
+        bool on = heat.heatersOn[i];
+        const std::string label = "heater " + heaters[i] + " (" +
+                                  std::to_string(int(std::lround(snapshot.spec->heat.heaterPower[i]))) + " W)";
         if (ImGui::Checkbox(label.c_str(), &on))
         {
-            scene.setHeater(i, on);
+            simulation.post([i, on](ViewerSession& session) { session.scene().setHeater(i, on); });
         }
     }
-    const std::vector<Real>& t = thermal->temperature();
-    const auto [low, high] = std::minmax_element(t.begin(), t.end());
-    ImGui::Text("sheet %.1f .. %.1f C", *low - 273.15, *high - 273.15);
-    if (const SheetThickness* thickness = scene.thickness())
+    ImGui::Text("sheet %.1f .. %.1f C", heat.lowestC, heat.highestC);
+    if (heat.thinnest)
     {
-        ImGui::Text("thinnest %.3f mm (%.0f%% of %.3f)", 1000 * thickness->minimumThickness(),
-                    100 * thickness->minimumThickness() / thickness->initialThickness(),
-                    1000 * thickness->initialThickness());
+        ImGui::Text("thinnest %.3f mm (%.0f%% of %.3f)", 1000 * *heat.thinnest,
+                    100 * *heat.thinnest / heat.initialThickness, 1000 * heat.initialThickness);
     }
 }
 
-void Panel::drawSceneEditor(ViewerSession& session)
+void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation)
 {
     scene::SceneSpec& spec = m_pending;
     bool changed = false;
@@ -280,22 +292,21 @@ void Panel::drawSceneEditor(ViewerSession& session)
     ImGui::BeginDisabled(!m_edited);
     if (ImGui::Button("Apply (rebuilds the scene)"))
     {
-        // On failure the scene shown stays and the error appears above; the edits are kept for correcting.
-        if (session.rebuild(spec))
-        {
-            m_edited = false;
-        }
+        // On failure the scene shown stays and the error appears above; the edits are kept for correcting. On
+        // success the new generation resets the editor from the scene now running.
+        simulation.post([spec](ViewerSession& session) { session.rebuild(spec); });
     }
     ImGui::SameLine();
     if (ImGui::Button("Revert"))
     {
-        m_pending = session.spec();
+        m_pending = *snapshot.spec;
         m_edited = false;
     }
     ImGui::EndDisabled();
 }
 
-void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer)
+void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, const DrawSettings& draw,
+                    const Renderer& renderer)
 {
     const ImGuiViewport* viewport = ImGui::GetMainViewport();
     ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
@@ -304,31 +315,28 @@ void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawS
     ImGui::Begin("HUD", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
                      ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
-    scene::Scene& scene = session.scene();
-    const scene::SceneSpec& spec = scene.spec();
+    const scene::SceneSpec& spec = *snapshot.spec;
     ImGui::Text("%s: %s %s %dx%dx%d, %s dt %.3g s", spec.name.c_str(),
                 std::string(structureName(spec.sheet.lattice.structure)).c_str(),
                 std::string(contactResponseName(spec.contact.response)).c_str(), spec.sheet.lattice.countX,
                 spec.sheet.lattice.layers, spec.sheet.lattice.countZ,
                 std::string(integratorName(spec.time.integrator)).c_str(), spec.time.dt);
-    ImGui::Text("t = %.3f s%s", scene.time(), session.paused() ? "  (paused)" : "");
-    ImGui::Text("%zu masses, %zu springs, %zu in contact", scene.system().massCount(), scene.system().springCount(),
-                scene.contact().touchingCount());
-    if (const scene::Comparison* comparison = session.comparison())
+    ImGui::Text("t = %.3f s%s", snapshot.time, snapshot.paused ? "  (paused)" : "");
+    ImGui::Text("%zu masses, %zu springs, %zu in contact", snapshot.positions.size(), snapshot.springCount,
+                snapshot.touchingCount);
+    if (snapshot.ghost)
     {
         // The ghost: Bullet's twin, with the figures that set the two apart.
-        const scene::EngineResult& masse = comparison->results().front();
-        const scene::EngineResult& bullet = comparison->results().at(1);
         ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.78f, 0.62f, 0.98f, 1.0f));
-        ImGui::Text("ghost: Bullet soft body, %zu nodes in contact", comparison->twin(0).touchingCount());
-        ImGui::Text("deepest penetration so far: MaSSE %.3g mm, Bullet %.3g mm", 1000 * masse.penetration.max(),
-                    1000 * bullet.penetration.max());
+        ImGui::Text("ghost: Bullet soft body, %zu nodes in contact", snapshot.ghost->touchingCount);
+        ImGui::Text("deepest penetration so far: MaSSE %.3g mm, Bullet %.3g mm", 1000 * snapshot.ghost->masseDeepest,
+                    1000 * snapshot.ghost->bulletDeepest);
         ImGui::PopStyleColor();
     }
     if (stats.measured)
     {
         ImGui::Text("%.0f frames/s, %.1f steps/s", stats.framesPerSecond, stats.stepsPerSecond);
-        if (session.paused())
+        if (snapshot.paused)
         {
             ImGui::TextUnformatted("real-time factor: paused");
         }
@@ -351,23 +359,23 @@ void Panel::drawHud(ViewerSession& session, const FrameStats& stats, const DrawS
     {
         ImGui::TextUnformatted("springs hidden while under 3 px apart: zoom in to see them");
     }
-    const std::vector<scene::SceneEvent>& events = scene.events();
+    const std::vector<scene::SceneEvent>& events = snapshot.events;
     const std::size_t shown = std::min<std::size_t>(events.size(), 5);
     for (std::size_t k = events.size() - shown; k < events.size(); ++k)
     {
         ImGui::Text("%8.3f s  %s %s", events[k].simTime, events[k].name.c_str(), events[k].object.c_str());
     }
-    if (!session.notice().empty())
+    if (!snapshot.notice.empty())
     {
         ImGui::PushStyleColor(ImGuiCol_Text, warningColour);
-        ImGui::TextUnformatted(session.notice().c_str());
+        ImGui::TextUnformatted(snapshot.notice.c_str());
         ImGui::PopStyleColor();
     }
-    if (!session.error().empty() && !visible)
+    if (!snapshot.error.empty() && !visible)
     {
         ImGui::PushStyleColor(ImGuiCol_Text, errorColour);
         ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30);
-        ImGui::TextUnformatted(session.error().c_str());
+        ImGui::TextUnformatted(snapshot.error.c_str());
         ImGui::PopTextWrapPos();
         ImGui::PopStyleColor();
     }

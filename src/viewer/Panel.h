@@ -5,7 +5,8 @@
 #include "Camera.h"
 #include "MassScalars.h"
 #include "Renderer.h"
-#include "ViewerSession.h"
+#include "SceneSnapshot.h"
+#include "SimulationThread.h"
 
 #include <optional>
 #include <string>
@@ -33,18 +34,20 @@ class Panel
 {
 public:
     /// Draws the panel (when shown) and the HUD; carries out run, load and rebuild requests on the session.
-    PanelRequests draw(ViewerSession& session, DrawSettings& draw, bool& pickMode, const FrameStats& stats,
-                       const MassScalarRegistry& scalars, const Renderer& renderer);
+    /// Reads the snapshot only; what the user asks of the scene goes to the simulation thread as commands.
+    PanelRequests draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
+                       const FrameStats& stats, const MassScalarRegistry& scalars, const Renderer& renderer);
 
     bool visible = true;
 
 private:
-    void drawControls(ViewerSession& session, DrawSettings& draw, bool& pickMode, const MassScalarRegistry& scalars,
-                      const ScalarRange& legend, PanelRequests& requests);
-    void drawSceneEditor(ViewerSession& session);
+    void drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
+                      const MassScalarRegistry& scalars, const ScalarRange& legend, PanelRequests& requests);
+    void drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation);
     /// Ambient temperature and heaters of a heat scene, acting on the running scene.
-    void drawHeatControls(ViewerSession& session);
-    void drawHud(ViewerSession& session, const FrameStats& stats, const DrawSettings& draw, const Renderer& renderer);
+    void drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation);
+    void drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, const DrawSettings& draw,
+                 const Renderer& renderer);
 
     scene::SceneSpec m_pending; ///< the spec being edited, applied with Apply
     bool m_edited = false;

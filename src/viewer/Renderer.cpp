@@ -199,77 +199,61 @@ Renderer::~Renderer()
     glDeleteVertexArrays(1, &m_sheetVao);
 }
 
-void Renderer::rebuildTopology(const scene::Scene& scene)
+void Renderer::rebuildTopology(const SheetTopology& topology)
 {
-    const Lattice& lattice = scene.lattice();
-    std::vector<std::uint32_t> springIndices;
-    springIndices.reserve(2 * lattice.springCount());
-    for (const SpringEnds& ends : scene.system().springs.ends)
-    {
-        springIndices.push_back(ends.a);
-        springIndices.push_back(ends.b);
-    }
-    // The surfaces are the outer layers: the bottom one, and the top one when there is more than one layer.
-    m_surfaceTriangles.clear();
-    const int layers = lattice.spec.layers;
-    std::vector<int> outerLayers{0};
-    if (layers > 1)
-    {
-        outerLayers.push_back(layers - 1);
-    }
-    for (int layer : outerLayers)
-    {
-        for (const Triangle& t : layerTriangles(lattice, layer))
-        {
-            m_surfaceTriangles.insert(m_surfaceTriangles.end(), t.begin(), t.end());
-        }
-    }
+    const std::vector<std::uint32_t>& springIndices = topology.springIndices;
+    const std::vector<std::uint32_t>& surfaceTriangles = topology.surfaceTriangles;
     glBindVertexArray(0);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_springIndices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(springIndices.size() * sizeof(std::uint32_t)),
                  springIndices.data(), GL_STATIC_DRAW);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_surfaceIndices);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m_surfaceTriangles.size() * sizeof(std::uint32_t)),
-                 m_surfaceTriangles.data(), GL_STATIC_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(surfaceTriangles.size() * sizeof(std::uint32_t)),
+                 surfaceTriangles.data(), GL_STATIC_DRAW);
     m_springIndexCount = GLsizei(springIndices.size());
-    m_surfaceIndexCount = GLsizei(m_surfaceTriangles.size());
-    m_spacing = std::min(lattice.spacingX, lattice.spacingZ);
+    m_surfaceIndexCount = GLsizei(surfaceTriangles.size());
+    m_spacing = topology.spacing;
 }
 
-void Renderer::uploadSheet(ViewerSession& session, const DrawSettings& settings, const MassScalarRegistry& scalars)
+void Renderer::uploadSheet(const SceneSnapshot& snapshot, const DrawSettings& settings)
 {
-    const scene::Scene& scene = session.scene();
-    const Particles& particles = scene.system().particles;
-    const std::size_t n = particles.size();
+    const std::vector<Vec3>& positions = snapshot.positions;
+    const std::size_t n = positions.size();
     m_positionData.resize(3 * n);
     m_colourData.resize(3 * n);
     Vec3 sum = Vec3::Zero();
     for (std::size_t i = 0; i < n; ++i)
     {
-        put(&m_positionData[3 * i], particles.position[i]);
-        sum += particles.position[i];
+        put(&m_positionData[3 * i], positions[i]);
+        sum += positions[i];
     }
     m_sheetCentre = n > 0 ? Vec3(sum / Real(n)) : Vec3::Zero();
 
-    const MassScalar* scalar = settings.mode == DrawMode::Scalar ? scalars.find(settings.scalar) : nullptr;
-    if (scalar)
+    const bool scalarMode = settings.mode == DrawMode::Scalar;
+    if (scalarMode && snapshot.scalarName == settings.scalar && snapshot.scalar.size() == n && n > 0)
     {
-        scalar->evaluate(scene, m_scalarValues);
-        m_scalarValues.resize(n, 0.0f);
-        m_scalarRange = rangeOf(m_scalarValues);
+        m_scalarRange = rangeOf(snapshot.scalar);
         for (std::size_t i = 0; i < n; ++i)
         {
-            put(&m_colourData[3 * i], viridis(m_scalarRange.normalise(m_scalarValues[i])));
+            put(&m_colourData[3 * i], viridis(m_scalarRange.normalise(snapshot.scalar[i])));
+        }
+    }
+    else if (scalarMode)
+    {
+        // A scalar the scene lacks (or not yet evaluated): plain grey rather than a uniform colour that reads as data.
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            put(&m_colourData[3 * i], palette::missingScalar);
         }
     }
     else
     {
-        const std::vector<int>& touching = scene.contact().touchingObstacle();
         for (std::size_t i = 0; i < n; ++i)
         {
-            const bool inContact = i < touching.size() && touching[i] >= 0;
-            const Rgb& colour =
-                particles.pinned[i] ? palette::pinnedMass : (inContact ? palette::massInContact : palette::mass);
+            const std::uint8_t flag = i < snapshot.flags.size() ? snapshot.flags[i] : std::uint8_t(massFree);
+            const Rgb& colour = flag == massPinned      ? palette::pinnedMass
+                                : flag == massInContact ? palette::massInContact
+                                                        : palette::mass;
             put(&m_colourData[3 * i], colour);
         }
     }
@@ -286,13 +270,13 @@ void Renderer::uploadSheet(ViewerSession& session, const DrawSettings& settings,
     }
     // Vertex normals: the area-weighted sum of the normals of the surface triangles at each mass.
     m_normalData.assign(3 * n, 0.0f);
-    for (std::size_t t = 0; t + 2 < m_surfaceTriangles.size(); t += 3)
+    const std::vector<std::uint32_t>& triangles = m_topology->surfaceTriangles;
+    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
     {
-        const std::uint32_t a = m_surfaceTriangles[t];
-        const std::uint32_t b = m_surfaceTriangles[t + 1];
-        const std::uint32_t c = m_surfaceTriangles[t + 2];
-        const Vec3 normal =
-            (particles.position[b] - particles.position[a]).cross(particles.position[c] - particles.position[a]);
+        const std::uint32_t a = triangles[t];
+        const std::uint32_t b = triangles[t + 1];
+        const std::uint32_t c = triangles[t + 2];
+        const Vec3 normal = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
         for (std::uint32_t k : {a, b, c})
         {
             m_normalData[3 * k] += float(normal.x());
@@ -311,11 +295,9 @@ void Renderer::upload(VertexStream& stream, const std::vector<Vertex>& vertices)
     stream.count = GLsizei(vertices.size());
 }
 
-void Renderer::buildEnvironment(scene::Scene& scene, bool showRoom)
+void Renderer::buildEnvironment(const SceneSnapshot& snapshot, bool showRoom)
 {
-    const bridge::BulletEnvironment& environment = scene.environment();
-    const std::vector<std::pair<int, int>>& touched = scene.contact().touchedFaces();
-    const bridge::RoomSpec& room = scene.spec().environment.room;
+    const bridge::RoomSpec& room = snapshot.spec->environment.room;
     const Vec3 roomCentre = (room.minCorner + room.maxCorner) / 2;
 
     std::vector<Vertex> roomFaces;
@@ -323,11 +305,10 @@ void Renderer::buildEnvironment(scene::Scene& scene, bool showRoom)
     std::vector<Vertex> lines;
     std::vector<Vec3> corners;
     int polyhedron = 0;
-    for (int i = 0; i < environment.obstacleCount(); ++i)
+    for (const ObstacleShape& obstacle : snapshot.obstacles)
     {
-        const bridge::Obstacle& obstacle = environment.obstacle(i);
-        const std::vector<Vec3> vertices = obstacleVertices(obstacle);
-        const auto& faces = obstacle.geometry.faces;
+        const std::vector<Vec3>& vertices = obstacle.vertices;
+        const auto& faces = obstacle.faces;
         if (obstacle.partOfRoom)
         {
             if (!showRoom)
@@ -336,12 +317,12 @@ void Renderer::buildEnvironment(scene::Scene& scene, bool showRoom)
             }
             // A room box lies outside the room; of its faces only the one facing the room's centre is drawn, so
             // the room reads as walls seen from inside, and a wall between the eye and the scene is culled away.
-            const Vec3 towardRoom = roomCentre - obstacle.pose.position;
+            const Vec3 towardRoom = roomCentre - obstacle.position;
             std::size_t inner = 0;
             Real best = -std::numeric_limits<Real>::infinity();
             for (std::size_t f = 0; f < faces.size(); ++f)
             {
-                const Real facing = (obstacle.pose.orientation * faces[f].normal).dot(towardRoom);
+                const Real facing = obstacle.normals[f].dot(towardRoom);
                 if (facing > best)
                 {
                     best = facing;
@@ -349,25 +330,23 @@ void Renderer::buildEnvironment(scene::Scene& scene, bool showRoom)
                 }
             }
             corners.clear();
-            for (int v : faces[inner].vertices)
+            for (int v : faces[inner])
             {
                 corners.push_back(vertices[std::size_t(v)]);
             }
-            const Rgb& colour = obstacle.spec.name == "floor" ? palette::floor : palette::wall;
-            appendPolygon(roomFaces, corners, obstacle.pose.orientation * faces[inner].normal, colour);
+            const Rgb& colour = obstacle.name == "floor" ? palette::floor : palette::wall;
+            appendPolygon(roomFaces, corners, obstacle.normals[inner], colour);
             continue;
         }
         const Rgb& base = palette::obstacles[std::size_t(polyhedron++) % palette::obstacles.size()];
         for (std::size_t f = 0; f < faces.size(); ++f)
         {
-            const bool isTouched = std::binary_search(touched.begin(), touched.end(), std::pair<int, int>(i, int(f)));
             corners.clear();
-            for (int v : faces[f].vertices)
+            for (int v : faces[f])
             {
                 corners.push_back(vertices[std::size_t(v)]);
             }
-            appendPolygon(solidFaces, corners, obstacle.pose.orientation * faces[f].normal,
-                          isTouched ? palette::touchedFace : base);
+            appendPolygon(solidFaces, corners, obstacle.normals[f], obstacle.touched[f] ? palette::touchedFace : base);
             for (std::size_t k = 0; k < corners.size(); ++k)
             {
                 for (const Vec3* p : {&corners[k], &corners[(k + 1) % corners.size()]})
@@ -408,11 +387,10 @@ void Renderer::buildEnvironment(scene::Scene& scene, bool showRoom)
     upload(m_lines, lines);
 }
 
-void Renderer::buildOverlays(ViewerSession& session)
+void Renderer::buildOverlays(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick)
 {
     std::vector<Vertex> lines;
     std::vector<Vertex> points;
-    MassSpringSystem& system = session.scene().system();
     auto add = [](std::vector<Vertex>& out, const Vec3& p, const Rgb& colour)
     {
         Vertex v{};
@@ -420,39 +398,36 @@ void Renderer::buildOverlays(ViewerSession& session)
         put(v.colour, colour);
         out.push_back(v);
     };
-    for (const auto& [mass, id] : session.scene().script().activeGrabs())
+    for (const auto& [mass, target] : snapshot.grabs)
     {
-        if (const UserSpring* spring = system.userSprings.find(id))
-        {
-            add(lines, system.particles.position[mass], palette::scriptedGrab);
-            add(lines, spring->target, palette::scriptedGrab);
-            add(points, system.particles.position[mass], palette::scriptedGrab);
-        }
+        add(lines, mass, palette::scriptedGrab);
+        add(lines, target, palette::scriptedGrab);
+        add(points, mass, palette::scriptedGrab);
     }
-    if (const std::optional<Index> picked = session.pickedMass())
+    std::optional<std::pair<Index, Vec3>> shown = pick;
+    if (!shown && snapshot.pickedMass)
     {
-        const Vec3& x = system.particles.position[*picked];
-        const Vec3 target = session.pickTarget().value_or(x);
+        shown = std::pair<Index, Vec3>(*snapshot.pickedMass, snapshot.pickTarget);
+    }
+    if (shown && shown->first < snapshot.positions.size())
+    {
+        const Vec3& x = snapshot.positions[shown->first];
         add(lines, x, palette::pick);
-        add(lines, target, palette::pick);
+        add(lines, shown->second, palette::pick);
         add(points, x, palette::pick);
-        add(points, target, palette::pick);
+        add(points, shown->second, palette::pick);
     }
     // Bullet's twin (--compare) as a ghost over MaSSE's sheet: its links and nodes, nodes in contact coloured.
-    if (const scene::Comparison* comparison = session.comparison())
+    if (snapshot.ghost)
     {
-        const bridge::SoftBodyTwin& twin = comparison->twin(0);
-        const std::vector<Vec3> nodes = twin.positions();
-        for (std::size_t link = 0; link < twin.linkCount(); ++link)
+        const GhostShape& ghost = *snapshot.ghost;
+        for (std::uint32_t node : ghost.links)
         {
-            const SpringEnds ends = twin.linkEnds(link);
-            add(lines, nodes[ends.a], palette::ghost);
-            add(lines, nodes[ends.b], palette::ghost);
+            add(lines, ghost.nodes[node], palette::ghost);
         }
-        const std::vector<int>& touching = twin.touchingObstacle();
-        for (std::size_t i = 0; i < nodes.size(); ++i)
+        for (std::size_t i = 0; i < ghost.nodes.size(); ++i)
         {
-            add(points, nodes[i], i < touching.size() && touching[i] >= 0 ? palette::ghostInContact : palette::ghost);
+            add(points, ghost.nodes[i], ghost.touching[i] ? palette::ghostInContact : palette::ghost);
         }
     }
     upload(m_overlayLines, lines);
@@ -494,18 +469,17 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     glBindVertexArray(0);
 }
 
-void Renderer::draw(ViewerSession& session, const OrbitCamera& camera, const Viewport& viewport,
-                    const DrawSettings& settings, const MassScalarRegistry& scalars)
+void Renderer::draw(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick,
+                    const OrbitCamera& camera, const Viewport& viewport, const DrawSettings& settings)
 {
-    scene::Scene& scene = session.scene();
-    if (m_generation != session.generation())
+    if (m_topology != snapshot.topology)
     {
-        rebuildTopology(scene);
-        m_generation = session.generation();
+        m_topology = snapshot.topology;
+        rebuildTopology(*m_topology);
     }
-    uploadSheet(session, settings, scalars);
-    buildEnvironment(scene, settings.showRoom);
-    buildOverlays(session);
+    uploadSheet(snapshot, settings);
+    buildEnvironment(snapshot, settings.showRoom);
+    buildOverlays(snapshot, pick);
 
     glViewport(0, 0, viewport.width, viewport.height);
     glClearColor(palette::background.r, palette::background.g, palette::background.b, 1);

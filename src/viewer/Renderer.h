@@ -7,10 +7,12 @@
 
 #include "Camera.h"
 #include "MassScalars.h"
+#include "SceneSnapshot.h"
 #include "ShaderProgram.h"
-#include "ViewerSession.h"
 
 #include <memory>
+#include <optional>
+#include <utility>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,8 +46,10 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
-    void draw(ViewerSession& session, const OrbitCamera& camera, const Viewport& viewport, const DrawSettings& settings,
-              const MassScalarRegistry& scalars);
+    /// Draws a snapshot. `pick`: the window's own pick (mass, target), fresher than the snapshot's: the pick spring
+    /// shows in the frame after the click whatever the simulation is doing.
+    void draw(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick,
+              const OrbitCamera& camera, const Viewport& viewport, const DrawSettings& settings);
 
     /// The range the last Scalar frame mapped onto the colour map (for the panel's legend).
     const ScalarRange& scalarRange() const { return m_scalarRange; }
@@ -69,10 +73,10 @@ private:
         GLsizei count = 0;
     };
 
-    void rebuildTopology(const scene::Scene& scene);
-    void uploadSheet(ViewerSession& session, const DrawSettings& settings, const MassScalarRegistry& scalars);
-    void buildEnvironment(scene::Scene& scene, bool showRoom);
-    void buildOverlays(ViewerSession& session);
+    void rebuildTopology(const SheetTopology& topology);
+    void uploadSheet(const SceneSnapshot& snapshot, const DrawSettings& settings);
+    void buildEnvironment(const SceneSnapshot& snapshot, bool showRoom);
+    void buildOverlays(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick);
     void upload(VertexStream& stream, const std::vector<Vertex>& vertices);
     void drawSheet(const DrawSettings& settings, const OrbitCamera& camera, const Viewport& viewport);
 
@@ -88,8 +92,7 @@ private:
     GLuint m_surfaceIndices = 0;
     GLsizei m_springIndexCount = 0;
     GLsizei m_surfaceIndexCount = 0;
-    std::uint64_t m_generation = ~std::uint64_t(0);
-    std::vector<std::uint32_t> m_surfaceTriangles;
+    std::shared_ptr<const SheetTopology> m_topology;
     Real m_spacing = 0; ///< m, the lattice's smallest spacing (sizes the mass points)
 
     // Per-frame scratch, kept to avoid reallocating.

@@ -1,5 +1,7 @@
 #include "ScreenRegions.h"
 
+#include "SceneSnapshot.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -75,6 +77,27 @@ nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, con
             std::any_of(touched.begin(), touched.end(), [i](const auto& f) { return f.first == i; });
         obstacles.push_back({{"name", obstacle.spec.name},
                              {"box", toJson(screenBox(camera, viewport, obstacleVertices(obstacle)))},
+                             {"touched", wasTouched}});
+    }
+    regions["obstacles"] = obstacles;
+    return regions;
+}
+nlohmann::json screenRegions(const SceneSnapshot& snapshot, const OrbitCamera& camera, const Viewport& viewport)
+{
+    nlohmann::json regions;
+    regions["width"] = viewport.width;
+    regions["height"] = viewport.height;
+    regions["sheet"] = toJson(screenBox(camera, viewport, snapshot.positions));
+    nlohmann::json obstacles = nlohmann::json::array();
+    for (const ObstacleShape& obstacle : snapshot.obstacles)
+    {
+        if (obstacle.partOfRoom)
+        {
+            continue;
+        }
+        const bool wasTouched = std::find(obstacle.touched.begin(), obstacle.touched.end(), true) != obstacle.touched.end();
+        obstacles.push_back({{"name", obstacle.name},
+                             {"box", toJson(screenBox(camera, viewport, obstacle.vertices))},
                              {"touched", wasTouched}});
     }
     regions["obstacles"] = obstacles;

@@ -31,6 +31,10 @@ std::optional<ScreenBox> screenBox(const OrbitCamera& camera, const Viewport& vi
 /// scene's polyhedra (not the room); "touched" is true when a mass touched one of its faces during the last step.
 nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, const Viewport& viewport);
 
+struct SceneSnapshot;
+/// The same from a snapshot (what the window drew).
+nlohmann::json screenRegions(const SceneSnapshot& snapshot, const OrbitCamera& camera, const Viewport& viewport);
+
 /// World positions of an obstacle's vertices where it is now.
 std::vector<Vec3> obstacleVertices(const bridge::Obstacle& obstacle);
 } // namespace masse::viewer

@@ -1,13 +1,15 @@
 #include "ViewerApp.h"
 
 #include "Display.h"
-#include "DrawPacer.h"
 #include "GlHeaders.h"
+#include "ImGuiInput.h"
+#include "InputEvents.h"
 #include "Panel.h"
 #include "Picking.h"
 #include "RateMeter.h"
 #include "ScreenRegions.h"
 #include "Screenshot.h"
+#include "SimulationThread.h"
 #include "ViewerSession.h"
 
 #include "core/InputError.h"
@@ -71,24 +73,15 @@ public:
     ~ViewerApp();
     ViewerReport run();
 
-    // GLUT callbacks (through the trampolines below).
-    void onMouse(int button, int state, int x, int y);
-    void onMotion(int x, int y);
-    void onWheel(int wheel, int direction, int x, int y);
-    void onKey(unsigned char key, int x, int y);
+    /// GLUT callbacks (through the trampolines below) only queue the event; a frame takes its batch before NewFrame.
+    void queue(const InputEvent& event) { m_input.push(event); }
     void onReshape(int width, int height);
     void onClose() { m_windowOpen = false; }
 
-    /// ImGui 1.86 reads button and key states once per frame, so a press and its release between two frames (a
-    /// quick click while frames are paced far apart) would be lost. Releases that follow a press not yet seen by
-    /// a frame are handed to ImGui after the next frame has seen the press, and a press brings that frame forward.
-    void pressToImGui(const std::function<void()>& press);
-    void releaseToImGui(std::function<void()> release);
-
 private:
     void openWindow();
-    /// One pass of the loop: advance the scene, and draw a frame when one is due (the draw pacer) or it is the
-    /// last; returns false when the run should stop.
+    /// One pass of the loop: take the latest snapshot and draw a frame when one is due (input waiting, the frame
+    /// interval gone, or the last); returns false when the run should stop. The simulation runs on its own thread.
     bool tick();
     /// Draws the scene and the UI and swaps; the last frame is also captured.
     void drawFrame(bool last);
@@ -96,21 +89,29 @@ private:
     void setView(ViewPreset preset);
     void beginPick(int x, int y);
     void capture();
+    /// --benchmark: a pick on the middle mass halfway through, timed until the simulation carries it out.
+    void benchmarkPick();
+    /// The window's own response to an event ImGui has already been given (camera, pick, keys).
+    void handle(const InputEvent& event);
+    void onMouseButton(const InputEvent& event);
+    void onMotion(int x, int y);
+    void onKey(unsigned char key);
 
     ViewerOptions m_options;
     MassScalarRegistry m_scalars;
-    ViewerSession m_session;
+    ViewerSession m_session; ///< the simulation thread's while it runs
+    std::unique_ptr<SimulationThread> m_simulation;
+    std::shared_ptr<const SceneSnapshot> m_snapshot; ///< what this frame draws
     std::unique_ptr<Renderer> m_renderer;
     Panel m_panel;
     DrawSettings m_draw;
     OrbitCamera m_camera;
     Viewport m_viewport;
     RateMeter m_rates;
-    DrawPacer m_pacer;
     FrameStats m_stats;
     bool m_pickMode = false;
-    bool m_pressSinceFrame = false;
-    std::vector<std::function<void()>> m_deferredReleases;
+    std::optional<std::pair<Index, Vec3>> m_pick; ///< the window's pick (mass, target), drawn before the simulation has it
+    InputQueue m_input;
 
     int m_window = 0;
     bool m_windowOpen = false;
@@ -123,85 +124,121 @@ private:
 
     Clock::time_point m_start;
     Clock::time_point m_lastTick;
+    Clock::time_point m_lastFrame;
+    std::uint64_t m_lastSteps = 0;
+    Real m_lastSimTime = 0;
+    std::uint64_t m_lastGeneration = 0;
+    std::uint64_t m_pickTicket = 0; ///< the benchmark's pick, until the simulation has carried it out
+    Clock::time_point m_pickPosted;
+    int m_pickFrame = 0;
     ViewerReport m_report;
     Real m_simAtFirstFrame = 0;
+    std::uint64_t m_stepsAtFirstFrame = 0;
     Clock::time_point m_firstFrameEnd;
 };
 
 ViewerApp* g_app = nullptr;
 
+/// Modifier keys GLUT reports as special keys (freeglut 3): their own events carry the state after them.
+Modifiers modifiersNow(int specialKey = -1, bool down = false)
+{
+    const int held = glutGetModifiers();
+    Modifiers m{(held & GLUT_ACTIVE_CTRL) != 0, (held & GLUT_ACTIVE_SHIFT) != 0, (held & GLUT_ACTIVE_ALT) != 0};
+    switch (specialKey)
+    {
+    case GLUT_KEY_CTRL_L:
+    case GLUT_KEY_CTRL_R:
+        m.ctrl = down;
+        break;
+    case GLUT_KEY_SHIFT_L:
+    case GLUT_KEY_SHIFT_R:
+        m.shift = down;
+        break;
+    case GLUT_KEY_ALT_L:
+    case GLUT_KEY_ALT_R:
+        m.alt = down;
+        break;
+    default:
+        break;
+    }
+    return m;
+}
+
 void mouseTrampoline(int button, int state, int x, int y)
 {
-    g_app->onMouse(button, state, x, y);
+    InputEvent event;
+    event.kind = state == GLUT_DOWN ? InputKind::MouseDown : InputKind::MouseUp;
+    event.button = button == GLUT_LEFT_BUTTON ? 0 : button == GLUT_RIGHT_BUTTON ? 1 : button == GLUT_MIDDLE_BUTTON ? 2 : -1;
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow();
+    if (event.button >= 0)
+    {
+        g_app->queue(event);
+    }
 }
 void motionTrampoline(int x, int y)
 {
-    g_app->onMotion(x, y);
+    InputEvent event;
+    event.kind = InputKind::MouseMove;
+    event.x = x;
+    event.y = y;
+    g_app->queue(event);
 }
-void passiveMotionTrampoline(int x, int y)
+void wheelTrampoline(int, int direction, int x, int y)
 {
-    ImGui_ImplGLUT_MotionFunc(x, y);
-}
-void wheelTrampoline(int wheel, int direction, int x, int y)
-{
-    g_app->onWheel(wheel, direction, x, y);
+    InputEvent event;
+    event.kind = InputKind::Wheel;
+    event.wheel = direction > 0 ? 1 : -1;
+    event.x = x;
+    event.y = y;
+    g_app->queue(event);
 }
 void keyTrampoline(unsigned char key, int x, int y)
 {
-    g_app->onKey(key, x, y);
-}
-/// ImGui's GLUT backend on a key release, for a release handed over after the callback: freeglut reports the
-/// modifiers only inside a callback, so they are read when the key went up and applied here.
-void setImGuiModifiers(int modifiers)
-{
-    ImGuiIO& io = ImGui::GetIO();
-    io.KeyCtrl = (modifiers & GLUT_ACTIVE_CTRL) != 0;
-    io.KeyShift = (modifiers & GLUT_ACTIVE_SHIFT) != 0;
-    io.KeyAlt = (modifiers & GLUT_ACTIVE_ALT) != 0;
-}
-
-void releaseImGuiKey(unsigned char c, int modifiers)
-{
-    // The backend stores letters as both cases, and Ctrl+letter (1..26) as the letter too.
-    bool* down = ImGui::GetIO().KeysDown;
-    down[c] = false;
-    if (c >= 1 && c <= 26)
+    InputEvent event;
+    event.kind = InputKind::KeyDown;
+    event.key = characterKeySlot(key);
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow();
+    g_app->queue(event);
+    if (key >= 32)
     {
-        down[c - 1 + 'a'] = down[c - 1 + 'A'] = false;
+        event.kind = InputKind::Character;
+        event.character = key;
+        g_app->queue(event);
     }
-    else if (c >= 'a' && c <= 'z')
-    {
-        down[c - 'a' + 'A'] = false;
-    }
-    else if (c >= 'A' && c <= 'Z')
-    {
-        down[c - 'A' + 'a'] = false;
-    }
-    setImGuiModifiers(modifiers);
 }
-
-void keyUpTrampoline(unsigned char key, int, int)
+void keyUpTrampoline(unsigned char key, int x, int y)
 {
-    const int modifiers = glutGetModifiers();
-    g_app->releaseToImGui([=] { releaseImGuiKey(key, modifiers); });
+    InputEvent event;
+    event.kind = InputKind::KeyUp;
+    event.key = characterKeySlot(key);
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow();
+    g_app->queue(event);
 }
 void specialTrampoline(int key, int x, int y)
 {
-    g_app->pressToImGui([=] { ImGui_ImplGLUT_SpecialFunc(key, x, y); });
+    InputEvent event;
+    event.kind = InputKind::KeyDown;
+    event.key = specialKeyBase + key;
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow(key, true);
+    g_app->queue(event);
 }
-void specialUpTrampoline(int key, int, int)
+void specialUpTrampoline(int key, int x, int y)
 {
-    const int modifiers = glutGetModifiers();
-    g_app->releaseToImGui(
-        [=]
-        {
-            ImGuiIO& io = ImGui::GetIO();
-            if (key + 256 < IM_ARRAYSIZE(io.KeysDown))
-            {
-                io.KeysDown[key + 256] = false;
-            }
-            setImGuiModifiers(modifiers);
-        });
+    InputEvent event;
+    event.kind = InputKind::KeyUp;
+    event.key = specialKeyBase + key;
+    event.x = x;
+    event.y = y;
+    event.modifiers = modifiersNow(key, false);
+    g_app->queue(event);
 }
 void reshapeTrampoline(int width, int height)
 {
@@ -236,10 +273,13 @@ ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassSc
     m_session.setPaused(options.startPaused);
     m_session.setPauseAtEnd(!options.benchmark);
     m_viewport = {options.width, options.height};
+    m_simulation = std::make_unique<SimulationThread>(m_session, m_scalars, options.stepsPerFrame == 0,
+                                                      options.computeBudget);
 }
 
 ViewerApp::~ViewerApp()
 {
+    m_simulation->stop();
     if (m_windowOpen)
     {
         // GL objects go while their context still exists.
@@ -280,14 +320,15 @@ void ViewerApp::openWindow()
     ImGui::GetIO().IniFilename = nullptr; // no imgui.ini left in the working folder
     ImGui::StyleColorsDark();
     ImGui_ImplGLUT_Init();
+    mapImGuiKeys();
     ImGui_ImplOpenGL3_Init("#version 330 core");
 
-    // Our callbacks pass every event to ImGui first and act on it only when ImGui does not want it.
+    // Our callbacks queue every event; a frame gives its batch to ImGui first and acts on what ImGui does not want.
     glutDisplayFunc(displayNothing);
     glutReshapeFunc(reshapeTrampoline);
     glutMouseFunc(mouseTrampoline);
     glutMotionFunc(motionTrampoline);
-    glutPassiveMotionFunc(passiveMotionTrampoline);
+    glutPassiveMotionFunc(motionTrampoline);
     glutMouseWheelFunc(wheelTrampoline);
     glutKeyboardFunc(keyTrampoline);
     glutKeyboardUpFunc(keyUpTrampoline);
@@ -304,9 +345,8 @@ void ViewerApp::openWindow()
 
 void ViewerApp::setView(ViewPreset preset)
 {
-    scene::Scene& scene = m_session.scene();
     Bounds sheet;
-    for (const Vec3& p : scene.system().particles.position)
+    for (const Vec3& p : m_snapshot->positions)
     {
         sheet.add(p);
     }
@@ -317,12 +357,11 @@ void ViewerApp::setView(ViewPreset preset)
         return;
     }
     Bounds all = sheet;
-    for (int i = 0; i < scene.environment().obstacleCount(); ++i)
+    for (const ObstacleShape& obstacle : m_snapshot->obstacles)
     {
-        const bridge::Obstacle& obstacle = scene.environment().obstacle(i);
         if (!obstacle.partOfRoom)
         {
-            for (const Vec3& p : obstacleVertices(obstacle))
+            for (const Vec3& p : obstacle.vertices)
             {
                 all.add(p);
             }
@@ -339,7 +378,7 @@ void ViewerApp::onReshape(int width, int height)
 
 void ViewerApp::beginPick(int x, int y)
 {
-    const std::vector<Vec3>& positions = m_session.scene().system().particles.position;
+    const std::vector<Vec3>& positions = m_snapshot->positions;
     const Ray ray = rayThroughPixel(m_camera, m_viewport, x + Real(0.5), y + Real(0.5));
     const std::optional<MassPick> hit =
         pickNearestMass(positions, ray, m_camera.pixelSizeAtUnitDepth(m_viewport), pickTolerancePixels);
@@ -351,41 +390,52 @@ void ViewerApp::beginPick(int x, int y)
     }
     const Vec3 picked = positions[hit->mass];
     m_dragPlane = dragPlaneFacing(m_camera, picked);
-    m_session.beginPick(hit->mass, picked);
+    m_pick = std::pair<Index, Vec3>(hit->mass, picked);
+    m_simulation->post([mass = hit->mass, picked](ViewerSession& session) { session.beginPick(mass, picked); });
     m_drag = Drag::Pick;
 }
 
-void ViewerApp::pressToImGui(const std::function<void()>& press)
+void ViewerApp::handle(const InputEvent& event)
 {
-    press();
-    m_pressSinceFrame = true;
+    const ImGuiIO& io = ImGui::GetIO();
+    switch (event.kind)
+    {
+    case InputKind::MouseDown:
+    case InputKind::MouseUp:
+        onMouseButton(event);
+        break;
+    case InputKind::MouseMove:
+        onMotion(event.x, event.y);
+        break;
+    case InputKind::Wheel:
+        if (!io.WantCaptureMouse)
+        {
+            m_camera.zoom(event.wheel > 0 ? Real(0.9) : Real(1) / Real(0.9));
+        }
+        break;
+    case InputKind::KeyDown:
+        if (!ImGui::IsAnyItemActive() && !event.modifiers.ctrl && !event.modifiers.alt && event.key < specialKeyBase)
+        {
+            // Letters arrive as their upper-case slot; the keys are lower case.
+            const int key = event.key >= 'A' && event.key <= 'Z' && !event.modifiers.shift ? event.key - 'A' + 'a'
+                                                                                               : event.key;
+            onKey(static_cast<unsigned char>(key));
+        }
+        break;
+    case InputKind::KeyUp:
+    case InputKind::Character:
+        break;
+    }
 }
 
-void ViewerApp::releaseToImGui(std::function<void()> release)
+void ViewerApp::onMouseButton(const InputEvent& event)
 {
-    if (m_pressSinceFrame)
-    {
-        m_deferredReleases.push_back(std::move(release));
-        return;
-    }
-    release();
-}
-
-void ViewerApp::onMouse(int button, int state, int x, int y)
-{
-    if (state == GLUT_DOWN)
-    {
-        pressToImGui([=] { ImGui_ImplGLUT_MouseFunc(button, state, x, y); });
-    }
-    else
-    {
-        releaseToImGui([=] { ImGui_ImplGLUT_MouseFunc(button, state, x, y); });
-    }
-    if (state == GLUT_UP)
+    if (event.kind == InputKind::MouseUp)
     {
         if (m_drag == Drag::Pick)
         {
-            m_session.endPick();
+            m_pick.reset();
+            m_simulation->post([](ViewerSession& session) { session.endPick(); });
         }
         m_drag = Drag::None;
         return;
@@ -394,23 +444,22 @@ void ViewerApp::onMouse(int button, int state, int x, int y)
     {
         return;
     }
-    m_lastX = x;
-    m_lastY = y;
-    const int modifiers = glutGetModifiers();
-    const bool pickModifier = (modifiers & (GLUT_ACTIVE_CTRL | GLUT_ACTIVE_SHIFT)) != 0;
-    if (button == GLUT_LEFT_BUTTON && (m_pickMode || pickModifier))
+    m_lastX = event.x;
+    m_lastY = event.y;
+    const bool pickModifier = event.modifiers.ctrl || event.modifiers.shift;
+    if (event.button == 0 && (m_pickMode || pickModifier))
     {
-        beginPick(x, y);
+        beginPick(event.x, event.y);
     }
-    else if (button == GLUT_LEFT_BUTTON)
+    else if (event.button == 0)
     {
         m_drag = Drag::Orbit;
     }
-    else if (button == GLUT_RIGHT_BUTTON)
+    else if (event.button == 1)
     {
         m_drag = Drag::Pan;
     }
-    else if (button == GLUT_MIDDLE_BUTTON)
+    else if (event.button == 2)
     {
         m_drag = Drag::Zoom;
     }
@@ -418,7 +467,6 @@ void ViewerApp::onMouse(int button, int state, int x, int y)
 
 void ViewerApp::onMotion(int x, int y)
 {
-    ImGui_ImplGLUT_MotionFunc(x, y);
     const Real dx = x - m_lastX;
     const Real dy = y - m_lastY;
     m_lastX = x;
@@ -438,7 +486,11 @@ void ViewerApp::onMotion(int x, int y)
         if (const std::optional<Vec3> target =
                 intersect(rayThroughPixel(m_camera, m_viewport, x + Real(0.5), y + Real(0.5)), m_dragPlane))
         {
-            m_session.movePick(*target);
+            if (m_pick)
+            {
+                m_pick->second = *target;
+            }
+            m_simulation->post([target = *target](ViewerSession& session) { session.movePick(target); });
         }
         break;
     case Drag::None:
@@ -446,33 +498,23 @@ void ViewerApp::onMotion(int x, int y)
     }
 }
 
-void ViewerApp::onWheel(int wheel, int direction, int x, int y)
+void ViewerApp::onKey(unsigned char key)
 {
-    ImGui_ImplGLUT_MouseWheelFunc(wheel, direction, x, y);
-    if (!ImGui::GetIO().WantCaptureMouse)
-    {
-        m_camera.zoom(direction > 0 ? Real(0.9) : Real(1) / Real(0.9));
-    }
-}
-
-void ViewerApp::onKey(unsigned char key, int x, int y)
-{
-    pressToImGui([=] { ImGui_ImplGLUT_KeyboardFunc(key, x, y); });
-    if (ImGui::GetIO().WantTextInput)
-    {
-        return;
-    }
     switch (key)
     {
     case ' ':
-        m_session.setPaused(!m_session.paused());
+        m_simulation->post([](ViewerSession& session) { session.setPaused(!session.paused()); });
         break;
     case 'n':
-        m_session.setPaused(true);
-        m_session.requestStep();
+        m_simulation->post(
+            [](ViewerSession& session)
+            {
+                session.setPaused(true);
+                session.requestStep();
+            });
         break;
     case 'r':
-        m_session.reset();
+        m_simulation->post([](ViewerSession& session) { session.reset(); });
         break;
     case 'v':
         setView(m_options.view);
@@ -514,7 +556,7 @@ bool ViewerApp::eventSeen() const
     const std::size_t colon = wanted.find(':');
     const std::string name = wanted.substr(0, colon);
     const std::string object = colon == std::string::npos ? "" : wanted.substr(colon + 1);
-    for (const scene::SceneEvent& event : m_session.scene().events())
+    for (const scene::SceneEvent& event : m_snapshot->events)
     {
         if (event.name == name && (object.empty() || event.object == object))
         {
@@ -533,8 +575,23 @@ void ViewerApp::capture()
     if (!m_options.regions.empty())
     {
         scene::writeFileAtomically(m_options.regions,
-                                   screenRegions(m_session.scene(), m_camera, m_viewport).dump(2) + "\n");
+                                   screenRegions(*m_snapshot, m_camera, m_viewport).dump(2) + "\n");
     }
+}
+
+void ViewerApp::benchmarkPick()
+{
+    const std::vector<Vec3>& positions = m_snapshot->positions;
+    if (positions.empty())
+    {
+        return;
+    }
+    const Index mass = positions.size() / 2;
+    const Vec3 target = positions[mass] + Vec3(0, Real(0.05), 0);
+    m_pick = std::pair<Index, Vec3>(mass, target);
+    m_pickPosted = Clock::now();
+    m_pickFrame = m_report.frames;
+    m_pickTicket = m_simulation->post([mass, target](ViewerSession& session) { session.beginPick(mass, target); });
 }
 
 bool ViewerApp::tick()
@@ -547,36 +604,70 @@ bool ViewerApp::tick()
     const Real wall = secondsBetween(m_lastTick, start);
     m_lastTick = start;
     const bool fixedSteps = m_options.stepsPerFrame > 0;
-    const Advance advance =
-        fixedSteps ? m_session.advanceSteps(m_options.stepsPerFrame) : m_session.advance(wall, m_options.computeBudget);
-    m_report.steps += std::uint64_t(advance.steps);
-    m_report.stepSeconds += advance.stepSeconds;
-    m_pacer.stepped(advance.steps, advance.stepSeconds, m_session.spec().time.dt);
+    if (fixedSteps)
+    {
+        // Captures: exactly k steps a frame, waited for (the only wait on the simulation, for repeatable pictures).
+        m_simulation->waitFor(m_simulation->postSteps(m_options.stepsPerFrame));
+    }
+    m_simulation->setScalar(m_draw.mode == DrawMode::Scalar ? m_draw.scalar : "");
+    m_snapshot = m_simulation->latest();
+    const SceneSnapshot& snapshot = *m_snapshot;
+    if (snapshot.generation != m_lastGeneration)
+    {
+        // A new scene: its steps and time count from zero.
+        m_lastGeneration = snapshot.generation;
+        m_lastSimTime = snapshot.time;
+        m_pick.reset();
+    }
+    const int steps = int(snapshot.steps - m_lastSteps);
+    const Real simSeconds = std::max(Real(0), snapshot.time - m_lastSimTime);
+    m_lastSteps = snapshot.steps;
+    m_lastSimTime = snapshot.time;
+    m_report.steps = snapshot.steps;
+    m_report.stepSeconds = snapshot.stepSeconds;
+    if (m_pickTicket != 0 && snapshot.appliedTicket >= m_pickTicket)
+    {
+        m_report.pickAppliedSeconds = secondsBetween(m_pickPosted, start);
+        m_report.pickAppliedFrames = m_report.frames - m_pickFrame;
+        m_report.pickMeasured = true;
+        m_pickTicket = 0;
+        m_pick.reset();
+        m_simulation->post([](ViewerSession& session) { session.endPick(); });
+    }
+
     m_report.eventSeen = eventSeen();
     const bool last = m_quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
-    const Real now = secondsBetween(m_start, start);
-    const bool draw = fixedSteps || last || m_pressSinceFrame || m_pacer.due(now, !m_session.paused());
+    // Frames at most every 1/30 s while the scene runs (the simulation thread and the rasteriser share the cores),
+    // every 1/60 s while it is paused; at once when input waits.
+    const Real interval = snapshot.paused ? Real(1) / 60 : Real(1) / 30;
+    const bool draw = fixedSteps || last || !m_input.empty() || m_report.frames == 0 ||
+                      secondsBetween(m_lastFrame, start) >= interval;
     if (draw)
     {
+        m_lastFrame = start;
         const Clock::time_point drawStart = Clock::now();
         drawFrame(last);
-        const Real cost = secondsBetween(drawStart, Clock::now());
-        m_pacer.drew(now, cost);
-        m_report.drawSeconds += cost;
+        m_report.drawSeconds += secondsBetween(drawStart, Clock::now());
         if (++m_report.frames == 1)
         {
             // The first frame includes opening the window; rates are measured from its end.
             m_firstFrameEnd = Clock::now();
-            m_simAtFirstFrame = m_session.scene().time();
+            m_simAtFirstFrame = snapshot.time;
+            m_stepsAtFirstFrame = snapshot.steps;
+        }
+        if (m_options.benchmark && m_report.frames == std::max(2, m_options.frames / 2) && !m_report.pickMeasured &&
+            m_pickTicket == 0)
+        {
+            benchmarkPick();
         }
     }
-    m_rates.add(wall, draw ? 1 : 0, advance.steps, advance.simSeconds, advance.behind);
+    m_rates.add(wall, draw ? 1 : 0, steps, simSeconds, snapshot.behind);
     m_stats = {m_rates.framesPerSecond(), m_rates.stepsPerSecond(), m_rates.realTimeFactor(),
                m_rates.hasFigures(),      m_rates.fellBehind(),     m_options.stepsPerFrame};
-    if (!draw && advance.steps == 0)
+    if (!draw)
     {
-        // Nothing was due: wait a little rather than spin a core the simulation or the rasteriser could use.
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        // Nothing due: wait a little rather than spin a core the simulation or the rasteriser could use.
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     return !last;
 }
@@ -588,17 +679,21 @@ void ViewerApp::drawFrame(bool last)
     const int uiPasses = last ? 2 : 1;
     for (int pass = 0; pass < uiPasses; ++pass)
     {
+        // Input reaches ImGui before NewFrame, never between it and Render (ImGui 1.86 asserts on modifiers that
+        // change mid-frame). The window acts after NewFrame, on what ImGui did not take as of this frame: a key typed
+        // just after Enter left a text field is the window's, not the field's.
+        const std::vector<InputEvent> batch = pass == 0 ? m_input.takeFrame() : std::vector<InputEvent>{};
+        applyToImGui(batch);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGLUT_NewFrame();
-        // This frame has seen the presses; the releases that waited for it now count from the next one.
-        m_pressSinceFrame = false;
-        for (const std::function<void()>& release : std::exchange(m_deferredReleases, {}))
+        for (const InputEvent& event : batch)
         {
-            release();
+            handle(event);
         }
         if (m_options.showUi)
         {
-            const PanelRequests requests = m_panel.draw(m_session, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
+            const PanelRequests requests =
+                m_panel.draw(*m_snapshot, *m_simulation, m_draw, m_pickMode, m_stats, m_scalars, *m_renderer);
             if (requests.view)
             {
                 setView(*requests.view);
@@ -606,7 +701,7 @@ void ViewerApp::drawFrame(bool last)
         }
         ImGui::Render();
     }
-    m_renderer->draw(m_session, m_camera, m_viewport, m_draw, m_scalars);
+    m_renderer->draw(*m_snapshot, m_pick, m_camera, m_viewport, m_draw);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
     if (last)
     {
@@ -617,6 +712,8 @@ void ViewerApp::drawFrame(bool last)
 
 ViewerReport ViewerApp::run()
 {
+    m_simulation->start();
+    m_snapshot = m_simulation->latest();
     openWindow();
     m_start = Clock::now();
     m_lastTick = m_start;
@@ -626,7 +723,11 @@ ViewerReport ViewerApp::run()
         glutMainLoopEvent();
     }
     m_report.wallSeconds = secondsBetween(m_firstFrameEnd, Clock::now());
+    m_simulation->stop();
+    // The session is this thread's again.
     m_report.simSeconds = m_session.scene().time() - m_simAtFirstFrame;
+    m_report.steps = m_report.steps - m_stepsAtFirstFrame;
+    m_report.finalScene = m_session.spec().name;
     return m_report;
 }
 

@@ -39,11 +39,17 @@ struct ViewerReport
     std::uint64_t steps = 0;
     Real wallSeconds = 0;   ///< from the end of the first frame (which includes opening the window) to the last
     Real simSeconds = 0;    ///< simulated over the same frames
-    Real stepSeconds = 0;   ///< wall time spent stepping the scene
+    Real stepSeconds = 0;   ///< wall time spent stepping the scene (on the simulation thread)
     Real drawSeconds = 0;   ///< wall time spent drawing (scene, panel, swap)
     std::string renderer;   ///< GL_RENDERER
     std::string version;    ///< GL_VERSION
     bool eventSeen = false; ///< the `untilEvent` happened
+    std::string finalScene; ///< the name of the scene shown when the window closed (one loaded from the panel)
+    /// --benchmark's pick, posted halfway: wall seconds and frames drawn until the simulation thread carried it out
+    /// (the window draws the pick spring from its own state in the next frame).
+    bool pickMeasured = false;
+    Real pickAppliedSeconds = 0;
+    int pickAppliedFrames = 0;
 };
 
 /// Opens the window on the scene and runs until it is closed (or the options' frame count or event). Throws

@@ -1,0 +1,52 @@
+#pragma once
+/// A sparse Cholesky factor (LDL^T) of a recent implicit-step matrix, used as the conjugate gradient's
+/// preconditioner and refreshed only when it has drifted (the caller refactors when a solve needs more than a few
+/// iterations). With a fresh factor the solve takes one or two iterations at any size and stiffness; as the sheet
+/// turns and its stiffness changes the old factor stays a close, symmetric positive definite approximation.
+///
+/// Contact filters change from step to step, so the factor is applied through the current step's filter:
+///     z = S F^-1 S r + (I - S) r
+/// with S the per-mass projection onto the free directions. This is symmetric positive definite, and equals the
+/// exact inverse of the filtered matrix S A S + I - S when F was factored from that matrix with the same filter.
+
+#include "ConjugateGradient.h"
+
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+
+#include <vector>
+
+namespace masse
+{
+class CholeskyPreconditioner final : public Preconditioner
+{
+public:
+    /// Analyses the matrix's pattern with the masses eliminated in `massOrder` (see NestedDissection.h); once per
+    /// topology. The matrix has three rows per mass.
+    void analyse(const SparseMatrix& a, const std::vector<Index>& massOrder);
+    /// Factors the matrix's current values (same pattern as analysed). Returns false if it is not positive definite.
+    bool refresh(const SparseMatrix& a);
+    bool ready() const { return m_ready; }
+    /// The masses filtered this step and their S (both outlive the solve); empty for none.
+    void setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters);
+    void apply(const Vector& r, Vector& z) const override;
+    /// Factorisations since construction.
+    int refreshCount() const { return m_refreshCount; }
+
+private:
+    void solveWithFactor(const Vector& b, Vector& x) const;
+
+    using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
+
+    /// The factor of P A P^T: the order is ours (nested dissection), so the factor's own is the natural one.
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> m_factor;
+    Permutation m_permutation; ///< row i of A is row m_permutation.indices()[i] of the factored matrix
+    SparseMatrix m_permutedMatrix;
+    const std::vector<Index>* m_masses = nullptr;
+    const std::vector<Mat3>* m_filters = nullptr;
+    mutable Vector m_filtered;
+    mutable Vector m_permuted;
+    bool m_ready = false;
+    int m_refreshCount = 0;
+};
+} // namespace masse

@@ -1,0 +1,132 @@
+#include "ConjugateGradient.h"
+
+#include "ChunkedSum.h"
+
+#include <cmath>
+
+namespace masse
+{
+namespace
+{
+/// Rows per piece of a matrix-vector product: a task system hands out pieces of this many rows.
+constexpr Eigen::Index productChunk = 3 * 1024;
+
+void resizeIfNeeded(Vector& v, Eigen::Index size)
+{
+    if (v.size() != size)
+    {
+        v.resize(size);
+    }
+}
+
+// Element-wise updates as plain loops: Eigen's packet code would use fused multiply-adds on a build that targets
+// them, and the bits must not depend on the SIMD path.
+
+/// y += alpha x over entries [begin, end).
+void addScaled(Vector& y, Real alpha, const Vector& x, Eigen::Index begin, Eigen::Index end)
+{
+    for (Eigen::Index i = begin; i < end; ++i)
+    {
+        y[i] += alpha * x[i];
+    }
+}
+
+/// p = z + beta p over entries [begin, end).
+void updateDirection(Vector& p, const Vector& z, Real beta, Eigen::Index begin, Eigen::Index end)
+{
+    for (Eigen::Index i = begin; i < end; ++i)
+    {
+        p[i] = z[i] + beta * p[i];
+    }
+}
+} // namespace
+
+void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end)
+{
+    const auto* outer = a.outerIndexPtr();
+    const auto* inner = a.innerIndexPtr();
+    const Real* values = a.valuePtr();
+    const Real* in = x.data();
+    for (Eigen::Index row = begin; row < end; ++row)
+    {
+        Real sum = 0;
+        for (auto k = outer[row]; k < outer[row + 1]; ++k)
+        {
+            sum += values[k] * in[inner[k]];
+        }
+        y[row] = sum;
+    }
+}
+
+void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector& y) const
+{
+    const Eigen::Index n = a.rows();
+    for (Eigen::Index begin = 0; begin < n; begin += productChunk) // independent pieces: parallel in a task system
+    {
+        multiplySymmetricRows(a, x, y, begin, std::min(n, begin + productChunk));
+    }
+}
+
+Real ConjugateGradient::dot(const Vector& u, const Vector& v)
+{
+    return chunkedDot(u, v, m_partialSums);
+}
+
+SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vector& x,
+                                     const Preconditioner& preconditioner, Real tolerance, int maxIterations)
+{
+    const Eigen::Index n = a.rows();
+    resizeIfNeeded(m_residual, n);
+    resizeIfNeeded(m_direction, n);
+    resizeIfNeeded(m_preconditioned, n);
+    resizeIfNeeded(m_product, n);
+    SolveResult result;
+
+    const Real rhsNorm2 = dot(b, b);
+    if (rhsNorm2 == 0)
+    {
+        x.setZero();
+        result.converged = true;
+        return result;
+    }
+    const Real threshold = tolerance * tolerance * rhsNorm2;
+
+    multiply(a, x, m_product);
+    for (Eigen::Index k = 0; k < n; ++k)
+    {
+        m_residual[k] = b[k] - m_product[k];
+    }
+    Real residualNorm2 = dot(m_residual, m_residual);
+    if (residualNorm2 <= threshold)
+    {
+        result.residual = std::sqrt(residualNorm2 / rhsNorm2);
+        result.converged = true;
+        return result;
+    }
+    preconditioner.apply(m_residual, m_direction);
+    Real absNew = dot(m_residual, m_direction);
+    int i = 0;
+    while (i < maxIterations)
+    {
+        multiply(a, m_direction, m_product);
+        const Real alpha = absNew / dot(m_direction, m_product);
+        addScaled(x, alpha, m_direction, 0, n);
+        addScaled(m_residual, -alpha, m_product, 0, n);
+        residualNorm2 = dot(m_residual, m_residual);
+        ++i;
+        if (residualNorm2 <= threshold)
+        {
+            break;
+        }
+        preconditioner.apply(m_residual, m_preconditioned);
+        const Real absOld = absNew;
+        absNew = dot(m_residual, m_preconditioned);
+        const Real beta = absNew / absOld;
+        updateDirection(m_direction, m_preconditioned, beta, 0, n);
+    }
+    result.iterations = i;
+    result.residual = std::sqrt(residualNorm2 / rhsNorm2);
+    result.converged = residualNorm2 <= threshold;
+    return result;
+}
+} // namespace masse

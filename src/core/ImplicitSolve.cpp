@@ -1,0 +1,481 @@
+#include "ImplicitSolve.h"
+
+#include "Forces.h"
+#include "InputError.h"
+#include "NestedDissection.h"
+#include "SpringForce.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace masse
+{
+IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
+                                     const std::vector<Vec3>& momentum)
+{
+    const std::size_t n = system.particles.size();
+    if (m_patternSystem != &system || m_patternMasses != n || m_patternSprings != system.springs.size())
+    {
+        buildPattern(system);
+    }
+    assemble(system, a, offset, momentum);
+    const bool constrained = applyConstraints(system, a);
+    m_tolerance = solverTolerance(system, a);
+    const IntegratorStats stats = runSolver();
+    if (constrained)
+    {
+        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+        {
+            m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
+        }
+        writeReactions(system);
+    }
+    return stats;
+}
+
+Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) const
+{
+    // The conjugate gradient stops at |r| <= tol |b|. With stiff material springs b is dominated by spring forces that
+    // nearly cancel in the sheet's slow motion (bending, sliding, falling), so a residual of tol |b| leaves an error in
+    // that motion larger than gravity's own impulse: energy appears, b grows with it, and so does the error allowed
+    // (a cold PET sheet over a pyramid reached 149 m/s). The residual is therefore held to tol times the smaller of
+    // |b| and the impulse of the sheet's weight over the step, a |g| sqrt(sum m_i^2).
+    const Real gravity = std::max(system.forces.gravity.norm(), standardGravity);
+    Real massSquares = 0;
+    for (Real m : system.particles.mass)
+    {
+        massSquares += m * m;
+    }
+    const Real weightImpulse = a * gravity * std::sqrt(massSquares);
+    const Real rhs = m_rhs.norm();
+    if (!(rhs > weightImpulse))
+    {
+        return m_settings.tolerance;
+    }
+    return std::max(m_settings.tolerance * weightImpulse / rhs, Real(4) * std::numeric_limits<Real>::epsilon());
+}
+
+IntegratorStats ImplicitSolve::runSolver()
+{
+    const int cap = m_settings.maxIterations;
+    SolveResult result;
+    if (m_settings.preconditioner == PreconditionerKind::Jacobi)
+    {
+        m_jacobi.refresh(m_matrix);
+        result = m_cg.solve(m_matrix, m_rhs, m_deltaV, m_jacobi, m_tolerance, cap);
+    }
+    else
+    {
+        // Factor only when the old factor has drifted: first try it for a few iterations, and refactor from the
+        // current matrix (then finish, in one or two more) only if that was not enough.
+        m_cholesky.setFilter(m_constrainedMasses, m_filters);
+        bool fresh = false;
+        if (!m_cholesky.ready())
+        {
+            fresh = m_cholesky.refresh(m_matrix);
+        }
+        const int firstTry = fresh ? cap : std::min(cap, m_settings.refreshAfterIterations);
+        if (m_cholesky.ready())
+        {
+            result = m_cg.solve(m_matrix, m_rhs, m_deltaV, m_cholesky, m_tolerance, firstTry);
+        }
+        if (!result.converged && result.iterations < cap && !fresh && m_cholesky.refresh(m_matrix))
+        {
+            const int used = result.iterations;
+            result = m_cg.solve(m_matrix, m_rhs, m_deltaV, m_cholesky, m_tolerance, cap - used);
+            result.iterations += used;
+        }
+        if (!m_cholesky.ready()) // not positive definite to the factorisation: fall back to the diagonal
+        {
+            const int used = result.iterations;
+            m_jacobi.refresh(m_matrix);
+            result = m_cg.solve(m_matrix, m_rhs, m_deltaV, m_jacobi, m_tolerance, cap - used);
+            result.iterations += used;
+        }
+    }
+    IntegratorStats stats;
+    stats.solverIterations = result.iterations;
+    stats.solverResidual = result.residual;
+    stats.hitIterationCap = !result.converged;
+    return stats;
+}
+
+void ImplicitSolve::buildPattern(const MassSpringSystem& system)
+{
+    const std::size_t n = system.massCount();
+    const SpringSet& springs = system.springs;
+    const Eigen::Index size = Eigen::Index(3 * n);
+    if (size > Eigen::Index(std::numeric_limits<StorageIndex>::max() / 4))
+    {
+        throw InputError("integrator: the sheet is too large for the implicit solver's sparse matrix");
+    }
+    std::vector<Eigen::Triplet<Real, StorageIndex>> triplets;
+    triplets.reserve(9 * (n + 2 * springs.size()));
+    auto addBlock = [&](std::size_t row, std::size_t column)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            for (int r = 0; r < 3; ++r)
+            {
+                triplets.emplace_back(StorageIndex(3 * row) + r, StorageIndex(3 * column) + c, Real(0));
+            }
+        }
+    };
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        addBlock(i, i);
+    }
+    for (const SpringEnds& e : springs.ends)
+    {
+        addBlock(e.a, e.b);
+        addBlock(e.b, e.a);
+    }
+    m_matrix.resize(size, size);
+    m_matrix.setFromTriplets(triplets.begin(), triplets.end());
+    m_matrix.makeCompressed();
+
+    m_diagonalSlots.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        m_diagonalSlots[i] = findSlots(i, i);
+    }
+    m_abSlots.resize(springs.size());
+    m_baSlots.resize(springs.size());
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        m_abSlots[s] = findSlots(springs.ends[s].a, springs.ends[s].b);
+        m_baSlots[s] = findSlots(springs.ends[s].b, springs.ends[s].a);
+    }
+    m_rhs.setZero(size);
+    m_deltaV.setZero(size);
+    m_constraintOf.assign(n, -1);
+    if (m_settings.preconditioner == PreconditionerKind::Cholesky)
+    {
+        m_cholesky.analyse(m_matrix, nestedDissectionOrder(system.particles.position, springs));
+    }
+    m_patternSystem = &system;
+    m_patternMasses = n;
+    m_patternSprings = springs.size();
+}
+
+ImplicitSolve::BlockSlots ImplicitSolve::findSlots(std::size_t row, std::size_t column) const
+{
+    BlockSlots slots{};
+    const StorageIndex* outer = m_matrix.outerIndexPtr();
+    const StorageIndex* inner = m_matrix.innerIndexPtr();
+    for (int c = 0; c < 3; ++c)
+    {
+        const std::size_t col = 3 * column + std::size_t(c);
+        const StorageIndex* begin = inner + outer[col];
+        const StorageIndex* end = inner + outer[col + 1];
+        const StorageIndex* found = std::lower_bound(begin, end, StorageIndex(3 * row));
+        slots[std::size_t(c)] = StorageIndex(found - inner);
+    }
+    return slots;
+}
+
+/// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.
+void ImplicitSolve::writeReactions(MassSpringSystem& system)
+{
+    m_reaction.resize(m_constrainedMasses.size());
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        m_reaction[k] = m_rowDiagonal[k] * deltaV(m_constrainedMasses[k]) - m_rowRhs[k];
+    }
+    for (const NeighbourBlock& neighbour : m_rowNeighbours)
+    {
+        m_reaction[neighbour.row] += neighbour.block * deltaV(neighbour.mass);
+    }
+    for (VelocityConstraint& c : system.constraints)
+    {
+        c.reaction = c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
+                         ? m_reaction[std::size_t(m_constraintOf[c.mass])]
+                         : Vec3::Zero();
+    }
+}
+
+Mat3 ImplicitSolve::readBlock(const BlockSlots& slots) const
+{
+    const Real* values = m_matrix.valuePtr();
+    Mat3 block;
+    for (int c = 0; c < 3; ++c)
+    {
+        const Real* column = values + slots[std::size_t(c)];
+        block(0, c) = column[0];
+        block(1, c) = column[1];
+        block(2, c) = column[2];
+    }
+    return block;
+}
+
+void ImplicitSolve::writeBlock(const BlockSlots& slots, const Mat3& block)
+{
+    Real* values = m_matrix.valuePtr();
+    for (int c = 0; c < 3; ++c)
+    {
+        Real* column = values + slots[std::size_t(c)];
+        column[0] = block(0, c);
+        column[1] = block(1, c);
+        column[2] = block(2, c);
+    }
+}
+
+void ImplicitSolve::addToBlock(const BlockSlots& slots, const Mat3& block)
+{
+    Real* values = m_matrix.valuePtr();
+    for (int c = 0; c < 3; ++c)
+    {
+        Real* column = values + slots[std::size_t(c)];
+        column[0] += block(0, c);
+        column[1] += block(1, c);
+        column[2] += block(2, c);
+    }
+}
+
+/// Applies the filter for the system's velocity constraints; returns false when there are none.
+bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, Real a)
+{
+    const Particles& p = system.particles;
+    for (Index i : m_constrainedMasses) // reset only what the last step set
+    {
+        m_constraintOf[i] = -1;
+    }
+    m_constrainedMasses.clear();
+    m_filters.clear();
+    m_prescribed.clear();
+    m_bases.clear();
+    m_rowNeighbours.clear();
+    if (system.constraints.empty())
+    {
+        return false;
+    }
+    for (const VelocityConstraint& c : system.constraints)
+    {
+        if (c.mass >= p.size() || p.pinned[c.mass])
+        {
+            continue;
+        }
+        int& k = m_constraintOf[c.mass];
+        if (k < 0)
+        {
+            k = int(m_constrainedMasses.size());
+            m_constrainedMasses.push_back(c.mass);
+            m_bases.emplace_back();
+            m_prescribed.push_back(c.velocity); // the target velocity for now; turned into a change below
+        }
+        Basis& basis = m_bases[std::size_t(k)];
+        const int candidates = c.directions >= 3 ? 3 : 1;
+        for (int j = 0; j < candidates; ++j)
+        {
+            Vec3 u = c.directions >= 3 ? Vec3(Vec3::Unit(j)) : c.normal;
+            for (int b = 0; b < basis.count; ++b)
+            {
+                u -= u.dot(basis.direction[std::size_t(b)]) * basis.direction[std::size_t(b)];
+            }
+            if (u.norm() > 1e-6 && basis.count < 3)
+            {
+                basis.direction[std::size_t(basis.count++)] = u.normalized();
+            }
+        }
+    }
+    if (m_constrainedMasses.empty())
+    {
+        return false;
+    }
+    // Friction as a tangential damping -c (I - n n^T)(v' - u), added like the air drag before the filter.
+    for (const VelocityConstraint& c : system.constraints)
+    {
+        if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass])
+        {
+            continue;
+        }
+        const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
+        addToBlock(m_diagonalSlots[c.mass], (a * c.tangentialDamping) * tangential);
+        m_rhs.segment<3>(Eigen::Index(3 * c.mass)) -=
+            (a * c.tangentialDamping) * (tangential * (p.velocity[c.mass] - c.velocity));
+    }
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        Mat3 held = Mat3::Zero(); // I - S: projection onto the constrained directions
+        for (int b = 0; b < m_bases[k].count; ++b)
+        {
+            held += m_bases[k].direction[std::size_t(b)] * m_bases[k].direction[std::size_t(b)].transpose();
+        }
+        m_filters.push_back(Mat3::Identity() - held);
+        m_prescribed[k] = held * (m_prescribed[k] - p.velocity[m_constrainedMasses[k]]);
+    }
+    auto filterOf = [&](Index i) -> const Mat3*
+    { return m_constraintOf[i] < 0 ? nullptr : &m_filters[std::size_t(m_constraintOf[i])]; };
+    auto changeOf = [&](Index i) { return m_prescribed[std::size_t(m_constraintOf[i])]; };
+
+    m_rowDiagonal.resize(m_constrainedMasses.size());
+    m_rowRhs.resize(m_constrainedMasses.size());
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        const Index i = m_constrainedMasses[k];
+        m_rowDiagonal[k] = readBlock(m_diagonalSlots[i]);
+        m_rowRhs[k] = m_rhs.segment<3>(Eigen::Index(3 * i));
+    }
+    const SpringSet& springs = system.springs;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Index ea = springs.ends[s].a;
+        const Index eb = springs.ends[s].b;
+        if (m_constraintOf[ea] >= 0)
+        {
+            m_rowNeighbours.push_back({std::size_t(m_constraintOf[ea]), eb, readBlock(m_abSlots[s])});
+        }
+        if (m_constraintOf[eb] >= 0)
+        {
+            m_rowNeighbours.push_back({std::size_t(m_constraintOf[eb]), ea, readBlock(m_baSlots[s])});
+        }
+    }
+
+    // b' = b - A c, before A is filtered.
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        const Index i = m_constrainedMasses[k];
+        m_rhs.segment<3>(Eigen::Index(3 * i)) -= readBlock(m_diagonalSlots[i]) * m_prescribed[k];
+    }
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Index ea = springs.ends[s].a;
+        const Index eb = springs.ends[s].b;
+        if (m_constraintOf[eb] >= 0)
+        {
+            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= readBlock(m_abSlots[s]) * changeOf(eb);
+        }
+        if (m_constraintOf[ea] >= 0)
+        {
+            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= readBlock(m_baSlots[s]) * changeOf(ea);
+        }
+    }
+    // Filter: rows and columns of constrained masses.
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Mat3* filterA = filterOf(springs.ends[s].a);
+        const Mat3* filterB = filterOf(springs.ends[s].b);
+        if (!filterA && !filterB)
+        {
+            continue;
+        }
+        const Mat3 sa = filterA ? *filterA : Mat3::Identity();
+        const Mat3 sb = filterB ? *filterB : Mat3::Identity();
+        writeBlock(m_abSlots[s], sa * readBlock(m_abSlots[s]) * sb);
+        writeBlock(m_baSlots[s], sb * readBlock(m_baSlots[s]) * sa);
+    }
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        const Index i = m_constrainedMasses[k];
+        const Mat3& filter = m_filters[k];
+        writeBlock(m_diagonalSlots[i], filter * readBlock(m_diagonalSlots[i]) * filter + (Mat3::Identity() - filter));
+        m_rhs.segment<3>(Eigen::Index(3 * i)) = filter * m_rhs.segment<3>(Eigen::Index(3 * i));
+    }
+    return true;
+}
+
+void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
+                             const std::vector<Vec3>& momentum)
+{
+    const Particles& p = system.particles;
+    const SpringSet& springs = system.springs;
+    const std::size_t n = p.size();
+    const Real a2 = a * a;
+    const bool hasOffset = !offset.empty();
+    std::fill(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros(), Real(0));
+
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        m_rhs.segment<3>(Eigen::Index(3 * i)) = a * p.force[i];
+        if (!momentum.empty())
+        {
+            m_rhs.segment<3>(Eigen::Index(3 * i)) += p.mass[i] * momentum[i];
+        }
+        if (!p.pinned[i])
+        {
+            const Real diagonal = p.mass[i] * (Real(1) + a * system.forces.airDamping);
+            addToBlock(m_diagonalSlots[i], diagonal * Mat3::Identity());
+        }
+    }
+
+    const Real repulsion = system.forces.repulsion;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Index ea = springs.ends[s].a;
+        const Index eb = springs.ends[s].b;
+        const Vec3 d = p.position[ea] - p.position[eb];
+        const Real length = d.norm();
+        const Real rest = springs.restLength[s];
+        if (length <= degenerateLengthFraction * rest)
+        {
+            continue;
+        }
+        const Vec3 dir = d / length;
+        const Mat3 nn = dir * dir.transpose();
+        const Real k = springs.stiffness[s];
+        Real axial = k;
+        if (repulsion > 0 && length < rest)
+        {
+            axial += Real(2) * repulsion / (length * length * length);
+        }
+        const Real transverse = k * std::max(Real(0), Real(1) - rest / length);
+        // -K_aa, the stiffness block of this spring.
+        const Mat3 stiffnessBlock = axial * nn + transverse * (Mat3::Identity() - nn);
+        const Mat3 block = (a * springs.damping[s]) * nn + a2 * stiffnessBlock;
+        // a K (a v + d), this spring's part, at a (b gets the opposite).
+        Vec3 move = a * (p.velocity[ea] - p.velocity[eb]);
+        if (hasOffset)
+        {
+            move += offset[ea] - offset[eb];
+        }
+        const Vec3 kv = a * (stiffnessBlock * move);
+
+        const bool freeA = !p.pinned[ea];
+        const bool freeB = !p.pinned[eb];
+        if (freeA)
+        {
+            addToBlock(m_diagonalSlots[ea], block);
+            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= kv;
+        }
+        if (freeB)
+        {
+            addToBlock(m_diagonalSlots[eb], block);
+            m_rhs.segment<3>(Eigen::Index(3 * eb)) += kv;
+        }
+        if (freeA && freeB)
+        {
+            addToBlock(m_abSlots[s], -block);
+            addToBlock(m_baSlots[s], -block);
+        }
+    }
+
+    for (const UserSpring& spring : system.userSprings.all())
+    {
+        const Index i = spring.mass;
+        if (p.pinned[i])
+        {
+            continue;
+        }
+        const UserSpringForce f = evaluateUserSpring(spring, p.position[i], p.velocity[i]);
+        const Real scale = spring.stiffness > 0 ? f.effectiveStiffness / spring.stiffness : Real(1);
+        const Real diagonal = a * spring.damping * scale + a2 * f.effectiveStiffness;
+        addToBlock(m_diagonalSlots[i], diagonal * Mat3::Identity());
+        Vec3 move = a * (p.velocity[i] - spring.targetVelocity);
+        if (hasOffset)
+        {
+            move += offset[i];
+        }
+        m_rhs.segment<3>(Eigen::Index(3 * i)) -= a * f.effectiveStiffness * move;
+    }
+
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        if (p.pinned[i])
+        {
+            addToBlock(m_diagonalSlots[i], Mat3::Identity());
+            m_rhs.segment<3>(Eigen::Index(3 * i)).setZero();
+        }
+    }
+}
+} // namespace masse

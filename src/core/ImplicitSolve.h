@@ -1,0 +1,113 @@
+#pragma once
+/// The linear system of one linearised implicit step, and its solve; shared by backward Euler and BDF2.
+///
+/// For an effective step a, a position offset d_i and a momentum term m_i per mass, it solves for the velocity change
+///     (M - a D - a^2 K) dv = a f0 + a K (a v + d) + M m
+/// (backward Euler: a = h, d = m = 0; BDF2: a = 2h/3, d = (x_n - x_n-1)/3, m = (v_n - v_n-1)/3), with K = df/dx and
+/// D = df/dv. For a spring with unit direction n, length l and rest length s,
+///     -K_aa = k n n^T + k max(0, 1 - s/l) (I - n n^T) + (2 k_r / l^3) n n^T [compressed only],  -D_aa = k_d n n^T,
+/// and K_ab = -K_aa. The transverse term is clamped at zero for compressed springs (Choi and Ko 2002) and the
+/// repulsion's transverse term is dropped, so the matrix stays symmetric positive definite and conjugate gradient
+/// applies. Pinned masses get identity rows and a zero right-hand side, so dv = 0 there.
+///
+/// Velocity constraints from contact (see VelocityConstraint.h) are honoured with Baraff and Witkin's filter: with
+/// S_i the projection onto a mass's free directions and c the prescribed change in the others, dv = S y + c where
+///     (S A S + I - S) y = S (b - A c),
+/// which keeps the matrix symmetric positive definite.
+///
+/// The sparsity pattern is built once per topology; each step only rewrites values, through slots recorded per
+/// spring (the index of each 3x3 block's columns in Eigen's value array), and every work array keeps its capacity,
+/// so a step allocates nothing once the first has run.
+
+#include "CholeskyPreconditioner.h"
+#include "ConjugateGradient.h"
+#include "Integrator.h"
+#include "JacobiPreconditioner.h"
+
+#include <array>
+#include <vector>
+
+namespace masse
+{
+class ImplicitSolve
+{
+public:
+    explicit ImplicitSolve(const ImplicitSettings& settings) : m_settings(settings) {}
+
+    /// Assembles and solves for dv with the forces already in system.particles.force. `offset` and `momentum` are
+    /// per mass, or empty for zero. Sets each constraint's reaction.
+    IntegratorStats solve(MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
+                          const std::vector<Vec3>& momentum);
+
+    /// The velocity change of mass i from the last solve.
+    Vec3 deltaV(Index i) const { return m_deltaV.segment<3>(Eigen::Index(3 * i)); }
+    /// I - S of mass i in the last solve (the projection onto its constrained directions), zero if it had none.
+    Mat3 held(Index i) const
+    {
+        return i < m_constraintOf.size() && m_constraintOf[i] >= 0
+                   ? Mat3(Mat3::Identity() - m_filters[std::size_t(m_constraintOf[i])])
+                   : Mat3(Mat3::Zero());
+    }
+    bool constrained() const { return !m_constrainedMasses.empty(); }
+
+private:
+    using StorageIndex = SparseMatrix::StorageIndex;
+    /// For a 3x3 block: the value-array index of its top entry in each of its three columns (the rows below follow).
+    using BlockSlots = std::array<StorageIndex, 3>;
+
+    void buildPattern(const MassSpringSystem& system);
+    BlockSlots findSlots(std::size_t row, std::size_t column) const;
+    void assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
+                  const std::vector<Vec3>& momentum);
+    bool applyConstraints(const MassSpringSystem& system, Real a);
+    IntegratorStats runSolver();
+    /// The relative tolerance of this solve: the settings' one, tightened so that the residual never exceeds it times
+    /// the impulse of the sheet's weight over the step (see the definition for why).
+    Real solverTolerance(const MassSpringSystem& system, Real a) const;
+    void writeReactions(MassSpringSystem& system);
+    Mat3 readBlock(const BlockSlots& slots) const;
+    void writeBlock(const BlockSlots& slots, const Mat3& block);
+    void addToBlock(const BlockSlots& slots, const Mat3& block);
+
+    ImplicitSettings m_settings;
+
+    Real m_tolerance = 0; ///< of the current solve
+    SparseMatrix m_matrix;
+    std::vector<BlockSlots> m_diagonalSlots;
+    std::vector<BlockSlots> m_abSlots;
+    std::vector<BlockSlots> m_baSlots;
+    Vector m_rhs;
+    Vector m_deltaV;
+    ConjugateGradient m_cg;
+    CholeskyPreconditioner m_cholesky;
+    JacobiPreconditioner m_jacobi;
+
+    // Constraint filter of the current step; cleared, not freed, between steps.
+    std::vector<int> m_constraintOf; ///< per mass: index into the arrays below, or -1
+    std::vector<Index> m_constrainedMasses;
+    std::vector<Mat3> m_filters;    ///< S_i
+    std::vector<Vec3> m_prescribed; ///< c_i, the velocity change in the constrained directions
+    /// Orthonormal constrained directions per constrained mass.
+    struct Basis
+    {
+        std::array<Vec3, 3> direction;
+        int count = 0;
+    };
+    std::vector<Basis> m_bases;
+    // The constrained rows as they were before filtering, to give each constraint its reaction after the solve.
+    std::vector<Mat3> m_rowDiagonal;
+    std::vector<Vec3> m_rowRhs;
+    struct NeighbourBlock
+    {
+        std::size_t row; ///< index into m_constrainedMasses
+        Index mass;      ///< the neighbour
+        Mat3 block;
+    };
+    std::vector<NeighbourBlock> m_rowNeighbours;
+    std::vector<Vec3> m_reaction;
+
+    const MassSpringSystem* m_patternSystem = nullptr;
+    std::size_t m_patternMasses = 0;
+    std::size_t m_patternSprings = 0;
+};
+} // namespace masse

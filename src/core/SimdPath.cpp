@@ -1,0 +1,99 @@
+#include "SimdPath.h"
+
+#include "InputError.h"
+#include "NamedEnum.h"
+
+#include <atomic>
+#include <cstdlib>
+#include <string>
+
+namespace masse
+{
+namespace
+{
+constexpr EnumName<SimdPath> simdNames[] = {
+    {SimdPath::Default, "default"},
+    {SimdPath::Avx2, "avx2"},
+    {SimdPath::Avx512, "avx512"},
+};
+
+/// -1 until chosen, else the SimdPath.
+std::atomic<int> chosenPath{-1};
+
+SimdPath bestSupported()
+{
+    const std::vector<SimdPath> paths = supportedSimdPaths();
+    return paths.back();
+}
+} // namespace
+
+std::string_view simdPathName(SimdPath path)
+{
+    return enumName(simdNames, path);
+}
+
+SimdPath parseSimdPath(std::string_view name)
+{
+    return parseEnum(simdNames, name, "MASSE_SIMD", "SIMD path");
+}
+
+bool simdPathSupported(SimdPath path)
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+    switch (path)
+    {
+    case SimdPath::Default:
+        return true;
+    case SimdPath::Avx2:
+        return __builtin_cpu_supports("avx2");
+    case SimdPath::Avx512:
+        return __builtin_cpu_supports("avx512f");
+    }
+    return false;
+#else
+    return path == SimdPath::Default;
+#endif
+}
+
+std::vector<SimdPath> supportedSimdPaths()
+{
+    std::vector<SimdPath> paths;
+    for (const EnumName<SimdPath>& entry : simdNames)
+    {
+        if (simdPathSupported(entry.value))
+        {
+            paths.push_back(entry.value);
+        }
+    }
+    return paths;
+}
+
+SimdPath activeSimdPath()
+{
+    int path = chosenPath.load(std::memory_order_relaxed);
+    if (path < 0)
+    {
+        SimdPath chosen = bestSupported();
+        if (const char* text = std::getenv("MASSE_SIMD"))
+        {
+            chosen = parseSimdPath(text);
+            if (!simdPathSupported(chosen))
+            {
+                throw InputError(std::string("MASSE_SIMD: this processor cannot run the ") + text + " path");
+            }
+        }
+        path = int(chosen);
+        chosenPath.store(path, std::memory_order_relaxed);
+    }
+    return SimdPath(path);
+}
+
+void setSimdPath(SimdPath path)
+{
+    if (!simdPathSupported(path))
+    {
+        throw InputError("SIMD path " + std::string(simdPathName(path)) + ": this processor cannot run it");
+    }
+    chosenPath.store(int(path), std::memory_order_relaxed);
+}
+} // namespace masse

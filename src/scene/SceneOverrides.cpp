@@ -1,0 +1,135 @@
+#include "SceneOverrides.h"
+
+#include "SceneFile.h"
+
+#include "core/InputError.h"
+
+#include <filesystem>
+
+namespace masse::scene
+{
+namespace
+{
+/// True if `message` ("<origin>: <key path>: ...") is about `key` or something inside it.
+bool isAbout(const std::string& message, const std::string& origin, const std::string& key)
+{
+    const std::string head = origin + ": " + key;
+    if (message.compare(0, head.size(), head) != 0 || message.size() == head.size())
+    {
+        return false;
+    }
+    const char next = message[head.size()];
+    return next == ':' || next == '.' || next == '[';
+}
+
+void rebase(nlohmann::json& holder, const std::filesystem::path& from, const std::filesystem::path& to)
+{
+    if (!holder.is_object() || !holder.contains("file") || !holder["file"].is_string())
+    {
+        return;
+    }
+    const std::filesystem::path file = holder["file"].get<std::string>();
+    if (file.is_relative())
+    {
+        holder["file"] = std::filesystem::relative(std::filesystem::absolute(from / file).lexically_normal(),
+                                                   std::filesystem::absolute(to))
+                             .string();
+    }
+}
+} // namespace
+
+KeyOverride parseKeyOverride(const std::string& setting)
+{
+    const std::size_t equals = setting.find('=');
+    if (equals == std::string::npos)
+    {
+        throw InputError("--set " + setting + ": expected KEY=VALUE, such as heat.heaters[0].power=8000");
+    }
+    KeyOverride override;
+    override.text = setting;
+    try
+    {
+        override.key = parseJsonPath(setting.substr(0, equals));
+    }
+    catch (const InputError& e)
+    {
+        throw InputError("--set " + setting + ": " + e.what());
+    }
+    const std::string value = setting.substr(equals + 1);
+    // JSON when it parses as JSON, otherwise the text itself: "implicit" and "12x2x12" need no quotes.
+    override.value = nlohmann::json::parse(value, nullptr, false);
+    if (override.value.is_discarded())
+    {
+        override.value = value;
+    }
+    return override;
+}
+
+void applyKeyOverrides(nlohmann::json& document, const std::vector<KeyOverride>& overrides, const std::string& prefix)
+{
+    for (const KeyOverride& o : overrides)
+    {
+        try
+        {
+            assignAt(document, o.key, o.value);
+        }
+        catch (const InputError& e)
+        {
+            throw InputError(prefix + o.text + ": " + e.what());
+        }
+    }
+}
+
+SceneSpec parseSceneWith(const nlohmann::json& document, const std::vector<KeyOverride>& overrides,
+                         const std::string& baseDirectory, const std::string& origin, const std::string& prefix)
+{
+    nlohmann::json changed = document;
+    applyKeyOverrides(changed, overrides, prefix);
+    try
+    {
+        return parseScene(changed, baseDirectory, origin);
+    }
+    catch (const InputError& e)
+    {
+        for (const KeyOverride& o : overrides)
+        {
+            if (isAbout(e.what(), origin, o.key.text()))
+            {
+                throw InputError(prefix + o.text + ": " + e.what());
+            }
+        }
+        throw;
+    }
+}
+
+SceneSpec loadScene(const std::string& path, const std::vector<KeyOverride>& overrides)
+{
+    if (overrides.empty())
+    {
+        return loadScene(path);
+    }
+    return parseSceneWith(readSceneDocument(path), overrides, std::filesystem::path(path).parent_path().string(),
+                          path);
+}
+
+void rebaseFilePaths(nlohmann::json& document, const std::string& fromDirectory, const std::string& toDirectory)
+{
+    if (!document.is_object())
+    {
+        return;
+    }
+    const std::filesystem::path from = fromDirectory.empty() ? "." : fromDirectory;
+    const std::filesystem::path to = toDirectory.empty() ? "." : toDirectory;
+    if (document.contains("material"))
+    {
+        rebase(document["material"], from, to);
+    }
+    if (document.contains("obstacles") && document["obstacles"].is_array())
+    {
+        for (nlohmann::json& obstacle : document["obstacles"])
+        {
+            rebase(obstacle, from, to);
+        }
+    }
+}
+} // namespace masse::scene

@@ -1,0 +1,205 @@
+// BDF2 against its closed forms: a linear oscillator's amplitude and period per step, an undamped sheet's energy,
+// and the paper's drop scene at the paper's step.
+//
+// Why the amplitude targets are as they are: for x'' = -w^2 x, one BDF2 step multiplies the oscillating mode by the
+// root r of (3/2 - i w h) r^2 - 2 r + 1/2 = 0 of larger modulus. At w h = 1 that is |r| = 0.9333 with a phase of
+// 0.824 rad per step instead of 1: after ten periods (62.8 steps) BDF2 keeps 1.3% of the amplitude and its period is
+// 21% long. No two-level BDF2 can keep 90% there (TR-BDF2 keeps 82%, the trapezoidal rule keeps it all but its period
+// is 7.9% long). BDF2 keeps 90% over ten periods up to w h = 0.19, where backward Euler keeps 0.2%; the swing of a
+// sheet at the paper's step (w h about 0.1) is in that range, and the stiff stretching modes (w h up to 9) are damped
+// away as they should be. The tests pin BDF2 to its own closed form at w h = 1, and to the 90% / 5% figures at
+// w h = 0.15.
+
+#include "TestSystems.h"
+
+#include "core/Energy.h"
+#include "scene/PaperExperiment.h"
+#include "scene/SceneFile.h"
+
+#include <gtest/gtest.h>
+
+#include <complex>
+
+using namespace masse;
+using namespace masse::test;
+
+namespace
+{
+constexpr Real stepSize = 0.03;
+constexpr Real twoPi = 6.283185307179586;
+
+/// Two 1 g masses on a spring along x tuned to w h = wh, stretched by 1 mm and let go: no gravity, no damping.
+struct TwoMassOscillator
+{
+    Real omega;
+    Real spacing = 0.1;
+    Real stretch = 0.001;
+    Simulator simulator;
+
+    TwoMassOscillator(Real wh, IntegratorKind kind)
+        : omega(wh / stepSize), simulator(makeSystem(wh), settingsFor(kind))
+    {
+    }
+
+    static MassSpringSystem makeSystem(Real wh)
+    {
+        const Real mass = 0.001;
+        const Real omega = wh / stepSize;
+        // Relative motion of two equal masses: reduced mass m/2, so w^2 = 2 k / m.
+        MassSpringSystem system = makeChain(2, mass, omega * omega * mass / 2, 0.1);
+        system.forces.airDamping = 0;
+        system.particles.position[1].x() += 0.001;
+        return system;
+    }
+    static SimulatorSettings settingsFor(IntegratorKind kind)
+    {
+        SimulatorSettings settings;
+        settings.integrator = kind;
+        settings.implicit.tolerance = 1e-12; // the test is about the integrator, not the solver
+        return settings;
+    }
+
+    /// The stretch of the spring (m).
+    Real displacement() const
+    {
+        const Particles& p = simulator.system().particles;
+        return (p.position[1].x() - p.position[0].x()) - spacing;
+    }
+    /// sqrt(x^2 + (x'/w)^2): constant for the exact motion.
+    Real amplitude() const
+    {
+        const Particles& p = simulator.system().particles;
+        const Real rate = p.velocity[1].x() - p.velocity[0].x();
+        return std::hypot(displacement(), rate / omega);
+    }
+};
+
+/// BDF2's growth factor per step for x'' = -w^2 x: the root of larger modulus (see the file comment).
+std::complex<Real> bdf2Root(Real wh)
+{
+    const std::complex<Real> a(1.5, -wh);
+    const std::complex<Real> d = std::sqrt(std::complex<Real>(4) - 2.0 * a);
+    return (2.0 + d) / (2.0 * a);
+}
+
+/// Runs `periods` analytic periods; returns (final amplitude / initial, measured period / analytic period).
+std::pair<Real, Real> runOscillator(Real wh, IntegratorKind kind, int periods)
+{
+    TwoMassOscillator oscillator(wh, kind);
+    const Real initial = oscillator.amplitude();
+    UpwardCrossings crossings;
+    const int steps = int(std::llround(periods * twoPi / wh));
+    for (int i = 0; i < steps; ++i)
+    {
+        oscillator.simulator.step(stepSize);
+        crossings.add(oscillator.simulator.time(), oscillator.displacement());
+    }
+    EXPECT_GE(crossings.count(), std::size_t(periods / 2));
+    return {oscillator.amplitude() / initial, crossings.meanPeriod() / (twoPi / oscillator.omega)};
+}
+} // namespace
+
+// At w h = 1 BDF2 follows its own closed form: amplitude (1 + w^2 h^2)^(-1/2) |r|^(n-1) (the first step is backward
+// Euler's; within 10% for the second root, |r2| = 0.30, which dies out in a few steps) and period 2 pi h / arg r
+// (within 1%).
+TEST(Bdf2, OscillatorAtOmegaHOneFollowsItsClosedForm)
+{
+    const int periods = 10;
+    const auto [amplitude, period] = runOscillator(1.0, IntegratorKind::Bdf2, periods);
+    const std::complex<Real> root = bdf2Root(1.0);
+    const Real steps = std::round(periods * twoPi);
+    const Real expectedAmplitude = std::sqrt(0.5) * std::pow(std::abs(root), steps - 1);
+    const Real expectedPeriod = 1.0 / std::arg(root); // in analytic periods: (2 pi / arg r) h over 2 pi / w
+    EXPECT_NEAR(amplitude / expectedAmplitude, 1.0, 0.10);
+    EXPECT_NEAR(period / expectedPeriod, 1.0, 0.01);
+    // And far above backward Euler's (1 + w^2 h^2)^(-n/2) = 3.5e-10.
+    EXPECT_GT(amplitude, 1e6 * std::pow(2.0, -steps / 2));
+    std::printf("BDF2 at w h = 1: amplitude %.4g (closed form %.4g), period %.4f (closed form %.4f)\n", amplitude,
+                expectedAmplitude, period, expectedPeriod);
+}
+
+// At w h = 0.15 BDF2 keeps at least 90% of the amplitude after ten periods, its period within 5%.
+TEST(Bdf2, OscillatorKeepsNinetyPercentOverTenPeriodsAtSmallOmegaH)
+{
+    const auto [amplitude, period] = runOscillator(0.15, IntegratorKind::Bdf2, 10);
+    EXPECT_GE(amplitude, 0.90);
+    EXPECT_LE(amplitude, 1.0 + 1e-9); // and it never gains
+    EXPECT_NEAR(period, 1.0, 0.05);
+    // Backward Euler at the same step keeps (1 + 0.0225)^(-209.4) = 1%.
+    const auto [eulerAmplitude, eulerPeriod] = runOscillator(0.15, IntegratorKind::ImplicitEuler, 10);
+    EXPECT_LT(eulerAmplitude, 0.02);
+    std::printf("w h = 0.15, ten periods: BDF2 keeps %.4f (period %.4f), backward Euler %.4g\n", amplitude, period,
+                eulerAmplitude);
+}
+
+// Backward Euler's amplitude follows (1 + h^2 w^2)^(-n/2) exactly (the mode x w + i x' is divided by 1 + i w h each
+// step): within 1% after ten periods at w h = 1, where it is 3.5e-10 of the start.
+TEST(Bdf2, BackwardEulerAmplitudeMatchesItsClosedForm)
+{
+    const int periods = 10;
+    const auto [amplitude, period] = runOscillator(1.0, IntegratorKind::ImplicitEuler, periods);
+    (void)period;
+    const Real steps = std::round(periods * twoPi);
+    const Real expected = std::pow(1.0 + 1.0, -steps / 2);
+    EXPECT_NEAR(amplitude / expected, 1.0, 0.01);
+}
+
+// An undamped Table 1 sheet (no dashpots, no air) hung from two corners at the paper's step: BDF2 keeps the total
+// energy within 5% after 10 s of swinging, where backward Euler loses most of it. The gravity energy has an
+// arbitrary zero, so 5% is of the energy the swing exchanges: the largest kinetic plus spring energy of the run.
+TEST(Bdf2, UndampedSheetSwingingFromTwoCornersKeepsItsEnergy)
+{
+    auto energyAfter = [](IntegratorKind kind, Real& initial, Real& exchanged)
+    {
+        Lattice lattice;
+        MassSpringSystem sheet = paperSheet(12, &lattice);
+        sheet.forces.airDamping = 0;
+        std::fill(sheet.springs.damping.begin(), sheet.springs.damping.end(), Real(0));
+        sheet.particles.setPinned(lattice.bottomCorners()[0], true);
+        sheet.particles.setPinned(lattice.bottomCorners()[1], true);
+        SimulatorSettings settings;
+        settings.integrator = kind;
+        Simulator simulator(std::move(sheet), settings);
+        initial = computeEnergy(simulator.system()).total();
+        exchanged = 0;
+        simulate(simulator, 10.0, stepSize,
+                 [&](const Simulator& s)
+                 {
+                     const Energy e = computeEnergy(s.system());
+                     exchanged = std::max(exchanged, e.kinetic + e.springs);
+                 });
+        return computeEnergy(simulator.system());
+    };
+    Real initial = 0;
+    Real exchanged = 0;
+    const Energy bdf2 = energyAfter(IntegratorKind::Bdf2, initial, exchanged);
+    Real initialEuler = 0;
+    Real exchangedEuler = 0;
+    const Energy euler = energyAfter(IntegratorKind::ImplicitEuler, initialEuler, exchangedEuler);
+    EXPECT_GT(bdf2.kinetic, 0.1 * exchanged) << "the sheet is no longer swinging";
+    EXPECT_NEAR(bdf2.total(), initial, 0.05 * exchanged);
+    EXPECT_LT(euler.total(), initialEuler - 0.05 * exchangedEuler) << "backward Euler should lose energy here";
+    std::printf("undamped sheet after 10 s: BDF2 loses %.4g J of %.4g J exchanged (kinetic %.4g J), "
+                "backward Euler %.4g J\n",
+                initial - bdf2.total(), exchanged, bdf2.kinetic, initialEuler - euler.total());
+}
+
+// The paper's experiment with BDF2 at dt = 0.03 s: for every Table 2 size the sheet touches the block, then the
+// wedge, then the floor, then comes to rest.
+TEST(Bdf2, PaperDropStagesComeInOrderForAllTable2Sizes)
+{
+    const std::string source = MASSE_SOURCE_DIR;
+    scene::SceneSpec base = scene::loadScene(source + "/data/scenes/paper-drop.json");
+    base.time.integrator = IntegratorKind::Bdf2;
+    base.time.dt = 0.03;
+    const std::vector<scene::PaperRow> rows = scene::runPaperExperiment(base, scene::paperSizes);
+    ASSERT_EQ(rows.size(), 5u);
+    for (const scene::PaperRow& row : rows)
+    {
+        EXPECT_TRUE(row.inOrder) << row.size << "x2x" << row.size;
+        for (std::size_t stage = 0; stage < 4; ++stage)
+        {
+            EXPECT_GE(row.simTime[stage], 0.0) << row.size << "x2x" << row.size << ": " << scene::paperStages[stage];
+        }
+    }
+}

@@ -1,0 +1,189 @@
+// The task system and the engine's promise: the same scene gives the same bits at any thread count.
+
+#include "core/InputError.h"
+#include "core/SimdPath.h"
+#include "core/StateHash.h"
+#include "core/TaskPool.h"
+#include "scene/Scene.h"
+#include "scene/SceneFile.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <vector>
+
+using namespace masse;
+using namespace masse::scene;
+
+namespace
+{
+const std::string source = MASSE_SOURCE_DIR;
+const int threadCounts[] = {1, 2, 3, 8};
+
+/// Restores the process's thread count when a test ends, whatever it set.
+class ThreadCountGuard
+{
+public:
+    ThreadCountGuard() : m_threads(threadCount()) {}
+    ~ThreadCountGuard() { setThreadCount(m_threads); }
+
+private:
+    int m_threads;
+};
+
+/// What a run ends with: the state hash and every event, so a difference in contact order shows too.
+struct RunOutcome
+{
+    std::uint64_t hash = 0;
+    std::vector<std::pair<std::string, Real>> events;
+};
+
+RunOutcome runAt(int threads, const std::string& file, const std::string& size, Real duration)
+{
+    setThreadCount(threads);
+    SceneSpec spec = loadScene(source + "/data/scenes/" + file);
+    if (!size.empty())
+    {
+        parseSize(size, spec.sheet.lattice);
+    }
+    Scene scene(spec);
+    while (scene.time() < duration - 1e-9)
+    {
+        scene.step();
+    }
+    RunOutcome outcome;
+    outcome.hash = stateHash(scene.system().particles);
+    for (const SceneEvent& e : scene.events())
+    {
+        outcome.events.emplace_back(e.name + " " + e.object, e.simTime);
+    }
+    return outcome;
+}
+
+void expectSameAtEveryThreadCount(const std::string& file, const std::string& size, Real duration)
+{
+    const ThreadCountGuard guard;
+    const RunOutcome reference = runAt(1, file, size, duration);
+    for (const int threads : threadCounts)
+    {
+        const RunOutcome outcome = runAt(threads, file, size, duration);
+        EXPECT_EQ(outcome.hash, reference.hash) << file << " at " << threads << " threads";
+        EXPECT_EQ(outcome.events, reference.events) << file << " at " << threads << " threads";
+    }
+}
+} // namespace
+
+// Every chunk runs exactly once, with chunk k covering [k * size, (k + 1) * size), whatever the thread count.
+TEST(TaskPool, RunsEveryChunkExactlyOnceAtAnyThreadCount)
+{
+    for (const int threads : threadCounts)
+    {
+        TaskPool pool(threads);
+        ASSERT_EQ(pool.threadCount(), threads);
+        for (int round = 0; round < 50; ++round)
+        {
+            const std::size_t chunks = std::size_t(1 + round * 7);
+            std::vector<std::atomic<int>> runs(chunks);
+            pool.run(chunks, [&](std::size_t chunk) { runs[chunk].fetch_add(1); });
+            for (std::size_t chunk = 0; chunk < chunks; ++chunk)
+            {
+                ASSERT_EQ(runs[chunk].load(), 1) << "chunk " << chunk << " of " << chunks << ", " << threads
+                                                 << " threads";
+            }
+        }
+    }
+}
+
+TEST(TaskPool, ParallelForCoversTheRangeInFixedChunks)
+{
+    const ThreadCountGuard guard;
+    for (const int threads : threadCounts)
+    {
+        setThreadCount(threads);
+        const std::size_t count = 10007;
+        const std::size_t chunkSize = 100;
+        std::vector<int> owner(count, -1);
+        parallelFor(count, chunkSize, [&](std::size_t begin, std::size_t end) {
+            ASSERT_EQ(begin % chunkSize, 0u);
+            ASSERT_EQ(end, std::min(count, begin + chunkSize));
+            for (std::size_t i = begin; i < end; ++i)
+            {
+                owner[i] = int(begin / chunkSize);
+            }
+        });
+        for (std::size_t i = 0; i < count; ++i)
+        {
+            ASSERT_EQ(owner[i], int(i / chunkSize)) << "item " << i << ", " << threads << " threads";
+        }
+        EXPECT_EQ(chunkCount(count, chunkSize), 101u);
+    }
+}
+
+// A chunk's exception reaches the caller, and the pool stays usable; a loop inside a chunk runs inline.
+TEST(TaskPool, RethrowsAChunksExceptionAndRunsNestedLoopsInline)
+{
+    TaskPool pool(3);
+    EXPECT_THROW(pool.run(16, [](std::size_t chunk) {
+        if (chunk == 11)
+        {
+            throw std::runtime_error("chunk 11 failed");
+        }
+    }),
+                 std::runtime_error);
+    std::atomic<int> inner{0};
+    pool.run(4, [&](std::size_t) { pool.run(5, [&](std::size_t) { inner.fetch_add(1); }); });
+    EXPECT_EQ(inner.load(), 20);
+}
+
+// The bad values of the thread count are refused with a message naming the flag.
+TEST(TaskPool, RefusesAThreadCountBelowOne)
+{
+    EXPECT_THROW(setThreadCount(0), InputError);
+    EXPECT_THROW(setThreadCount(-3), InputError);
+}
+
+// The drop scene at 48x2x48 (6,817 masses, several chunks of every kernel) through its first contacts with the
+// block: the same state hash and the same events at 1, 2, 3 and 8 threads.
+TEST(Determinism, DropSceneHasTheSameHashAtAnyThreadCount)
+{
+    expectSameAtEveryThreadCount("paper-drop.json", "48x2x48", 0.6);
+}
+
+// A scripted grab (user springs) and contact with friction on a sheet of several chunks.
+TEST(Determinism, DragSceneHasTheSameHashAtAnyThreadCount)
+{
+    expectSameAtEveryThreadCount("drag.json", "48x2x48", 0.45);
+}
+
+// Every SIMD path this processor runs (baseline, AVX2, AVX-512) gives the bits of the baseline path, on one thread
+// and on three.
+TEST(Determinism, EverySimdPathGivesTheSameHash)
+{
+    const ThreadCountGuard guard;
+    const SimdPath active = activeSimdPath();
+    setSimdPath(SimdPath::Default);
+    const RunOutcome reference = runAt(1, "paper-drop.json", "48x2x48", 0.6);
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        setSimdPath(path);
+        for (const int threads : {1, 3})
+        {
+            const RunOutcome outcome = runAt(threads, "paper-drop.json", "48x2x48", 0.6);
+            EXPECT_EQ(outcome.hash, reference.hash) << simdPathName(path) << " at " << threads << " threads";
+            EXPECT_EQ(outcome.events, reference.events) << simdPathName(path) << " at " << threads << " threads";
+        }
+    }
+    setSimdPath(active);
+}
+
+TEST(SimdPath, NamesRoundTripAndTheBaselineIsAlwaysSupported)
+{
+    for (const SimdPath path : {SimdPath::Default, SimdPath::Avx2, SimdPath::Avx512})
+    {
+        EXPECT_EQ(parseSimdPath(simdPathName(path)), path);
+    }
+    EXPECT_THROW(parseSimdPath("sse9"), InputError);
+    EXPECT_TRUE(simdPathSupported(SimdPath::Default));
+    EXPECT_EQ(supportedSimdPaths().front(), SimdPath::Default);
+}
