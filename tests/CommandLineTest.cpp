@@ -246,6 +246,18 @@ TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
     }
 }
 
+// `masse demo --headless --out DIR` prints the Figure 18 table and plots it, as the README says.
+TEST(CommandLine, DemoHeadlessPlotsFigure18)
+{
+    const std::filesystem::path folder = freshFolder("demo-headless");
+    const Outcome o = masse("demo --headless --out " + folder.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    EXPECT_NE(o.output.find("12x2x12"), std::string::npos) << o.output;
+    EXPECT_TRUE(std::filesystem::exists(folder / "figure18.csv"));
+    ASSERT_TRUE(std::filesystem::exists(folder / "figure18.png"));
+    EXPECT_GT(std::filesystem::file_size(folder / "figure18.png"), 1000u);
+}
+
 // Issue 16, rows 6 and 11: flags out of range, and steps the integrator cannot take, exit with 2 naming the flag and
 // the range before the output folder exists.
 TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)

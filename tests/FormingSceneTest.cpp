@@ -10,6 +10,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <memory>
+
 using namespace masse;
 using namespace masse::scene;
 
@@ -135,4 +138,36 @@ TEST(FormingScene, BadHeatInputIsRefusedWithItsKey)
                           "script": [{"time": 1, "action": "heater", "heater": "ghost"}]})")
                   .find("script[0].heater: no heater is named 'ghost'"),
               std::string::npos);
+}
+
+// A heat scene with the default room (whose walls give no temperature) and an obstacle without "temperature_c"
+// loads and runs: both are at the air's temperature, so a cold sheet lying on the obstacle in 60 C air warms.
+TEST(FormingScene, ObstaclesAndTheRoomWithoutATemperatureTakeTheAirs)
+{
+    const std::string json = R"({
+      "sheet": { "size": "6x2x6", "min": [-0.1, 0.011, -0.1], "max": [0.1, 0.02, 0.1] },
+      "material": { "file": "../materials/pet.json" },
+      "heat": { "initial_temperature_c": 20, "air_temperature_c": 60, "air_heat_transfer": 0,
+                "contact_heat_transfer": 500 },
+      "obstacles": [ { "name": "table", "type": "box", "position": [0, -0.1, 0], "half_extents": [0.3, 0.1, 0.3] } ],
+      "integrator": { "type": "implicit" },
+      "run": { "duration": 1, "stop_at_rest": false } })";
+    std::unique_ptr<Scene> scene;
+    ASSERT_EQ(masse::test::inputErrorOf(
+                  [&]
+                  {
+                      scene = std::make_unique<Scene>(
+                          parseScene(nlohmann::json::parse(json), source + "/data/scenes", "default-temperatures"));
+                  }),
+              "");
+    while (!scene->finished())
+    {
+        scene->step();
+    }
+    const std::vector<Real>& temperature = scene->thermal()->temperature();
+    const Real coolest = *std::min_element(temperature.begin(), temperature.end());
+    EXPECT_GE(scene->eventTime("contact", "table"), 0.0);
+    EXPECT_GT(coolest, celsiusToKelvin(20)); // every mass warmed: the table (or its neighbours) is at 60 C
+    const Real warmest = *std::max_element(temperature.begin(), temperature.end());
+    EXPECT_LT(warmest, celsiusToKelvin(60) + 1e-9);
 }

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 using namespace masse;
 using namespace masse::scene;
@@ -80,6 +81,44 @@ TEST(SceneFile, ExtendsMergesTheBaseScene)
     EXPECT_EQ(spec.obstacles.size(), 2u);
     EXPECT_EQ(spec.obstacles[0].name, "block");
     EXPECT_EQ(spec.time.integrator, IntegratorKind::SymplecticEuler);
+}
+
+// Relative paths (a material file, a mesh) resolve against the file that wrote them, through any depth of "extends":
+// a scene in one's own folder extends the shipped drape-forming scene (whose material is "../materials/abs.json",
+// relative to data/scenes) and adds a mesh relative to its own folder; a scene one folder deeper extends that one and
+// names its own material file relative to itself.
+TEST(SceneFile, ExtendsResolvesPathsAgainstTheFileThatWroteThem)
+{
+    namespace fs = std::filesystem;
+    const fs::path mine = fs::path(testing::TempDir()) / "masse-extends-paths";
+    fs::remove_all(mine);
+    fs::create_directories(mine / "meshes");
+    fs::create_directories(mine / "deeper" / "materials");
+    fs::copy_file(source + "/data/meshes/pyramid.obj", mine / "meshes" / "mould.obj");
+    fs::copy_file(source + "/data/materials/pet.json", mine / "deeper" / "materials" / "mine.json");
+    auto write = [](const fs::path& path, const std::string& text)
+    {
+        std::ofstream out(path);
+        out << text;
+    };
+    write(mine / "scene.json", R"({ "extends": ")" + source + R"(/data/scenes/drape-forming.json",
+      "obstacles": [ { "name": "mould", "type": "mesh", "file": "meshes/mould.obj", "scale": 0.2 } ] })");
+    write(mine / "deeper" / "level2.json", R"({ "extends": "../scene.json",
+      "material": { "file": "materials/mine.json" } })");
+
+    const SceneSpec first = loadScene((mine / "scene.json").string());
+    EXPECT_EQ(fs::canonical(first.material.file), fs::canonical(source + "/data/materials/abs.json"));
+    ASSERT_EQ(first.obstacles.size(), 1u);
+    EXPECT_EQ(fs::canonical(first.obstacles[0].meshPath), fs::canonical(mine / "meshes" / "mould.obj"));
+    EXPECT_EQ(errorOf((mine / "scene.json").string()), "");
+
+    const SceneSpec second = loadScene((mine / "deeper" / "level2.json").string());
+    EXPECT_EQ(fs::canonical(second.material.file), fs::canonical(mine / "deeper" / "materials" / "mine.json"));
+    EXPECT_EQ(second.material.material.name, "PET");
+    ASSERT_EQ(second.obstacles.size(), 1u);
+    EXPECT_EQ(fs::canonical(second.obstacles[0].meshPath), fs::canonical(mine / "meshes" / "mould.obj"));
+    EXPECT_EQ(errorOf((mine / "deeper" / "level2.json").string()), "");
+    fs::remove_all(mine);
 }
 
 // The "bullet" object sets the twin's settings key by key; what is left out stays unset (derived from the sheet when

@@ -2,9 +2,12 @@
 
 #include "scene/Scene.h"
 #include "scene/PaperExperiment.h"
+#include "scene/Runner.h"
 #include "scene/SceneFile.h"
 
 #include <gtest/gtest.h>
+
+#include <sstream>
 
 using namespace masse;
 using namespace masse::scene;
@@ -118,4 +121,80 @@ TEST(Scene, KinematicObstacleLiftsTheSheet)
     const Real spacing = scene.lattice().spacingX;
     EXPECT_LT(deepest, 0.01 * spacing + 1e-9);
     EXPECT_NEAR(scene.system().particles.position[0].y(), 1.0 + scene.spec().contact.radius, 0.01 * spacing);
+}
+
+// A sheet lying on a table comes to rest long before its script is done: the run waits for the actions still to come
+// (a gravity change at 2 s, a grab at 2.5 s released at 3 s) and only then may rest end it.
+TEST(Scene, StopAtRestWaitsForPendingScriptActions)
+{
+    Scene scene(sceneFrom(R"({
+        "sheet": { "size": "4x2x4", "min": [-0.2, 0.011, -0.2], "max": [0.2, 0.06, 0.2] },
+        "environment": { "room": { "enabled": false } },
+        "obstacles": [ { "name": "table", "type": "box", "position": [0, -0.5, 0], "half_extents": [1, 0.5, 1] } ],
+        "integrator": { "type": "implicit", "dt": 0.03 },
+        "script": [ { "time": 2.0, "action": "gravity", "value": [0, -9.80665, 0] },
+                    { "time": 2.5, "action": "grab", "label": "hand", "mass": 0,
+                      "path": [ { "position": [-0.2, 0.1, -0.2] } ] },
+                    { "time": 3.0, "action": "release", "grab": "hand" } ],
+        "run": { "duration": 10, "stop_at_rest": true } })"));
+    while (!scene.finished())
+    {
+        scene.step();
+    }
+    EXPECT_NEAR(scene.eventTime("gravity", "sheet"), 2.0, 0.03);
+    EXPECT_NEAR(scene.eventTime("release", "hand"), 3.0, 0.03);
+    EXPECT_GE(scene.eventTime("rest", "sheet"), 3.0);
+    EXPECT_LT(scene.time(), 10.0 - 1e-9); // and it did stop at rest
+    EXPECT_TRUE(scene.pendingActions().empty());
+}
+
+// A run whose duration ends before some actions' times says which never fired, in its output and its summary.
+TEST(Scene, ARunSaysWhichActionsNeverFired)
+{
+    Scene scene(sceneFrom(R"({
+        "sheet": { "size": "3x2x3" },
+        "environment": { "room": { "enabled": false } },
+        "integrator": { "type": "implicit", "dt": 0.03 },
+        "script": [ { "time": 0.1, "action": "gravity", "value": [0, 0, 0], "label": "weightless" },
+                    { "time": 5.0, "action": "gravity", "value": [0, -1, 0], "label": "moon" } ],
+        "run": { "duration": 0.3, "stop_at_rest": false } })"));
+    RunOptions options;
+    options.showProgress = false;
+    std::ostringstream out;
+    const RunResult result = runScene(scene, options, out);
+    ASSERT_TRUE(result.summary.contains("unfired_actions"));
+    ASSERT_EQ(result.summary["unfired_actions"].size(), 1u);
+    EXPECT_EQ(result.summary["unfired_actions"][0]["label"], "moon");
+    EXPECT_EQ(result.summary["unfired_actions"][0]["time"], 5.0);
+    EXPECT_NE(out.str().find("never fired"), std::string::npos) << out.str();
+    EXPECT_NE(out.str().find("moon"), std::string::npos) << out.str();
+    EXPECT_EQ(out.str().find("weightless"), std::string::npos) << out.str();
+}
+
+// A glassy material sheet on the symplectic integrator needs thousands of substeps a step: the run says so before it
+// starts, with the count, and names the implicit integrator; the same sheet on the implicit one says nothing.
+TEST(Scene, ARunNeedingOverAThousandSubstepsSaysSoBeforeItStarts)
+{
+    const std::string json = R"({
+        "sheet": { "size": "4x2x4", "min": [-0.1, 0, -0.1], "max": [0.1, 0.01, 0.1] },
+        "material": { "file": "../materials/hips.json" },
+        "environment": { "room": { "enabled": false } },
+        "integrator": { "type": "INTEGRATOR", "dt": 0.03 },
+        "run": { "duration": 0.03, "stop_at_rest": false } })";
+    auto output = [&](const std::string& integrator)
+    {
+        std::string text = json;
+        text.replace(text.find("INTEGRATOR"), 10, integrator);
+        Scene scene(sceneFrom(text));
+        EXPECT_EQ(scene.substepWarning().empty(), integrator == "implicit") << integrator;
+        RunOptions options;
+        options.showProgress = false;
+        std::ostringstream out;
+        runScene(scene, options, out);
+        return out.str();
+    };
+    const std::string symplectic = output("symplectic");
+    EXPECT_NE(symplectic.find("substeps"), std::string::npos) << symplectic;
+    EXPECT_NE(symplectic.find("\"implicit\""), std::string::npos) << symplectic;
+    EXPECT_EQ(output("implicit").find("substeps"), std::string::npos);
 }

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 
 using namespace masse;
@@ -450,6 +451,46 @@ TEST(Thermal, ContactWithAColdObstacleCoolsOnlyTheTouchingMasses)
 
     EXPECT_NE(inputErrorOf([&] { model.setContact(&touching, {-400}); }).find("obstacles[0].temperature_c"),
               std::string::npos);
+}
+
+// An obstacle given no temperature (NaN) is at the air's: a sheet lying on it relaxes towards the air temperature
+// at the contact rate, T(t) = T_air + (T0 - T_air) exp(-H t / (rho c h0)), within 1% of the change, and follows the
+// air when it changes (the room's walls and obstacles without "temperature_c" in a scene).
+TEST(Thermal, ObstacleWithoutATemperatureIsAtTheAirs)
+{
+    const Material material;
+    const Real thickness = 0.002;
+    const Lattice lattice = makeLattice(Structure::Square2D, 5, 1, 5, Vec3(0, 0, 0), Vec3(0.2, 0, 0.2));
+    const MassSpringSystem system = makeSheet(lattice, SheetParams{});
+    const Real hot = celsiusToKelvin(150);
+    ThermalSettings settings = insulated(hot); // no exchange with the air itself: only through the obstacle
+    settings.airTemperature = celsiusToKelvin(60);
+    settings.contactHeatTransfer = 500;
+    ThermalModel model(lattice, material, thickness, settings);
+    const std::vector<int> touching(lattice.massCount(), 0);
+    model.setContact(&touching, {std::numeric_limits<Real>::quiet_NaN()});
+    const Real dt = 0.03;
+    const int steps = 100;
+    const Real rate = settings.contactHeatTransfer / (material.density * material.specificHeat * thickness);
+    auto expected = [&](Real air, Real start, int n) { return air + (start - air) * std::exp(-rate * n * dt); };
+    for (int i = 0; i < steps; ++i)
+    {
+        model.advance(system, dt);
+    }
+    const Real afterFirst = expected(settings.airTemperature, hot, steps);
+    EXPECT_NEAR(model.temperature()[12], afterFirst, 0.01 * (hot - afterFirst));
+    ASSERT_TRUE(std::isfinite(model.temperature()[12]));
+
+    // The air cools to 0 C: the obstacle follows it.
+    settings.airTemperature = celsiusToKelvin(0);
+    model.setSettings(settings);
+    const Real start = model.temperature()[12];
+    for (int i = 0; i < steps; ++i)
+    {
+        model.advance(system, dt);
+    }
+    const Real afterSecond = expected(settings.airTemperature, start, steps);
+    EXPECT_NEAR(model.temperature()[12], afterSecond, 0.01 * (start - afterSecond));
 }
 
 // Bad settings are refused with the field named: a heater with negative power first of all.

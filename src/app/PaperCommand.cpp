@@ -115,6 +115,8 @@ void addDemoCommand(CLI::App& app)
         "demo", "The main job: the paper's drop scene, in the viewer when there is a display, otherwise (or with "
                 "--headless) a table of its four stages for the Table 2 sizes");
     command->add_flag("--headless", *headless, "Print the table even when a display is available");
+    command->add_option("--out", options->out,
+                        "Headless: also write figure18.csv and the plot figure18.png into this folder");
     addThreadsOption(*command);
     command->callback(
         [options, headless]
@@ -128,7 +130,7 @@ void addDemoCommand(CLI::App& app)
                     return;
                 }
             }
-            runPaper(*options, false);
+            runPaper(*options, !options->out.empty());
         });
 }
 } // namespace masse::app

@@ -61,12 +61,17 @@ private:
                   const std::vector<Vec3>& momentum);
     bool applyConstraints(const MassSpringSystem& system, Real a);
     IntegratorStats runSolver();
+    /// The relative tolerance of this solve: the settings' one, tightened so that the residual never exceeds it times
+    /// the impulse of the sheet's weight over the step (see the definition for why).
+    Real solverTolerance(const MassSpringSystem& system, Real a) const;
     void writeReactions(MassSpringSystem& system);
     Mat3 readBlock(const BlockSlots& slots) const;
     void writeBlock(const BlockSlots& slots, const Mat3& block);
     void addToBlock(const BlockSlots& slots, const Mat3& block);
 
     ImplicitSettings m_settings;
+
+    Real m_tolerance = 0; ///< of the current solve
     SparseMatrix m_matrix;
     std::vector<BlockSlots> m_diagonalSlots;
     std::vector<BlockSlots> m_abSlots;

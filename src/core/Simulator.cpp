@@ -65,10 +65,12 @@ StepReport Simulator::step(Real dt)
     {
         m_contact->beginFrame(m_system, m_time, dt, m_integrator->honoursConstraints());
     }
+    m_guard.beforeHooks(m_system);
     for (StepHook* hook : m_hooks)
     {
         hook->beginFrame(m_system, m_time, dt);
     }
+    m_guard.afterHooks(m_system);
     for (int i = 0; i < report.substeps; ++i)
     {
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
@@ -84,10 +86,12 @@ StepReport Simulator::step(Real dt)
             m_contact->afterSubstep(m_system, report.substep);
         }
         const Real substepEnd = m_time + Real(i + 1) * report.substep;
+        m_guard.beforeHooks(m_system);
         for (StepHook* hook : m_hooks)
         {
             hook->afterSubstep(m_system, report.substep, substepEnd);
         }
+        m_guard.afterHooks(m_system);
     }
     m_substepCount += std::uint64_t(report.substeps);
     m_time += dt;
@@ -95,11 +99,14 @@ StepReport Simulator::step(Real dt)
     {
         m_contact->endFrame(m_system, m_time);
     }
+    m_guard.beforeHooks(m_system);
     for (StepHook* hook : m_hooks)
     {
         hook->endFrame(m_system, m_time);
     }
-    checkFinite();
+    m_guard.afterHooks(m_system);
+    checkFinite(); // on every core; the guard's own finite check then only names the mass again
+    m_guard.check(m_system, m_time, dt, m_contact ? &m_contact->contactForce() : nullptr);
     return report;
 }
 

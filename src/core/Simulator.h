@@ -3,6 +3,7 @@
 /// clock, and refuses to go on silently with a non-finite state.
 
 #include "ContactSolver.h"
+#include "DivergenceGuard.h"
 #include "Integrator.h"
 #include "SolverTally.h"
 #include "StabilityEstimate.h"
@@ -13,13 +14,6 @@
 
 namespace masse
 {
-/// Thrown when the state stops being finite (a diverged run); the message says when and where.
-class NumericalError : public std::runtime_error
-{
-public:
-    explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
-};
-
 struct SimulatorSettings
 {
     IntegratorKind integrator = IntegratorKind::ImplicitEuler;
@@ -44,7 +38,7 @@ public:
     Simulator(MassSpringSystem system, const SimulatorSettings& settings);
 
     /// Advances by dt seconds (dt > 0). Throws InputError for a bad dt or one that would need more than maxSubsteps,
-    /// NumericalError if the state becomes non-finite.
+    /// NumericalError if the guard finds the state unsound (non-finite, too fast, energy from nowhere).
     StepReport step(Real dt);
 
     /// Number of substeps step(dt) would take now.
@@ -60,6 +54,8 @@ public:
     /// Models advanced with the mechanics, in the order added (see StepHook.h). Each must outlive its use here.
     void addHook(StepHook* hook) { m_hooks.push_back(hook); }
     Real time() const { return m_time; }
+    /// The divergence guard run after every step (its bounds come from the scene).
+    DivergenceGuard& guard() { return m_guard; }
     std::uint64_t substepCount() const { return m_substepCount; }
     /// The implicit solver's statistics since construction (empty for the explicit integrators).
     const SolverTally& solverTally() const { return m_solverTally; }
@@ -75,6 +71,7 @@ private:
     std::unique_ptr<Integrator> m_integrator;
     ContactSolver* m_contact = nullptr;
     std::vector<StepHook*> m_hooks;
+    DivergenceGuard m_guard;
     Real m_time = 0;
     std::uint64_t m_substepCount = 0;
     SolverTally m_solverTally;

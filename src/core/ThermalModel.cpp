@@ -220,6 +220,10 @@ void ThermalModel::setContact(const std::vector<int>* touchingObstacle, std::vec
 {
     for (std::size_t k = 0; k < obstacleTemperature.size(); ++k)
     {
+        if (std::isnan(obstacleTemperature[k]))
+        {
+            continue; // at the air's temperature
+        }
         if (!(obstacleTemperature[k] > 0) || !std::isfinite(obstacleTemperature[k]))
         {
             throw InputError("obstacles[" + std::to_string(k) + "].temperature_c: must be above absolute zero (got " +
@@ -362,7 +366,9 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
             if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTemperature.size())
             {
                 contactCoefficient[i] = m_settings.contactHeatTransfer * area[i];
-                contactSource[i] = contactCoefficient[i] * m_obstacleTemperature[std::size_t(obstacle)];
+                const Real given = m_obstacleTemperature[std::size_t(obstacle)];
+                const Real surface = std::isnan(given) ? m_settings.airTemperature : given;
+                contactSource[i] = contactCoefficient[i] * surface;
             }
         }
         values[m_diagonalSlot[i]] += airCoefficient[i] + contactCoefficient[i];

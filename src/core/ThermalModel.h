@@ -84,7 +84,8 @@ public:
     const ThermalSettings& settings() const { return m_settings; }
     /// Contact heat exchange: `touchingObstacle` gives per mass the obstacle it touches or -1 (normally
     /// ContactSolver::touchingObstacle(); it must outlive its use here, nullptr for none), `obstacleTemperature`
-    /// each obstacle's temperature (K). Obstacles with no temperature given exchange no heat.
+    /// each obstacle's temperature (K): NaN for one at the air's temperature (it follows the air when that changes).
+    /// Obstacles beyond the end of the list exchange no heat.
     void setContact(const std::vector<int>* touchingObstacle, std::vector<Real> obstacleTemperature);
 
     /// K, per mass. Writable for initial conditions; a held mass is reset to its held value every frame.

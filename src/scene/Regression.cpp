@@ -2,6 +2,7 @@
 
 #include "AtomicFile.h"
 #include "JsonObject.h"
+#include "JsonText.h"
 #include "SceneFile.h"
 
 #include "core/InputError.h"
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #ifndef MASSE_BUILD_TYPE
@@ -201,12 +203,12 @@ RegressionResult runRegression(const std::string& path, const std::vector<KeyOve
 
 void recordRegression(const std::string& path)
 {
-    nlohmann::json document = readJsonFile(path);
+    const nlohmann::json document = readJsonFile(path);
     SceneSpec spec = loadScene(path);
     Scene scene(spec);
     const RunResult run = runQuietly(scene);
 
-    nlohmann::json& expect = document["expect"];
+    nlohmann::json expect = document.value("expect", nlohmann::json::object());
     nlohmann::json events = nlohmann::json::array();
     for (const SceneEvent& e : scene.events())
     {
@@ -235,7 +237,11 @@ void recordRegression(const std::string& path)
     }
     expect["events"] = events;
     expect["final"]["state_hash"][MASSE_BUILD_TYPE] = run.summary["final"]["state_hash"];
-    writeFileAtomically(path, document.dump(2) + "\n");
+    // Only the expect block is rewritten: the author's comments and layout elsewhere stay as they were.
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    writeFileAtomically(path, withTopLevelValue(text.str(), "expect", expect));
 }
 
 std::vector<std::string> regressionFiles(const std::string& path)

@@ -8,6 +8,7 @@
 #include "Progress.h"
 #include "SheetReports.h"
 
+#include "core/Format.h"
 #include "core/StateHash.h"
 #include "core/SimdPath.h"
 #include "core/TaskPool.h"
@@ -178,6 +179,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
             frames.emplace(scene, options.outDir);
         }
     }
+    if (const std::string warning = scene.substepWarning(); !warning.empty())
+    {
+        progressOut << "warning: " << warning << "\n";
+    }
     Progress progress(progressOut, options.terminal, scene.spec().run.duration);
     const Clock::time_point start = Clock::now();
     Clock::duration inStep{};
@@ -222,6 +227,22 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     result.overheadSeconds = wall - result.stepSeconds;
     result.summary = summarize(scene, wall);
     result.summary["runner_overhead"] = result.stepSeconds > 0 ? result.overheadSeconds / result.stepSeconds : 0.0;
+    const std::vector<const ScriptAction*> unfired = scene.pendingActions();
+    if (!unfired.empty())
+    {
+        nlohmann::json list = nlohmann::json::array();
+        std::string names;
+        for (const ScriptAction* action : unfired)
+        {
+            const std::string name = action->label.empty() ? actionName(action->kind) : action->label;
+            list.push_back({{"action", actionName(action->kind)}, {"label", action->label}, {"time", action->time}});
+            names += (names.empty() ? "" : ", ") + name + " (" + actionName(action->kind) + " at " +
+                     formatNumber(action->time) + " s)";
+        }
+        result.summary["unfired_actions"] = list;
+        progressOut << "warning: " << unfired.size() << " script action(s) never fired, the run ended at "
+                    << formatNumber(scene.time()) << " s: " << names << "\n";
+    }
     if (scene.spec().forming.enabled || scene.spec().formingReport.thicknessMap)
     {
         result.summary["forming"] = formingSummary(scene);
@@ -229,6 +250,7 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     if (sag)
     {
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
+        result.summary["final"]["sag"] = sag->series().back().second; // so an expect block can bound it
     }
     requireFiniteState(scene);
     requireFiniteJson(result.summary, "summary.json:");

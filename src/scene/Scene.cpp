@@ -1,11 +1,13 @@
 #include "Scene.h"
 
+#include "GuardBounds.h"
 #include "MemoryBudget.h"
 #include "Pins.h"
 
 #include "bridge/MeshTopology.h"
 
 #include "core/Energy.h"
+#include "core/Format.h"
 #include "core/InputError.h"
 #include "core/MaterialSheet.h"
 #include "core/MembraneStiffness.h"
@@ -17,6 +19,9 @@ namespace masse::scene
 {
 namespace
 {
+/// Substeps per step above which a run says, before it starts, that it will be slow.
+constexpr int warnedSubsteps = 1000;
+
 /// Re-throws a core validation error ("dt: ...") under the section it belongs to ("integrator.dt: ...").
 template <typename Check> void within(const std::string& section, Check&& check)
 {
@@ -132,6 +137,9 @@ void Scene::build()
         }
         m_simulator = std::make_unique<Simulator>(std::move(sheet), settings);
         m_simulator->setContactSolver(m_contact.get());
+        const std::vector<Real>& masses = m_simulator->system().particles.mass;
+        m_simulator->guard().setSettings(
+            guardSettings(m_spec, masses.empty() ? Real(1) : *std::min_element(masses.begin(), masses.end())));
         m_script = std::make_unique<ScriptRunner>(
             m_spec.script, m_lattice, *m_environment,
             [this](const std::string& name, const std::string& object, Real t) { record(name, object, t); },
@@ -148,7 +156,8 @@ void Scene::build()
         m_simulator->addHook(m_script.get());
         if (m_thermal)
         {
-            // Obstacles exchange heat at their own temperature; the room's walls (and obstacles without one) none.
+            // Obstacles exchange heat at their own temperature; the room's walls and obstacles without one (NaN) are
+            // at the air's, and follow it when an "ambient" action changes it.
             std::vector<Real> obstacleTemperature(std::size_t(m_environment->obstacleCount()),
                                                   std::numeric_limits<Real>::quiet_NaN());
             for (std::size_t k = 0; k < m_spec.obstacles.size(); ++k)
@@ -182,6 +191,26 @@ void Scene::build()
         throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + e.what());
     }
 
+    m_scriptedMotionEnd = 0;
+    for (const bridge::ObstacleSpec& obstacle : m_spec.obstacles)
+    {
+        if (!obstacle.path.empty())
+        {
+            m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, obstacle.path.back().time);
+        }
+    }
+    for (const ScriptAction& action : m_spec.script)
+    {
+        m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, action.time);
+        if (!action.path.empty())
+        {
+            m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, action.path.back().first);
+        }
+        if (!action.obstaclePath.empty())
+        {
+            m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, action.obstaclePath.back().time);
+        }
+    }
     m_restPrerequisites.clear();
     for (const std::string& name : m_spec.run.restAfterContactWith)
     {
@@ -303,6 +332,13 @@ void Scene::updateRest()
     {
         return; // rest means something only to a scene that waits for it
     }
+    // A sheet that rests before its script is done (an action still to fire, a grab or an obstacle still to move)
+    // is only waiting: rest counts from the end of the last scripted motion.
+    if (!m_script->pending().empty() || time() < m_scriptedMotionEnd - 1e-9)
+    {
+        m_restSince = -1;
+        return;
+    }
     for (int obstacle : m_restPrerequisites)
     {
         if (!m_contact->everTouched(obstacle))
@@ -325,6 +361,29 @@ void Scene::updateRest()
         m_restRecorded = true;
         record("rest", "sheet", m_restSince);
     }
+}
+
+std::vector<const ScriptAction*> Scene::pendingActions() const
+{
+    return m_script->pending();
+}
+
+std::string Scene::substepWarning() const
+{
+    if (!isExplicit(m_spec.time.integrator))
+    {
+        return "";
+    }
+    const int substeps = m_simulator->substepsFor(m_spec.time.dt);
+    if (substeps <= warnedSubsteps)
+    {
+        return "";
+    }
+    return "the " + std::string(integratorName(m_spec.time.integrator)) + " integrator needs " +
+           std::to_string(substeps) + " substeps for each " + formatNumber(m_spec.time.dt) +
+           " s step (this sheet's stable step is " + formatNumber(m_spec.time.dt / Real(substeps)) +
+           " s), so this run will be slow; the implicit integrator takes the step whole: \"integrator\": {\"type\": "
+           "\"implicit\"} (or --integrator implicit)";
 }
 
 bool Scene::finished() const

@@ -75,6 +75,11 @@ public:
     /// The run is over: its duration is reached, or it stops at rest and is at rest.
     bool finished() const;
     Real kineticEnergy() const;
+    /// Script actions that have not fired yet, in the order they will.
+    std::vector<const ScriptAction*> pendingActions() const;
+    /// "" or, when the explicit integrator needs more than 1,000 substeps for each of this scene's steps, a warning
+    /// with the count that names the integrator to use instead.
+    std::string substepWarning() const;
 
     /// Wall seconds since the scene started (or was reset).
     Real wallSeconds() const;
@@ -102,6 +107,7 @@ private:
     std::size_t m_contactsSeen = 0;
     std::vector<int> m_restPrerequisites;
     Real m_restSince = -1;
+    Real m_scriptedMotionEnd = 0; ///< s, when the last scripted action, grab path or obstacle path ends
     bool m_restRecorded = false;
     std::uint64_t m_steps = 0;
     std::chrono::steady_clock::time_point m_start;

@@ -783,6 +783,35 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
 
 namespace
 {
+/// Turns a relative path value at `holder[key]` into an absolute one under `folder`.
+void makeAbsolute(nlohmann::json& holder, const char* key, const std::filesystem::path& folder)
+{
+    if (holder.is_object() && holder.contains(key) && holder[key].is_string())
+    {
+        const std::filesystem::path file = holder[key].get<std::string>();
+        if (file.is_relative())
+        {
+            holder[key] = std::filesystem::absolute(folder / file).lexically_normal().string();
+        }
+    }
+}
+
+/// Every key of a scene document that names a file: "material.file" and "obstacles[].file".
+void makePathsAbsolute(nlohmann::json& document, const std::filesystem::path& folder)
+{
+    if (document.contains("material"))
+    {
+        makeAbsolute(document["material"], "file", folder);
+    }
+    if (document.contains("obstacles") && document["obstacles"].is_array())
+    {
+        for (nlohmann::json& obstacle : document["obstacles"])
+        {
+            makeAbsolute(obstacle, "file", folder);
+        }
+    }
+}
+
 /// Whether `text` is valid UTF-8 (no overlong forms, no surrogates, nothing past U+10FFFF).
 bool validUtf8(const std::string& text)
 {
@@ -860,20 +889,9 @@ nlohmann::json readSceneDocument(const std::string& path, int depth)
     const std::filesystem::path base =
         std::filesystem::path(path).parent_path() / document["extends"].get<std::string>();
     nlohmann::json merged = readSceneDocument(base.string(), depth + 1);
-    // Relative mesh paths of the base stay relative to the base's folder.
-    if (merged.contains("obstacles") && merged["obstacles"].is_array())
-    {
-        for (nlohmann::json& obstacle : merged["obstacles"])
-        {
-            if (obstacle.is_object() && obstacle.contains("file") && obstacle["file"].is_string() &&
-                std::filesystem::path(obstacle["file"].get<std::string>()).is_relative())
-            {
-                obstacle["file"] = std::filesystem::relative(base.parent_path() / obstacle["file"].get<std::string>(),
-                                                             std::filesystem::path(path).parent_path())
-                                       .string();
-            }
-        }
-    }
+    // The base's relative paths (its material file, its meshes) are relative to the base's own folder: make them
+    // absolute before merging, so that only the paths this file writes resolve against this file's folder.
+    makePathsAbsolute(merged, base.parent_path());
     merged.erase("expect");
     nlohmann::json patch = document;
     patch.erase("extends");

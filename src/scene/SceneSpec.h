@@ -176,7 +176,7 @@ struct SceneSpec
     SheetSpec sheet;
     EnvironmentSpec environment;
     std::vector<bridge::ObstacleSpec> obstacles;
-    /// K per obstacle, for heat exchange on contact (NaN: none); the room's walls exchange none.
+    /// K per obstacle, for heat exchange on contact (NaN: at the air's temperature, as the room's walls are).
     std::vector<Real> obstacleTemperature;
     /// Per obstacle, its own contact response ("contact" in the obstacle; `own` false: the scene's).
     std::vector<ObstacleContact> obstacleContact;

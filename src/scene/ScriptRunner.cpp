@@ -144,6 +144,40 @@ void ScriptRunner::afterSubstep(MassSpringSystem& system, Real /*h*/, Real time)
     }
 }
 
+std::vector<const ScriptAction*> ScriptRunner::pending() const
+{
+    std::vector<const ScriptAction*> result;
+    for (std::size_t k = m_next; k < m_actions.size(); ++k)
+    {
+        result.push_back(&m_actions[k]);
+    }
+    return result;
+}
+
+std::string actionName(ScriptAction::Kind kind)
+{
+    switch (kind)
+    {
+    case ScriptAction::Kind::Grab:
+        return "grab";
+    case ScriptAction::Kind::Release:
+        return "release";
+    case ScriptAction::Kind::Pin:
+        return "pin";
+    case ScriptAction::Kind::Unpin:
+        return "unpin";
+    case ScriptAction::Kind::Gravity:
+        return "gravity";
+    case ScriptAction::Kind::Move:
+        return "move";
+    case ScriptAction::Kind::Heater:
+        return "heater";
+    case ScriptAction::Kind::Ambient:
+        return "ambient";
+    }
+    return "action";
+}
+
 std::vector<std::pair<Index, UserSpringId>> ScriptRunner::activeGrabs() const
 {
     std::vector<std::pair<Index, UserSpringId>> result;

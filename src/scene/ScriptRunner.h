@@ -27,6 +27,9 @@ public:
     void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, Real h, Real time) override;
 
+    /// Actions that have not fired yet, in the order they will.
+    std::vector<const ScriptAction*> pending() const;
+
     /// The mass a grab holds now, or -1 (for drawing).
     std::vector<std::pair<Index, UserSpringId>> activeGrabs() const;
 
@@ -49,6 +52,9 @@ private:
     HeatAction m_heat;
     std::vector<Grab> m_grabs;
 };
+
+/// The action's name as a scene file writes it ("grab", "heater"...).
+std::string actionName(ScriptAction::Kind kind);
 
 /// The mass of the sheet nearest a point.
 Index nearestMass(const Particles& particles, const Vec3& point);

@@ -1,0 +1,120 @@
+#include "GuardBounds.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace masse::scene
+{
+namespace
+{
+/// m, how far a point of the obstacle can be from its own origin (turning about it moves the surface this fast).
+Real reach(const bridge::ObstacleSpec& o)
+{
+    switch (o.kind)
+    {
+    case bridge::ObstacleKind::Box:
+        return o.halfExtents.norm();
+    case bridge::ObstacleKind::Prism:
+        return 0.5 * Vec3(o.prismWidth + 2 * std::abs(o.prismApex), o.prismHeight, o.prismLength).norm();
+    case bridge::ObstacleKind::Hull:
+    {
+        Real r = 0;
+        for (const Vec3& p : o.hullPoints)
+        {
+            r = std::max(r, p.norm());
+        }
+        return r;
+    }
+    case bridge::ObstacleKind::Mesh:
+        return 10 * o.meshScale; // the file is not read here: a generous size
+    }
+    return 1;
+}
+
+Real pathSpeed(const std::vector<bridge::PathKey>& path, Real radius)
+{
+    Real fastest = 0;
+    for (std::size_t k = 0; k + 1 < path.size(); ++k)
+    {
+        const Real dt = path[k + 1].time - path[k].time;
+        const Real turn = path[k].orientation.angularDistance(path[k + 1].orientation);
+        fastest = std::max(fastest, ((path[k + 1].position - path[k].position).norm() + turn * radius) / dt);
+    }
+    return fastest;
+}
+} // namespace
+
+Real fastestObstacleSpeed(const SceneSpec& spec)
+{
+    Real fastest = 0;
+    for (const bridge::ObstacleSpec& o : spec.obstacles)
+    {
+        std::vector<bridge::PathKey> path = o.path;
+        for (const ScriptAction& a : spec.script)
+        {
+            if (a.kind == ScriptAction::Kind::Move && a.obstacle == o.name)
+            {
+                path.insert(path.end(), a.obstaclePath.begin(), a.obstaclePath.end());
+            }
+        }
+        fastest = std::max(fastest, pathSpeed(path, reach(o)));
+    }
+    return fastest;
+}
+
+Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
+{
+    // Gravity: a fall is bounded by the air's terminal speed g / c, by g times the run's length, and inside the room
+    // by a fall of its whole height.
+    Real gravity = spec.environment.gravity.norm();
+    for (const ScriptAction& a : spec.script)
+    {
+        if (a.kind == ScriptAction::Kind::Gravity)
+        {
+            gravity = std::max(gravity, a.vector.norm());
+        }
+    }
+    Real fall = gravity * spec.run.duration;
+    if (spec.environment.airDampingRate > 0)
+    {
+        fall = std::min(fall, gravity / spec.environment.airDampingRate);
+    }
+    if (spec.environment.room.enabled)
+    {
+        const bridge::RoomSpec& room = spec.environment.room;
+        fall = std::min(fall, std::sqrt(2 * gravity * (room.maxCorner - room.minCorner).norm()));
+    }
+    // Grabs: their targets' speed, and the pull of a capped spring over the sheet's size and the path's reach.
+    const LatticeSpec& sheet = spec.sheet.lattice;
+    const Real size = (sheet.maxCorner - sheet.minCorner).norm();
+    Real grabs = 0;
+    for (const ScriptAction& a : spec.script)
+    {
+        if (a.kind != ScriptAction::Kind::Grab)
+        {
+            continue;
+        }
+        Real farthest = size;
+        for (std::size_t k = 0; k < a.path.size(); ++k)
+        {
+            farthest = std::max(farthest, (a.path[k].second - sheet.minCorner).norm() + size);
+            if (k + 1 < a.path.size())
+            {
+                grabs = std::max(grabs, (a.path[k + 1].second - a.path[k].second).norm() /
+                                            (a.path[k + 1].first - a.path[k].first));
+            }
+        }
+        grabs = std::max(grabs, std::sqrt(2 * a.maxForce * farthest / lightestMass));
+    }
+    return std::max({fall, grabs, fastestObstacleSpeed(spec)});
+}
+
+GuardSettings guardSettings(const SceneSpec& spec, Real lightestMass)
+{
+    GuardSettings settings;
+    // A floor of 0.1 m/s for scenes where nothing drives the sheet (no gravity, no script).
+    settings.speedLimit = guardSpeedMargin * std::max(fastestScriptedSpeed(spec, lightestMass), Real(0.1));
+    settings.obstacleSpeed = fastestObstacleSpeed(spec);
+    return settings;
+}
+} // namespace masse::scene
