@@ -73,6 +73,14 @@ private:
     Vec3 m_velocity;
     Real m_at;
 };
+/// The energy account is opt-in (GuardSettings::checkEnergy): these tests turn it on.
+void checkEnergy(Simulator& simulator)
+{
+    GuardSettings settings = simulator.guard().settings();
+    settings.checkEnergy = true;
+    simulator.guard().setSettings(settings);
+}
+
 } // namespace
 
 // A swinging chain (gravity on, one end pinned) conserves its energy under the symplectic integrator within the
@@ -90,6 +98,7 @@ TEST(DivergenceGuard, EnergyFromNowhereStopsTheRun)
     SimulatorSettings settings;
     settings.integrator = IntegratorKind::SymplecticEuler;
     Simulator sound(chain(), settings);
+    checkEnergy(sound);
     EXPECT_EQ(numericalErrorOf(
                   [&]
                   {
@@ -101,6 +110,7 @@ TEST(DivergenceGuard, EnergyFromNowhereStopsTheRun)
               "");
 
     Simulator faulty(chain(), settings);
+    checkEnergy(faulty);
     EnergyFromNowhere fault(1.0);
     faulty.addHook(&fault);
     const std::string message = numericalErrorOf(
@@ -171,6 +181,7 @@ TEST(DivergenceGuard, WorkOfAMovingGrabIsPutIn)
     SimulatorSettings settings;
     settings.integrator = IntegratorKind::ImplicitEuler;
     Simulator simulator(std::move(system), settings);
+    checkEnergy(simulator);
     const UserSpringId id = 1;
     const Real start = mechanicalEnergy(simulator.system());
     EXPECT_EQ(numericalErrorOf(
@@ -203,6 +214,7 @@ TEST(DivergenceGuard, NoFrameOfABadStateIsWritten)
         "output": { "frames_every": 1 } })"),
                                          source + "/data/scenes", "breaks-down"));
     EnergyFromNowhere fault(0.3);
+    checkEnergy(scene.simulator());
     scene.simulator().addHook(&fault);
     const std::filesystem::path out = std::filesystem::path(testing::TempDir()) / "masse-guard-frames";
     std::filesystem::remove_all(out);

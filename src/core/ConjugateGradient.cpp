@@ -87,6 +87,13 @@ SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vec
         result.converged = true;
         return result;
     }
+    if (!std::isfinite(rhsNorm2))
+    {
+        // A non-finite right-hand side (an infinite force) would meet the threshold of infinity at once and leave x
+        // as it was: pass it through instead, so the simulator's finite check stops the run.
+        x = b;
+        return result;
+    }
     const Real threshold = tolerance * tolerance * rhsNorm2;
 
     multiply(a, x, m_product);

@@ -171,7 +171,7 @@ void DivergenceGuard::check(const MassSpringSystem& system, Real time, Real dt, 
                        " m/s (100 times the fastest that gravity and the scripted motions can give)");
     }
 
-    if (m_measureEveryPass)
+    if (m_measureEveryPass || !m_settings.checkEnergy)
     {
         // A hook rewrites the springs every substep (a material's Burgers springs): their stiffness and rest length
         // are then a per-step linearisation of a dissipative element, and 1/2 k (l - L)^2 is not a stored energy (a

@@ -240,7 +240,10 @@ void OutputFolder::commitBeside(const std::string& old)
     for (const fs::directory_entry& entry : fs::directory_iterator(m_staging, error))
     {
         const fs::path destination = fs::path(m_target) / entry.path().filename();
-        if (fs::is_directory(destination, error))
+        // Its own error code: a destination that does not exist yet sets one (ENOENT), which is not a failure to
+        // read the staging folder.
+        std::error_code missing;
+        if (fs::is_directory(destination, missing))
         {
             fs::create_directories(old, error);
             if (::rename(destination.c_str(), (fs::path(old) / entry.path().filename()).c_str()) != 0)
