@@ -73,11 +73,11 @@ void TaskPool::workOn(std::uint32_t job)
             return; // a late wake-up: that job is over
         }
         const std::size_t chunk = std::size_t(claim & 0xffffffffu);
-        if (chunk >= m_chunkCount.load(std::memory_order_relaxed))
+        if (chunk >= m_chunkCount.load(std::memory_order_seq_cst))
         {
             return;
         }
-        if (!m_claim.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel, std::memory_order_acquire))
+        if (!m_claim.compare_exchange_weak(claim, claim + 1, std::memory_order_seq_cst, std::memory_order_acquire))
         {
             continue;
         }
@@ -126,7 +126,12 @@ void TaskPool::runErased(std::size_t chunkCount, const void* context, ChunkFunct
         return;
     }
     const std::uint32_t job = m_jobNumber.load(std::memory_order_relaxed) + 1;
-    m_chunkCount.store(chunkCount, std::memory_order_relaxed);
+    // Close the last job before its fields change: a worker still leaving it may hold an old claim value and, reading
+    // the new (larger) chunk count, would otherwise win its compare-exchange and run and count a chunk that belongs
+    // to no job (m_done then overshot and the caller waited for ever). Sequentially consistent, so a worker that sees
+    // the new count also sees the claim closed.
+    m_claim.store((std::uint64_t(job) << 32) | 0xffffffffu, std::memory_order_seq_cst);
+    m_chunkCount.store(chunkCount, std::memory_order_seq_cst);
     m_context.store(context, std::memory_order_relaxed);
     m_call.store(call, std::memory_order_relaxed);
     m_done.store(0, std::memory_order_relaxed);
