@@ -1,5 +1,7 @@
 // The masse program as a user meets it: output formats, exit codes, and what a run leaves on disk.
 
+#include "MasseCommand.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -12,26 +14,6 @@
 
 namespace
 {
-struct Outcome
-{
-    int exitCode;
-    std::string output; // stdout and stderr together
-};
-
-Outcome masse(const std::string& arguments)
-{
-    const std::string command = std::string(MASSE_EXECUTABLE) + " " + arguments + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    std::string output;
-    std::array<char, 512> buffer{};
-    while (pipe && std::fgets(buffer.data(), int(buffer.size()), pipe))
-    {
-        output += buffer.data();
-    }
-    const int status = pipe ? ::pclose(pipe) : -1;
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
 const std::string source = MASSE_SOURCE_DIR;
 
 std::filesystem::path freshFolder(const std::string& name)

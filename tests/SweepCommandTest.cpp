@@ -1,6 +1,8 @@
 // `masse sweep` as a user meets it: --set on the run command, a small study run with one and two workers, a sweep
 // killed mid-way and resumed, and bad studies refused before anything runs.
 
+#include "MasseCommand.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -19,26 +21,6 @@
 namespace
 {
 namespace fs = std::filesystem;
-
-struct Outcome
-{
-    int exitCode;
-    std::string output; // stdout and stderr together
-};
-
-Outcome masse(const std::string& arguments)
-{
-    const std::string command = std::string(MASSE_EXECUTABLE) + " " + arguments + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    std::string output;
-    std::array<char, 512> buffer{};
-    while (pipe && std::fgets(buffer.data(), int(buffer.size()), pipe))
-    {
-        output += buffer.data();
-    }
-    const int status = pipe ? ::pclose(pipe) : -1;
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
 
 const std::string source = MASSE_SOURCE_DIR;
 const std::string study = source + "/tests/studies/slope-friction.json";
