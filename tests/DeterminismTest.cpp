@@ -4,11 +4,13 @@
 #include "core/SimdPath.h"
 #include "core/StateHash.h"
 #include "core/TaskPool.h"
+#include "scene/Regression.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <optional>
 #include <stdexcept>
@@ -175,6 +177,28 @@ TEST(Determinism, ImplicitStickySceneHasTheSameHashAtAnyThreadCount)
 TEST(Determinism, Bdf2DropSceneHasTheSameHashAtAnyThreadCount)
 {
     expectSameAtEveryThreadCount("paper-drop.json", "48x2x48", 0.6, IntegratorKind::Bdf2);
+}
+
+TEST(Determinism, RegressionScenesKeepTheirRecordedHashAtEveryThreadCount)
+{
+    // Golden hashes pinned per build type (each regression file records one per build type it was recorded in): the
+    // quick regression scenes must reproduce this build type's hash at 1, 2 and 3 threads. A build type without a
+    // recorded hash fails here, so every build type that runs the tests has its goldens.
+    const ThreadCountGuard guard;
+    for (const char* name : {"paper-drop-03", "paper-drop-06", "drag", "slope"})
+    {
+        for (const int threads : {1, 2, 3})
+        {
+            setThreadCount(threads);
+            const RegressionResult result = runRegression(source + "/data/regression/" + name + ".json");
+            const auto hash = std::find_if(result.checks.begin(), result.checks.end(),
+                                           [](const Check& c) { return c.what.rfind("state hash (", 0) == 0; });
+            ASSERT_NE(hash, result.checks.end())
+                << name << ": no state hash recorded for this build type; record one with masse check --record";
+            EXPECT_TRUE(hash->passed) << name << " at " << threads << " threads: " << hash->what << " expected "
+                                      << hash->expected << ", got " << hash->actual;
+        }
+    }
 }
 
 TEST(Determinism, EverySimdPathGivesTheSameHash)
