@@ -57,7 +57,11 @@ TEST(Integrator, UndampedSheetConservesEnergy)
 {
     for (IntegratorKind kind : {IntegratorKind::SymplecticEuler, IntegratorKind::VelocityVerlet})
     {
-        for (Real safety : {SimulatorSettings{}.stabilitySafety, 0.05})
+        // The small-step case bounds the worst energy error. The spinning sheet is chaotic over 10 s, so that worst
+        // value moves with any rounding change: at safety 0.05 it measured 0.41% to 0.61% over jitter seeds 1 to 8 (and
+        // 0.48% to 0.52% for seed 7 under a 1e-13 m nudge), on both sides of the bound. At 0.025 it measured 0.21% to
+        // 0.34%, so the 0.5% bound tests the integrator rather than the rounding.
+        for (Real safety : {SimulatorSettings{}.stabilitySafety, 0.025})
         {
             LatticeSpec spec;
             spec.countX = 6;
