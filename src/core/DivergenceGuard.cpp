@@ -43,6 +43,21 @@ Real energyScale(const MassSpringSystem& system)
     const Real acceleration = std::max(system.forces.gravity.norm(), Real(1));
     return mass * acceleration * size;
 }
+
+/// Gravity's part of the mechanical energy (J): what is left is kinetic and elastic, never negative.
+Real gravityEnergy(const MassSpringSystem& system)
+{
+    const Particles& p = system.particles;
+    Real energy = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        if (!p.pinned[i])
+        {
+            energy -= p.mass[i] * system.forces.gravity.dot(p.position[i]);
+        }
+    }
+    return energy;
+}
 } // namespace
 
 Real mechanicalEnergy(const MassSpringSystem& system)
@@ -85,20 +100,28 @@ Real DivergenceGuard::grabEnergy(const MassSpringSystem& system)
 
 void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
 {
-    if (!m_settings.enabled)
+    if (!m_settings.enabled || !m_settings.checkEnergy)
     {
         return;
     }
     if (!m_inStep)
     {
-        // The first pass of a step: what changed since the last step's check was done from outside (a viewer's
-        // pick moving its target, a pin): grab targets moved are put in, anything else restarts the accounting.
+        // The first pass of a step.
         m_inStep = true;
-        if (m_started && system.revision != m_lastRevision)
+        const Real energy = mechanicalEnergy(system);
+        if (!m_started)
         {
-            m_rebase = true;
+            m_started = true;
+            m_reference = energy;
+            m_scale = energyScale(system) + std::max(Real(0), energy - gravityEnergy(system));
         }
-        m_putIn += std::max(Real(0), grabEnergy(system) - m_lastGrabEnergy);
+        else
+        {
+            // What changed since the last step's check was done from outside (a viewer's pick moving its target, a
+            // pin, a teleported mass): put in.
+            m_putIn += std::max(Real(0), energy - m_lastEnergy);
+        }
+        m_stepStart = system.particles.position;
     }
     m_hooksRevision = system.revision;
     m_hooksGrabEnergy = grabEnergy(system);
@@ -111,9 +134,13 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
 
 void DivergenceGuard::afterHooks(const MassSpringSystem& system)
 {
-    if (!m_settings.enabled)
+    if (!m_settings.enabled || !m_settings.checkEnergy)
     {
         return;
+    }
+    if (system.revision != m_hooksRevision)
+    {
+        m_changedInFirstStep = true;
     }
     if (m_hooksMeasured)
     {
@@ -123,7 +150,7 @@ void DivergenceGuard::afterHooks(const MassSpringSystem& system)
     if (system.revision != m_hooksRevision)
     {
         // A hook changed gravity, pins or springs, unmeasured: start the accounting again after this step, and
-        // measure every pass from now on if it keeps doing so (a material model does it every substep).
+        // measure every pass from now on, as it may keep doing so (a material model does it every substep).
         m_rebase = true;
         m_measureEveryPass = true;
         return;
@@ -131,12 +158,109 @@ void DivergenceGuard::afterHooks(const MassSpringSystem& system)
     m_putIn += std::max(Real(0), grabEnergy(system) - m_hooksGrabEnergy); // grab targets moved
 }
 
-void DivergenceGuard::check(const MassSpringSystem& system, Real time, Real dt, const std::vector<Vec3>* contactForce)
+namespace
+{
+/// The most energy one contact pass may add and have it counted as put in, in units of the sheet's energy scale.
+constexpr Real contactCreditLimit = 5;
+
+bool isImplicit(IntegratorKind kind)
+{
+    return kind == IntegratorKind::ImplicitEuler || kind == IntegratorKind::Bdf2;
+}
+
+/// J: how much the sheet springs' energy at the end of an implicit substep exceeds the quadratic model the
+/// linearised solve minimised (the springs' energy at the substep's start, its force and its stiffness there, with
+/// the compressed springs' negative transverse stiffness left out as the solver leaves it out). The linearised step
+/// dissipates the model's energy; what the true springs hold beyond it is the integrator's known error: a straight,
+/// compressed chain buckling, or a glassy sheet's springs of meganewtons per metre turning.
+Real linearisationGap(const MassSpringSystem& system, const std::vector<Vec3>& start)
+{
+    const SpringSet& s = system.springs;
+    const std::vector<Vec3>& x = system.particles.position;
+    Real gap = 0;
+    for (std::size_t k = 0; k < s.size(); ++k)
+    {
+        const Index a = s.ends[k].a;
+        const Index b = s.ends[k].b;
+        const Vec3 d0 = start[a] - start[b];
+        const Real l0 = d0.norm();
+        const Real L = s.restLength[k];
+        const Real stiffness = s.stiffness[k];
+        if (!(l0 > degenerateLengthFraction * L))
+        {
+            continue;
+        }
+        const Vec3 n = d0 / l0;
+        const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
+        const Real along = n.dot(move);
+        const Real across = (move - along * n).squaredNorm();
+        const Real model = Real(0.5) * stiffness *
+                           ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along + along * along +
+                            std::max(Real(0), Real(1) - L / l0) * across);
+        const Real l1 = (x[a] - x[b]).norm();
+        gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
+    }
+    return gap;
+}
+} // namespace
+
+void DivergenceGuard::beforeSubstep(const MassSpringSystem& system, IntegratorKind integrator)
+{
+    if (m_settings.enabled && m_settings.checkEnergy && isImplicit(integrator))
+    {
+        m_substepStart = system.particles.position;
+    }
+}
+
+void DivergenceGuard::afterIntegrator(const MassSpringSystem& system, IntegratorKind integrator)
+{
+    if (m_settings.enabled && m_settings.checkEnergy && isImplicit(integrator) &&
+        m_substepStart.size() == system.particles.size())
+    {
+        m_linearisationError = Real(0.5) * m_linearisationError + linearisationGap(system, m_substepStart);
+        m_contactStart = system.particles.position;
+        m_contactEnergy = mechanicalEnergy(system);
+    }
+}
+
+void DivergenceGuard::afterContact(const MassSpringSystem& system, IntegratorKind integrator)
+{
+    if (!m_settings.enabled || !m_settings.checkEnergy || !isImplicit(integrator) ||
+        m_contactStart.size() != system.particles.size() || m_substepStart.size() != system.particles.size())
+    {
+        return;
+    }
+    const Real added = mechanicalEnergy(system) - m_contactEnergy;
+    if (!(added > 0))
+    {
+        return;
+    }
+    constexpr Real tolerance = 1e-3; // m
+    const std::vector<Vec3>& x = system.particles.position;
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+        const Real moved = (x[i] - m_contactStart[i]).norm();
+        if (moved > (m_contactStart[i] - m_substepStart[i]).norm() + tolerance)
+        {
+            return; // thrown farther than it came: not an undone move
+        }
+    }
+    // Even an undone move stores no more than a few times the sheet's energy scale (the flattened landing above: 3.6
+    // times); a pass that adds more is not credited.
+    if (added <= contactCreditLimit * m_scale)
+    {
+        m_putIn += added;
+    }
+}
+
+void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& step)
 {
     if (!m_settings.enabled)
     {
         return;
     }
+    const Real time = step.time;
+    const Real dt = step.dt;
     const Particles& p = system.particles;
     // Finite state (the sum vectorises; the search runs only on failure) and the speed bound.
     Real sum = 0;
@@ -170,64 +294,98 @@ void DivergenceGuard::check(const MassSpringSystem& system, Real time, Real dt, 
                        " m/s, above this scene's bound of " + formatNumber("%.3g", m_settings.speedLimit) +
                        " m/s (100 times the fastest that gravity and the scripted motions can give)");
     }
-
-    if (m_measureEveryPass || !m_settings.checkEnergy)
+    m_inStep = false;
+    if (!m_settings.checkEnergy)
     {
-        // A hook rewrites the springs every substep (a material's Burgers springs): their stiffness and rest length
-        // are then a per-step linearisation of a dissipative element, and 1/2 k (l - L)^2 is not a stored energy (a
-        // cold glassy sheet falling at 0.8 m/s read as tens of joules). The finite and speed checks still hold.
-        m_inStep = false;
-        m_lastGrabEnergy = grabEnergy(system);
-        m_lastRevision = system.revision;
         return;
     }
+
     // Energy: what the sheet has against what it started with plus what was put in.
     const Real energy = mechanicalEnergy(system);
-    m_inStep = false;
-    if (!m_started || m_rebase)
+    if (m_rebase)
     {
-        // The first step, or a change between steps or within the hooks that was not measured (a pin, a new grab):
-        // the accounting starts again from here.
-        m_started = true;
+        // A change within the hooks that was not measured (before the guard knew to measure them): the accounting
+        // starts again from here.
         m_rebase = false;
         m_reference = energy;
         m_putIn = 0;
-        m_scale = energyScale(system);
+        m_integratorError = 0;
+        m_linearisationError = 0;
+        m_scale = energyScale(system) + std::max(Real(0), energy - gravityEnergy(system));
     }
     else
     {
-        if (contactForce && m_settings.obstacleSpeed > 0)
+        if (step.contactForce && m_settings.obstacleSpeed > 0)
         {
             // A moving obstacle works on what touches it at most with its contact force times its speed. A mass stuck
             // to it is held in place, not pushed, so its contact force is what the rest of the sheet and gravity pull
             // it with, its net force without contact: take the larger of the two for every mass.
             Real push = 0;
-            for (std::size_t i = 0; i < contactForce->size() && i < p.size(); ++i)
+            for (std::size_t i = 0; i < step.contactForce->size() && i < p.size(); ++i)
             {
-                push += std::max((*contactForce)[i].norm(), p.force[i].norm());
+                push += std::max((*step.contactForce)[i].norm(), p.force[i].norm());
             }
             m_putIn += push * m_settings.obstacleSpeed * dt;
         }
         // A grab whose target moves at u works on the sheet within the step (the integrator moves the target with u
         // as it solves): at most |F| |u| per grab, F its pull (spring and damper).
+        std::vector<Vec3> grabPull;
         for (const UserSpring& spring : system.userSprings.all())
         {
             const UserSpringForce pull = evaluateUserSpring(spring, p.position[spring.mass], p.velocity[spring.mass]);
             m_putIn += pull.force.norm() * spring.targetVelocity.norm() * dt;
+            grabPull.push_back(pull.force);
         }
-        const Real allowed = m_reference + m_putIn + m_settings.energySlack * (m_scale + m_putIn);
+        // Applied forces (pressure, scripted forces) work at most their size times how far their masses moved.
+        const bool explicitEuler = step.integrator == IntegratorKind::ExplicitEuler;
+        Real steadyForceSquared = 0; // sum over free masses of |f|^2 / m for the steady forces f on them
+        for (std::size_t i = 0; i < p.size(); ++i)
+        {
+            if (p.pinned[i])
+            {
+                continue;
+            }
+            const Vec3& applied = p.externalForce[i];
+            if (i < m_stepStart.size())
+            {
+                m_putIn += applied.norm() * (p.position[i] - m_stepStart[i]).norm();
+            }
+            if (explicitEuler)
+            {
+                steadyForceSquared += (p.mass[i] * system.forces.gravity + applied).squaredNorm() * p.inverseMass[i];
+            }
+        }
+        if (explicitEuler)
+        {
+            for (std::size_t g = 0; g < grabPull.size(); ++g)
+            {
+                steadyForceSquared += grabPull[g].squaredNorm() * p.inverseMass[system.userSprings.all()[g].mass];
+            }
+            // Explicit Euler's own gain: h^2 |f|^2 / (2 m) per substep, dt / h substeps; twice that, for the forces
+            // that vary over the step (a swinging chain's tension).
+            m_integratorError += steadyForceSquared * step.substep * dt;
+        }
+        const Real slack = m_settings.energySlack * (m_scale + m_putIn);
+        const Real allowed = m_reference + m_putIn + integratorAllowance() + slack;
         if (energy > allowed)
         {
             fail(time, "the sheet's energy grew to " + formatNumber("%.4g", energy - m_reference) +
                            " J above its start, more than the " + formatNumber("%.4g", m_putIn) +
-                           " J that grabs, moving obstacles and heat put in (plus a slack of " +
-                           formatNumber("%.3g", m_settings.energySlack * (m_scale + m_putIn)) +
-                           " J); the fastest mass is " + std::to_string(fastestMass) + " at " +
-                           formatNumber("%.3g", fastest) + " m/s");
+                           " J that grabs, applied forces, moving obstacles and heat put in (plus " +
+                           formatNumber("%.3g", integratorAllowance()) + " J of the " +
+                           std::string(integratorName(step.integrator)) + " integrator's known error and a slack of " +
+                           formatNumber("%.3g", slack) + " J); the fastest mass is " + std::to_string(fastestMass) +
+                           " at " + formatNumber("%.3g", fastest) + " m/s");
         }
     }
-    m_lastGrabEnergy = grabEnergy(system);
+    m_lastEnergy = energy;
     m_lastRevision = system.revision;
+    if (!m_measureDecided)
+    {
+        // After the first step: if no hook changed the springs or pins in it, measure only the grab targets.
+        m_measureDecided = true;
+        m_measureEveryPass = m_changedInFirstStep;
+    }
 }
 
 void DivergenceGuard::fail(Real time, const std::string& what) const

@@ -73,6 +73,7 @@ StepReport Simulator::step(Real dt)
     m_guard.afterHooks(m_system);
     for (int i = 0; i < report.substeps; ++i)
     {
+        m_guard.beforeSubstep(m_system, m_settings.integrator);
         const IntegratorStats stats = m_integrator->step(m_system, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
@@ -81,9 +82,11 @@ StepReport Simulator::step(Real dt)
         {
             m_solverTally.add(stats);
         }
+        m_guard.afterIntegrator(m_system, m_settings.integrator);
         if (m_contact)
         {
             m_contact->afterSubstep(m_system, report.substep);
+            m_guard.afterContact(m_system, m_settings.integrator);
         }
         const Real substepEnd = m_time + Real(i + 1) * report.substep;
         m_guard.beforeHooks(m_system);
@@ -106,7 +109,13 @@ StepReport Simulator::step(Real dt)
     }
     m_guard.afterHooks(m_system);
     checkFinite(); // on every core; the guard's own finite check then only names the mass again
-    m_guard.check(m_system, m_time, dt, m_contact ? &m_contact->contactForce() : nullptr);
+    GuardStep guarded;
+    guarded.time = m_time;
+    guarded.dt = dt;
+    guarded.substep = report.substep;
+    guarded.integrator = m_settings.integrator;
+    guarded.contactForce = m_contact ? &m_contact->contactForce() : nullptr;
+    m_guard.check(m_system, guarded);
     return report;
 }
 
