@@ -11,77 +11,105 @@ namespace masse
 {
 namespace
 {
-/// Masses per block of a chunk: a block's force accumulators stay in L1 while each rank's runs are added to them.
-constexpr std::size_t massBlock = 512;
-/// Springs per parallel chunk of the first pass: large enough that waking a thread pays.
+/// Springs handled per block; the block's scratch arrays (about 4 KB) stay in L1.
+constexpr std::size_t springBlock = 128;
+/// Springs per parallel chunk: large enough that waking a thread pays.
 constexpr std::size_t springChunk = 16384;
 
-/// Pass 1 over one spring run: spring t joins the mass at (xa[t], ya[t], za[t]) with velocity (vxa[t] ...) to the mass
-/// at (xb[t] ...). Writes scale[t], the spring's force magnitude on a along d = x_a - x_b divided by |d|, so the force
-/// on a is scale d and on b exactly -scale d. One loop without indirection, which the compiler vectorises: square roots
-/// and divisions go a vector at a time. The pointers are parameters because GCC honours __restrict only there. The
-/// repulsion is a template switch so the usual sheet, without it, pays nothing for it.
+/// Pass 1 over springs [begin, end): each spring's force magnitude along d = x_a - x_b, divided by |d| (so the
+/// force on a is scale * d). Blocks of two loops: gather each spring's extension and relative velocity; compute the
+/// magnitudes (a loop without indirection, which the compiler vectorises, so square roots and divisions go two or
+/// more at a time). The repulsion is a template switch so the usual sheet, without it, pays nothing for it. Writes
+/// only scale[begin, end): no two chunks share an output. Inlined into one function per SIMD path (below).
 template <bool withRepulsion>
-[[gnu::always_inline]] inline void springScalesBody(std::size_t count, std::size_t stride, const Real* __restrict xa,
-                                                    const Real* __restrict xb, const Real* __restrict va,
-                                                    const Real* __restrict vb, const Real* __restrict rest,
-                                                    const Real* __restrict stiffness, const Real* __restrict damping,
-                                                    Real repulsion, Real* __restrict scale)
+[[gnu::always_inline]] inline void springScalesBody(const SpringSet& springs, Real repulsion,
+                                                    const Vec3* __restrict x, const Vec3* __restrict v,
+                                                    std::size_t begin, std::size_t end, Real* __restrict scale)
 {
-    for (std::size_t t = 0; t < count; ++t)
+    const SpringEnds* __restrict ends = springs.ends.data();
+    Real lengthSquared[springBlock];
+    Real speedTimesLength[springBlock]; // (v_a - v_b) . d
+    for (std::size_t start = begin; start < end; start += springBlock)
     {
-        const Real dx = xa[t] - xb[t];
-        const Real dy = xa[t + stride] - xb[t + stride];
-        const Real dz = xa[t + 2 * stride] - xb[t + 2 * stride];
-        const Real lengthSquared = dx * dx + dy * dy + dz * dz;
-        const Real speedTimesLength = (va[t] - vb[t]) * dx + (va[t + stride] - vb[t + stride]) * dy +
-                                      (va[t + 2 * stride] - vb[t + 2 * stride]) * dz;
-        const Real length = std::sqrt(lengthSquared);
-        const Real inverse = Real(1) / length;
-        Real magnitude = hookeMagnitude(length, speedTimesLength * inverse, stiffness[t], damping[t], rest[t]);
-        if constexpr (withRepulsion)
+        const std::size_t n = std::min(springBlock, end - start);
+        const SpringEnds* __restrict blockEnds = ends + start;
+        for (std::size_t j = 0; j < n; ++j)
         {
-            magnitude += repulsionMagnitude(length, rest[t], repulsion);
+            const Index a = blockEnds[j].a;
+            const Index b = blockEnds[j].b;
+            const Vec3 d = x[a] - x[b];
+            lengthSquared[j] = d.squaredNorm();
+            speedTimesLength[j] = (v[a] - v[b]).dot(d);
         }
-        // A spring squeezed to a point has no direction: it exerts nothing rather than a NaN.
-        scale[t] = length > degenerateLengthFraction * rest[t] ? magnitude * inverse : Real(0);
+        const Real* __restrict rest = springs.restLength.data() + start;
+        const Real* __restrict stiffness = springs.stiffness.data() + start;
+        const Real* __restrict damping = springs.damping.data() + start;
+        Real* __restrict blockScale = scale + start;
+        for (std::size_t j = 0; j < n; ++j)
+        {
+            const Real length = std::sqrt(lengthSquared[j]);
+            const Real inverse = Real(1) / length;
+            Real magnitude = hookeMagnitude(length, speedTimesLength[j] * inverse, stiffness[j], damping[j], rest[j]);
+            if constexpr (withRepulsion)
+            {
+                magnitude += repulsionMagnitude(length, rest[j], repulsion);
+            }
+            // A spring squeezed to a point has no direction: it exerts nothing rather than a NaN.
+            blockScale[j] = length > degenerateLengthFraction * rest[j] ? magnitude * inverse : Real(0);
+        }
     }
 }
 
-/// Pass 2 over one mass run: mass t, at (xi[t] ...), adds the force scale[t] (x_i - x_other) of its spring to the
-/// mass at (xo[t] ...): +scale d at the spring's end a, and exactly -scale d at its end b.
-[[gnu::always_inline]] inline void gatherRunBody(std::size_t count, std::size_t stride, const Real* __restrict xi,
-                                                 const Real* __restrict xo, const Real* __restrict scale,
-                                                 Real* __restrict f)
+/// What pass 2 reads and writes.
+struct GatherArgs
 {
-    for (std::size_t t = 0; t < count; ++t)
+    const SpringAdjacency* adjacency;
+    const Real* scale;
+    const Vec3* x;
+    const Vec3* v;
+    const Real* mass;
+    const Vec3* externalForce;
+    Vec3 gravity;
+    Real drag;
+    Vec3* force;
+};
+
+/// Pass 2 over masses [begin, end): each mass's force, its own (gravity, drag, external; or, without `ownForces`, the
+/// force already there) plus its springs' in increasing spring index. The force on mass i of a spring to `other` is
+/// scale * (x_i - x_other): +scale d at end a, and exactly -scale d at end b (IEEE negation is exact), so the sum has
+/// the bits of the serial scatter force[a] += f, force[b] -= f.
+template <bool ownForces>
+[[gnu::always_inline]] inline void gatherBody(const GatherArgs& args, std::size_t begin, std::size_t end)
+{
+    const std::size_t* __restrict offsets = args.adjacency->offsets.data();
+    const SpringAdjacency::Entry* __restrict entry = args.adjacency->entries.data();
+    const Real* __restrict scale = args.scale;
+    const Vec3* __restrict x = args.x;
+    for (std::size_t i = begin; i < end; ++i)
     {
-        f[t] += scale[t] * (xi[t] - xo[t]);
-        f[t + stride] += scale[t] * (xi[t + stride] - xo[t + stride]);
-        f[t + 2 * stride] += scale[t] * (xi[t + 2 * stride] - xo[t + 2 * stride]);
+        Vec3 f = ownForces ? Vec3(args.mass[i] * (args.gravity - args.drag * args.v[i]) + args.externalForce[i])
+                           : args.force[i];
+        const Vec3 xi = x[i];
+        for (std::size_t k = offsets[i]; k < offsets[i + 1]; ++k)
+        {
+            f += scale[entry[k].spring] * (xi - x[entry[k].other]);
+        }
+        args.force[i] = f;
     }
 }
-
-#define MASSE_SCALES_PARAMETERS                                                                                        \
-    std::size_t count, std::size_t stride, const Real *__restrict xa, const Real *__restrict xb,                       \
-        const Real *__restrict va, const Real *__restrict vb, const Real *__restrict rest,                             \
-        const Real *__restrict stiffness, const Real *__restrict damping, Real repulsion, Real *__restrict scale
-#define MASSE_SCALES_ARGUMENTS count, stride, xa, xb, va, vb, rest, stiffness, damping, repulsion, scale
-#define MASSE_GATHER_PARAMETERS                                                                                        \
-    std::size_t count, std::size_t stride, const Real *__restrict xi, const Real *__restrict xo,                       \
-        const Real *__restrict scale, Real *__restrict f
-#define MASSE_GATHER_ARGUMENTS count, stride, xi, xo, scale, f
 
 // One copy of each kernel per SIMD path. Only the instruction set differs; see SimdPath.h for why the bits do not.
 #define MASSE_FORCE_KERNELS(suffix, targetAttribute)                                                                  \
     template <bool withRepulsion>                                                                                      \
-    targetAttribute void springScales##suffix(MASSE_SCALES_PARAMETERS)                                                 \
+    targetAttribute void springScales##suffix(const SpringSet& springs, Real repulsion, const Vec3* x, const Vec3* v,   \
+                                              std::size_t begin, std::size_t end, Real* scale)                        \
     {                                                                                                                  \
-        springScalesBody<withRepulsion>(MASSE_SCALES_ARGUMENTS);                                                       \
+        springScalesBody<withRepulsion>(springs, repulsion, x, v, begin, end, scale);                                  \
     }                                                                                                                  \
-    targetAttribute void gatherRun##suffix(MASSE_GATHER_PARAMETERS)                                                    \
+    template <bool ownForces>                                                                                          \
+    targetAttribute void gather##suffix(const GatherArgs& args, std::size_t begin, std::size_t end)                    \
     {                                                                                                                  \
-        gatherRunBody(MASSE_GATHER_ARGUMENTS);                                                                         \
+        gatherBody<ownForces>(args, begin, end);                                                                       \
     }
 
 MASSE_FORCE_KERNELS(Default, )
@@ -91,166 +119,85 @@ MASSE_FORCE_KERNELS(Avx512, __attribute__((target("avx512f"))))
 #endif
 #undef MASSE_FORCE_KERNELS
 
-using ScalesKernel = void (*)(MASSE_SCALES_PARAMETERS);
-using GatherKernel = void (*)(MASSE_GATHER_PARAMETERS);
-#undef MASSE_SCALES_PARAMETERS
-#undef MASSE_SCALES_ARGUMENTS
-#undef MASSE_GATHER_PARAMETERS
-#undef MASSE_GATHER_ARGUMENTS
-
 template <bool withRepulsion>
-ScalesKernel scalesKernelFor(SimdPath path)
+void springScalesOn(SimdPath path, const SpringSet& springs, Real repulsion, const Vec3* x, const Vec3* v,
+                    std::size_t begin, std::size_t end, Real* scale)
 {
     switch (path)
     {
 #if defined(__x86_64__) && defined(__GNUC__)
     case SimdPath::Avx512:
-        return &springScalesAvx512<withRepulsion>;
+        return springScalesAvx512<withRepulsion>(springs, repulsion, x, v, begin, end, scale);
     case SimdPath::Avx2:
-        return &springScalesAvx2<withRepulsion>;
+        return springScalesAvx2<withRepulsion>(springs, repulsion, x, v, begin, end, scale);
 #endif
     default:
-        return &springScalesDefault<withRepulsion>;
+        return springScalesDefault<withRepulsion>(springs, repulsion, x, v, begin, end, scale);
     }
 }
 
-GatherKernel gatherKernelFor(SimdPath path)
+template <bool ownForces>
+void gatherOn(SimdPath path, const GatherArgs& args, std::size_t begin, std::size_t end)
 {
     switch (path)
     {
 #if defined(__x86_64__) && defined(__GNUC__)
     case SimdPath::Avx512:
-        return &gatherRunAvx512;
+        return gatherAvx512<ownForces>(args, begin, end);
     case SimdPath::Avx2:
-        return &gatherRunAvx2;
+        return gatherAvx2<ownForces>(args, begin, end);
 #endif
     default:
-        return &gatherRunDefault;
+        return gatherDefault<ownForces>(args, begin, end);
     }
 }
 
-/// The state the spring kernels read and write as structures of arrays, so that a run's loop loads consecutive
-/// doubles: each of x, v and force holds all masses' x coordinates, then all y, then all z (`stride` apart).
-struct SpringKernelArgs
+/// Pass 1 over every spring, in parallel chunks.
+void computeSpringScales(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,
+                         const std::vector<Vec3>& v, std::vector<Real>& scale)
 {
-    const SpringRuns* runs;
-    std::size_t stride;
-    const Real* x;
-    const Real* v;
-    const Real* rest;
-    const Real* stiffness;
-    const Real* damping;
-    Real repulsion;
-    Real* scale;
-    Real* force;
-};
-
-/// Pass 1 over springs [begin, end): the parts of the spring runs inside the range. Writes only scale[begin, end).
-void computeSpringScales(ScalesKernel kernel, const SpringKernelArgs& a, std::size_t begin, std::size_t end)
-{
-    const std::vector<SpringRun>& runs = a.runs->springRuns;
-    auto run = std::partition_point(runs.begin(), runs.end(), [&](const SpringRun& r) {
-        return std::size_t(r.firstSpring) + r.count <= begin;
-    });
-    for (; run != runs.end() && std::size_t(run->firstSpring) < end; ++run)
-    {
-        const std::size_t s = std::max(begin, std::size_t(run->firstSpring));
-        const std::size_t stop = std::min(end, std::size_t(run->firstSpring) + run->count);
-        const std::size_t i = std::size_t(run->firstMass) + (s - run->firstSpring);
-        const std::size_t o = std::size_t(std::int64_t(i) + run->otherOffset);
-        kernel(stop - s, a.stride, a.x + i, a.x + o, a.v + i, a.v + o, a.rest + s, a.stiffness + s, a.damping + s,
-               a.repulsion, a.scale + s);
-    }
-}
-
-/// Pass 2 over masses [begin, end): block by block, rank by rank, the part of each mass run inside the block is added
-/// to the accumulators. A mass sums its springs in rank order whatever block or thread holds it.
-void gatherSpringForces(GatherKernel kernel, const SpringKernelArgs& a, std::size_t begin, std::size_t end)
-{
-    const SpringRuns& runs = *a.runs;
-    for (std::size_t blockBegin = begin; blockBegin < end; blockBegin += massBlock)
-    {
-        const std::size_t blockEnd = std::min(end, blockBegin + massBlock);
-        for (std::size_t rank = 0; rank < runs.rankCount(); ++rank)
-        {
-            const SpringRun* run = runs.runs.data() + runs.rankStart[rank];
-            const SpringRun* last = runs.runs.data() + runs.rankStart[rank + 1];
-            run = std::partition_point(run, last, [&](const SpringRun& r) {
-                return std::size_t(r.firstMass) + r.count <= blockBegin;
-            });
-            for (; run != last && std::size_t(run->firstMass) < blockEnd; ++run)
-            {
-                const std::size_t i = std::max(blockBegin, std::size_t(run->firstMass));
-                const std::size_t stop = std::min(blockEnd, std::size_t(run->firstMass) + run->count);
-                const std::size_t o = std::size_t(std::int64_t(i) + run->otherOffset);
-                const std::size_t s = std::size_t(run->firstSpring) + (i - run->firstMass);
-                kernel(stop - i, a.stride, a.x + i, a.x + o, a.scale + s, a.force + i);
-            }
-        }
-    }
-}
-
-/// The calling thread's structure-of-arrays copies (kept to save allocations per substep): 6 state arrays, 3 force
-/// accumulators and the springs' scales.
-thread_local std::vector<Real> springScratch;
-
-/// The force on every mass: its own force (`ownForce(i)`, a Vec3) plus its springs', written to `force`.
-template <typename OwnForce>
-void springForcesInto(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                      std::vector<Vec3>& force, const OwnForce& ownForce)
-{
-    const std::size_t n = x.size();
-    const std::size_t m = springs.size();
-    std::vector<Real>& scratch = springScratch;
-    scratch.resize(9 * n + m);
-    Real* const px = scratch.data();
-    Real* const pv = px + 3 * n;
-    Real* const pf = px + 6 * n;
-    const SpringKernelArgs args{&springs.runs(n),          n,         px,           pv, springs.restLength.data(),
-                                springs.stiffness.data(),   springs.damping.data(), repulsion, px + 9 * n, pf};
-    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            const Vec3 own = ownForce(i);
-            for (int c = 0; c < 3; ++c)
-            {
-                px[i + std::size_t(c) * n] = x[i][c];
-                pv[i + std::size_t(c) * n] = v[i][c];
-                pf[i + std::size_t(c) * n] = own[c];
-            }
-        }
-    });
+    scale.resize(springs.size());
     const SimdPath path = activeSimdPath();
-    const ScalesKernel scales = repulsion > 0 ? scalesKernelFor<true>(path) : scalesKernelFor<false>(path);
-    parallelFor(m, springChunk,
-                [&](std::size_t begin, std::size_t end) { computeSpringScales(scales, args, begin, end); });
-    const GatherKernel gather = gatherKernelFor(path);
-    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-        gatherSpringForces(gather, args, begin, end);
-        for (std::size_t i = begin; i < end; ++i)
+    parallelFor(springs.size(), springChunk, [&](std::size_t begin, std::size_t end) {
+        if (repulsion > 0)
         {
-            force[i] = Vec3(pf[i], pf[i + n], pf[i + 2 * n]);
+            springScalesOn<true>(path, springs, repulsion, x.data(), v.data(), begin, end, scale.data());
+        }
+        else
+        {
+            springScalesOn<false>(path, springs, repulsion, x.data(), v.data(), begin, end, scale.data());
         }
     });
 }
+
+/// The per-spring scales of the calling thread's last evaluation (kept to save an allocation per substep).
+thread_local std::vector<Real> springScaleScratch;
 } // namespace
 
 void accumulateSpringForces(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,
                             const std::vector<Vec3>& v, std::vector<Vec3>& force)
 {
-    springForcesInto(springs, repulsion, x, v, force, [&](std::size_t i) { return force[i]; });
+    std::vector<Real>& scale = springScaleScratch;
+    computeSpringScales(springs, repulsion, x, v, scale);
+    GatherArgs args{&springs.adjacency(x.size()), scale.data(), x.data(), v.data(), nullptr, nullptr, Vec3::Zero(), 0,
+                    force.data()};
+    const SimdPath path = activeSimdPath();
+    parallelFor(x.size(), massChunkSize,
+                [&](std::size_t begin, std::size_t end) { gatherOn<false>(path, args, begin, end); });
 }
 
 void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                     std::vector<Vec3>& force)
 {
     const Particles& p = system.particles;
-    force.resize(p.size());
-    const Vec3 gravity = system.forces.gravity;
-    const Real drag = system.forces.airDamping;
-    springForcesInto(system.springs, system.forces.repulsion, x, v, force, [&](std::size_t i) {
-        return Vec3(p.mass[i] * (gravity - drag * v[i]) + p.externalForce[i]);
-    });
+    const std::size_t n = p.size();
+    force.resize(n);
+    std::vector<Real>& scale = springScaleScratch;
+    computeSpringScales(system.springs, system.forces.repulsion, x, v, scale);
+    GatherArgs args{&system.springs.adjacency(n), scale.data(), x.data(), v.data(), p.mass.data(),
+                    p.externalForce.data(), system.forces.gravity, system.forces.airDamping, force.data()};
+    const SimdPath path = activeSimdPath();
+    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) { gatherOn<true>(path, args, begin, end); });
     for (const UserSpring& spring : system.userSprings.all())
     {
         force[spring.mass] += evaluateUserSpring(spring, x[spring.mass], v[spring.mass]).force;

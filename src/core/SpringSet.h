@@ -1,13 +1,11 @@
 #pragma once
 /// The springs of a sheet: topology (which masses, rest length, class) apart from coefficients.
 ///
-/// Topology (the ends) is append-only: springs are added while a lattice is built (which then orders them in runs, see
-/// SpringRuns.h) and never rewired, so the runs and adjacency the kernels gather through are built once, on first use,
-/// and shared by copies. Coefficients start from the spring's class (planar or inter-layer) and may later be rewritten
-/// per spring (heat changes stiffness and rest length), so the force kernel reads them per spring.
+/// Topology (the ends) is append-only: springs are added while a lattice is built and never rewired, so the adjacency
+/// the force kernels gather through is built once, on first use, and shared by copies. Coefficients start from the spring's class (planar or inter-layer) and
+/// may later be rewritten per spring (heat changes stiffness), so the force kernel reads them per spring.
 
 #include "SpringAdjacency.h"
-#include "SpringRuns.h"
 #include "Types.h"
 
 #include <array>
@@ -62,35 +60,6 @@ struct SpringSet
         return *m_adjacency;
     }
 
-    /// The springs of `massCount` masses as runs (SpringRuns.h); built like adjacency().
-    const SpringRuns& runs(std::size_t massCount) const
-    {
-        if (!m_runs || m_runs->springCount != ends.size() || m_runs->massCount != massCount)
-        {
-            m_runs = std::make_shared<const SpringRuns>(buildSpringRuns(ends, massCount));
-        }
-        return *m_runs;
-    }
-
-    /// Reorders every per-spring array: position k receives the spring that was at order[k].
-    void reorder(const std::vector<std::size_t>& order)
-    {
-        const auto permute = [&](auto& values) {
-            auto old = values;
-            for (std::size_t k = 0; k < order.size(); ++k)
-            {
-                values[k] = old[order[k]];
-            }
-        };
-        permute(ends);
-        permute(restLength);
-        permute(springClass);
-        permute(stiffness);
-        permute(damping);
-        m_adjacency.reset();
-        m_runs.reset();
-    }
-
     void add(Index a, Index b, Real rest, SpringClass cls)
     {
         ends.push_back({a, b});
@@ -102,6 +71,5 @@ struct SpringSet
 
 private:
     mutable std::shared_ptr<const SpringAdjacency> m_adjacency;
-    mutable std::shared_ptr<const SpringRuns> m_runs;
 };
 } // namespace masse
