@@ -26,7 +26,7 @@ std::filesystem::path freshFolder(const std::string& name)
 
 TEST(CommandLine, LatticeJsonGivesTableTwoCounts)
 {
-    const Outcome o = masse("lattice --structure trimm --size 12x2x12 --json");
+    const Outcome o = runMasse("lattice --structure trimm --size 12x2x12 --json");
     ASSERT_EQ(o.exitCode, 0) << o.output;
     const nlohmann::json j = nlohmann::json::parse(o.output);
     EXPECT_EQ(j["structure"], "trimm");
@@ -37,17 +37,17 @@ TEST(CommandLine, LatticeJsonGivesTableTwoCounts)
 
 TEST(CommandLine, BadFlagsExitWithTwoAndSayWhy)
 {
-    const Outcome small = masse("lattice --size 1x2x1");
+    const Outcome small = runMasse("lattice --size 1x2x1");
     EXPECT_EQ(small.exitCode, 2);
     EXPECT_NE(small.output.find("size: expected NxLxN with N >= 2"), std::string::npos) << small.output;
-    const Outcome structure = masse("lattice --structure cube");
+    const Outcome structure = runMasse("lattice --structure cube");
     EXPECT_EQ(structure.exitCode, 2);
     EXPECT_NE(structure.output.find("unknown structure 'cube'"), std::string::npos) << structure.output;
-    EXPECT_EQ(masse("--bogus").exitCode, 2);
-    EXPECT_EQ(masse("bench --steps 0").exitCode, 2);
-    EXPECT_EQ(masse("bench --integrator rk4").exitCode, 2);
-    EXPECT_EQ(masse("run").exitCode, 2); // the scene argument is required
-    const Outcome help = masse("--help");
+    EXPECT_EQ(runMasse("--bogus").exitCode, 2);
+    EXPECT_EQ(runMasse("bench --steps 0").exitCode, 2);
+    EXPECT_EQ(runMasse("bench --integrator rk4").exitCode, 2);
+    EXPECT_EQ(runMasse("run").exitCode, 2); // the scene argument is required
+    const Outcome help = runMasse("--help");
     EXPECT_EQ(help.exitCode, 0);
     for (const char* command : {"lattice", "bench", "demo", "run", "paper", "check", "compare"})
     {
@@ -58,7 +58,7 @@ TEST(CommandLine, BadFlagsExitWithTwoAndSayWhy)
 TEST(CommandLine, BadSceneLeavesNoOutputFolder)
 {
     const std::filesystem::path out = freshFolder("bad-run");
-    const Outcome o = masse("run " + source + "/tests/bad-scenes/unknown-key.json --out " + out.string());
+    const Outcome o = runMasse("run " + source + "/tests/bad-scenes/unknown-key.json --out " + out.string());
     EXPECT_EQ(o.exitCode, 2);
     EXPECT_NE(o.output.find("sheet.stifness: unknown key"), std::string::npos) << o.output;
     EXPECT_FALSE(std::filesystem::exists(out));
@@ -67,7 +67,7 @@ TEST(CommandLine, BadSceneLeavesNoOutputFolder)
 TEST(CommandLine, RunWritesSummaryEventsAndFrames)
 {
     const std::filesystem::path out = freshFolder("slope-run");
-    const Outcome o = masse("run " + source + "/data/scenes/slope.json --out " + out.string() +
+    const Outcome o = runMasse("run " + source + "/data/scenes/slope.json --out " + out.string() +
                             " --frames-every 50 --format vtp,obj --quiet");
     ASSERT_EQ(o.exitCode, 0) << o.output;
 
@@ -120,7 +120,7 @@ TEST(CommandLine, RunWritesSummaryEventsAndFrames)
 
 TEST(CommandLine, BenchPrintsOneJsonLine)
 {
-    const Outcome o = masse("bench --structure trimm --size 8x2x8 --steps 1 --repeat 1");
+    const Outcome o = runMasse("bench --structure trimm --size 8x2x8 --steps 1 --repeat 1");
     ASSERT_EQ(o.exitCode, 0) << o.output;
     const nlohmann::json j = nlohmann::json::parse(o.output);
     for (const char* key : {"masses", "springs", "steps", "wall_seconds", "spring_steps_per_second"})
@@ -139,7 +139,7 @@ TEST(CommandLine, BenchPrintsOneJsonLine)
 TEST(CommandLine, CompareWritesBothEnginesFiguresAndPlots)
 {
     const std::filesystem::path out = freshFolder("compare-landing");
-    const Outcome o = masse("compare " + source + "/data/scenes/box-landing.json --out " + out.string() +
+    const Outcome o = runMasse("compare " + source + "/data/scenes/box-landing.json --out " + out.string() +
                             " --duration 2 --bullet-iterations 1,4 --quiet");
     ASSERT_EQ(o.exitCode, 0) << o.output;
     for (const char* header : {"MaSSE (symplectic)", "Bullet (piterations=1)", "Bullet (piterations=4)",
@@ -223,7 +223,7 @@ TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
     };
     for (const auto& [arguments, expected] : cases)
     {
-        const Outcome o = masse("compare " + arguments + " --out " + out.string() + " --quiet");
+        const Outcome o = runMasse("compare " + arguments + " --out " + out.string() + " --quiet");
         EXPECT_EQ(o.exitCode, 2) << arguments << ": " << o.output;
         EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << arguments;
@@ -234,7 +234,7 @@ TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
 TEST(CommandLine, DemoHeadlessPlotsFigure18)
 {
     const std::filesystem::path folder = freshFolder("demo-headless");
-    const Outcome o = masse("demo --headless --out " + folder.string());
+    const Outcome o = runMasse("demo --headless --out " + folder.string());
     ASSERT_EQ(o.exitCode, 0) << o.output;
     EXPECT_NE(o.output.find("12x2x12"), std::string::npos) << o.output;
     EXPECT_TRUE(std::filesystem::exists(folder / "figure18.csv"));
@@ -258,12 +258,12 @@ TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)
     };
     for (const auto& [flags, expected] : cases)
     {
-        const Outcome o = masse("run " + source + "/data/scenes/slope.json " + flags + " --out " + out.string());
+        const Outcome o = runMasse("run " + source + "/data/scenes/slope.json " + flags + " --out " + out.string());
         EXPECT_EQ(o.exitCode, 2) << flags << ": " << o.output;
         EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << flags;
     }
-    const Outcome stiff = masse("run " + source + "/tests/bad-scenes/stiff-explicit-step.json --frames-every 1 --out " +
+    const Outcome stiff = runMasse("run " + source + "/tests/bad-scenes/stiff-explicit-step.json --frames-every 1 --out " +
                                 out.string());
     EXPECT_EQ(stiff.exitCode, 2) << stiff.output;
     EXPECT_NE(stiff.output.find("integrator.dt: the symplectic integrator needs"), std::string::npos) << stiff.output;
@@ -276,12 +276,12 @@ TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
 {
     const std::filesystem::path out = freshFolder("mixed");
     const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.3 --quiet --out " + out.string();
-    ASSERT_EQ(masse(run + " --frames-every 5").exitCode, 0);
+    ASSERT_EQ(runMasse(run + " --frames-every 5").exitCode, 0);
     ASSERT_TRUE(std::filesystem::exists(out / "frames" / "frame_000005.vtp"));
-    const Outcome again = masse(run);
+    const Outcome again = runMasse(run);
     EXPECT_EQ(again.exitCode, 2) << again.output;
     EXPECT_NE(again.output.find("already holds a run (summary.json)"), std::string::npos) << again.output;
-    const Outcome forced = masse(run + " --frames-every 0 --force");
+    const Outcome forced = runMasse(run + " --frames-every 0 --force");
     ASSERT_EQ(forced.exitCode, 0) << forced.output;
     EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
     EXPECT_FALSE(std::filesystem::exists(out / "frames")) << "frames of the first run kept beside the second's";
@@ -296,7 +296,7 @@ TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
 TEST(CommandLine, ARunBeyondDoubleRangeExitsWithOneAndWritesNothing)
 {
     const std::filesystem::path out = freshFolder("beyond-range");
-    const Outcome o = masse("run " + source + "/tests/bad-scenes/gravity-beyond-range.json --frames-every 1 --quiet --out " +
+    const Outcome o = runMasse("run " + source + "/tests/bad-scenes/gravity-beyond-range.json --frames-every 1 --quiet --out " +
                             out.string());
     EXPECT_EQ(o.exitCode, 1) << o.output;
     EXPECT_NE(o.output.find("is not a finite number"), std::string::npos) << o.output;
@@ -312,14 +312,14 @@ TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)
     {
         std::ofstream(folder / "file") << "a file";
     }
-    const Outcome paper = masse("paper --out " + (folder / "file").string());
+    const Outcome paper = runMasse("paper --out " + (folder / "file").string());
     EXPECT_EQ(paper.exitCode, 2) << paper.output;
     EXPECT_NE(paper.output.find("--out: '" + (folder / "file").string() + "' exists and is not a folder"),
               std::string::npos)
         << paper.output;
     EXPECT_EQ(paper.output.find("done"), std::string::npos) << "the experiment ran before the output was checked";
     const Outcome longName =
-        masse("run " + source + "/data/scenes/slope.json --out " + (folder / std::string(300, 'x')).string());
+        runMasse("run " + source + "/data/scenes/slope.json --out " + (folder / std::string(300, 'x')).string());
     EXPECT_EQ(longName.exitCode, 2) << longName.output;
     EXPECT_NE(longName.output.find("has a name of 300 bytes"), std::string::npos) << longName.output;
 }

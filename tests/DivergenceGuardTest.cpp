@@ -1,6 +1,7 @@
 // The divergence guard: a non-finite state, a mass faster than the scene's bound and energy from nowhere each stop
 // the run with a message naming the time, the mass and the quantity; energy put in by a moving grab does not.
 
+#include "GuardedRun.h"
 #include "TestSystems.h"
 
 #include "scene/Runner.h"
@@ -94,19 +95,6 @@ std::string runFor(Simulator& simulator, Real duration, Real dt)
         });
 }
 
-/// Runs a scene to its end; returns the guard's message or "".
-std::string runScene(scene::Scene& scene)
-{
-    return numericalErrorOf(
-        [&]
-        {
-            while (!scene.finished())
-            {
-                scene.step();
-            }
-        });
-}
-
 /// The paper's drop on a small sheet: a 6x2x6 Table 1 sheet falls 0.5 m onto a box, 1.5 s; `change` alters the
 /// parsed scene (to values the scene reader refuses, as a program using the library could set them).
 scene::SceneSpec dropScene(const std::string& integrator)
@@ -133,13 +121,13 @@ GuardedAndNot runWithAndWithoutGuard(const scene::SceneSpec& spec)
     GuardedAndNot result;
     {
         scene::Scene scene(spec);
-        result.guarded = runScene(scene);
+        result.guarded = test::guardMessageOfRun(scene);
     }
     scene::Scene scene(spec);
     GuardSettings off = scene.simulator().guard().settings();
     off.enabled = false;
     scene.simulator().guard().setSettings(off);
-    result.unguarded = runScene(scene);
+    result.unguarded = test::guardMessageOfRun(scene);
     for (const Vec3& x : scene.system().particles.position)
     {
         result.unguardedFinite = result.unguardedFinite && x.allFinite();

@@ -1,6 +1,7 @@
 // Vacuum and pressure forming: moulds from STL and OBJ files, the cone law, mass conservation, plug assist, and
 // what masse run says about bad forming input.
 
+#include "MasseCommand.h"
 #include "TestSystems.h"
 
 #include "bridge/MeshTopology.h"
@@ -28,26 +29,6 @@ using namespace masse::scene;
 namespace
 {
 const std::string source = MASSE_SOURCE_DIR;
-
-struct Outcome
-{
-    int exitCode;
-    std::string output;
-};
-
-Outcome runMasse(const std::string& arguments)
-{
-    const std::string command = std::string(MASSE_EXECUTABLE) + " " + arguments + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    std::string output;
-    std::array<char, 512> buffer{};
-    while (pipe && std::fgets(buffer.data(), int(buffer.size()), pipe))
-    {
-        output += buffer.data();
-    }
-    const int status = pipe ? ::pclose(pipe) : -1;
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
 
 /// A scene of data/scenes at another size, without frames.
 SceneSpec sceneAt(const std::string& file, const std::string& size)

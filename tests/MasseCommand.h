@@ -15,7 +15,7 @@ struct Outcome
     std::string output; // stdout and stderr together
 };
 
-Outcome masse(const std::string& arguments)
+Outcome runMasse(const std::string& arguments)
 {
     const std::string command = std::string(MASSE_EXECUTABLE) + " " + arguments + " 2>&1";
     FILE* pipe = ::popen(command.c_str(), "r");

@@ -4,6 +4,8 @@
 // divergence guard firing (finite state, no mass faster than the scene's bound, no energy from nowhere), ends slower
 // than a free fall from its height could make it, and sinks no deeper into the obstacle than a tenth of a mass radius.
 
+#include "GuardedRun.h"
+
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
@@ -48,23 +50,6 @@ std::string heatSection(const std::string& material, bool hot)
            R"(, "air_temperature_c": )" + std::to_string(normal) + " }";
 }
 
-/// Runs the scene to its end; returns the guard's message or "".
-std::string runToEnd(Scene& scene)
-{
-    try
-    {
-        while (!scene.finished())
-        {
-            scene.step();
-        }
-    }
-    catch (const NumericalError& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-
 std::string sheetScene(const std::string& material, bool hot, const std::string& rest)
 {
     return R"({ "sheet": { "size": "12x2x12", "min": [-0.3, 0.215, -0.3], "max": [0.3, 0.225, 0.3] },
@@ -79,7 +64,7 @@ std::string sheetScene(const std::string& material, bool hot, const std::string&
 
 void expectSound(Scene& scene, const std::string& what)
 {
-    const std::string message = runToEnd(scene);
+    const std::string message = test::guardMessageOfRun(scene);
     EXPECT_EQ(message, "") << what;
     EXPECT_GE(scene.time(), scene.spec().run.duration - 1e-9) << what;
     // A free fall of the whole run, sqrt(2 g h) with h = g t^2 / 2, is g t: no mass may end faster.

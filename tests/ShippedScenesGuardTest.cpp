@@ -1,6 +1,8 @@
 // Every shipped scene under the divergence guard's settings for it: a breach in a scene a user starts from would stop
 // their first run. A whole-scene test (about two minutes on the shared machine), so it sits in the slow binary.
 
+#include "GuardedRun.h"
+
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
@@ -13,26 +15,6 @@
 #include <string>
 
 using namespace masse;
-
-namespace
-{
-/// Runs a scene to its end; returns the guard's message or "".
-std::string runScene(scene::Scene& scene)
-{
-    try
-    {
-        while (!scene.finished())
-        {
-            scene.step();
-        }
-    }
-    catch (const NumericalError& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-} // namespace
 
 // Every shipped scene runs its first second under the guard's settings for it (the energy account on, except for
 // material sheets: see GuardBounds.cpp) without a breach.
@@ -50,7 +32,7 @@ TEST(DivergenceGuard, ShippedScenesAreNotStopped)
         spec.run.duration = std::min(spec.run.duration, Real(1));
         scene::Scene scene(spec);
         EXPECT_EQ(scene.simulator().guard().settings().checkEnergy, !spec.material.enabled) << entry.path();
-        EXPECT_EQ(runScene(scene), "") << entry.path();
+        EXPECT_EQ(test::guardMessageOfRun(scene), "") << entry.path();
         ++scenes;
     }
     EXPECT_GE(scenes, 10);

@@ -64,7 +64,7 @@ std::string referenceResults()
 {
     const fs::path dir =
         freshFolder(std::string("sweep-reference-") + testing::UnitTest::GetInstance()->current_test_info()->name());
-    const Outcome o = masse("sweep " + study + " --out " + dir.string() + " --jobs 1 --no-plots");
+    const Outcome o = runMasse("sweep " + study + " --out " + dir.string() + " --jobs 1 --no-plots");
     EXPECT_EQ(o.exitCode, 0) << o.output;
     return readText(dir / "results.csv");
 }
@@ -73,7 +73,7 @@ std::string referenceResults()
 TEST(SetOption, RunTakesSetAndRefusesAnUnknownKeyWithCode2)
 {
     const fs::path dir = freshFolder("set-run");
-    const Outcome ok = masse("run " + source + "/data/scenes/slope.json --set contact.friction=0.2 --set " +
+    const Outcome ok = runMasse("run " + source + "/data/scenes/slope.json --set contact.friction=0.2 --set " +
                              "run.duration=0.3 --quiet --out " + dir.string());
     ASSERT_EQ(ok.exitCode, 0) << ok.output;
     const nlohmann::json summary = nlohmann::json::parse(readText(dir / "summary.json"));
@@ -81,7 +81,7 @@ TEST(SetOption, RunTakesSetAndRefusesAnUnknownKeyWithCode2)
 
     const fs::path bad = freshFolder("set-run-bad");
     const Outcome unknown =
-        masse("run " + source + "/data/scenes/slope.json --set contact.frction=0.2 --out " + bad.string());
+        runMasse("run " + source + "/data/scenes/slope.json --set contact.frction=0.2 --out " + bad.string());
     EXPECT_EQ(unknown.exitCode, 2) << unknown.output;
     EXPECT_NE(unknown.output.find("--set contact.frction=0.2: "), std::string::npos) << unknown.output;
     EXPECT_NE(unknown.output.find("did you mean 'friction'"), std::string::npos) << unknown.output;
@@ -90,7 +90,7 @@ TEST(SetOption, RunTakesSetAndRefusesAnUnknownKeyWithCode2)
                                                "compare " + source + "/data/scenes/slope.json --out " + bad.string()};
     for (const std::string& command : commands)
     {
-        const Outcome o = masse(command + " --set contact.frction=0.2");
+        const Outcome o = runMasse(command + " --set contact.frction=0.2");
         EXPECT_EQ(o.exitCode, 2) << command << ": " << o.output;
         EXPECT_NE(o.output.find("contact.frction"), std::string::npos) << command << ": " << o.output;
     }
@@ -100,7 +100,7 @@ TEST(Sweep, TwoWorkersGiveTheSameResultsAsOne)
 {
     const std::string one = referenceResults();
     const fs::path dir = freshFolder("sweep-two-jobs");
-    const Outcome two = masse("sweep " + study + " --out " + dir.string() + " --jobs 2");
+    const Outcome two = runMasse("sweep " + study + " --out " + dir.string() + " --jobs 2");
     ASSERT_EQ(two.exitCode, 0) << two.output;
     EXPECT_EQ(readText(dir / "results.csv"), one);
 
@@ -169,7 +169,7 @@ TEST(Sweep, AKilledSweepResumesWithOnlyTheMissingCases)
     }
 
     std::this_thread::sleep_for(std::chrono::milliseconds(200)); // the killed sweep's worker dies with it
-    const Outcome resumed = masse("sweep " + study + " --out " + dir.string() + " --jobs 2 --no-plots");
+    const Outcome resumed = runMasse("sweep " + study + " --out " + dir.string() + " --jobs 2 --no-plots");
     ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
     EXPECT_NE(resumed.output.find(std::to_string(caseCount - finished) + " to run, " + std::to_string(finished) +
                                   " finished earlier"),
@@ -186,7 +186,7 @@ TEST(Sweep, AKilledSweepResumesWithOnlyTheMissingCases)
     EXPECT_EQ(readText(dir / "results.csv"), reference);
 
     // Once more: nothing left to run.
-    const Outcome again = masse("sweep " + study + " --out " + dir.string() + " --no-plots");
+    const Outcome again = runMasse("sweep " + study + " --out " + dir.string() + " --no-plots");
     EXPECT_EQ(again.exitCode, 0) << again.output;
     EXPECT_NE(again.output.find("0 to run, 8 finished earlier"), std::string::npos) << again.output;
 }
@@ -206,7 +206,7 @@ TEST(Sweep, AFailedCaseIsRecordedAndTheOthersRun)
                                     {"outputs", {"sim_seconds"}}};
     std::ofstream(folder / "failing.json") << failing.dump(2);
     const fs::path dir = freshFolder("sweep-failing");
-    const Outcome o = masse("sweep " + (folder / "failing.json").string() + " --out " + dir.string() + " --jobs 2");
+    const Outcome o = runMasse("sweep " + (folder / "failing.json").string() + " --out " + dir.string() + " --jobs 2");
     EXPECT_EQ(o.exitCode, 1) << o.output;
     EXPECT_NE(o.output.find("1 case(s) failed"), std::string::npos) << o.output;
     const std::string results = readText(dir / "results.csv");
@@ -232,11 +232,11 @@ TEST(Sweep, BadStudiesExitWithCode2AndWriteNothing)
         std::ofstream(path) << "{ \"scene\": \"" << scene << "\", \"vary\": " << studies[i].first
                             << ", \"outputs\": [\"sim_seconds\"] }";
         const fs::path dir = folder / ("out-" + std::to_string(i));
-        const Outcome o = masse("sweep " + path.string() + " --out " + dir.string());
+        const Outcome o = runMasse("sweep " + path.string() + " --out " + dir.string());
         EXPECT_EQ(o.exitCode, 2) << o.output;
         EXPECT_NE(o.output.find(studies[i].second), std::string::npos) << o.output;
         EXPECT_FALSE(fs::exists(dir)) << "nothing written for a bad study";
     }
-    const Outcome notStudy = masse("sweep --collect " + folder.string());
+    const Outcome notStudy = runMasse("sweep --collect " + folder.string());
     EXPECT_EQ(notStudy.exitCode, 2) << notStudy.output;
 }
