@@ -68,7 +68,7 @@ TEST(CommandLine, RunWritesSummaryEventsAndFrames)
 {
     const std::filesystem::path out = freshFolder("slope-run");
     const Outcome o = runMasse("run " + source + "/data/scenes/slope.json --out " + out.string() +
-                            " --frames-every 50 --format vtp,obj --quiet");
+                               " --frames-every 50 --format vtp,obj --quiet");
     ASSERT_EQ(o.exitCode, 0) << o.output;
 
     std::ifstream in(out / "summary.json");
@@ -140,7 +140,7 @@ TEST(CommandLine, CompareWritesBothEnginesFiguresAndPlots)
 {
     const std::filesystem::path out = freshFolder("compare-landing");
     const Outcome o = runMasse("compare " + source + "/data/scenes/box-landing.json --out " + out.string() +
-                            " --duration 2 --bullet-iterations 1,4 --quiet");
+                               " --duration 2 --bullet-iterations 1,4 --quiet");
     ASSERT_EQ(o.exitCode, 0) << o.output;
     for (const char* header : {"MaSSE (symplectic)", "Bullet (piterations=1)", "Bullet (piterations=4)",
                                "max penetration (mm)", "tunnelled nodes", "wall ms per simulated s", "Approximations"})
@@ -263,8 +263,8 @@ TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)
         EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << flags;
     }
-    const Outcome stiff = runMasse("run " + source + "/tests/bad-scenes/stiff-explicit-step.json --frames-every 1 --out " +
-                                out.string());
+    const Outcome stiff =
+        runMasse("run " + source + "/tests/bad-scenes/stiff-explicit-step.json --frames-every 1 --out " + out.string());
     EXPECT_EQ(stiff.exitCode, 2) << stiff.output;
     EXPECT_NE(stiff.output.find("integrator.dt: the symplectic integrator needs"), std::string::npos) << stiff.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << "the first frame was written before the step was refused";
@@ -296,8 +296,8 @@ TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
 TEST(CommandLine, ARunBeyondDoubleRangeExitsWithOneAndWritesNothing)
 {
     const std::filesystem::path out = freshFolder("beyond-range");
-    const Outcome o = runMasse("run " + source + "/tests/bad-scenes/gravity-beyond-range.json --frames-every 1 --quiet --out " +
-                            out.string());
+    const Outcome o = runMasse(
+        "run " + source + "/tests/bad-scenes/gravity-beyond-range.json --frames-every 1 --quiet --out " + out.string());
     EXPECT_EQ(o.exitCode, 1) << o.output;
     EXPECT_NE(o.output.find("is not a finite number"), std::string::npos) << o.output;
     EXPECT_FALSE(std::filesystem::exists(out));

@@ -74,7 +74,7 @@ TEST(SetOption, RunTakesSetAndRefusesAnUnknownKeyWithCode2)
 {
     const fs::path dir = freshFolder("set-run");
     const Outcome ok = runMasse("run " + source + "/data/scenes/slope.json --set contact.friction=0.2 --set " +
-                             "run.duration=0.3 --quiet --out " + dir.string());
+                                "run.duration=0.3 --quiet --out " + dir.string());
     ASSERT_EQ(ok.exitCode, 0) << ok.output;
     const nlohmann::json summary = nlohmann::json::parse(readText(dir / "summary.json"));
     EXPECT_NEAR(summary["sim_seconds"].get<double>(), 0.3, 0.011); // the duration set, to a step
