@@ -42,12 +42,12 @@ std::string heatSection(const std::string& material, bool hot)
     {
         return "";
     }
-    const SceneSpec probe = parseScene(nlohmann::json::parse(R"({"material": {"file": "../materials/)" + material +
-                                                             R"(.json"}})"),
-                                       source + "/data/scenes", "probe");
+    const SceneSpec probe =
+        parseScene(nlohmann::json::parse(R"({"material": {"file": "../materials/)" + material + R"(.json"}})"),
+                   source + "/data/scenes", "probe");
     const Real normal = probe.material.material.forming.normal - 273.15;
-    return R"(, "heat": { "initial_temperature_c": )" + std::to_string(normal) +
-           R"(, "air_temperature_c": )" + std::to_string(normal) + " }";
+    return R"(, "heat": { "initial_temperature_c": )" + std::to_string(normal) + R"(, "air_temperature_c": )" +
+           std::to_string(normal) + " }";
 }
 
 std::string sheetScene(const std::string& material, bool hot, const std::string& rest)
@@ -91,14 +91,14 @@ TEST_P(MaterialSheetOnObstacle, RunsToTheEndWithoutTheGuardFiring)
     EXPECT_GE(scene.eventTime("contact", "mould"), 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    FiveMaterialsFourObstacles, MaterialSheetOnObstacle,
-    testing::Combine(testing::Range(0, 5), testing::Range(0, 4), testing::Bool()),
-    [](const testing::TestParamInfo<std::tuple<int, int, bool>>& param)
-    {
-        return std::string(materials[std::get<0>(param.param)]) + obstacleNames[std::get<1>(param.param)] +
-               (std::get<2>(param.param) ? "Hot" : "Cold");
-    });
+INSTANTIATE_TEST_SUITE_P(FiveMaterialsFourObstacles, MaterialSheetOnObstacle,
+                         testing::Combine(testing::Range(0, 5), testing::Range(0, 4), testing::Bool()),
+                         [](const testing::TestParamInfo<std::tuple<int, int, bool>>& param)
+                         {
+                             return std::string(materials[std::get<0>(param.param)]) +
+                                    obstacleNames[std::get<1>(param.param)] +
+                                    (std::get<2>(param.param) ? "Hot" : "Cold");
+                         });
 
 class MaterialSheetUnderAGrab : public testing::TestWithParam<std::tuple<int, int, bool>>
 {
@@ -108,10 +108,11 @@ class MaterialSheetUnderAGrab : public testing::TestWithParam<std::tuple<int, in
 TEST_P(MaterialSheetUnderAGrab, RunsToTheEndWithoutTheGuardFiring)
 {
     const auto [material, stiffness, hot] = GetParam();
-    const std::string json = sheetScene(materials[material], hot, R"(,
+    const std::string json = sheetScene(materials[material], hot,
+                                        R"(,
         "obstacles": [ { "name": "table", "type": "box", "position": [0, -0.29, 0], "half_extents": [1, 0.5, 1] } ],
         "script": [ { "time": 0.1, "action": "grab", "label": "hand", "near": [0.3, 0.215, 0.3], "stiffness": )" +
-                                                               std::to_string(stiffness) + R"(, "max_force": 1,
+                                            std::to_string(stiffness) + R"(, "max_force": 1,
                       "path": [ { "position": [0.3, 0.215, 0.3] }, { "time": 1.1, "position": [0.5, 0.6, 0.5] } ] } ])");
     Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "stability"));
     expectSound(scene, json);

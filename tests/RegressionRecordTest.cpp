@@ -1,8 +1,8 @@
 // `masse check --record` rewrites only a regression scene's "expect" block: the rest of the file (comments, layout,
 // key order) stays byte for byte as its author wrote it.
 
-#include "scene/JsonText.h"
 #include "scene/JsonObject.h"
+#include "scene/JsonText.h"
 #include "scene/Regression.h"
 
 #include <gtest/gtest.h>
@@ -63,9 +63,9 @@ TEST(RegressionRecord, KeepsCommentsAndLayoutOutsideTheExpectBlock)
     const nlohmann::json document = readJsonFile(path.string());
     const nlohmann::json& recorded = document["expect"];
     EXPECT_EQ(recorded["final"]["kinetic_energy"]["max"], 1e-5); // bounds kept
-    EXPECT_EQ(recorded["final"]["state_hash"].size(), 1u); // this build type's hash
-    ASSERT_GE(recorded["events"].size(), 4u); // block, wedge, floor, rest
-    EXPECT_EQ(recorded["events"][0]["sim_time"], 0.5); // a reasoned value is kept
+    EXPECT_EQ(recorded["final"]["state_hash"].size(), 1u);       // this build type's hash
+    ASSERT_GE(recorded["events"].size(), 4u);                    // block, wedge, floor, rest
+    EXPECT_EQ(recorded["events"][0]["sim_time"], 0.5);           // a reasoned value is kept
     EXPECT_EQ(recorded["events"][0]["tolerance"], 0.05);
     EXPECT_EQ(document["description"], "a string with } and // inside");
     // And it passes its own check.

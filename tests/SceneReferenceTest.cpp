@@ -25,8 +25,10 @@ std::string readText(const std::string& path)
 /// o.object("heat"), ...) and of the readers' own helpers (celsius(o, "key"), fraction(o, "key"), optional("key")).
 std::set<std::string> keysAskedFor(const std::string& code)
 {
-    static const std::regex call(R"re((?:\.|->)(?:number|positive|string|boolean|integer|vec3|vec3List|choice|object|objects|raw|numbers)\(\s*"([A-Za-z_0-9]+)")re");
-    static const std::regex helper(R"re((?:celsius|fraction)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
+    static const std::regex call(
+        R"re((?:\.|->)(?:number|positive|string|boolean|integer|vec3|vec3List|choice|object|objects|raw|numbers)\(\s*"([A-Za-z_0-9]+)")re");
+    static const std::regex helper(
+        R"re((?:celsius|fraction)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
     std::set<std::string> keys;
     for (auto it = std::sregex_iterator(code.begin(), code.end(), call); it != std::sregex_iterator(); ++it)
     {
@@ -76,8 +78,8 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
         EXPECT_GT(keys.size(), 10u) << reader; // the pattern still finds the readers' keys
         for (const std::string& key : keys)
         {
-            EXPECT_TRUE(documented(document, key)) << "data/scenes/README.md lacks `" << key << "` (read in " << reader
-                                                   << ")";
+            EXPECT_TRUE(documented(document, key))
+                << "data/scenes/README.md lacks `" << key << "` (read in " << reader << ")";
             ++checked;
         }
     }

@@ -1,11 +1,11 @@
 // Parameter studies without running anything: key paths, --set, the designs, and studies refused before any case
 // runs.
 
+#include "scene/Study.h"
 #include "core/InputError.h"
 #include "scene/JsonPath.h"
 #include "scene/SceneFile.h"
 #include "scene/SceneOverrides.h"
-#include "scene/Study.h"
 #include "scene/StudyDesign.h"
 #include "scene/StudySlurm.h"
 

@@ -147,10 +147,11 @@ void addViewCommand(CLI::App& app)
                       "Run Bullet's soft-body twin beside the sheet and draw it as a ghost (see masse compare)");
     addThreadsOption(*command);
     addSceneOverrides(*command, options->overrides);
-    command->footer("Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
-                    "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
-                    "v starting view,\nm draw mode, p pick mode, f follow the sheet, Tab panel, q or Esc quit.\nWithout a display: "
-                    "xvfb-run -a masse view ... (see --screenshot, --benchmark).");
+    command->footer(
+        "Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
+        "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
+        "v starting view,\nm draw mode, p pick mode, f follow the sheet, Tab panel, q or Esc quit.\nWithout a display: "
+        "xvfb-run -a masse view ... (see --screenshot, --benchmark).");
     command->callback([options] { runView(*options); });
 }
 } // namespace masse::app

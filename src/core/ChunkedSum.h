@@ -51,7 +51,8 @@ inline Real chunkedDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>
     {
         partial.resize(Eigen::Index(chunks));
     }
-    parallelFor(std::size_t(a.size()), reductionChunk, [&](std::size_t begin, std::size_t)
+    parallelFor(std::size_t(a.size()), reductionChunk,
+                [&](std::size_t begin, std::size_t)
                 { partial[Eigen::Index(begin / reductionChunk)] = chunkDot(a, b, begin / reductionChunk); });
     Real sum = 0;
     for (std::size_t c = 0; c < chunks; ++c) // always serial and in order

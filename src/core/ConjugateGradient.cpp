@@ -61,7 +61,8 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
 
 void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector& y) const
 {
-    parallelFor(std::size_t(a.rows()), std::size_t(productChunk), [&](std::size_t begin, std::size_t end)
+    parallelFor(std::size_t(a.rows()), std::size_t(productChunk),
+                [&](std::size_t begin, std::size_t end)
                 { multiplySymmetricRows(a, x, y, Eigen::Index(begin), Eigen::Index(end)); });
 }
 
@@ -131,7 +132,8 @@ SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vec
         const Real absOld = absNew;
         absNew = dot(m_residual, m_preconditioned);
         const Real beta = absNew / absOld;
-        parallelFor(std::size_t(n), std::size_t(productChunk), [&](std::size_t begin, std::size_t end)
+        parallelFor(std::size_t(n), std::size_t(productChunk),
+                    [&](std::size_t begin, std::size_t end)
                     { updateDirection(m_direction, m_preconditioned, beta, Eigen::Index(begin), Eigen::Index(end)); });
     }
     result.iterations = i;

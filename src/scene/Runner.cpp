@@ -9,8 +9,8 @@
 #include "SheetReports.h"
 
 #include "core/Format.h"
-#include "core/StateHash.h"
 #include "core/SimdPath.h"
+#include "core/StateHash.h"
 #include "core/TaskPool.h"
 
 #include <algorithm>

@@ -189,8 +189,8 @@ void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, c
             walked.steps.pop_back();
             const std::string reached = walked.steps.empty() ? std::string("summary.json") : walked.text();
             const std::string missing = step.isIndex ? "[" + std::to_string(step.index) + "]" : "'" + step.key + "'";
-            throw InputError(where + ": " + output.path + ": the scene's summary.json has no such value: " +
-                             reached + " has no " + missing + holds);
+            throw InputError(where + ": " + output.path + ": the scene's summary.json has no such value: " + reached +
+                             " has no " + missing + holds);
         }
         at = next;
     }

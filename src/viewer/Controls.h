@@ -42,7 +42,7 @@ public:
     Viewport viewport;
     DrawSettings draw;
     bool pickMode = false;
-    bool follow = false;       ///< the camera's target follows the sheet's centre
+    bool follow = false; ///< the camera's target follows the sheet's centre
     bool panelVisible = true;
     bool quit = false;
     /// The window's pick (mass, target): drawn at once, before the simulation thread has it.

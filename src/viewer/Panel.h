@@ -43,7 +43,8 @@ public:
 
 private:
     void drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
-                      bool& follow, const MassScalarRegistry& scalars, const ScalarRange& legend, PanelRequests& requests);
+                      bool& follow, const MassScalarRegistry& scalars, const ScalarRange& legend,
+                      PanelRequests& requests);
     void drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation);
     /// Ambient temperature and heaters of a heat scene, acting on the running scene.
     void drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation);

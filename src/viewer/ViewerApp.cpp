@@ -401,7 +401,8 @@ bool ViewerApp::tick()
     }
 
     m_report.eventSeen = eventSeen();
-    const bool last = m_controls.quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
+    const bool last =
+        m_controls.quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
     // Frames at most every 1/30 s while the scene runs (the simulation thread and the rasteriser share the cores),
     // every 1/60 s while it is paused; at once when input waits.
     const Real interval = snapshot.paused ? Real(1) / 60 : Real(1) / 30;
@@ -464,8 +465,9 @@ void ViewerApp::drawFrame(bool last)
         if (m_options.showUi)
         {
             m_panel.visible = m_controls.panelVisible;
-            const PanelRequests requests = m_panel.draw(*m_snapshot, *m_simulation, m_controls.draw, m_controls.pickMode,
-                                                        m_controls.follow, m_stats, m_scalars, *m_renderer);
+            const PanelRequests requests =
+                m_panel.draw(*m_snapshot, *m_simulation, m_controls.draw, m_controls.pickMode, m_controls.follow,
+                             m_stats, m_scalars, *m_renderer);
             m_controls.panelVisible = m_panel.visible;
             if (requests.view)
             {
