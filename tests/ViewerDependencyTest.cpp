@@ -41,7 +41,8 @@ TEST(ViewerDependency, ViewerModelFilesKnowNothingOfGraphics)
 {
     const std::filesystem::path viewer = std::filesystem::path(MASSE_SOURCE_DIR) / "src" / "viewer";
     for (const char* stem : {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "DrawPacer",
-                             "MassScalars", "ScreenRegions", "ViewerSession"})
+                             "MassScalars", "ScreenRegions", "ViewerSession", "SceneSnapshot", "SceneGeometry",
+                             "Controls"})
     {
         for (const char* extension : {".h", ".cpp"})
         {

@@ -85,7 +85,7 @@ PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simul
     }
     if (visible)
     {
-        drawControls(snapshot, simulation, draw, pickMode, follow, scalars, renderer.scalarRange(), requests);
+        drawControls(snapshot, simulation, draw, pickMode, follow, scalars, renderer.scalarRange().value_or(ScalarRange{}), requests);
     }
     drawHud(snapshot, stats, draw, renderer);
     return requests;

@@ -3,8 +3,6 @@
 #include "Palette.h"
 #include "ScreenRegions.h"
 
-#include "core/InputError.h"
-#include "core/LatticeSurface.h"
 
 #include <algorithm>
 #include <cmath>
@@ -84,69 +82,7 @@ void setMatrix(const ShaderProgram& program, const char* name, const Mat4& matri
     glUniformMatrix4fv(program.uniform(name), 1, GL_FALSE, m.data());
 }
 
-void put(float* out, const Vec3& v)
-{
-    out[0] = float(v.x());
-    out[1] = float(v.y());
-    out[2] = float(v.z());
-}
-
-void put(float* out, const Rgb& c)
-{
-    out[0] = c.r;
-    out[1] = c.g;
-    out[2] = c.b;
-}
-
-/// Appends a polygon as a fan of triangles (its winding kept), all with the face's normal and colour.
-template <typename VertexType>
-void appendPolygon(std::vector<VertexType>& out, const std::vector<Vec3>& corners, const Vec3& normal,
-                   const Rgb& colour)
-{
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-    {
-        for (const Vec3* p : {&corners[0], &corners[k], &corners[k + 1]})
-        {
-            VertexType v;
-            put(v.position, *p);
-            put(v.colour, colour);
-            put(v.normal, normal);
-            out.push_back(v);
-        }
-    }
-}
 } // namespace
-
-DrawMode parseDrawMode(std::string_view name)
-{
-    if (name == "masses")
-    {
-        return DrawMode::MassesAndSprings;
-    }
-    if (name == "surface")
-    {
-        return DrawMode::Surface;
-    }
-    if (name == "scalar")
-    {
-        return DrawMode::Scalar;
-    }
-    throw InputError("draw: unknown mode '" + std::string(name) + "' (expected masses, surface, scalar)");
-}
-
-std::string_view drawModeName(DrawMode mode)
-{
-    switch (mode)
-    {
-    case DrawMode::MassesAndSprings:
-        return "masses";
-    case DrawMode::Surface:
-        return "surface";
-    case DrawMode::Scalar:
-        return "scalar";
-    }
-    return "masses";
-}
 
 Renderer::Renderer()
     : m_flat(std::make_unique<ShaderProgram>(flatVertexShader, flatFragmentShader)),
@@ -174,12 +110,12 @@ Renderer::Renderer()
         glGenBuffers(1, &stream->vbo);
         glBindVertexArray(stream->vao);
         glBindBuffer(GL_ARRAY_BUFFER, stream->vbo);
-        glVertexAttribPointer(positionAttribute, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex),
-                              reinterpret_cast<const void*>(offsetof(Vertex, position)));
-        glVertexAttribPointer(colourAttribute, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex),
-                              reinterpret_cast<const void*>(offsetof(Vertex, colour)));
-        glVertexAttribPointer(normalAttribute, 3, GL_FLOAT, GL_FALSE, sizeof(Vertex),
-                              reinterpret_cast<const void*>(offsetof(Vertex, normal)));
+        glVertexAttribPointer(positionAttribute, 3, GL_FLOAT, GL_FALSE, sizeof(GeometryVertex),
+                              reinterpret_cast<const void*>(offsetof(GeometryVertex, position)));
+        glVertexAttribPointer(colourAttribute, 3, GL_FLOAT, GL_FALSE, sizeof(GeometryVertex),
+                              reinterpret_cast<const void*>(offsetof(GeometryVertex, colour)));
+        glVertexAttribPointer(normalAttribute, 3, GL_FLOAT, GL_FALSE, sizeof(GeometryVertex),
+                              reinterpret_cast<const void*>(offsetof(GeometryVertex, normal)));
         glEnableVertexAttribArray(positionAttribute);
         glEnableVertexAttribArray(colourAttribute);
         glEnableVertexAttribArray(normalAttribute);
@@ -215,223 +151,28 @@ void Renderer::rebuildTopology(const SheetTopology& topology)
     m_spacing = topology.spacing;
 }
 
-void Renderer::uploadSheet(const SceneSnapshot& snapshot, const DrawSettings& settings)
+void Renderer::uploadSheet()
 {
-    const std::vector<Vec3>& positions = snapshot.positions;
-    const std::size_t n = positions.size();
-    m_positionData.resize(3 * n);
-    m_colourData.resize(3 * n);
-    Vec3 sum = Vec3::Zero();
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        put(&m_positionData[3 * i], positions[i]);
-        sum += positions[i];
-    }
-    m_sheetCentre = n > 0 ? Vec3(sum / Real(n)) : Vec3::Zero();
-
-    const bool scalarMode = settings.mode == DrawMode::Scalar;
-    if (scalarMode && snapshot.scalarName == settings.scalar && snapshot.scalar.size() == n && n > 0)
-    {
-        m_scalarRange = rangeOf(snapshot.scalar);
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            put(&m_colourData[3 * i], viridis(m_scalarRange.normalise(snapshot.scalar[i])));
-        }
-    }
-    else if (scalarMode)
-    {
-        // A scalar the scene lacks (or not yet evaluated): plain grey rather than a uniform colour that reads as data.
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            put(&m_colourData[3 * i], palette::missingScalar);
-        }
-    }
-    else
-    {
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            const std::uint8_t flag = i < snapshot.flags.size() ? snapshot.flags[i] : std::uint8_t(massFree);
-            const Rgb& colour = flag == massPinned      ? palette::pinnedMass
-                                : flag == massInContact ? palette::massInContact
-                                                        : palette::mass;
-            put(&m_colourData[3 * i], colour);
-        }
-    }
-
     glBindBuffer(GL_ARRAY_BUFFER, m_positions);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_positionData.size() * sizeof(float)), m_positionData.data(),
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_sheet.positions.size() * sizeof(float)), m_sheet.positions.data(),
                  GL_STREAM_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, m_colours);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_colourData.size() * sizeof(float)), m_colourData.data(), GL_STREAM_DRAW);
-
-    if (settings.mode == DrawMode::MassesAndSprings)
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_sheet.colours.size() * sizeof(float)), m_sheet.colours.data(),
+                 GL_STREAM_DRAW);
+    if (!m_sheet.normals.empty())
     {
-        return;
+        glBindBuffer(GL_ARRAY_BUFFER, m_normals);
+        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_sheet.normals.size() * sizeof(float)), m_sheet.normals.data(),
+                     GL_STREAM_DRAW);
     }
-    // Vertex normals: the area-weighted sum of the normals of the surface triangles at each mass.
-    m_normalData.assign(3 * n, 0.0f);
-    const std::vector<std::uint32_t>& triangles = m_topology->surfaceTriangles;
-    for (std::size_t t = 0; t + 2 < triangles.size(); t += 3)
-    {
-        const std::uint32_t a = triangles[t];
-        const std::uint32_t b = triangles[t + 1];
-        const std::uint32_t c = triangles[t + 2];
-        const Vec3 normal = (positions[b] - positions[a]).cross(positions[c] - positions[a]);
-        for (std::uint32_t k : {a, b, c})
-        {
-            m_normalData[3 * k] += float(normal.x());
-            m_normalData[3 * k + 1] += float(normal.y());
-            m_normalData[3 * k + 2] += float(normal.z());
-        }
-    }
-    glBindBuffer(GL_ARRAY_BUFFER, m_normals);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_normalData.size() * sizeof(float)), m_normalData.data(), GL_STREAM_DRAW);
 }
 
-void Renderer::upload(VertexStream& stream, const std::vector<Vertex>& vertices)
+void Renderer::upload(VertexStream& stream, const std::vector<GeometryVertex>& vertices)
 {
     glBindBuffer(GL_ARRAY_BUFFER, stream.vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertices.size() * sizeof(GeometryVertex)), vertices.data(),
+                 GL_STREAM_DRAW);
     stream.count = GLsizei(vertices.size());
-}
-
-void Renderer::buildEnvironment(const SceneSnapshot& snapshot, bool showRoom)
-{
-    const bridge::RoomSpec& room = snapshot.spec->environment.room;
-    const Vec3 roomCentre = (room.minCorner + room.maxCorner) / 2;
-
-    std::vector<Vertex> roomFaces;
-    std::vector<Vertex> solidFaces;
-    std::vector<Vertex> lines;
-    std::vector<Vec3> corners;
-    int polyhedron = 0;
-    for (const ObstacleShape& obstacle : snapshot.obstacles)
-    {
-        const std::vector<Vec3>& vertices = obstacle.vertices;
-        const auto& faces = obstacle.faces;
-        if (obstacle.partOfRoom)
-        {
-            if (!showRoom)
-            {
-                continue;
-            }
-            // A room box lies outside the room; of its faces only the one facing the room's centre is drawn, so
-            // the room reads as walls seen from inside, and a wall between the eye and the scene is culled away.
-            const Vec3 towardRoom = roomCentre - obstacle.position;
-            std::size_t inner = 0;
-            Real best = -std::numeric_limits<Real>::infinity();
-            for (std::size_t f = 0; f < faces.size(); ++f)
-            {
-                const Real facing = obstacle.normals[f].dot(towardRoom);
-                if (facing > best)
-                {
-                    best = facing;
-                    inner = f;
-                }
-            }
-            corners.clear();
-            for (int v : faces[inner])
-            {
-                corners.push_back(vertices[std::size_t(v)]);
-            }
-            const Rgb& colour = obstacle.name == "floor" ? palette::floor : palette::wall;
-            appendPolygon(roomFaces, corners, obstacle.normals[inner], colour);
-            continue;
-        }
-        const Rgb& base = palette::obstacles[std::size_t(polyhedron++) % palette::obstacles.size()];
-        for (std::size_t f = 0; f < faces.size(); ++f)
-        {
-            corners.clear();
-            for (int v : faces[f])
-            {
-                corners.push_back(vertices[std::size_t(v)]);
-            }
-            appendPolygon(solidFaces, corners, obstacle.normals[f], obstacle.touched[f] ? palette::touchedFace : base);
-            for (std::size_t k = 0; k < corners.size(); ++k)
-            {
-                for (const Vec3* p : {&corners[k], &corners[(k + 1) % corners.size()]})
-                {
-                    Vertex v{};
-                    put(v.position, *p);
-                    put(v.colour, palette::edge);
-                    lines.push_back(v);
-                }
-            }
-        }
-    }
-    if (showRoom && room.enabled)
-    {
-        // A one-metre grid on the floor, lifted a hair above it so it does not fight the floor for depth.
-        const Real y = room.minCorner.y() + Real(0.002);
-        auto gridLine = [&](const Vec3& a, const Vec3& b)
-        {
-            for (const Vec3* p : {&a, &b})
-            {
-                Vertex v{};
-                put(v.position, *p);
-                put(v.colour, palette::floorGrid);
-                lines.push_back(v);
-            }
-        };
-        for (Real x = std::ceil(room.minCorner.x()); x <= room.maxCorner.x(); x += 1)
-        {
-            gridLine(Vec3(x, y, room.minCorner.z()), Vec3(x, y, room.maxCorner.z()));
-        }
-        for (Real z = std::ceil(room.minCorner.z()); z <= room.maxCorner.z(); z += 1)
-        {
-            gridLine(Vec3(room.minCorner.x(), y, z), Vec3(room.maxCorner.x(), y, z));
-        }
-    }
-    upload(m_roomFaces, roomFaces);
-    upload(m_solidFaces, solidFaces);
-    upload(m_lines, lines);
-}
-
-void Renderer::buildOverlays(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick)
-{
-    std::vector<Vertex> lines;
-    std::vector<Vertex> points;
-    auto add = [](std::vector<Vertex>& out, const Vec3& p, const Rgb& colour)
-    {
-        Vertex v{};
-        put(v.position, p);
-        put(v.colour, colour);
-        out.push_back(v);
-    };
-    for (const auto& [mass, target] : snapshot.grabs)
-    {
-        add(lines, mass, palette::scriptedGrab);
-        add(lines, target, palette::scriptedGrab);
-        add(points, mass, palette::scriptedGrab);
-    }
-    std::optional<std::pair<Index, Vec3>> shown = pick;
-    if (!shown && snapshot.pickedMass)
-    {
-        shown = std::pair<Index, Vec3>(*snapshot.pickedMass, snapshot.pickTarget);
-    }
-    if (shown && shown->first < snapshot.positions.size())
-    {
-        const Vec3& x = snapshot.positions[shown->first];
-        add(lines, x, palette::pick);
-        add(lines, shown->second, palette::pick);
-        add(points, x, palette::pick);
-        add(points, shown->second, palette::pick);
-    }
-    // Bullet's twin (--compare) as a ghost over MaSSE's sheet: its links and nodes, nodes in contact coloured.
-    if (snapshot.ghost)
-    {
-        const GhostShape& ghost = *snapshot.ghost;
-        for (std::uint32_t node : ghost.links)
-        {
-            add(lines, ghost.nodes[node], palette::ghost);
-        }
-        for (std::size_t i = 0; i < ghost.nodes.size(); ++i)
-        {
-            add(points, ghost.nodes[i], ghost.touching[i] ? palette::ghostInContact : palette::ghost);
-        }
-    }
-    upload(m_overlayLines, lines);
-    upload(m_overlayPoints, points);
 }
 
 void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera, const Viewport& viewport)
@@ -440,7 +181,7 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     if (settings.mode == DrawMode::MassesAndSprings)
     {
         m_flat->use();
-        const Real depth = std::max((m_sheetCentre - camera.eye()).norm(), camera.nearPlane());
+        const Real depth = std::max((m_sheet.centre - camera.eye()).norm(), camera.nearPlane());
         const Real spacingPixels = m_spacing / (depth * camera.pixelSizeAtUnitDepth(viewport));
         // Springs closer together on screen than a few pixels only fill the sheet with grey, and they are most of
         // a dense sheet's drawing cost; below that the masses alone show it.
@@ -458,7 +199,7 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
         // Masses as round points about half a lattice spacing across on screen, within readable bounds.
         glUniform1f(m_flat->uniform("pointSize"), float(std::clamp(Real(0.45) * spacingPixels, Real(2), Real(9))));
         glUniform1i(m_flat->uniform("roundPoints"), 1);
-        glDrawArrays(GL_POINTS, 0, GLsizei(m_positionData.size() / 3));
+        glDrawArrays(GL_POINTS, 0, GLsizei(m_sheet.positions.size() / 3));
     }
     else
     {
@@ -477,9 +218,24 @@ void Renderer::draw(const SceneSnapshot& snapshot, const std::optional<std::pair
         m_topology = snapshot.topology;
         rebuildTopology(*m_topology);
     }
-    uploadSheet(snapshot, settings);
-    buildEnvironment(snapshot, settings.showRoom);
-    buildOverlays(snapshot, pick);
+    if (&snapshot != m_uploadedSnapshot || snapshot.sequence != m_uploadedSequence || m_uploadedSequence == 0 ||
+        !(settings == m_uploadedSettings))
+    {
+        // A new snapshot (or other settings): the sheet's arrays and the environment are made again and uploaded.
+        buildSheetArrays(snapshot, settings, m_sheet);
+        uploadSheet();
+        const EnvironmentGeometry environment = buildEnvironment(snapshot, settings.showRoom);
+        upload(m_roomFaces, environment.roomFaces);
+        upload(m_solidFaces, environment.solidFaces);
+        upload(m_lines, environment.lines);
+        m_uploadedSnapshot = &snapshot;
+        m_uploadedSequence = snapshot.sequence;
+        m_uploadedSettings = settings;
+    }
+    // The overlays follow the mouse: small, made every frame.
+    const OverlayGeometry overlays = buildOverlays(snapshot, pick);
+    upload(m_overlayLines, overlays.lines);
+    upload(m_overlayPoints, overlays.points);
 
     glViewport(0, 0, viewport.width, viewport.height);
     glClearColor(palette::background.r, palette::background.g, palette::background.b, 1);

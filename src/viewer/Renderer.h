@@ -1,12 +1,16 @@
 #pragma once
-/// Draws a scene with OpenGL 3.3 core: the room, the polyhedra (a face a mass touches turns black), the sheet (masses
-/// red, green in contact; or a shaded surface; or a surface coloured by a scalar), and the pick spring.
+/// Draws a scene with OpenGL 3.3 core: the room, the polyhedra (a face a mass touches turns black), the heaters, the
+/// sheet (masses red, green in contact; or a shaded surface; or a surface coloured by a scalar), and the pick spring.
+/// What to draw comes from SceneGeometry (no GL); this file only uploads it and draws it.
 ///
-/// The sheet costs a handful of calls per frame whatever its size: its positions go to the GPU once per frame in one
-/// buffer, springs are drawn from a fixed index buffer in one call, the masses in another, each surface in one more.
+/// The sheet costs a handful of calls per frame whatever its size: springs are drawn from a fixed index buffer in one
+/// call, the masses in another, the surface in one more. Its per-mass arrays are rebuilt and uploaded only when a new
+/// snapshot (or other draw settings) arrives, not at every frame: on a large sheet the simulation publishes a few
+/// snapshots a second while the window redraws (orbiting, picking) many times more often.
 
 #include "Camera.h"
 #include "MassScalars.h"
+#include "SceneGeometry.h"
 #include "SceneSnapshot.h"
 #include "ShaderProgram.h"
 
@@ -19,24 +23,6 @@
 
 namespace masse::viewer
 {
-enum class DrawMode
-{
-    MassesAndSprings, ///< the paper's look
-    Surface,          ///< the top and bottom layers as lit surfaces, red and green as the masses
-    Scalar,           ///< the surfaces coloured by a registered per-mass scalar
-};
-
-/// Parses "masses", "surface" or "scalar"; throws InputError naming the allowed names.
-DrawMode parseDrawMode(std::string_view name);
-std::string_view drawModeName(DrawMode mode);
-
-struct DrawSettings
-{
-    DrawMode mode = DrawMode::MassesAndSprings;
-    std::string scalar = "speed"; ///< a name in the scalar registry (Scalar mode)
-    bool showRoom = true;
-};
-
 class Renderer
 {
 public:
@@ -51,21 +37,14 @@ public:
     void draw(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick,
               const OrbitCamera& camera, const Viewport& viewport, const DrawSettings& settings);
 
-    /// The range the last Scalar frame mapped onto the colour map (for the panel's legend).
-    const ScalarRange& scalarRange() const { return m_scalarRange; }
+    /// The range the last frame mapped onto the colour map; nothing when the sheet was not coloured by a scalar.
+    const std::optional<ScalarRange>& scalarRange() const { return m_sheet.scalarRange; }
     /// Whether the last frame drew the springs (in masses mode they are left out while they lie closer together
     /// on screen than a few pixels).
     bool springsShown() const { return m_springsShown; }
 
 private:
-    /// One vertex of the room, the obstacles and the overlays: position, colour, normal (zero for lines).
-    struct Vertex
-    {
-        float position[3];
-        float colour[3];
-        float normal[3];
-    };
-    /// A vertex array over one interleaved buffer of Vertex, refilled as needed.
+    /// A vertex array over one interleaved buffer of GeometryVertex, refilled as needed.
     struct VertexStream
     {
         GLuint vao = 0;
@@ -74,16 +53,14 @@ private:
     };
 
     void rebuildTopology(const SheetTopology& topology);
-    void uploadSheet(const SceneSnapshot& snapshot, const DrawSettings& settings);
-    void buildEnvironment(const SceneSnapshot& snapshot, bool showRoom);
-    void buildOverlays(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick);
-    void upload(VertexStream& stream, const std::vector<Vertex>& vertices);
+    void uploadSheet();
+    void upload(VertexStream& stream, const std::vector<GeometryVertex>& vertices);
     void drawSheet(const DrawSettings& settings, const OrbitCamera& camera, const Viewport& viewport);
 
     std::unique_ptr<ShaderProgram> m_flat; ///< unlit colours; points round
     std::unique_ptr<ShaderProgram> m_lit;  ///< two-sided diffuse and ambient
 
-    // The sheet: per-mass buffers refilled each frame, index buffers rebuilt with the scene.
+    // The sheet: per-mass buffers refilled with each new snapshot, index buffers rebuilt with the scene.
     GLuint m_sheetVao = 0;
     GLuint m_positions = 0;
     GLuint m_colours = 0;
@@ -94,21 +71,18 @@ private:
     GLsizei m_surfaceIndexCount = 0;
     std::shared_ptr<const SheetTopology> m_topology;
     Real m_spacing = 0; ///< m, the lattice's smallest spacing (sizes the mass points)
-
-    // Per-frame scratch, kept to avoid reallocating.
-    std::vector<float> m_positionData;
-    std::vector<float> m_colourData;
-    std::vector<float> m_normalData;
-    std::vector<float> m_scalarValues;
-    Vec3 m_sheetCentre = Vec3::Zero();
-    ScalarRange m_scalarRange;
+    SheetArrays m_sheet;
     bool m_springsShown = true;
 
+    // What the uploaded buffers were made from: a frame with the same snapshot and settings uploads nothing.
+    const SceneSnapshot* m_uploadedSnapshot = nullptr;
+    std::uint64_t m_uploadedSequence = 0;
+    DrawSettings m_uploadedSettings;
+
     VertexStream m_roomFaces;  ///< inward faces of the room, drawn with back faces culled
-    VertexStream m_solidFaces; ///< polyhedra
-    VertexStream m_lines;      ///< obstacle edges, floor grid
+    VertexStream m_solidFaces; ///< polyhedra, heaters
+    VertexStream m_lines;      ///< obstacle edges, floor grid, heater rays
     VertexStream m_overlayLines;
     VertexStream m_overlayPoints;
-    std::vector<Vertex> m_scratch;
 };
 } // namespace masse::viewer

@@ -1,8 +1,8 @@
 #include "SceneSnapshot.h"
 
+#include "SceneGeometry.h"
 #include "ScreenRegions.h"
 
-#include "core/LatticeSurface.h"
 
 #include <algorithm>
 
@@ -20,22 +20,9 @@ std::shared_ptr<const SheetTopology> buildTopology(const scene::Scene& scene)
         topology->springIndices.push_back(std::uint32_t(ends.a));
         topology->springIndices.push_back(std::uint32_t(ends.b));
     }
-    // The surfaces are the outer layers: the bottom one, and the top one when there is more than one layer.
-    const int layers = lattice.spec.layers;
-    std::vector<int> outerLayers{0};
-    if (layers > 1)
-    {
-        outerLayers.push_back(layers - 1);
-    }
-    for (int layer : outerLayers)
-    {
-        for (const Triangle& t : layerTriangles(lattice, layer))
-        {
-            topology->surfaceTriangles.insert(topology->surfaceTriangles.end(), t.begin(), t.end());
-        }
-    }
+    topology->surfaceTriangles = sheetSurfaceTriangles(lattice);
     topology->spacing = std::min(lattice.spacingX, lattice.spacingZ);
-    topology->layers = layers;
+    topology->layers = lattice.spec.layers;
     return topology;
 }
 

@@ -18,7 +18,7 @@ namespace masse::viewer
 struct SheetTopology
 {
     std::vector<std::uint32_t> springIndices;    ///< two mass indices per spring
-    std::vector<std::uint32_t> surfaceTriangles; ///< three mass indices per triangle of the outer layers
+    std::vector<std::uint32_t> surfaceTriangles; ///< the closed outer surface (sheetSurfaceTriangles)
     Real spacing = 0;                            ///< m, the lattice's smallest spacing
     int layers = 1;
 };
@@ -69,6 +69,9 @@ struct SceneSnapshot
 {
     std::uint64_t generation = 0; ///< the session's; a new one means a new spec and topology
     std::uint64_t appliedTicket = 0; ///< every command posted with a ticket up to this one has been carried out
+    /// Counts the simulation thread's publications (0: made by hand): a snapshot object is reused for later ones, so
+    /// the renderer tells a new one from the one it already uploaded by this.
+    std::uint64_t sequence = 0;
     std::shared_ptr<const scene::SceneSpec> spec;
     std::shared_ptr<const SheetTopology> topology;
 

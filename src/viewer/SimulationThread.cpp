@@ -89,6 +89,7 @@ void SimulationThread::publish()
     }
     captureSnapshot(m_session, m_scalars, scalar, m_front.get(), *m_back);
     m_back->appliedTicket = applied;
+    m_back->sequence = ++m_sequence;
     m_back->steps = m_steps;
     m_back->stepSeconds = m_stepSeconds;
     m_back->behind = m_behind;

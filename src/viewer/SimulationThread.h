@@ -69,6 +69,7 @@ private:
     std::shared_ptr<SceneSnapshot> m_front; ///< the latest, handed to the window
     std::shared_ptr<SceneSnapshot> m_back;  ///< filled by the simulation thread
 
+    std::uint64_t m_sequence = 0; ///< publications so far
     std::uint64_t m_steps = 0;
     Real m_stepSeconds = 0;
     bool m_behind = false;
