@@ -170,6 +170,27 @@ TEST(SceneSnapshot, AScalarTheSceneLacksIsNamedMissingNotPaintedUniform)
     EXPECT_EQ(snapshot.scalar.size(), snapshot.positions.size());
 }
 
+// The panel greys out what a scene lacks: the drop scene has neither heat nor material, drape forming has both.
+TEST(SceneSnapshot, ListsEveryScalarTheSceneLacksWithItsReason)
+{
+    const MassScalarRegistry scalars = standardMassScalars();
+    ViewerSession drop(dropScene());
+    SceneSnapshot snapshot;
+    captureSnapshot(drop, scalars, "", nullptr, snapshot);
+    EXPECT_NE(missingScalarReason(snapshot, "temperature").find("no heat"), std::string::npos);
+    EXPECT_NE(missingScalarReason(snapshot, "thickness").find("no material"), std::string::npos);
+    EXPECT_NE(missingScalarReason(snapshot, "thickness_ratio").find("no material"), std::string::npos);
+    EXPECT_EQ(missingScalarReason(snapshot, "speed"), "");
+    EXPECT_EQ(missingScalarReason(snapshot, "strain"), "");
+    EXPECT_EQ(snapshot.missingScalars.size(), 3u);
+
+    ViewerSession drape(scene::loadScene(std::string(MASSE_SOURCE_DIR) + "/data/scenes/drape-forming.json"));
+    captureSnapshot(drape, scalars, "thickness_ratio", nullptr, snapshot);
+    EXPECT_TRUE(snapshot.missingScalars.empty());
+    ASSERT_EQ(snapshot.scalar.size(), snapshot.positions.size());
+    EXPECT_NEAR(snapshot.scalar[0], 1.0f, 1e-6f) << "h / h0 is 1 before the sheet stretches";
+}
+
 TEST(SimulationThread, CommandsAreCarriedOutAndPublishedWhileTheWindowNeverWaits)
 {
     ViewerSession session(dropScene());

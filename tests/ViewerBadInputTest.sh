@@ -37,5 +37,10 @@ expect_input_error "a capture without an end" "need --frames" \
     env -u DISPLAY "$masse" view --screenshot out.png
 expect_input_error "an unknown scalar" "unknown scalar 'pressure'" \
     env -u DISPLAY "$masse" view --draw scalar --scalar pressure --frames 1
+expect_input_error "a scalar the scene lacks: says why instead of painting one colour" \
+    "--scalar temperature: this scene has no heat" \
+    env -u DISPLAY "$masse" view "$source_dir/data/scenes/paper-drop.json" --draw scalar --scalar temperature --frames 1
+expect_input_error "a scalar the scene lacks: names those it can show" "can show speed, strain" \
+    env -u DISPLAY "$masse" view "$source_dir/data/scenes/paper-drop.json" --draw scalar --scalar thickness --frames 1
 
 [ "$failures" -eq 0 ]

@@ -2,7 +2,9 @@
 // green ones where it touches an obstacle, and a black face on the obstacle it touches. The viewer writes, beside
 // the PNG, where the sheet and each obstacle are in the picture (--regions).
 //
-// usage: viewer_screenshot_check SCREENSHOT.png REGIONS.json contact|no-contact
+// usage: viewer_screenshot_check SCREENSHOT.png REGIONS.json contact|no-contact|docked
+// docked: a frame with the panel shown; the panel's column must not cover the sheet or an obstacle, and all of the
+// sheet must be in the scene's view.
 // Prints the counts; exits 0 when the picture matches the expectation, 1 when it does not, 2 for bad arguments.
 
 #include <nlohmann/json.hpp>
@@ -77,12 +79,13 @@ template <typename Test> int count(const Image& image, const Box& box, Test test
 
 int main(int argc, char** argv)
 {
-    if (argc != 4 || (std::string(argv[3]) != "contact" && std::string(argv[3]) != "no-contact"))
+    const std::string mode = argc == 4 ? argv[3] : "";
+    if (mode != "contact" && mode != "no-contact" && mode != "docked")
     {
-        std::fprintf(stderr, "usage: %s SCREENSHOT.png REGIONS.json contact|no-contact\n", argv[0]);
+        std::fprintf(stderr, "usage: %s SCREENSHOT.png REGIONS.json contact|no-contact|docked\n", argv[0]);
         return 2;
     }
-    const bool expectContact = std::string(argv[3]) == "contact";
+    const bool expectContact = mode == "contact";
     Image image;
     int channels = 0;
     image.rgb = stbi_load(argv[1], &image.width, &image.height, &channels, 3);
@@ -132,7 +135,28 @@ int main(int argc, char** argv)
             blackOnTouched += black;
         }
     }
-    if (expectContact)
+    if (mode == "docked")
+    {
+        const bool hasPanel = regions.contains("panel") && regions["panel"].is_array();
+        expect(hasPanel, "the panel has its own column");
+        const Box panel = hasPanel ? toBox(regions["panel"], image.width, image.height) : whole;
+        auto overlaps = [](const Box& a, const Box& b)
+        { return a.left < b.right && b.left < a.right && a.top < b.bottom && b.top < a.bottom; };
+        std::printf("panel box [%d %d %d %d]\n", panel.left, panel.top, panel.right, panel.bottom);
+        expect(!overlaps(sheet, panel), "the panel does not cover the sheet");
+        expect(regions.value("sheet_whole", false), "all of the sheet is in the view");
+        for (const auto& obstacle : regions["obstacles"])
+        {
+            if (obstacle["box"].is_array())
+            {
+                expect(!overlaps(toBox(obstacle["box"], image.width, image.height), panel),
+                       "the panel does not cover " + obstacle["name"].get<std::string>());
+            }
+        }
+        // The column is the panel's: no red mass drawn under it.
+        expect(count(image, panel, isRed) == 0, "no sheet drawn in the panel's column");
+    }
+    else if (expectContact)
     {
         expect(touchedObstacles > 0, "an obstacle is touched");
         expect(green >= 30, "green masses in contact on the sheet (>= 30 px)");

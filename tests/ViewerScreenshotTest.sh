@@ -35,3 +35,12 @@ in_display "$masse" view "$scene" $capture --frames 3 \
 in_display "$masse" view "$scene" $capture --until contact:block --frames 60 \
     --screenshot "$out/first-contact.png" --regions "$out/first-contact.json"
 "$check" "$out/first-contact.png" "$out/first-contact.json" contact
+
+# With the panel and HUD shown (as a user opens it), on the drop scene and on drape forming (a heater over the sheet):
+# the panel's column leaves the whole sheet and every obstacle in view, uncovered.
+for scene_name in paper-drop drape-forming; do
+    # shellcheck disable=SC2086
+    in_display "$masse" view "$(dirname "$scene")/$scene_name.json" --window 1024x720 --steps-per-frame 1 --frames 3 \
+        --screenshot "$out/$scene_name-panel.png" --regions "$out/$scene_name-panel.json"
+    "$check" "$out/$scene_name-panel.png" "$out/$scene_name-panel.json" docked
+done

@@ -1,5 +1,7 @@
 #include "Controls.h"
 
+#include "core/HeatSources.h"
+
 #include <cmath>
 #include <limits>
 
@@ -54,6 +56,18 @@ void Controls::setView(ViewPreset preset, const SceneSnapshot& snapshot)
             for (const Vec3& p : obstacle.vertices)
             {
                 all.add(p);
+            }
+        }
+    }
+    // Heater panels too: what heats the sheet belongs in the picture.
+    const scene::HeatSpec& heat = snapshot.spec->heat;
+    if (heat.enabled)
+    {
+        for (const RadiantHeater& heater : heat.settings.heaters)
+        {
+            for (const Vec3& corner : heaterCorners(heater))
+            {
+                all.add(corner);
             }
         }
     }

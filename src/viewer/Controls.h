@@ -33,7 +33,7 @@ public:
 
     /// One event, after ImGui had it; `snapshot` is what the window shows now.
     void handle(const InputEvent& event, const UiCapture& ui, const SceneSnapshot& snapshot, const CommandSink& post);
-    /// Frames a preset view on the snapshot: the sheet and the polyhedra (from below: the sheet alone).
+    /// Frames a preset view on the snapshot: the sheet, the polyhedra and the heaters (from below: the sheet alone).
     void setView(ViewPreset preset, const SceneSnapshot& snapshot);
     /// Once a frame: keeps the camera's target on the sheet's centre while following.
     void update(const SceneSnapshot& snapshot);

@@ -100,6 +100,17 @@ MassScalarRegistry standardMassScalars()
                                          [](Real h) { return float(1000 * h); });
                       }
                   }});
+    registry.add({"thickness_ratio", "", "Local thickness over the sheet's starting thickness, h / h0 (\"material\")",
+                  [](const scene::Scene& scene, std::vector<float>& values)
+                  {
+                      values.assign(scene.system().massCount(), 0.0f);
+                      if (const SheetThickness* thickness = scene.thickness())
+                      {
+                          const Real initial = thickness->initialThickness();
+                          std::transform(thickness->thickness().begin(), thickness->thickness().end(), values.begin(),
+                                         [initial](Real h) { return float(h / initial); });
+                      }
+                  }});
     return registry;
 }
 

@@ -35,7 +35,7 @@ private:
 };
 
 /// speed (|v|, m/s), strain (mean relative stretch of the springs at each mass; negative when compressed),
-/// temperature (C, heat scenes) and thickness (mm, material scenes).
+/// temperature (C, heat scenes), thickness (mm) and thickness_ratio (h / h0) (material scenes).
 MassScalarRegistry standardMassScalars();
 
 /// Mean (length - rest) / rest over the springs of each mass (0 for a mass without springs).

@@ -1,5 +1,7 @@
 #include "Panel.h"
 
+#include "ColourBar.h"
+
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -11,7 +13,6 @@ namespace masse::viewer
 {
 namespace
 {
-constexpr float panelWidth = 340;
 const ImVec4 errorColour(1.0f, 0.45f, 0.4f, 1.0f);
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
@@ -69,7 +70,7 @@ bool nonNegativeDouble(const char* label, double& value, const char* format)
 
 PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
                           bool& pickMode, bool& follow, const FrameStats& stats, const MassScalarRegistry& scalars,
-                          const Renderer& renderer)
+                          const Renderer& renderer, const ScreenRect& column)
 {
     PanelRequests requests;
     if (m_generation != snapshot.generation)
@@ -83,23 +84,35 @@ PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simul
             m_path = snapshot.spec->path;
         }
     }
+    // One window filling the side column: fixed, opaque, scrolling when its contents are taller than the window.
+    ImGui::SetNextWindowPos(ImVec2(float(column.x), float(column.y)), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(float(column.width), float(column.height)), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(1.0f);
+    ImGui::Begin("MaSSE", nullptr,
+                 ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
+                     ImGuiWindowFlags_NoBringToFrontOnFocus);
+    ImGui::PushTextWrapPos(0.0f); // wrap at the column's edge
+    drawHud(snapshot, stats, draw, renderer);
+    drawColourBar(snapshot, draw, scalars);
+    ImGui::Separator();
     if (visible)
     {
-        drawControls(snapshot, simulation, draw, pickMode, follow, scalars, renderer.scalarRange().value_or(ScalarRange{}), requests);
+        drawControls(snapshot, simulation, draw, pickMode, follow, scalars, requests);
     }
-    drawHud(snapshot, stats, draw, renderer);
+    else
+    {
+        ImGui::TextDisabled("Tab shows the controls");
+    }
+    ImGui::PopTextWrapPos();
+    ImGui::End();
     return requests;
 }
 
 void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
-                         bool& pickMode, bool& follow, const MassScalarRegistry& scalars, const ScalarRange& legend,
-                         PanelRequests& requests)
+                         bool& pickMode, bool& follow, const MassScalarRegistry& scalars, PanelRequests& requests)
 {
-    const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + 8, viewport->WorkPos.y + 8), ImGuiCond_Always);
-    ImGui::SetNextWindowSizeConstraints(ImVec2(panelWidth, 0), ImVec2(panelWidth, viewport->WorkSize.y - 16));
-    ImGui::SetNextWindowBgAlpha(0.85f);
-    ImGui::Begin("MaSSE viewer (Tab hides)", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove);
+    ImGui::TextDisabled("Controls (Tab hides them)");
     // Fields narrow enough that their labels fit beside them.
     ImGui::PushItemWidth(ImGui::GetFontSize() * 11);
 
@@ -153,28 +166,22 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
         {
             for (const MassScalar& scalar : scalars.all())
             {
-                if (ImGui::Selectable(scalar.name.c_str(), scalar.name == draw.scalar))
+                // A scalar this scene lacks is greyed out with the reason beside it, and cannot be chosen.
+                const std::string missing = missingScalarReason(snapshot, scalar.name);
+                ImGui::BeginDisabled(!missing.empty());
+                const std::string label =
+                    scalar.name + " (" + unitLabel(scalar) + ")" + (missing.empty() ? "" : ": " + missing);
+                if (ImGui::Selectable(label.c_str(), scalar.name == draw.scalar))
                 {
                     draw.scalar = scalar.name;
                 }
-                if (ImGui::IsItemHovered())
+                ImGui::EndDisabled();
+                if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
                 {
                     ImGui::SetTooltip("%s", scalar.description.c_str());
                 }
             }
             ImGui::EndCombo();
-        }
-        const MassScalar* shown = scalars.find(draw.scalar);
-        if (!snapshot.scalarMissing.empty() && snapshot.scalarName == draw.scalar)
-        {
-            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.6f, 0.6f, 0.6f, 1.0f));
-            ImGui::TextWrapped("%s (the sheet is drawn grey)", snapshot.scalarMissing.c_str());
-            ImGui::PopStyleColor();
-        }
-        else
-        {
-            ImGui::Text("colours %.3g (dark) .. %.3g (yellow) %s", double(legend.low), double(legend.high),
-                        shown ? shown->unit.c_str() : "");
         }
     }
     ImGui::Checkbox("pick mode (left drag pulls a mass)", &pickMode);
@@ -210,7 +217,6 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
                                "q or esc: quit");
     }
     ImGui::PopItemWidth();
-    ImGui::End();
 }
 
 void Panel::drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation)
@@ -307,16 +313,56 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
     ImGui::EndDisabled();
 }
 
+void Panel::drawColourBar(const SceneSnapshot& snapshot, const DrawSettings& draw, const MassScalarRegistry& scalars)
+{
+    const MassScalar* scalar = scalars.find(draw.scalar);
+    if (draw.mode != DrawMode::Scalar || scalar == nullptr)
+    {
+        return;
+    }
+    const std::string missing = missingScalarReason(snapshot, draw.scalar);
+    // The range of the snapshot this frame draws (the renderer maps the same values the same way).
+    std::optional<ScalarRange> range;
+    if (snapshot.scalarName == draw.scalar && !snapshot.scalar.empty())
+    {
+        range = rangeOf(snapshot.scalar);
+    }
+    const ColourBar bar = makeColourBar(*scalar, range, missing);
+    ImGui::Separator();
+    ImGui::TextUnformatted(bar.title.c_str());
+    if (bar.stops.empty())
+    {
+        ImGui::PushStyleColor(ImGuiCol_Text, missing.empty() ? ImVec4(0.7f, 0.7f, 0.7f, 1.0f) : warningColour);
+        ImGui::TextUnformatted(bar.note.c_str());
+        ImGui::PopStyleColor();
+        return;
+    }
+    // The map as adjoining gradients between its stops, the full width of the column, the end values under its ends.
+    ImDrawList* drawList = ImGui::GetWindowDrawList();
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = ImGui::GetContentRegionAvail().x;
+    const float height = ImGui::GetFontSize() * 1.2f;
+    const std::size_t segments = bar.stops.size() - 1;
+    for (std::size_t k = 0; k < segments; ++k)
+    {
+        const Rgb& a = bar.stops[k];
+        const Rgb& b = bar.stops[k + 1];
+        const ImU32 left = ImGui::GetColorU32(ImVec4(a.r, a.g, a.b, 1.0f));
+        const ImU32 right = ImGui::GetColorU32(ImVec4(b.r, b.g, b.b, 1.0f));
+        const float x0 = origin.x + width * float(k) / float(segments);
+        const float x1 = origin.x + width * float(k + 1) / float(segments);
+        drawList->AddRectFilledMultiColor(ImVec2(x0, origin.y), ImVec2(x1, origin.y + height), left, right, right,
+                                          left);
+    }
+    ImGui::Dummy(ImVec2(width, height));
+    ImGui::TextUnformatted(bar.lowLabel.c_str());
+    ImGui::SameLine(std::max(0.0f, ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize(bar.highLabel.c_str()).x));
+    ImGui::TextUnformatted(bar.highLabel.c_str());
+}
+
 void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, const DrawSettings& draw,
                     const Renderer& renderer)
 {
-    const ImGuiViewport* viewport = ImGui::GetMainViewport();
-    ImGui::SetNextWindowPos(ImVec2(viewport->WorkPos.x + viewport->WorkSize.x - 8, viewport->WorkPos.y + 8),
-                            ImGuiCond_Always, ImVec2(1, 0));
-    ImGui::SetNextWindowBgAlpha(0.6f);
-    ImGui::Begin("HUD", nullptr,
-                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
-                     ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
     const scene::SceneSpec& spec = *snapshot.spec;
     ImGui::Text("%s: %s %s %dx%dx%d, %s dt %.3g s", spec.name.c_str(),
                 std::string(structureName(spec.sheet.lattice.structure)).c_str(),
@@ -376,11 +422,8 @@ void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, cons
     if (!snapshot.error.empty() && !visible)
     {
         ImGui::PushStyleColor(ImGuiCol_Text, errorColour);
-        ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30);
         ImGui::TextUnformatted(snapshot.error.c_str());
-        ImGui::PopTextWrapPos();
         ImGui::PopStyleColor();
     }
-    ImGui::End();
 }
 } // namespace masse::viewer

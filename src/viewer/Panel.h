@@ -1,10 +1,12 @@
 #pragma once
-/// The Dear ImGui side of the window: the control panel (run, load, view, and the scene's parameters, rebuilt on
-/// Apply) and the HUD (time, rates, counts, latest events, errors).
+/// The Dear ImGui side of the window, docked in the window's side column (ScreenLayout) so it never covers the sheet:
+/// the HUD (time, rates, counts, latest events, errors) at the top, the colour bar when the sheet is coloured by a
+/// scalar, and the control panel (run, load, view, and the scene's parameters, rebuilt on Apply) below them.
 
 #include "Camera.h"
 #include "MassScalars.h"
 #include "Renderer.h"
+#include "ScreenLayout.h"
 #include "SceneSnapshot.h"
 #include "SimulationThread.h"
 
@@ -35,16 +37,18 @@ class Panel
 public:
     /// Draws the panel (when shown) and the HUD; carries out run, load and rebuild requests on the session.
     /// Reads the snapshot only; what the user asks of the scene goes to the simulation thread as commands.
+    /// `column`: where the panel goes (ScreenLayout::column).
     PanelRequests draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
                        bool& follow, const FrameStats& stats, const MassScalarRegistry& scalars,
-                       const Renderer& renderer);
+                       const Renderer& renderer, const ScreenRect& column);
 
-    bool visible = true;
+    bool visible = true; ///< the controls (Tab); the HUD and the colour bar stay
 
 private:
     void drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
-                      bool& follow, const MassScalarRegistry& scalars, const ScalarRange& legend,
-                      PanelRequests& requests);
+                      bool& follow, const MassScalarRegistry& scalars, PanelRequests& requests);
+    /// The colour map with its end values and unit, or why the sheet is grey.
+    void drawColourBar(const SceneSnapshot& snapshot, const DrawSettings& draw, const MassScalarRegistry& scalars);
     void drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation);
     /// Ambient temperature and heaters of a heat scene, acting on the running scene.
     void drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation);

@@ -446,7 +446,7 @@ OverlayGeometry buildOverlays(const SceneSnapshot& snapshot, const std::optional
         const Vec3& x = snapshot.positions[shown->first];
         const Real spacing = snapshot.topology ? snapshot.topology->spacing : Real(0.01);
         const Real length = (shown->second - x).norm();
-        const Real radius = std::clamp(Real(0.08) * length, Real(0.5) * spacing, Real(3) * spacing);
+        const Real radius = std::clamp(Real(0.06) * length, Real(0.2) * spacing, spacing);
         const std::vector<Vec3> coil = springCoil(x, shown->second, radius, 8);
         for (std::size_t k = 0; k + 1 < coil.size(); ++k)
         {

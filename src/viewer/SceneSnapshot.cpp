@@ -59,9 +59,21 @@ std::string scalarMissingReason(const scene::Scene& scene, const std::string& sc
     {
         return "this scene has no heat: temperature needs a \"heat\" section";
     }
-    if (scalar == "thickness" && !scene.thickness())
+    if ((scalar == "thickness" || scalar == "thickness_ratio") && !scene.thickness())
     {
         return "this scene has no material: thickness needs a \"material\"";
+    }
+    return "";
+}
+
+std::string missingScalarReason(const SceneSnapshot& snapshot, const std::string& scalar)
+{
+    for (const auto& [name, reason] : snapshot.missingScalars)
+    {
+        if (name == scalar)
+        {
+            return reason;
+        }
     }
     return "";
 }
@@ -99,6 +111,14 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
     {
         out.flags[i] = particles.pinned[i] ? massPinned
                                            : (i < touching.size() && touching[i] >= 0 ? massInContact : massFree);
+    }
+    out.missingScalars.clear();
+    for (const MassScalar& registered : scalars.all())
+    {
+        if (std::string reason = scalarMissingReason(scene, registered.name); !reason.empty())
+        {
+            out.missingScalars.emplace_back(registered.name, std::move(reason));
+        }
     }
     out.scalarName = scalar;
     out.scalarMissing = scalar.empty() ? "" : scalarMissingReason(scene, scalar);

@@ -90,6 +90,8 @@ struct SceneSnapshot
     /// Why the scene has no values for the scalar asked for ("" when it has them): e.g. temperature on a scene
     /// without heat.
     std::string scalarMissing;
+    /// Every registered scalar the scene lacks, with the reason (the panel greys them out): (name, reason).
+    std::vector<std::pair<std::string, std::string>> missingScalars;
 
     std::vector<ObstacleShape> obstacles;
     std::vector<std::pair<Vec3, Vec3>> grabs; ///< scripted grabs: mass position, target
@@ -111,4 +113,6 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
 
 /// Why the scene cannot show a scalar, or "" when it can (temperature needs a heat scene, thickness a material).
 std::string scalarMissingReason(const scene::Scene& scene, const std::string& scalar);
+/// The same from a snapshot's `missingScalars`.
+std::string missingScalarReason(const SceneSnapshot& snapshot, const std::string& scalar);
 } // namespace masse::viewer

@@ -82,12 +82,26 @@ nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, con
     regions["obstacles"] = obstacles;
     return regions;
 }
+bool wholeInView(const OrbitCamera& camera, const Viewport& viewport, const std::vector<Vec3>& points)
+{
+    for (const Vec3& point : points)
+    {
+        const std::optional<Vec2> pixel = camera.project(point, viewport);
+        if (!pixel || pixel->x() < 0 || pixel->y() < 0 || pixel->x() > viewport.width || pixel->y() > viewport.height)
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
 nlohmann::json screenRegions(const SceneSnapshot& snapshot, const OrbitCamera& camera, const Viewport& viewport)
 {
     nlohmann::json regions;
     regions["width"] = viewport.width;
     regions["height"] = viewport.height;
     regions["sheet"] = toJson(screenBox(camera, viewport, snapshot.positions));
+    regions["sheet_whole"] = wholeInView(camera, viewport, snapshot.positions);
     nlohmann::json obstacles = nlohmann::json::array();
     for (const ObstacleShape& obstacle : snapshot.obstacles)
     {

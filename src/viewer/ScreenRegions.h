@@ -31,8 +31,11 @@ std::optional<ScreenBox> screenBox(const OrbitCamera& camera, const Viewport& vi
 /// scene's polyhedra (not the room); "touched" is true when a mass touched one of its faces during the last step.
 nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, const Viewport& viewport);
 
+/// Whether every point projects inside the viewport (nothing clipped at its edges, nothing behind the eye).
+bool wholeInView(const OrbitCamera& camera, const Viewport& viewport, const std::vector<Vec3>& points);
+
 struct SceneSnapshot;
-/// The same from a snapshot (what the window drew).
+/// The same from a snapshot (what the window drew), with "sheet_whole": whether all of the sheet is in the view.
 nlohmann::json screenRegions(const SceneSnapshot& snapshot, const OrbitCamera& camera, const Viewport& viewport);
 
 /// World positions of an obstacle's vertices where it is now.

@@ -8,6 +8,7 @@
 #include "Panel.h"
 #include "Picking.h"
 #include "RateMeter.h"
+#include "ScreenLayout.h"
 #include "ScreenRegions.h"
 #include "Screenshot.h"
 #include "SimulationThread.h"
@@ -78,6 +79,7 @@ private:
     RateMeter m_rates;
     FrameStats m_stats;
     InputQueue m_input;
+    ScreenLayout m_layout; ///< the scene's view and the side column; the camera's viewport is the scene's
 
     int m_window = 0;
     bool m_windowOpen = false;
@@ -231,10 +233,29 @@ ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassSc
         throw InputError("--scalar: unknown scalar '" + m_controls.draw.scalar + "' (expected " + m_scalars.names() +
                          ")");
     }
+    if (m_controls.draw.mode == DrawMode::Scalar)
+    {
+        // A scalar the scene has no values of would only paint the sheet one colour: say so instead.
+        const std::string missing = scalarMissingReason(m_session.scene(), m_controls.draw.scalar);
+        if (!missing.empty())
+        {
+            std::string available;
+            for (const MassScalar& scalar : m_scalars.all())
+            {
+                if (scalarMissingReason(m_session.scene(), scalar.name).empty())
+                {
+                    available += (available.empty() ? "" : ", ") + scalar.name;
+                }
+            }
+            throw InputError("--scalar " + m_controls.draw.scalar + ": " + missing + " (this scene '" +
+                             m_session.spec().name + "' can show " + available + ")");
+        }
+    }
     m_controls.panelVisible = options.showPanel;
     m_session.setPaused(options.startPaused);
     m_session.setPauseAtEnd(!options.benchmark);
-    m_controls.viewport = {options.width, options.height};
+    m_layout = screenLayout(options.width, options.height, options.showUi);
+    m_controls.viewport = m_layout.sceneViewport();
     m_simulation = std::make_unique<SimulationThread>(m_session, m_scalars, options.stepsPerFrame == 0,
                                                       options.computeBudget);
 }
@@ -308,7 +329,8 @@ void ViewerApp::openWindow()
 void ViewerApp::onReshape(int width, int height)
 {
     ImGui_ImplGLUT_ReshapeFunc(width, height);
-    m_controls.viewport = {std::max(1, width), std::max(1, height)};
+    m_layout = screenLayout(width, height, m_options.showUi);
+    m_controls.viewport = m_layout.sceneViewport();
 }
 
 bool ViewerApp::eventSeen() const
@@ -333,14 +355,23 @@ bool ViewerApp::eventSeen() const
 
 void ViewerApp::capture()
 {
+    const Viewport window{m_layout.window.width, m_layout.window.height};
     if (!m_options.screenshot.empty())
     {
-        writePng(m_options.screenshot, readFrame(m_controls.viewport), m_controls.viewport);
+        writePng(m_options.screenshot, readFrame(window), window);
     }
     if (!m_options.regions.empty())
     {
-        scene::writeFileAtomically(m_options.regions,
-                                   screenRegions(*m_snapshot, m_controls.camera, m_controls.viewport).dump(2) + "\n");
+        // The scene's view starts at the window's top-left corner, so its boxes are the window's too.
+        nlohmann::json regions = screenRegions(*m_snapshot, m_controls.camera, m_controls.viewport);
+        regions["width"] = window.width;
+        regions["height"] = window.height;
+        const ScreenRect& scene = m_layout.scene;
+        regions["scene"] = {scene.x, scene.y, scene.right(), scene.bottom()};
+        const ScreenRect& column = m_layout.column;
+        regions["panel"] = column.width > 0 ? nlohmann::json{column.x, column.y, column.right(), column.bottom()}
+                                            : nlohmann::json(nullptr);
+        scene::writeFileAtomically(m_options.regions, regions.dump(2) + "\n");
     }
 }
 
@@ -467,7 +498,7 @@ void ViewerApp::drawFrame(bool last)
             m_panel.visible = m_controls.panelVisible;
             const PanelRequests requests =
                 m_panel.draw(*m_snapshot, *m_simulation, m_controls.draw, m_controls.pickMode, m_controls.follow,
-                             m_stats, m_scalars, *m_renderer);
+                             m_stats, m_scalars, *m_renderer, m_layout.column);
             m_controls.panelVisible = m_panel.visible;
             if (requests.view)
             {
