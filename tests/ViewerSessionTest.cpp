@@ -297,7 +297,7 @@ TEST(PickSpring, AFarCursorLiftsTheSheetWithoutUpsettingEitherIntegrator)
 TEST(MassScalars, RegistryFindsReplacesAndNamesScalars)
 {
     MassScalarRegistry registry = standardMassScalars();
-    for (const char* name : {"speed", "strain", "temperature", "thickness"})
+    for (const char* name : {"speed", "strain", "temperature", "thickness", "thickness_ratio"})
     {
         ASSERT_TRUE(registry.find(name)) << name;
     }
@@ -306,9 +306,9 @@ TEST(MassScalars, RegistryFindsReplacesAndNamesScalars)
     registry.add({"stress", "Pa", "", [](const scene::Scene& s, std::vector<float>& values) {
                       values.assign(s.system().massCount(), 1.0f);
                   }});
-    EXPECT_EQ(registry.names(), "speed, strain, temperature, thickness, stress");
+    EXPECT_EQ(registry.names(), "speed, strain, temperature, thickness, thickness_ratio, stress");
     registry.add({"stress", "MPa", "", {}});
-    EXPECT_EQ(registry.all().size(), 5u);
+    EXPECT_EQ(registry.all().size(), 6u);
     EXPECT_EQ(registry.find("stress")->unit, "MPa");
 }
 
