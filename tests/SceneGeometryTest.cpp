@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
 #include <map>
 #include <tuple>
 
@@ -242,5 +243,43 @@ TEST(OverlayGeometry, ThePickSpringRunsFromThePickedMassToTheCursorsPoint)
     session.beginPick(mass, target);
     captureSnapshot(session, standardMassScalars(), "", &snapshot, snapshot);
     EXPECT_EQ(buildOverlays(snapshot, std::nullopt).lines.size(), overlays.lines.size());
+}
+} // namespace masse::viewer
+
+namespace masse::viewer
+{
+// Masses under a couple of pixels apart are thinned by powers of two, every layer alike, corners kept.
+TEST(MassThinning, KeepsEveryStridethRowAndColumnOfEachLayer)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::TRiMM;
+    spec.countX = 9;
+    spec.countZ = 7;
+    spec.layers = 2;
+    const Lattice lattice = buildLattice(spec);
+    const std::vector<std::uint32_t> half = massesAtStride(lattice, 2);
+    // Layer 0: 5 x 4 of its 9 x 7; layer 1: 4 x 3 of its 8 x 6.
+    EXPECT_EQ(half.size(), std::size_t(5 * 4 + 4 * 3));
+    EXPECT_EQ(half.front(), std::uint32_t(lattice.index(0, 0, 0)));
+    for (std::uint32_t mass : half)
+    {
+        EXPECT_EQ(lattice.coord[mass].row % 2, 0);
+        EXPECT_EQ(lattice.coord[mass].column % 2, 0);
+    }
+    EXPECT_TRUE(std::is_sorted(half.begin(), half.end()));
+    EXPECT_EQ(massesAtStride(lattice, 1).size(), lattice.massCount());
+
+    EXPECT_EQ(massStride(10), 1) << "far enough apart: every mass";
+    EXPECT_EQ(massStride(minMassSpacingPixels), 1);
+    EXPECT_EQ(massStride(2), 2);
+    EXPECT_EQ(massStride(1), 4);
+    EXPECT_EQ(massStride(0.7), 4);
+    EXPECT_EQ(massStride(0.01), maxMassStride) << "never coarser than the coarsest level kept";
+    for (Real pixels : {0.2, 0.5, 0.9, 1.3, 2.0})
+    {
+        const int stride = massStride(pixels);
+        EXPECT_GE(pixels * stride, minMassSpacingPixels);
+        EXPECT_LT(pixels * stride / 2, minMassSpacingPixels) << "the finest stride that is far enough apart";
+    }
 }
 } // namespace masse::viewer

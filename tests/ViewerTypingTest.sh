@@ -40,8 +40,9 @@ type_run() {
         exit 1
     fi
     sleep 1
-    # The scene-file field: the panel's first text field, below the run buttons (the panel sits at the top left).
-    xdotool mousemove --window "$window" 150 88 click 1
+    # The scene-file field: the panel's first text field, below the HUD's fixed-height region and the run buttons
+    # (the panel is docked in the right-hand column, 360 px wide in a 1024 px window).
+    xdotool mousemove --window "$window" 800 273 click 1
     sleep 0.3
     # Shifted characters first (the old abort came after a few of them), then select all and type over.
     xdotool type --delay "$delay" "Zz_Yy_"

@@ -14,6 +14,8 @@ namespace masse::viewer
 namespace
 {
 const ImVec4 errorColour(1.0f, 0.45f, 0.4f, 1.0f);
+/// Lines of text the HUD's region holds.
+constexpr float hudLines = 11;
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
 constexpr std::array<Structure, 4> structures{Structure::Square2D, Structure::SaMM, Structure::SLaMM, Structure::TRiMM};
@@ -93,7 +95,13 @@ PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simul
                      ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings |
                      ImGuiWindowFlags_NoBringToFrontOnFocus);
     ImGui::PushTextWrapPos(0.0f); // wrap at the column's edge
+    // The HUD in a region of fixed height (scrolling if it overflows), so the controls below stay where they are as
+    // lines come and go (events, notices) and a click aimed at a field lands on it.
+    ImGui::BeginChild("hud", ImVec2(0, ImGui::GetTextLineHeightWithSpacing() * hudLines), false);
+    ImGui::PushTextWrapPos(0.0f);
     drawHud(snapshot, stats, draw, renderer);
+    ImGui::PopTextWrapPos();
+    ImGui::EndChild();
     drawColourBar(snapshot, draw, scalars);
     ImGui::Separator();
     if (visible)
@@ -406,9 +414,14 @@ void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, cons
     if (draw.mode == DrawMode::MassesAndSprings && !renderer.springsShown())
     {
         ImGui::TextUnformatted("springs hidden while under 3 px apart: zoom in to see them");
+        if (renderer.massStride() > 1)
+        {
+            ImGui::Text("masses of every %d%s row and column shown (under 2.5 px apart)", renderer.massStride(),
+                        renderer.massStride() == 2 ? "nd" : "th");
+        }
     }
     const std::vector<scene::SceneEvent>& events = snapshot.events;
-    const std::size_t shown = std::min<std::size_t>(events.size(), 5);
+    const std::size_t shown = std::min<std::size_t>(events.size(), 3);
     for (std::size_t k = events.size() - shown; k < events.size(); ++k)
     {
         ImGui::Text("%8.3f s  %s %s", events[k].simTime, events[k].name.c_str(), events[k].object.c_str());

@@ -5,6 +5,7 @@
 
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -132,6 +133,7 @@ Renderer::~Renderer()
     }
     const GLuint buffers[] = {m_positions, m_colours, m_normals, m_springIndices, m_surfaceIndices};
     glDeleteBuffers(5, buffers);
+    glDeleteBuffers(GLsizei(m_coarseMassIndices.size()), m_coarseMassIndices.data());
     glDeleteVertexArrays(1, &m_sheetVao);
 }
 
@@ -146,24 +148,50 @@ void Renderer::rebuildTopology(const SheetTopology& topology)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_surfaceIndices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(surfaceTriangles.size() * sizeof(std::uint32_t)),
                  surfaceTriangles.data(), GL_STATIC_DRAW);
+    glDeleteBuffers(GLsizei(m_coarseMassIndices.size()), m_coarseMassIndices.data());
+    m_coarseMassIndices.assign(topology.coarseMasses.size(), 0);
+    m_coarseMassCounts.clear();
+    glGenBuffers(GLsizei(m_coarseMassIndices.size()), m_coarseMassIndices.data());
+    for (std::size_t k = 0; k < topology.coarseMasses.size(); ++k)
+    {
+        const std::vector<std::uint32_t>& masses = topology.coarseMasses[k];
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_coarseMassIndices[k]);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(masses.size() * sizeof(std::uint32_t)), masses.data(),
+                     GL_STATIC_DRAW);
+        m_coarseMassCounts.push_back(GLsizei(masses.size()));
+    }
     m_springIndexCount = GLsizei(springIndices.size());
     m_surfaceIndexCount = GLsizei(surfaceTriangles.size());
     m_spacing = topology.spacing;
 }
 
+namespace
+{
+/// Refills a buffer in place when its size is unchanged (a new snapshot of the same sheet): no new storage for the
+/// driver to allocate and fault in at every upload.
+void fillBuffer(GLuint buffer, const std::vector<float>& data, GLsizeiptr& allocated)
+{
+    const GLsizeiptr bytes = GLsizeiptr(data.size() * sizeof(float));
+    glBindBuffer(GL_ARRAY_BUFFER, buffer);
+    if (bytes == allocated)
+    {
+        glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, data.data());
+    }
+    else
+    {
+        glBufferData(GL_ARRAY_BUFFER, bytes, data.data(), GL_DYNAMIC_DRAW);
+        allocated = bytes;
+    }
+}
+} // namespace
+
 void Renderer::uploadSheet()
 {
-    glBindBuffer(GL_ARRAY_BUFFER, m_positions);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_sheet.positions.size() * sizeof(float)), m_sheet.positions.data(),
-                 GL_STREAM_DRAW);
-    glBindBuffer(GL_ARRAY_BUFFER, m_colours);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_sheet.colours.size() * sizeof(float)), m_sheet.colours.data(),
-                 GL_STREAM_DRAW);
+    fillBuffer(m_positions, m_sheet.positions, m_allocated[0]);
+    fillBuffer(m_colours, m_sheet.colours, m_allocated[1]);
     if (!m_sheet.normals.empty())
     {
-        glBindBuffer(GL_ARRAY_BUFFER, m_normals);
-        glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(m_sheet.normals.size() * sizeof(float)), m_sheet.normals.data(),
-                     GL_STREAM_DRAW);
+        fillBuffer(m_normals, m_sheet.normals, m_allocated[2]);
     }
 }
 
@@ -196,10 +224,29 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
             glDrawElements(GL_LINES, m_springIndexCount, GL_UNSIGNED_INT, nullptr);
             glEnableVertexAttribArray(colourAttribute);
         }
-        // Masses as round points about half a lattice spacing across on screen, within readable bounds.
-        glUniform1f(m_flat->uniform("pointSize"), float(std::clamp(Real(0.45) * spacingPixels, Real(2), Real(9))));
+        // Masses under a couple of pixels apart are thinned to every 2nd, 4th... row and column: the sheet reads the
+        // same, and drawing 130,000 points (each a quad made on this thread by Mesa's software rasteriser) was most of
+        // a 256x2x256 frame.
+        m_massStride = viewer::massStride(spacingPixels);
+        const std::size_t level = std::size_t(std::countr_zero(unsigned(m_massStride)));
+        const bool thinned = level > 0 && level <= m_coarseMassIndices.size();
+        if (!thinned)
+        {
+            m_massStride = 1;
+        }
+        // Masses as round points about half the spacing of those drawn across on screen, within readable bounds.
+        glUniform1f(m_flat->uniform("pointSize"),
+                    float(std::clamp(Real(0.45) * spacingPixels * m_massStride, Real(2), Real(9))));
         glUniform1i(m_flat->uniform("roundPoints"), 1);
-        glDrawArrays(GL_POINTS, 0, GLsizei(m_sheet.positions.size() / 3));
+        if (thinned)
+        {
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_coarseMassIndices[level - 1]);
+            glDrawElements(GL_POINTS, m_coarseMassCounts[level - 1], GL_UNSIGNED_INT, nullptr);
+        }
+        else
+        {
+            glDrawArrays(GL_POINTS, 0, GLsizei(m_sheet.positions.size() / 3));
+        }
     }
     else
     {

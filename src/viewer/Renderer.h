@@ -42,6 +42,8 @@ public:
     /// Whether the last frame drew the springs (in masses mode they are left out while they lie closer together
     /// on screen than a few pixels).
     bool springsShown() const { return m_springsShown; }
+    /// Every how many rows and columns the last masses-mode frame drew a mass (1: all of them).
+    int massStride() const { return m_massStride; }
 
 private:
     /// A vertex array over one interleaved buffer of GeometryVertex, refilled as needed.
@@ -67,12 +69,16 @@ private:
     GLuint m_normals = 0;
     GLuint m_springIndices = 0;
     GLuint m_surfaceIndices = 0;
+    std::vector<GLuint> m_coarseMassIndices; ///< one element buffer per stride 2, 4, ... (SheetTopology::coarseMasses)
+    std::vector<GLsizei> m_coarseMassCounts;
+    GLsizeiptr m_allocated[3] = {-1, -1, -1}; ///< bytes of storage of m_positions, m_colours, m_normals
     GLsizei m_springIndexCount = 0;
     GLsizei m_surfaceIndexCount = 0;
     std::shared_ptr<const SheetTopology> m_topology;
     Real m_spacing = 0; ///< m, the lattice's smallest spacing (sizes the mass points)
     SheetArrays m_sheet;
     bool m_springsShown = true;
+    int m_massStride = 1;
 
     // What the uploaded buffers were made from: a frame with the same snapshot and settings uploads nothing.
     const SceneSnapshot* m_uploadedSnapshot = nullptr;

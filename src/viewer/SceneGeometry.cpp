@@ -186,6 +186,30 @@ std::vector<std::uint32_t> sheetSurfaceTriangles(const Lattice& lattice)
     return out;
 }
 
+std::vector<std::uint32_t> massesAtStride(const Lattice& lattice, int stride)
+{
+    std::vector<std::uint32_t> out;
+    for (std::size_t i = 0; i < lattice.coord.size(); ++i)
+    {
+        const LatticeCoord& c = lattice.coord[i];
+        if (c.row % stride == 0 && c.column % stride == 0)
+        {
+            out.push_back(std::uint32_t(i));
+        }
+    }
+    return out;
+}
+
+int massStride(Real spacingPixels)
+{
+    int stride = 1;
+    while (stride < maxMassStride && spacingPixels * stride < minMassSpacingPixels)
+    {
+        stride *= 2;
+    }
+    return stride;
+}
+
 void vertexNormals(const std::vector<Vec3>& positions, const std::vector<std::uint32_t>& triangles,
                    std::vector<float>& out)
 {

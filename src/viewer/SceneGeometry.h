@@ -45,6 +45,20 @@ struct DrawSettings
 /// one-layer sheet is its single surface.
 std::vector<std::uint32_t> sheetSurfaceTriangles(const Lattice& lattice);
 
+/// The masses on every `stride`-th row and column of each layer (row and column multiples of the stride), in mass
+/// order: a sheet drawn with these reads the same as with all of its masses once they are under a couple of pixels
+/// apart on screen, at a fraction of the cost (Mesa's software rasteriser turns each point into a quad on the
+/// drawing thread).
+std::vector<std::uint32_t> massesAtStride(const Lattice& lattice, int stride);
+
+/// The coarsest stride kept, and the on-screen spacing (px) masses mode keeps between the masses it draws.
+inline constexpr int maxMassStride = 16;
+inline constexpr Real minMassSpacingPixels = 2.5;
+
+/// The power of two (1 .. maxMassStride) by which to thin masses `spacingPixels` apart on screen so the ones drawn
+/// are at least minMassSpacingPixels apart.
+int massStride(Real spacingPixels);
+
 /// One vertex of the room, obstacles, heaters and overlays: position, colour, normal (zero for lines and points).
 struct GeometryVertex
 {

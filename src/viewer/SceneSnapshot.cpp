@@ -23,6 +23,10 @@ std::shared_ptr<const SheetTopology> buildTopology(const scene::Scene& scene)
     topology->surfaceTriangles = sheetSurfaceTriangles(lattice);
     topology->spacing = std::min(lattice.spacingX, lattice.spacingZ);
     topology->layers = lattice.spec.layers;
+    for (int stride = 2; stride <= maxMassStride; stride *= 2)
+    {
+        topology->coarseMasses.push_back(massesAtStride(lattice, stride));
+    }
     return topology;
 }
 

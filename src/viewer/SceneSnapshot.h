@@ -21,6 +21,9 @@ struct SheetTopology
     std::vector<std::uint32_t> surfaceTriangles; ///< the closed outer surface (sheetSurfaceTriangles)
     Real spacing = 0;                            ///< m, the lattice's smallest spacing
     int layers = 1;
+    /// Masses every 2^k rows and columns of every layer, k = 1, 2, ... (massesAtStride): what masses mode draws of a
+    /// sheet whose masses lie closer together on screen than a couple of pixels.
+    std::vector<std::vector<std::uint32_t>> coarseMasses;
 };
 
 /// An obstacle where it is now, as the renderer and the screen regions need it.
