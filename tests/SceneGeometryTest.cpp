@@ -35,25 +35,27 @@ bool hasColour(const GeometryVertex& v, const Rgb& c)
 }
 } // namespace
 
-class SheetSurface : public ::testing::TestWithParam<std::tuple<Structure, int>>
+class SheetSurface : public ::testing::TestWithParam<std::tuple<Structure, int, int>>
 {
 };
 
 // A closed, consistently wound surface: every edge is used exactly once in each direction (two triangles, wound
 // against each other), and its signed volume is positive (the windings face outward). Two open surfaces a layer
-// spacing apart fail both: their rims' edges are used once only.
+// spacing apart fail both: their rims' edges are used once only. The same holds of the coarse surfaces drawn for a
+// sheet whose masses lie under a couple of pixels apart (stride 2 and 4).
 TEST_P(SheetSurface, IsOneClosedSurfaceWoundOutward)
 {
-    const auto [structure, layers] = GetParam();
+    const auto [structure, layers, stride] = GetParam();
     LatticeSpec spec;
     spec.structure = structure;
-    spec.countX = 6;
-    spec.countZ = 5;
+    spec.countX = 10;
+    spec.countZ = 7;
     spec.layers = layers;
     spec.minCorner = Vec3(0, 0, 0);
-    spec.maxCorner = Vec3(0.5, 0.03 * (layers - 1), 0.4);
+    spec.maxCorner = Vec3(0.9, 0.03 * (layers - 1), 0.6);
     const Lattice lattice = buildLattice(spec);
-    const std::vector<std::uint32_t> triangles = sheetSurfaceTriangles(lattice);
+    const std::vector<std::uint32_t> triangles =
+        stride == 1 ? sheetSurfaceTriangles(lattice) : coarseSurfaceTriangles(lattice, stride);
     ASSERT_EQ(triangles.size() % 3, 0u);
 
     std::map<std::pair<std::uint32_t, std::uint32_t>, int> directedEdges;
@@ -83,8 +85,8 @@ TEST_P(SheetSurface, IsOneClosedSurfaceWoundOutward)
     // The sheet tapers by half a spacing a side and layer: its volume is below the bottom layer's footprint times
     // the thickness, and well above a quarter of that.
     const Real thickness = 0.03 * (layers - 1);
-    EXPECT_GT(volume, 0.25 * 0.5 * 0.4 * thickness) << "wound inward, or not closed";
-    EXPECT_LT(volume, 0.5 * 0.4 * thickness * 1.0001);
+    EXPECT_GT(volume, 0.25 * 0.9 * 0.6 * thickness) << "wound inward, or not closed";
+    EXPECT_LT(volume, 0.9 * 0.6 * thickness * 1.0001);
 
     // No inner layer's face: every mass of a middle layer used is on its rim.
     for (std::uint32_t mass : triangles)
@@ -97,11 +99,15 @@ TEST_P(SheetSurface, IsOneClosedSurfaceWoundOutward)
             EXPECT_TRUE(rim) << "mass " << mass << " inside layer " << coord.layer;
         }
     }
+    if (stride > 1)
+    {
+        EXPECT_LT(triangles.size(), sheetSurfaceTriangles(lattice).size() / 2) << "coarse means fewer triangles";
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(StructuresAndLayers, SheetSurface,
                          ::testing::Combine(::testing::Values(Structure::SaMM, Structure::SLaMM, Structure::TRiMM),
-                                            ::testing::Values(2, 3)));
+                                            ::testing::Values(2, 3), ::testing::Values(1, 2, 4)));
 
 TEST(SheetSurfaceSingleLayer, IsTheLayersOwnTriangles)
 {

@@ -414,11 +414,11 @@ void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, cons
     if (draw.mode == DrawMode::MassesAndSprings && !renderer.springsShown())
     {
         ImGui::TextUnformatted("springs hidden while under 3 px apart: zoom in to see them");
-        if (renderer.massStride() > 1)
-        {
-            ImGui::Text("masses of every %d%s row and column shown (under 2.5 px apart)", renderer.massStride(),
-                        renderer.massStride() == 2 ? "nd" : "th");
-        }
+    }
+    if (renderer.massStride() > 1)
+    {
+        ImGui::Text("sheet drawn through every %d%s row and column (masses under 2.5 px apart)", renderer.massStride(),
+                    renderer.massStride() == 2 ? "nd" : "th");
     }
     const std::vector<scene::SceneEvent>& events = snapshot.events;
     const std::size_t shown = std::min<std::size_t>(events.size(), 3);

@@ -134,6 +134,7 @@ Renderer::~Renderer()
     const GLuint buffers[] = {m_positions, m_colours, m_normals, m_springIndices, m_surfaceIndices};
     glDeleteBuffers(5, buffers);
     glDeleteBuffers(GLsizei(m_coarseMassIndices.size()), m_coarseMassIndices.data());
+    glDeleteBuffers(GLsizei(m_coarseSurfaceIndices.size()), m_coarseSurfaceIndices.data());
     glDeleteVertexArrays(1, &m_sheetVao);
 }
 
@@ -148,18 +149,23 @@ void Renderer::rebuildTopology(const SheetTopology& topology)
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_surfaceIndices);
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(surfaceTriangles.size() * sizeof(std::uint32_t)),
                  surfaceTriangles.data(), GL_STATIC_DRAW);
-    glDeleteBuffers(GLsizei(m_coarseMassIndices.size()), m_coarseMassIndices.data());
-    m_coarseMassIndices.assign(topology.coarseMasses.size(), 0);
-    m_coarseMassCounts.clear();
-    glGenBuffers(GLsizei(m_coarseMassIndices.size()), m_coarseMassIndices.data());
-    for (std::size_t k = 0; k < topology.coarseMasses.size(); ++k)
+    auto fillLevels = [](const std::vector<std::vector<std::uint32_t>>& levels, std::vector<GLuint>& buffers,
+                         std::vector<GLsizei>& counts)
     {
-        const std::vector<std::uint32_t>& masses = topology.coarseMasses[k];
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_coarseMassIndices[k]);
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(masses.size() * sizeof(std::uint32_t)), masses.data(),
-                     GL_STATIC_DRAW);
-        m_coarseMassCounts.push_back(GLsizei(masses.size()));
-    }
+        glDeleteBuffers(GLsizei(buffers.size()), buffers.data());
+        buffers.assign(levels.size(), 0);
+        counts.clear();
+        glGenBuffers(GLsizei(buffers.size()), buffers.data());
+        for (std::size_t k = 0; k < levels.size(); ++k)
+        {
+            glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[k]);
+            glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(levels[k].size() * sizeof(std::uint32_t)),
+                         levels[k].data(), GL_STATIC_DRAW);
+            counts.push_back(GLsizei(levels[k].size()));
+        }
+    };
+    fillLevels(topology.coarseMasses, m_coarseMassIndices, m_coarseMassCounts);
+    fillLevels(topology.coarseSurfaces, m_coarseSurfaceIndices, m_coarseSurfaceCounts);
     m_springIndexCount = GLsizei(springIndices.size());
     m_surfaceIndexCount = GLsizei(surfaceTriangles.size());
     m_spacing = topology.spacing;
@@ -206,11 +212,21 @@ void Renderer::upload(VertexStream& stream, const std::vector<GeometryVertex>& v
 void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera, const Viewport& viewport)
 {
     glBindVertexArray(m_sheetVao);
+    const Real depth = std::max((m_sheet.centre - camera.eye()).norm(), camera.nearPlane());
+    const Real spacingPixels = m_spacing / (depth * camera.pixelSizeAtUnitDepth(viewport));
+    // Masses under a couple of pixels apart are thinned to every 2nd, 4th... row and column, in the surface modes as
+    // in masses mode: the sheet reads the same, and drawing 130,000 points (each a quad made on this thread by Mesa's
+    // software rasteriser) or 260,000 triangles was most of a 256x2x256 frame.
+    m_massStride = viewer::massStride(spacingPixels);
+    const std::size_t level = std::size_t(std::countr_zero(unsigned(m_massStride)));
+    const bool thinned = level > 0 && level <= m_coarseMassIndices.size() && level <= m_coarseSurfaceIndices.size();
+    if (!thinned)
+    {
+        m_massStride = 1;
+    }
     if (settings.mode == DrawMode::MassesAndSprings)
     {
         m_flat->use();
-        const Real depth = std::max((m_sheet.centre - camera.eye()).norm(), camera.nearPlane());
-        const Real spacingPixels = m_spacing / (depth * camera.pixelSizeAtUnitDepth(viewport));
         // Springs closer together on screen than a few pixels only fill the sheet with grey, and they are most of
         // a dense sheet's drawing cost; below that the masses alone show it.
         m_springsShown = spacingPixels >= minSpringSpacingPixels;
@@ -223,16 +239,6 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
             glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_springIndices);
             glDrawElements(GL_LINES, m_springIndexCount, GL_UNSIGNED_INT, nullptr);
             glEnableVertexAttribArray(colourAttribute);
-        }
-        // Masses under a couple of pixels apart are thinned to every 2nd, 4th... row and column: the sheet reads the
-        // same, and drawing 130,000 points (each a quad made on this thread by Mesa's software rasteriser) was most of
-        // a 256x2x256 frame.
-        m_massStride = viewer::massStride(spacingPixels);
-        const std::size_t level = std::size_t(std::countr_zero(unsigned(m_massStride)));
-        const bool thinned = level > 0 && level <= m_coarseMassIndices.size();
-        if (!thinned)
-        {
-            m_massStride = 1;
         }
         // Masses as round points about half the spacing of those drawn across on screen, within readable bounds.
         glUniform1f(m_flat->uniform("pointSize"),
@@ -251,8 +257,9 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     else
     {
         m_lit->use();
-        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, m_surfaceIndices);
-        glDrawElements(GL_TRIANGLES, m_surfaceIndexCount, GL_UNSIGNED_INT, nullptr);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, thinned ? m_coarseSurfaceIndices[level - 1] : m_surfaceIndices);
+        glDrawElements(GL_TRIANGLES, thinned ? m_coarseSurfaceCounts[level - 1] : m_surfaceIndexCount,
+                       GL_UNSIGNED_INT, nullptr);
     }
     glBindVertexArray(0);
 }

@@ -42,7 +42,7 @@ public:
     /// Whether the last frame drew the springs (in masses mode they are left out while they lie closer together
     /// on screen than a few pixels).
     bool springsShown() const { return m_springsShown; }
-    /// Every how many rows and columns the last masses-mode frame drew a mass (1: all of them).
+    /// Every how many rows and columns the last frame drew the sheet's masses or surface (1: all of them).
     int massStride() const { return m_massStride; }
 
 private:
@@ -71,6 +71,8 @@ private:
     GLuint m_surfaceIndices = 0;
     std::vector<GLuint> m_coarseMassIndices; ///< one element buffer per stride 2, 4, ... (SheetTopology::coarseMasses)
     std::vector<GLsizei> m_coarseMassCounts;
+    std::vector<GLuint> m_coarseSurfaceIndices; ///< SheetTopology::coarseSurfaces
+    std::vector<GLsizei> m_coarseSurfaceCounts;
     GLsizeiptr m_allocated[3] = {-1, -1, -1}; ///< bytes of storage of m_positions, m_colours, m_normals
     GLsizei m_springIndexCount = 0;
     GLsizei m_surfaceIndexCount = 0;

@@ -186,6 +186,129 @@ std::vector<std::uint32_t> sheetSurfaceTriangles(const Lattice& lattice)
     return out;
 }
 
+namespace
+{
+/// 0, stride, 2 stride ... and the last of count.
+std::vector<int> strideLines(int count, int stride)
+{
+    std::vector<int> lines;
+    for (int k = 0; k < count; k += stride)
+    {
+        lines.push_back(k);
+    }
+    if (lines.back() != count - 1)
+    {
+        lines.push_back(count - 1);
+    }
+    return lines;
+}
+
+/// A layer's rim at the stride: its four sides, each from corner to corner.
+std::array<std::vector<Index>, 4> coarseSides(const Lattice& lattice, int layer, int stride)
+{
+    const int nx = lattice.layerCountX(layer);
+    const int nz = lattice.layerCountZ(layer);
+    const std::vector<int> columns = strideLines(nx, stride);
+    const std::vector<int> rows = strideLines(nz, stride);
+    std::array<std::vector<Index>, 4> sides;
+    for (std::size_t k = 0; k < columns.size(); ++k)
+    {
+        sides[0].push_back(lattice.index(layer, 0, columns[k]));
+        sides[2].push_back(lattice.index(layer, nz - 1, columns[columns.size() - 1 - k]));
+    }
+    for (std::size_t k = 0; k < rows.size(); ++k)
+    {
+        sides[1].push_back(lattice.index(layer, rows[k], nx - 1));
+        sides[3].push_back(lattice.index(layer, rows[rows.size() - 1 - k], 0));
+    }
+    return sides;
+}
+} // namespace
+
+std::vector<std::uint32_t> coarseSurfaceTriangles(const Lattice& lattice, int stride)
+{
+    if (stride <= 1)
+    {
+        return sheetSurfaceTriangles(lattice);
+    }
+    std::vector<std::uint32_t> out;
+    const int layers = lattice.spec.layers;
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& p : lattice.position)
+    {
+        centre += p;
+    }
+    centre /= Real(std::max<std::size_t>(1, lattice.position.size()));
+    // Wound so the normal points along `outward` at rest.
+    auto addFacing = [&](Index a, Index b, Index c, const Vec3& outward)
+    {
+        const Vec3& pa = lattice.position[a];
+        const Vec3 normal = (lattice.position[b] - pa).cross(lattice.position[c] - pa);
+        const bool flip = normal.dot(outward) < 0;
+        out.push_back(std::uint32_t(a));
+        out.push_back(std::uint32_t(flip ? c : b));
+        out.push_back(std::uint32_t(flip ? b : c));
+    };
+    std::vector<int> surfaceLayers{0};
+    if (layers > 1)
+    {
+        surfaceLayers.push_back(layers - 1);
+    }
+    for (int layer : surfaceLayers)
+    {
+        const Vec3 facing = layers > 1 && layer == 0 ? Vec3(0, -1, 0) : Vec3(0, 1, 0);
+        const std::vector<int> columns = strideLines(lattice.layerCountX(layer), stride);
+        const std::vector<int> rows = strideLines(lattice.layerCountZ(layer), stride);
+        for (std::size_t r = 0; r + 1 < rows.size(); ++r)
+        {
+            for (std::size_t c = 0; c + 1 < columns.size(); ++c)
+            {
+                const Index a = lattice.index(layer, rows[r], columns[c]);
+                const Index b = lattice.index(layer, rows[r], columns[c + 1]);
+                const Index d = lattice.index(layer, rows[r + 1], columns[c]);
+                const Index e = lattice.index(layer, rows[r + 1], columns[c + 1]);
+                addFacing(a, b, e, facing);
+                addFacing(a, e, d, facing);
+            }
+        }
+    }
+    if (layers == 1)
+    {
+        return out;
+    }
+    // Sides: each side of the bottom rim zipped to the same side of the top rim, advancing along whichever is behind
+    // (by its fraction of the way along the side); corners are shared by neighbouring sides, so the strips close.
+    const auto lower = coarseSides(lattice, 0, stride);
+    const auto upper = coarseSides(lattice, layers - 1, stride);
+    for (std::size_t side = 0; side < 4; ++side)
+    {
+        const std::vector<Index>& b = lower[side];
+        const std::vector<Index>& t = upper[side];
+        std::size_t i = 0;
+        std::size_t j = 0;
+        while (i + 1 < b.size() || j + 1 < t.size())
+        {
+            const Real nextB = i + 1 < b.size() ? Real(i + 1) / Real(b.size() - 1) : Real(2);
+            const Real nextT = j + 1 < t.size() ? Real(j + 1) / Real(t.size() - 1) : Real(2);
+            Index a = b[i];
+            Index c = t[j];
+            Index next = 0;
+            if (nextB <= nextT)
+            {
+                next = b[++i];
+            }
+            else
+            {
+                next = t[++j];
+            }
+            Vec3 outward = (lattice.position[a] + lattice.position[c] + lattice.position[next]) / 3 - centre;
+            outward.y() = 0;
+            addFacing(a, next, c, outward);
+        }
+    }
+    return out;
+}
+
 std::vector<std::uint32_t> massesAtStride(const Lattice& lattice, int stride)
 {
     std::vector<std::uint32_t> out;

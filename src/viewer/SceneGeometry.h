@@ -45,6 +45,11 @@ struct DrawSettings
 /// one-layer sheet is its single surface.
 std::vector<std::uint32_t> sheetSurfaceTriangles(const Lattice& lattice);
 
+/// The same closed surface over the masses of every `stride`-th row and column (and the last ones, so the sheet keeps
+/// its extent), for a sheet whose masses lie under a couple of pixels apart on screen: the bottom and top layers as
+/// coarse grids, the sides zipped from the bottom layer's rim to the top layer's. stride 1 is sheetSurfaceTriangles.
+std::vector<std::uint32_t> coarseSurfaceTriangles(const Lattice& lattice, int stride);
+
 /// The masses on every `stride`-th row and column of each layer (row and column multiples of the stride), in mass
 /// order: a sheet drawn with these reads the same as with all of its masses once they are under a couple of pixels
 /// apart on screen, at a fraction of the cost (Mesa's software rasteriser turns each point into a quad on the

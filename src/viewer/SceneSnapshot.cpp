@@ -26,6 +26,7 @@ std::shared_ptr<const SheetTopology> buildTopology(const scene::Scene& scene)
     for (int stride = 2; stride <= maxMassStride; stride *= 2)
     {
         topology->coarseMasses.push_back(massesAtStride(lattice, stride));
+        topology->coarseSurfaces.push_back(coarseSurfaceTriangles(lattice, stride));
     }
     return topology;
 }

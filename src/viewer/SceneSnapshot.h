@@ -24,6 +24,8 @@ struct SheetTopology
     /// Masses every 2^k rows and columns of every layer, k = 1, 2, ... (massesAtStride): what masses mode draws of a
     /// sheet whose masses lie closer together on screen than a couple of pixels.
     std::vector<std::vector<std::uint32_t>> coarseMasses;
+    /// The closed surface at the same strides (coarseSurfaceTriangles), for the surface modes.
+    std::vector<std::vector<std::uint32_t>> coarseSurfaces;
 };
 
 /// An obstacle where it is now, as the renderer and the screen regions need it.
