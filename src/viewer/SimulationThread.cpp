@@ -126,6 +126,16 @@ void SimulationThread::run()
         {
             command(m_session);
         }
+        if (!commands.empty())
+        {
+            // What the commands did (a pick taken, a scene loaded) is published before the next step, not after it:
+            // on a large sheet a step takes a good part of a second.
+            {
+                std::lock_guard lock(m_mutex);
+                m_applied = ticket;
+            }
+            publish();
+        }
         const Clock::time_point now = Clock::now();
         const Real wall = std::chrono::duration<Real>(now - last).count();
         last = now;
@@ -142,11 +152,7 @@ void SimulationThread::run()
         m_steps += std::uint64_t(advance.steps);
         m_stepSeconds += advance.stepSeconds;
         m_behind = advance.behind;
-        {
-            std::lock_guard lock(m_mutex);
-            m_applied = ticket;
-        }
-        if (!commands.empty() || advance.steps > 0)
+        if (advance.steps > 0)
         {
             publish();
         }
