@@ -1,11 +1,11 @@
 // The window's layout without a window: the side column beside the scene's view, the camera framing the sheet in the
 // view's own rectangle, and the colour bar's labels and units for every scalar the viewer can paint.
 
+#include "viewer/ScreenLayout.h"
 #include "viewer/ColourBar.h"
 #include "viewer/Controls.h"
-#include "viewer/ScreenLayout.h"
-#include "viewer/ScreenRegions.h"
 #include "viewer/SceneSnapshot.h"
+#include "viewer/ScreenRegions.h"
 
 #include "scene/SceneFile.h"
 

@@ -40,9 +40,9 @@ TEST(ViewerDependency, SceneAndBridgeKnowNothingOfGraphics)
 TEST(ViewerDependency, ViewerModelFilesKnowNothingOfGraphics)
 {
     const std::filesystem::path viewer = std::filesystem::path(MASSE_SOURCE_DIR) / "src" / "viewer";
-    for (const char* stem : {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "DrawPacer",
-                             "MassScalars", "ScreenRegions", "ViewerSession", "SceneSnapshot", "SceneGeometry",
-                             "Controls", "ScreenLayout", "ColourBar"})
+    for (const char* stem :
+         {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "DrawPacer", "MassScalars", "ScreenRegions",
+          "ViewerSession", "SceneSnapshot", "SceneGeometry", "Controls", "ScreenLayout", "ColourBar"})
     {
         for (const char* extension : {".h", ".cpp"})
         {

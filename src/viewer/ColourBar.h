@@ -14,9 +14,9 @@ namespace masse::viewer
 {
 struct ColourBar
 {
-    std::string title;     ///< the scalar and its unit, e.g. "speed (m/s)"
-    std::string lowLabel;  ///< the value at the bar's left end, with its unit
-    std::string highLabel; ///< at its right end
+    std::string title;      ///< the scalar and its unit, e.g. "speed (m/s)"
+    std::string lowLabel;   ///< the value at the bar's left end, with its unit
+    std::string highLabel;  ///< at its right end
     std::vector<Rgb> stops; ///< evenly spaced colours from low to high (empty when the scalar is missing)
     std::string note;       ///< why there is no bar ("" when there is one)
 };

@@ -25,8 +25,8 @@ inline constexpr Rgb spring{0.80f, 0.80f, 0.86f};
 inline constexpr Rgb pick{1, 0.85f, 0.1f};            ///< the picked mass and the mouse's spring
 inline constexpr Rgb scriptedGrab{0.2f, 0.9f, 0.95f}; ///< a scene script's grab
 inline constexpr Rgb missingScalar{0.55f, 0.55f, 0.55f}; ///< a scalar the scene does not have
-inline constexpr Rgb heaterOn{1, 0.47f, 0.12f};    ///< a radiant heater switched on: glowing orange
-inline constexpr Rgb heaterOff{0.30f, 0.28f, 0.27f}; ///< switched off: dark, but lit well above the touched black
+inline constexpr Rgb heaterOn{1, 0.47f, 0.12f};          ///< a radiant heater switched on: glowing orange
+inline constexpr Rgb heaterOff{0.30f, 0.28f, 0.27f};     ///< switched off: dark, but lit well above the touched black
 inline constexpr Rgb heaterOutline{0.95f, 0.85f, 0.55f};
 inline constexpr Rgb hotAirZone{0.95f, 0.55f, 0.70f}; ///< the outline of a hot-air zone's box
 /// Bullet's twin of the sheet (--compare): pale violet links and nodes, its nodes in contact a paler green.

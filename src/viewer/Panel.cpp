@@ -364,7 +364,8 @@ void Panel::drawColourBar(const SceneSnapshot& snapshot, const DrawSettings& dra
     }
     ImGui::Dummy(ImVec2(width, height));
     ImGui::TextUnformatted(bar.lowLabel.c_str());
-    ImGui::SameLine(std::max(0.0f, ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize(bar.highLabel.c_str()).x));
+    ImGui::SameLine(
+        std::max(0.0f, ImGui::GetWindowContentRegionMax().x - ImGui::CalcTextSize(bar.highLabel.c_str()).x));
     ImGui::TextUnformatted(bar.highLabel.c_str());
 }
 

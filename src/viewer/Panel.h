@@ -6,8 +6,8 @@
 #include "Camera.h"
 #include "MassScalars.h"
 #include "Renderer.h"
-#include "ScreenLayout.h"
 #include "SceneSnapshot.h"
+#include "ScreenLayout.h"
 #include "SimulationThread.h"
 
 #include <optional>

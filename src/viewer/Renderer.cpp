@@ -3,7 +3,6 @@
 #include "Palette.h"
 #include "ScreenRegions.h"
 
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -258,8 +257,8 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     {
         m_lit->use();
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, thinned ? m_coarseSurfaceIndices[level - 1] : m_surfaceIndices);
-        glDrawElements(GL_TRIANGLES, thinned ? m_coarseSurfaceCounts[level - 1] : m_surfaceIndexCount,
-                       GL_UNSIGNED_INT, nullptr);
+        glDrawElements(GL_TRIANGLES, thinned ? m_coarseSurfaceCounts[level - 1] : m_surfaceIndexCount, GL_UNSIGNED_INT,
+                       nullptr);
     }
     glBindVertexArray(0);
 }

@@ -3,7 +3,6 @@
 #include "SceneGeometry.h"
 #include "ScreenRegions.h"
 
-
 #include <algorithm>
 
 namespace masse::viewer
