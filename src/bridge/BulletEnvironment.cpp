@@ -1,8 +1,10 @@
 #include "BulletEnvironment.h"
 
 #include "BulletMath.h"
+#include "FacePlaneDistance.h"
 
 #include "core/InputError.h"
+#include "core/TaskPool.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -265,6 +267,22 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     const Eigen::Quaternion<Real> toLocal = obstacle.pose.orientation.conjugate();
     if (obstacle.geometry.convex)
     {
+        // Near a face, its plane gives the nearest point exactly and far faster than GJK; near an edge or a vertex,
+        // GJK (with EPA for overlap) between the sphere and the hull.
+        const std::optional<FacePlaneDistance> nearFace =
+            facePlaneDistance(obstacle.geometry, toLocal * (centre - obstacle.pose.position));
+        if (nearFace)
+        {
+            const Real distance = nearFace->distance - radius;
+            if (distance <= searchDistance)
+            {
+                const Vec3 localNormal = obstacle.geometry.faces[std::size_t(nearFace->face)].normal;
+                const int face = obstacle.geometry.faceAt(nearFace->point, localNormal);
+                out.push_back({distance, obstacle.pose.orientation * localNormal,
+                               obstacle.pose.orientation * nearFace->point + obstacle.pose.position, face});
+            }
+            return;
+        }
         const auto& shape = static_cast<const btConvexShape&>(*obstacle.geometry.shape);
         const std::optional<Gjk> closest = sphereConvex(shape, transform, centre, radius);
         if (closest && closest->distance <= searchDistance)
@@ -309,33 +327,54 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
 void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
                                      std::vector<ContactPlane>& out)
 {
-    std::vector<int> near;
-    std::vector<Closest> features;
-    const Real obstacleTravel = m_fastestKinematic * dt;
-    for (std::size_t i = 0; i < x.size(); ++i)
+    // The surface's mean velocity over the frame, so a path that starts or stops within it is followed.
+    m_frameMotion.assign(m_obstacles.size(), Motion{});
+    for (std::size_t index = 0; index < m_obstacles.size(); ++index)
     {
-        const Real searchDistance = reach[i] + obstacleTravel;
-        const Vec3 extent = Vec3::Constant(searchDistance + radius);
-        candidates(x[i] - extent, x[i] + extent, near);
-        for (int index : near)
+        const ObstacleSpec& spec = m_obstacles[index]->spec;
+        if (spec.isKinematic() && dt > 0)
         {
-            closestFeatures(index, x[i], radius, searchDistance, features);
-            const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-            // The surface's mean velocity over the frame, so a path that starts or stops within it is followed.
-            const Motion motion =
-                obstacle.spec.isKinematic() && dt > 0 ? averageMotion(obstacle.spec, m_time, m_time + dt) : Motion{};
-            for (const Closest& feature : features)
+            m_frameMotion[index] = averageMotion(spec, m_time, m_time + dt);
+        }
+    }
+    // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk, GJK and
+    // EPA on shapes made per query), so chunks of masses run on all threads, each into its own list. Joined in
+    // chunk order, the planes come out in mass order whatever the thread count.
+    const Real obstacleTravel = m_fastestKinematic * dt;
+    const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
+    m_chunkPlanes.resize(std::max(m_chunkPlanes.size(), chunks));
+    parallelFor(x.size(), detectionChunkSize, [&](std::size_t begin, std::size_t end) {
+        std::vector<ContactPlane>& planes = m_chunkPlanes[begin / detectionChunkSize];
+        planes.clear();
+        std::vector<int> near;
+        std::vector<Closest> features;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            const Real searchDistance = reach[i] + obstacleTravel;
+            const Vec3 extent = Vec3::Constant(searchDistance + radius);
+            candidates(x[i] - extent, x[i] + extent, near);
+            for (int index : near)
             {
-                ContactPlane plane;
-                plane.mass = Index(i);
-                plane.obstacle = index;
-                plane.face = feature.face;
-                plane.normal = feature.normal;
-                plane.offset = feature.normal.dot(feature.point);
-                plane.velocity = motion.at(feature.point, obstacle.pose.position);
-                out.push_back(plane);
+                closestFeatures(index, x[i], radius, searchDistance, features);
+                const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+                const Motion& motion = m_frameMotion[std::size_t(index)];
+                for (const Closest& feature : features)
+                {
+                    ContactPlane plane;
+                    plane.mass = Index(i);
+                    plane.obstacle = index;
+                    plane.face = feature.face;
+                    plane.normal = feature.normal;
+                    plane.offset = feature.normal.dot(feature.point);
+                    plane.velocity = motion.at(feature.point, obstacle.pose.position);
+                    planes.push_back(plane);
+                }
             }
         }
+    });
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk)
+    {
+        out.insert(out.end(), m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end());
     }
 }
 

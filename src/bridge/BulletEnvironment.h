@@ -25,6 +25,10 @@ class btCollisionWorld;
 
 namespace masse::bridge
 {
+/// Masses per chunk of contact detection: small, because the work gathers where the sheet meets an obstacle, and
+/// small chunks let the threads share that part evenly.
+inline constexpr std::size_t detectionChunkSize = 512;
+
 struct Obstacle
 {
     ObstacleSpec spec;
@@ -87,5 +91,7 @@ private:
     std::vector<std::unique_ptr<Obstacle>> m_obstacles;
     Real m_time = 0;
     Real m_fastestKinematic = 0; ///< m/s, the fastest any kinematic obstacle's point moves now
+    std::vector<Motion> m_frameMotion;                  ///< per obstacle, its mean motion over the frame being detected
+    std::vector<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
 };
 } // namespace masse::bridge
