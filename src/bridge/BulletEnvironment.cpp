@@ -198,8 +198,16 @@ int BulletEnvironment::addObstacle(const ObstacleSpec& spec, bool partOfRoom)
     // Static filter group, masked against other static objects: Bullet's encoding of the paper's game rule.
     m_world->addCollisionObject(obstacle->object.get(), btBroadphaseProxy::StaticFilter,
                                 btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+    recordBroadphaseBox(*obstacle);
     m_obstacles.push_back(std::move(obstacle));
     return int(m_obstacles.size()) - 1;
+}
+
+void BulletEnvironment::recordBroadphaseBox(Obstacle& obstacle)
+{
+    const btBroadphaseProxy* proxy = obstacle.object->getBroadphaseHandle();
+    obstacle.broadphaseMin = toVec3(proxy->m_aabbMin);
+    obstacle.broadphaseMax = toVec3(proxy->m_aabbMax);
 }
 
 void BulletEnvironment::addRoom(const RoomSpec& room)
@@ -243,6 +251,7 @@ void BulletEnvironment::setTime(Real time)
         obstacle->motion = motionAt(obstacle->spec, time);
         obstacle->object->setWorldTransform(toBullet(obstacle->pose.position, obstacle->pose.orientation));
         m_world->updateSingleAabb(obstacle->object.get());
+        recordBroadphaseBox(*obstacle);
         m_fastestKinematic =
             std::max(m_fastestKinematic,
                      obstacle->motion.linear.norm() + obstacle->motion.angular.norm() * obstacle->boundingRadius);
@@ -346,17 +355,39 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     parallelFor(x.size(), detectionChunkSize, [&](std::size_t begin, std::size_t end) {
         std::vector<ContactPlane>& planes = m_chunkPlanes[begin / detectionChunkSize];
         planes.clear();
+        // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it found
+        // against its own box. An obstacle left out there cannot give a plane: a plane needs the mass within its
+        // search distance of the surface, hence its box to meet the obstacle's.
+        Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
+        Vec3 hi = -lo;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            const Vec3 extent = Vec3::Constant(reach[i] + obstacleTravel + radius);
+            lo = lo.cwiseMin(x[i] - extent);
+            hi = hi.cwiseMax(x[i] + extent);
+        }
         std::vector<int> near;
+        candidates(lo, hi, near);
+        if (near.empty())
+        {
+            return;
+        }
         std::vector<Closest> features;
         for (std::size_t i = begin; i < end; ++i)
         {
             const Real searchDistance = reach[i] + obstacleTravel;
             const Vec3 extent = Vec3::Constant(searchDistance + radius);
-            candidates(x[i] - extent, x[i] + extent, near);
+            const Vec3 massLo = x[i] - extent;
+            const Vec3 massHi = x[i] + extent;
             for (int index : near)
             {
-                closestFeatures(index, x[i], radius, searchDistance, features);
                 const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+                if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
+                    (massHi.array() < obstacle.broadphaseMin.array()).any())
+                {
+                    continue;
+                }
+                closestFeatures(index, x[i], radius, searchDistance, features);
                 const Motion& motion = m_frameMotion[std::size_t(index)];
                 for (const Closest& feature : features)
                 {
@@ -372,10 +403,16 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
             }
         }
     });
+    // Joined in chunk order, each chunk copied to its place in parallel.
+    std::vector<std::size_t> start(chunks + 1, out.size());
     for (std::size_t chunk = 0; chunk < chunks; ++chunk)
     {
-        out.insert(out.end(), m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end());
+        start[chunk + 1] = start[chunk] + m_chunkPlanes[chunk].size();
     }
+    out.resize(start[chunks]);
+    parallelFor(chunks, 1, [&](std::size_t chunk, std::size_t) {
+        std::copy(m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end(), out.begin() + std::ptrdiff_t(start[chunk]));
+    });
 }
 
 std::optional<SweepHit> BulletEnvironment::sweep(const Vec3& from, const Vec3& to, Real radius)

@@ -38,6 +38,8 @@ struct Obstacle
     Pose pose;
     Motion motion;
     Real boundingRadius = 0; ///< m, of the local vertices about the local origin
+    Vec3 broadphaseMin = Vec3::Zero(); ///< the box Bullet's broadphase holds for it (world frame, with Bullet's margin)
+    Vec3 broadphaseMax = Vec3::Zero();
 };
 
 class BulletEnvironment final : public ContactDetector
@@ -81,6 +83,8 @@ private:
     /// normal) for a mesh, nearest first.
     void closestFeatures(int obstacle, const Vec3& centre, Real radius, Real searchDistance,
                          std::vector<Closest>& out) const;
+    /// Copies the obstacle's broadphase box (after it was added or moved).
+    static void recordBroadphaseBox(Obstacle& obstacle);
     /// Obstacles whose boxes overlap the box [lo, hi], in index order.
     void candidates(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const;
 
