@@ -29,6 +29,8 @@ std::optional<ScreenBox> screenBox(const OrbitCamera& camera, const Viewport& vi
 
 /// {"width", "height", "sheet": [left, top, right, bottom] or null, "obstacles": [{"name", "box", "touched"}]} for the
 /// scene's polyhedra (not the room); "touched" is true when a mass touched one of its faces during the last step.
+/// The window's --regions file adds "scene" and "panel" (the view's and the side column's rectangles, the panel null
+/// without UI) and gives the whole window's "width" and "height".
 nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, const Viewport& viewport);
 
 /// Whether every point projects inside the viewport (nothing clipped at its edges, nothing behind the eye).
