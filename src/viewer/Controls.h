@@ -29,7 +29,7 @@ struct UiCapture
 class Controls
 {
 public:
-    Controls(ViewPreset startView, const DrawSettings& draw) : draw(draw), m_startView(startView) {}
+    Controls(ViewPreset startView, const DrawSettings& drawSettings) : draw(drawSettings), m_startView(startView) {}
 
     /// One event, after ImGui had it; `snapshot` is what the window shows now.
     void handle(const InputEvent& event, const UiCapture& ui, const SceneSnapshot& snapshot, const CommandSink& post);
