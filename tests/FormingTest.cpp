@@ -148,6 +148,18 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
         {"run", {{"duration", 2.4}, {"stop_at_rest", false}}},
     };
     Scene run(parseScene(scene, source + "/data/scenes", "cone test"));
+    // The law's sheet is held at the rim: the flange over the mould's top is clamped there. (Left free, it starts
+    // 0.5 mm above the top and is drawn over the rim into the cavity before it touches down and sticks: the flange
+    // thinned to 0.86-0.95 h0 and the 45-degree wall came out up to 56% thicker than the law.)
+    MassSpringSystem& system = run.system();
+    for (Index i = 0; i < system.massCount(); ++i)
+    {
+        if (radial(system.particles.position[i]) > r0)
+        {
+            system.particles.setPinned(i, true);
+        }
+    }
+    system.markChanged();
     int iterations = 0;
     while (!run.finished())
     {
@@ -223,10 +235,12 @@ TEST(Forming, ConeLawAt60Degrees)
     checkConeLaw(60, 40000.0);
 }
 
-// Disabled because it fails, a known open fault of the forming model (issue 13 stays open): at a half-angle of 45
-// degrees the simulated wall is too thick deep in the cone (about 0.64 h0 where the law gives 0.42; worst error 56%,
-// mean 8.2%, measured on the merged tree). The suspected cause: a mass that starts resting on the sticky rim slides
-// instead of sticking, so sheet is drawn over the rim into the cavity. Run it with --gtest_also_run_disabled_tests.
+// Disabled because it fails, a known open fault of the forming model (issue 13 stays open). With the sheet clamped at
+// the rim, the upper half of the wall scatters about the law (-10% to +15% mass by mass), but deeper it comes out
+// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 20%, mean 5.2%; it was 56% and 8.2% with the
+// flange free to draw in). A finer lattice (33x2x39) gives the same mean (5.3%) and a worse worst (32%, reaching
+// deeper), so it is not resolution; it fits the law's assumption failing: the law's free bubble thins uniformly, while
+// an elastic sheet's pole thins faster than its edge (not yet measured on the free bubble itself). Run it with --gtest_also_run_disabled_tests.
 TEST(Forming, DISABLED_ConeLawAt45Degrees)
 {
     checkConeLaw(45, 60000.0);

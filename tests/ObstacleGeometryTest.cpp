@@ -3,6 +3,7 @@
 #include "TestSystems.h"
 
 #include "bridge/BulletEnvironment.h"
+#include "bridge/FacePlaneDistance.h"
 
 #include "core/InputError.h"
 
@@ -172,4 +173,81 @@ TEST(ObstacleGeometry, RoomHasTablesFloorAndWalls)
     EXPECT_EQ(d.obstacle, floor);
     EXPECT_NEAR(d.distance, 0.31, 1e-9); // floor at y = -2.81 (Table 1)
     EXPECT_NEAR(environment.nearestSurface(Vec3(6.0, 0, 0), 1.0).distance, 0.5, 1e-9);
+}
+
+// The face-plane shortcut (FacePlaneDistance.h) against the closed-form distance to a box, over a grid of points
+// inside and around it: where it answers, the distance is exact to rounding (1e-12 m); it answers inside and in front
+// of each face, and leaves the edge and corner regions (to GJK).
+TEST(ObstacleGeometry, FacePlaneDistanceIsExactWhereItAnswers)
+{
+    const Vec3 half(0.5, 0.25, 0.75);
+    const ObstacleGeometry g = makeObstacleGeometry(box("box", Vec3::Zero(), half));
+    int answered = 0;
+    int left = 0;
+    for (int i = -6; i <= 6; ++i)
+    {
+        for (int j = -6; j <= 6; ++j)
+        {
+            for (int k = -6; k <= 6; ++k)
+            {
+                const Vec3 p(0.13 * i, 0.07 * j, 0.19 * k);
+                const Vec3 q = p.cwiseAbs() - half;
+                const bool edgeOrCorner = (q.array() > 0).count() >= 2;
+                const std::optional<FacePlaneDistance> d = facePlaneDistance(g, p);
+                if (!d)
+                {
+                    EXPECT_TRUE(edgeOrCorner) << p.transpose();
+                    ++left;
+                    continue;
+                }
+                ++answered;
+                EXPECT_FALSE(edgeOrCorner) << p.transpose();
+                EXPECT_NEAR(d->distance, boxDistance(p, Vec3::Zero(), half), 1e-12) << p.transpose();
+                EXPECT_NEAR((d->point - p).norm(), std::abs(d->distance), 1e-12) << p.transpose();
+                EXPECT_NEAR(boxDistance(d->point, Vec3::Zero(), half), 0.0, 1e-12) << p.transpose();
+            }
+        }
+    }
+    EXPECT_GT(answered, 0);
+    EXPECT_GT(left, 0);
+}
+
+// On a prism (slanted faces), the answered point lies on the solid's surface and within every face's half-space, so
+// it is the nearest point (no point of the solid lies in front of the answered face's plane); it is as far as stated.
+TEST(ObstacleGeometry, FacePlaneDistanceOnAPrismLiesOnItsSurface)
+{
+    ObstacleSpec spec;
+    spec.name = "wedge";
+    spec.kind = ObstacleKind::Prism;
+    spec.prismWidth = 1.0;
+    spec.prismHeight = 1.6;
+    spec.prismLength = 1.6;
+    spec.prismApex = 0.5;
+    const ObstacleGeometry g = makeObstacleGeometry(spec);
+    int answered = 0;
+    for (int i = -8; i <= 8; ++i)
+    {
+        for (int j = -8; j <= 8; ++j)
+        {
+            for (int k = -3; k <= 3; ++k)
+            {
+                const Vec3 p(0.11 * i, 0.13 * j, 0.31 * k);
+                const std::optional<FacePlaneDistance> d = facePlaneDistance(g, p);
+                if (!d)
+                {
+                    continue;
+                }
+                ++answered;
+                const Face& face = g.faces[std::size_t(d->face)];
+                EXPECT_NEAR(face.normal.dot(d->point) - face.offset, 0.0, 1e-12) << p.transpose();
+                for (const Face& other : g.faces)
+                {
+                    EXPECT_LE(other.normal.dot(d->point) - other.offset, 1e-12) << p.transpose();
+                }
+                EXPECT_NEAR((p - d->point).norm(), std::abs(d->distance), 1e-12) << p.transpose();
+                EXPECT_NEAR(face.normal.dot(p) - face.offset, d->distance, 1e-12) << p.transpose();
+            }
+        }
+    }
+    EXPECT_GT(answered, 100);
 }

@@ -240,3 +240,29 @@ TEST(Sweep, BadStudiesExitWithCode2AndWriteNothing)
     const Outcome notStudy = runMasse("sweep --collect " + folder.string());
     EXPECT_EQ(notStudy.exitCode, 2) << notStudy.output;
 }
+
+// The sweep runs each case in a forked copy of itself (no new program load): a case must come out exactly as `masse
+// run` of its scene file in a fresh process does, state hash and all.
+TEST(Sweep, ACaseRunsAsMasseRunWouldInAFreshProcess)
+{
+    const fs::path dir = freshFolder("sweep-in-process");
+    const Outcome sweep = runMasse("sweep " + study + " --out " + dir.string() + " --jobs 1 --no-plots");
+    ASSERT_EQ(sweep.exitCode, 0) << sweep.output;
+    const fs::path caseDir = dir / "cases" / "0005";
+    const fs::path alone = freshFolder("sweep-in-process-alone");
+    const Outcome run =
+        runMasse("run " + (caseDir / "scene.json").string() + " --out " + alone.string() + " --quiet --threads 1");
+    ASSERT_EQ(run.exitCode, 0) << run.output;
+    const nlohmann::json inSweep = nlohmann::json::parse(readText(caseDir / "summary.json"));
+    const nlohmann::json inFreshProcess = nlohmann::json::parse(readText(alone / "summary.json"));
+    ASSERT_TRUE(inSweep["final"].contains("state_hash")) << inSweep.dump();
+    EXPECT_EQ(inSweep["final"]["state_hash"], inFreshProcess["final"]["state_hash"]);
+    EXPECT_EQ(inSweep["final"]["kinetic_energy"], inFreshProcess["final"]["kinetic_energy"]);
+    ASSERT_EQ(inSweep["events"].size(), inFreshProcess["events"].size());
+    ASSERT_FALSE(inSweep["events"].empty());
+    for (std::size_t e = 0; e < inSweep["events"].size(); ++e)
+    {
+        EXPECT_EQ(inSweep["events"][e]["name"], inFreshProcess["events"][e]["name"]);
+        EXPECT_EQ(inSweep["events"][e]["sim_time"], inFreshProcess["events"][e]["sim_time"]);
+    }
+}

@@ -6,6 +6,7 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/TaskPool.h"
 #include "scene/AtomicFile.h"
 #include "scene/Study.h"
 #include "scene/StudyFolder.h"
@@ -232,6 +233,18 @@ void runSweep(const SweepOptions& options)
     // One thread per case unless asked: --jobs N cases side by side use N cores (masse run alone takes them all).
     local.threads = std::max(1, options.threads);
     local.terminal = ::isatty(STDERR_FILENO) != 0;
+    // Each case in a forked copy of this process, through the same command line as `masse run`. Fork needs a
+    // single-threaded sweep: one thread in the pool (the sweep itself simulates nothing).
+    setThreadCount(1);
+    local.runInProcess = [](std::vector<std::string>& arguments) {
+        std::vector<char*> argv;
+        for (std::string& a : arguments)
+        {
+            argv.push_back(a.data());
+        }
+        argv.push_back(nullptr);
+        return masseMain(int(arguments.size()), argv.data());
+    };
     std::fflush(stdout);
     const scene::LocalRunReport report = scene::runCasesLocally(dir, cases, local, std::cerr);
     if (!report.overheadSeconds.empty())

@@ -10,7 +10,7 @@
 
 #include <iostream>
 
-int main(int argc, char** argv)
+int masse::app::masseMain(int argc, char** argv)
 {
     CLI::App app("MaSSE: Mass-Spring Simulation Engine for heat-sensitive sheets", "masse");
     app.require_subcommand(1);
@@ -58,4 +58,9 @@ int main(int argc, char** argv)
         return 1;
     }
     return 0;
+}
+
+int main(int argc, char** argv)
+{
+    return masse::app::masseMain(argc, argv);
 }

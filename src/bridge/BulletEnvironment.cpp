@@ -1,8 +1,10 @@
 #include "BulletEnvironment.h"
 
 #include "BulletMath.h"
+#include "FacePlaneDistance.h"
 
 #include "core/InputError.h"
+#include "core/TaskPool.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -63,6 +65,17 @@ std::optional<Gjk> sphereConvex(const btConvexShape& shape, const btTransform& t
     return Gjk{result.m_distance, normal.normalized(), toVec3(result.m_pointInWorld)};
 }
 
+/// Bullet's default pools hold 4,096 contact manifolds and 4,096 collision algorithms, zeroed when made: about 30%
+/// of a small sweep case's time went to that. MaSSE never lets Bullet pair obstacles with each other (only queries
+/// and sweeps), so a few of each are plenty; Bullet takes more from the heap should it ever need them.
+btDefaultCollisionConstructionInfo smallPools()
+{
+    btDefaultCollisionConstructionInfo info;
+    info.m_defaultMaxPersistentManifoldPoolSize = 32;
+    info.m_defaultMaxCollisionAlgorithmPoolSize = 32;
+    return info;
+}
+
 /// Collects the obstacle indices of broadphase proxies overlapping a box.
 struct CandidateCollector : btBroadphaseAabbCallback
 {
@@ -114,7 +127,7 @@ struct SweepCollector : btCollisionWorld::ClosestConvexResultCallback
 } // namespace
 
 BulletEnvironment::BulletEnvironment()
-    : m_configuration(std::make_unique<btDefaultCollisionConfiguration>()),
+    : m_configuration(std::make_unique<btDefaultCollisionConfiguration>(smallPools())),
       m_dispatcher(std::make_unique<btCollisionDispatcher>(m_configuration.get())),
       m_broadphase(std::make_unique<btDbvtBroadphase>()),
       m_world(std::make_unique<btCollisionWorld>(m_dispatcher.get(), m_broadphase.get(), m_configuration.get()))
@@ -196,8 +209,16 @@ int BulletEnvironment::addObstacle(const ObstacleSpec& spec, bool partOfRoom)
     // Static filter group, masked against other static objects: Bullet's encoding of the paper's game rule.
     m_world->addCollisionObject(obstacle->object.get(), btBroadphaseProxy::StaticFilter,
                                 btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+    recordBroadphaseBox(*obstacle);
     m_obstacles.push_back(std::move(obstacle));
     return int(m_obstacles.size()) - 1;
+}
+
+void BulletEnvironment::recordBroadphaseBox(Obstacle& obstacle)
+{
+    const btBroadphaseProxy* proxy = obstacle.object->getBroadphaseHandle();
+    obstacle.broadphaseMin = toVec3(proxy->m_aabbMin);
+    obstacle.broadphaseMax = toVec3(proxy->m_aabbMax);
 }
 
 void BulletEnvironment::addRoom(const RoomSpec& room)
@@ -241,6 +262,7 @@ void BulletEnvironment::setTime(Real time)
         obstacle->motion = motionAt(obstacle->spec, time);
         obstacle->object->setWorldTransform(toBullet(obstacle->pose.position, obstacle->pose.orientation));
         m_world->updateSingleAabb(obstacle->object.get());
+        recordBroadphaseBox(*obstacle);
         m_fastestKinematic =
             std::max(m_fastestKinematic,
                      obstacle->motion.linear.norm() + obstacle->motion.angular.norm() * obstacle->boundingRadius);
@@ -265,6 +287,22 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     const Eigen::Quaternion<Real> toLocal = obstacle.pose.orientation.conjugate();
     if (obstacle.geometry.convex)
     {
+        // Near a face, its plane gives the nearest point exactly and far faster than GJK; near an edge or a vertex,
+        // GJK (with EPA for overlap) between the sphere and the hull.
+        const std::optional<FacePlaneDistance> nearFace =
+            facePlaneDistance(obstacle.geometry, toLocal * (centre - obstacle.pose.position));
+        if (nearFace)
+        {
+            const Real distance = nearFace->distance - radius;
+            if (distance <= searchDistance)
+            {
+                const Vec3 localNormal = obstacle.geometry.faces[std::size_t(nearFace->face)].normal;
+                const int face = obstacle.geometry.faceAt(nearFace->point, localNormal);
+                out.push_back({distance, obstacle.pose.orientation * localNormal,
+                               obstacle.pose.orientation * nearFace->point + obstacle.pose.position, face});
+            }
+            return;
+        }
         const auto& shape = static_cast<const btConvexShape&>(*obstacle.geometry.shape);
         const std::optional<Gjk> closest = sphereConvex(shape, transform, centre, radius);
         if (closest && closest->distance <= searchDistance)
@@ -309,34 +347,83 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
 void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
                                      std::vector<ContactPlane>& out)
 {
-    std::vector<int> near;
-    std::vector<Closest> features;
-    const Real obstacleTravel = m_fastestKinematic * dt;
-    for (std::size_t i = 0; i < x.size(); ++i)
+    // The surface's mean velocity over the frame, so a path that starts or stops within it is followed.
+    m_frameMotion.assign(m_obstacles.size(), Motion{});
+    for (std::size_t index = 0; index < m_obstacles.size(); ++index)
     {
-        const Real searchDistance = reach[i] + obstacleTravel;
-        const Vec3 extent = Vec3::Constant(searchDistance + radius);
-        candidates(x[i] - extent, x[i] + extent, near);
-        for (int index : near)
+        const ObstacleSpec& spec = m_obstacles[index]->spec;
+        if (spec.isKinematic() && dt > 0)
         {
-            closestFeatures(index, x[i], radius, searchDistance, features);
-            const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-            // The surface's mean velocity over the frame, so a path that starts or stops within it is followed.
-            const Motion motion =
-                obstacle.spec.isKinematic() && dt > 0 ? averageMotion(obstacle.spec, m_time, m_time + dt) : Motion{};
-            for (const Closest& feature : features)
-            {
-                ContactPlane plane;
-                plane.mass = Index(i);
-                plane.obstacle = index;
-                plane.face = feature.face;
-                plane.normal = feature.normal;
-                plane.offset = feature.normal.dot(feature.point);
-                plane.velocity = motion.at(feature.point, obstacle.pose.position);
-                out.push_back(plane);
-            }
+            m_frameMotion[index] = averageMotion(spec, m_time, m_time + dt);
         }
     }
+    // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk, GJK and
+    // EPA on shapes made per query), so chunks of masses run on all threads, each into its own list. Joined in
+    // chunk order, the planes come out in mass order whatever the thread count.
+    const Real obstacleTravel = m_fastestKinematic * dt;
+    const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
+    m_chunkPlanes.resize(std::max(m_chunkPlanes.size(), chunks));
+    parallelFor(x.size(), detectionChunkSize, [&](std::size_t begin, std::size_t end) {
+        std::vector<ContactPlane>& planes = m_chunkPlanes[begin / detectionChunkSize];
+        planes.clear();
+        // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it found
+        // against its own box. An obstacle left out there cannot give a plane: a plane needs the mass within its
+        // search distance of the surface, hence its box to meet the obstacle's.
+        Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
+        Vec3 hi = -lo;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            const Vec3 extent = Vec3::Constant(reach[i] + obstacleTravel + radius);
+            lo = lo.cwiseMin(x[i] - extent);
+            hi = hi.cwiseMax(x[i] + extent);
+        }
+        std::vector<int> near;
+        candidates(lo, hi, near);
+        if (near.empty())
+        {
+            return;
+        }
+        std::vector<Closest> features;
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            const Real searchDistance = reach[i] + obstacleTravel;
+            const Vec3 extent = Vec3::Constant(searchDistance + radius);
+            const Vec3 massLo = x[i] - extent;
+            const Vec3 massHi = x[i] + extent;
+            for (int index : near)
+            {
+                const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+                if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
+                    (massHi.array() < obstacle.broadphaseMin.array()).any())
+                {
+                    continue;
+                }
+                closestFeatures(index, x[i], radius, searchDistance, features);
+                const Motion& motion = m_frameMotion[std::size_t(index)];
+                for (const Closest& feature : features)
+                {
+                    ContactPlane plane;
+                    plane.mass = Index(i);
+                    plane.obstacle = index;
+                    plane.face = feature.face;
+                    plane.normal = feature.normal;
+                    plane.offset = feature.normal.dot(feature.point);
+                    plane.velocity = motion.at(feature.point, obstacle.pose.position);
+                    planes.push_back(plane);
+                }
+            }
+        }
+    });
+    // Joined in chunk order, each chunk copied to its place in parallel.
+    std::vector<std::size_t> start(chunks + 1, out.size());
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk)
+    {
+        start[chunk + 1] = start[chunk] + m_chunkPlanes[chunk].size();
+    }
+    out.resize(start[chunks]);
+    parallelFor(chunks, 1, [&](std::size_t chunk, std::size_t) {
+        std::copy(m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end(), out.begin() + std::ptrdiff_t(start[chunk]));
+    });
 }
 
 std::optional<SweepHit> BulletEnvironment::sweep(const Vec3& from, const Vec3& to, Real radius)

@@ -25,6 +25,10 @@ class btCollisionWorld;
 
 namespace masse::bridge
 {
+/// Masses per chunk of contact detection: small, because the work gathers where the sheet meets an obstacle, and
+/// small chunks let the threads share that part evenly.
+inline constexpr std::size_t detectionChunkSize = 512;
+
 struct Obstacle
 {
     ObstacleSpec spec;
@@ -34,6 +38,8 @@ struct Obstacle
     Pose pose;
     Motion motion;
     Real boundingRadius = 0; ///< m, of the local vertices about the local origin
+    Vec3 broadphaseMin = Vec3::Zero(); ///< the box Bullet's broadphase holds for it (world frame, with Bullet's margin)
+    Vec3 broadphaseMax = Vec3::Zero();
 };
 
 class BulletEnvironment final : public ContactDetector
@@ -77,6 +83,8 @@ private:
     /// normal) for a mesh, nearest first.
     void closestFeatures(int obstacle, const Vec3& centre, Real radius, Real searchDistance,
                          std::vector<Closest>& out) const;
+    /// Copies the obstacle's broadphase box (after it was added or moved).
+    static void recordBroadphaseBox(Obstacle& obstacle);
     /// Obstacles whose boxes overlap the box [lo, hi], in index order.
     void candidates(const Vec3& lo, const Vec3& hi, std::vector<int>& out) const;
 
@@ -87,5 +95,7 @@ private:
     std::vector<std::unique_ptr<Obstacle>> m_obstacles;
     Real m_time = 0;
     Real m_fastestKinematic = 0; ///< m/s, the fastest any kinematic obstacle's point moves now
+    std::vector<Motion> m_frameMotion;                  ///< per obstacle, its mean motion over the frame being detected
+    std::vector<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
 };
 } // namespace masse::bridge

@@ -133,20 +133,22 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     m_frameTime = time;
     m_frameDt = dt;
     m_elapsed = 0;
-    m_frameStart = p.position;
-    std::fill(m_touchObstacle.begin(), m_touchObstacle.end(), -1);
-    std::fill(m_touchFace.begin(), m_touchFace.end(), -1);
-    std::fill(m_impulse.begin(), m_impulse.end(), Vec3::Zero());
     m_touchedFaces.clear();
+    m_frameStart.resize(n);
 
     // How far each mass can get this frame: its current speed plus twice the distance its current acceleration
     // would carry it, plus a radius of slack. A mass that outruns this is caught by the sweep at the end of the frame.
+    // The frame's other per-mass resets go in the same pass over the masses.
     const Real gravity = system.forces.gravity.norm();
     parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i)
         {
             const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
             m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
+            m_frameStart[i] = p.position[i];
+            m_touchObstacle[i] = -1;
+            m_touchFace[i] = -1;
+            m_impulse[i] = Vec3::Zero();
         }
     });
     m_planes.clear();

@@ -13,6 +13,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <map>
 #include <stdexcept>
 #include <sys/prctl.h>
@@ -56,6 +57,10 @@ pid_t startCase(const std::string& caseDir, const LocalRunOptions& options)
     }
     argv.push_back(nullptr);
     const pid_t parent = ::getpid();
+    // What the sweep has buffered must not be written again by the child.
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
     const pid_t pid = ::fork();
     if (pid < 0)
     {
@@ -63,7 +68,8 @@ pid_t startCase(const std::string& caseDir, const LocalRunOptions& options)
     }
     if (pid == 0)
     {
-        // Only async-signal-safe calls from here to exec.
+        // Only async-signal-safe calls from here to exec (or to the in-process run, which needs a single-threaded
+        // sweep).
         ::prctl(PR_SET_PDEATHSIG, SIGKILL);
         if (::getppid() != parent)
         {
@@ -75,6 +81,14 @@ pid_t startCase(const std::string& caseDir, const LocalRunOptions& options)
             ::dup2(fd, STDOUT_FILENO);
             ::dup2(fd, STDERR_FILENO);
             ::close(fd);
+        }
+        if (options.runInProcess)
+        {
+            const int code = options.runInProcess(arguments);
+            std::cout.flush();
+            std::cerr.flush();
+            std::fflush(nullptr);
+            ::_exit(code);
         }
         ::execv(argv[0], argv.data());
         const char message[] = "masse: cannot start the masse executable for this case\n";

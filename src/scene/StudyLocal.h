@@ -4,6 +4,7 @@
 /// CASE/status.txt. A case that fails is recorded and the others go on. Workers die with the sweep (a killed sweep
 /// leaves no orphans writing into case folders), and the cases they left without a status run again on resume.
 
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -16,6 +17,11 @@ struct LocalRunOptions
     int jobs = 1;         ///< worker processes at once
     int threads = 1;      ///< passed to each run as --threads
     bool terminal = false; ///< progress redrawn in place (else one line per finished case)
+    /// When set, a worker runs its case by calling this with the `masse run` arguments (the program name first) in
+    /// the forked child, instead of executing `masse` again: the same command line and exit code, without loading
+    /// the program and its libraries once more (about 20 ms a case, most of a small case's overhead). The sweep must
+    /// have no other threads when it forks (see runCasesLocally).
+    std::function<int(std::vector<std::string>& arguments)> runInProcess;
 };
 
 struct LocalRunReport
@@ -31,7 +37,8 @@ struct LocalRunReport
     std::vector<double> cpuSeconds;
 };
 
-/// Runs `cases` (indices) of the study in `dir`; progress on `progress`.
+/// Runs `cases` (indices) of the study in `dir`; progress on `progress`. With `runInProcess`, the calling process
+/// must be single-threaded (a forked child has only the forking thread; anything another thread held stays held).
 LocalRunReport runCasesLocally(const std::string& dir, const std::vector<std::size_t>& cases,
                                const LocalRunOptions& options, std::ostream& progress);
 
