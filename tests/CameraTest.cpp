@@ -128,27 +128,27 @@ TEST(Camera, PresetsFrameTheBoxTightlyFromTheirSide)
     // The paper's drop scene: the sheet above a block and a wedge standing on the floor.
     const Vec3 low(-0.85, -2.81, -0.5);
     const Vec3 high(1.45, 0.4, 1.1);
-    for (const Viewport& window : {Viewport{1024, 720}, Viewport{600, 800}})
+    for (const Viewport& screen : {Viewport{1024, 720}, Viewport{600, 800}})
     {
         for (ViewPreset preset : {ViewPreset::Overview, ViewPreset::FromBelow, ViewPreset::ElevatedLeft})
         {
-            const OrbitCamera camera = presetCamera(preset, low, high, window.aspect());
+            const OrbitCamera camera = presetCamera(preset, low, high, screen.aspect());
             EXPECT_NEAR((camera.target - (low + high) / 2).norm(), 0, 1e-12);
             Real closestToAnEdge = 1e9;
             for (int corner = 0; corner < 8; ++corner)
             {
                 const Vec3 p((corner & 1) ? high.x() : low.x(), (corner & 2) ? high.y() : low.y(),
                              (corner & 4) ? high.z() : low.z());
-                const auto pixel = camera.project(p, window);
+                const auto pixel = camera.project(p, screen);
                 ASSERT_TRUE(pixel);
                 EXPECT_GE(pixel->x(), 0);
-                EXPECT_LE(pixel->x(), window.width);
+                EXPECT_LE(pixel->x(), screen.width);
                 EXPECT_GE(pixel->y(), 0);
-                EXPECT_LE(pixel->y(), window.height);
+                EXPECT_LE(pixel->y(), screen.height);
                 closestToAnEdge = std::min(
-                    {closestToAnEdge, pixel->x(), window.width - pixel->x(), pixel->y(), window.height - pixel->y()});
+                    {closestToAnEdge, pixel->x(), screen.width - pixel->x(), pixel->y(), screen.height - pixel->y()});
             }
-            EXPECT_LT(closestToAnEdge, 0.1 * std::min(window.width, window.height)) << "no farther than needed";
+            EXPECT_LT(closestToAnEdge, 0.1 * std::min(screen.width, screen.height)) << "no farther than needed";
         }
     }
     const OrbitCamera below = presetCamera(ViewPreset::FromBelow, low, high, 1.4);

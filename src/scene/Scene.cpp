@@ -23,7 +23,7 @@ namespace
 constexpr int warnedSubsteps = 1000;
 
 /// Re-throws a core validation error ("dt: ...") under the section it belongs to ("integrator.dt: ...").
-template <typename Check> void within(const std::string& section, Check&& check)
+template <typename Check> void withinSection(const std::string& section, Check&& check)
 {
     try
     {
@@ -68,7 +68,7 @@ void Scene::build()
     try
     {
         // A sheet that cannot fit in memory is refused before anything is allocated for it.
-        within("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
+        withinSection("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
         m_lattice = buildLattice(m_spec.sheet.lattice);
         if (m_spec.sheet.rotationDegrees != Vec3::Zero())
         {
@@ -184,7 +184,7 @@ void Scene::build()
         }
         // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
         // step.
-        within("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
+        withinSection("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
     }
     catch (const InputError& e)
     {
