@@ -39,7 +39,7 @@ type_run() {
         cat "$log" >&2
         exit 1
     fi
-    sleep 1
+    sleep 2 # the first frames (a slow machine draws them late; a click before them is lost)
     # The scene-file field: the panel's first text field, below the HUD's fixed-height region and the run buttons
     # (the panel is docked in the right-hand column, 360 px wide in a 1024 px window).
     xdotool mousemove --window "$window" 800 273 click 1
@@ -49,7 +49,10 @@ type_run() {
     xdotool key --delay "$delay" ctrl+a
     xdotool type --delay "$delay" "$typed"
     xdotool key --delay "$delay" Return
-    sleep 1
+    # Quitting 1 s after Return failed on a loaded machine (the suite at -j2) and under the address sanitizer (about
+    # 11 frames/s), and passed alone: the keys typed at once had not all arrived. Dear ImGui spreads key events that
+    # arrive within one frame over the next frames (its input trickle), so ~60 keys can take several seconds.
+    sleep 7
     xdotool key --delay "$delay" q
     status=0
     wait "$pid" || status=$?
