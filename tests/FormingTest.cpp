@@ -237,10 +237,11 @@ TEST(Forming, ConeLawAt60Degrees)
 
 // Disabled because it fails, a known open fault of the forming model (issue 13 stays open). With the sheet clamped at
 // the rim, the upper half of the wall scatters about the law (-10% to +15% mass by mass), but deeper it comes out
-// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 20%, mean 5.2%; it was 56% and 8.2% with the
-// flange free to draw in). A finer lattice (33x2x39) gives the same mean (5.3%) and a worse worst (32%, reaching
-// deeper), so it is not resolution; it fits the law's assumption failing: the law's free bubble thins uniformly, while
-// an elastic sheet's pole thins faster than its edge (not yet measured on the free bubble itself). Run it with --gtest_also_run_disabled_tests.
+// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 20%, mean 5.2%; it was 56%
+// and 8.2% with the flange free to draw in). A finer lattice (33x2x39) gives the same mean (5.3%) and a worse worst
+// (32%, reaching deeper), so it is not resolution; it fits the law's assumption failing: the law's free bubble thins
+// uniformly, while an elastic sheet's pole thins faster than its edge (not yet measured on the free bubble itself). Run
+// it with --gtest_also_run_disabled_tests.
 TEST(Forming, DISABLED_ConeLawAt45Degrees)
 {
     checkConeLaw(45, 60000.0);

@@ -236,7 +236,8 @@ void runSweep(const SweepOptions& options)
     // Each case in a forked copy of this process, through the same command line as `masse run`. Fork needs a
     // single-threaded sweep: one thread in the pool (the sweep itself simulates nothing).
     setThreadCount(1);
-    local.runInProcess = [](std::vector<std::string>& arguments) {
+    local.runInProcess = [](std::vector<std::string>& arguments)
+    {
         std::vector<char*> argv;
         for (std::string& a : arguments)
         {

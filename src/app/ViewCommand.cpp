@@ -139,7 +139,8 @@ void addViewCommand(CLI::App& app)
     command->add_option("--window", options->window, "Window size WIDTHxHEIGHT (default 1024x720)");
     command->add_option("--view", options->view, "Initial view: overview, below (paper figure 8), left (figure 9)");
     command->add_option("--draw", options->draw, "Draw mode: masses, surface, scalar");
-    command->add_option("--scalar", options->scalar, "Scalar for --draw scalar: speed, strain, temperature, thickness, thickness_ratio");
+    command->add_option("--scalar", options->scalar,
+                        "Scalar for --draw scalar: speed, strain, temperature, thickness, thickness_ratio");
     command->add_flag("--hide-panel", options->hidePanel, "Start with the panel hidden (Tab shows it)");
     command->add_flag("--no-ui", options->noUi, "Draw the scene alone: no panel, no HUD");
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");

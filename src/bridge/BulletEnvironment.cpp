@@ -363,57 +363,59 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     const Real obstacleTravel = m_fastestKinematic * dt;
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
     m_chunkPlanes.resize(std::max(m_chunkPlanes.size(), chunks));
-    parallelFor(x.size(), detectionChunkSize, [&](std::size_t begin, std::size_t end) {
-        std::vector<ContactPlane>& planes = m_chunkPlanes[begin / detectionChunkSize];
-        planes.clear();
-        // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it found
-        // against its own box. An obstacle left out there cannot give a plane: a plane needs the mass within its
-        // search distance of the surface, hence its box to meet the obstacle's.
-        Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
-        Vec3 hi = -lo;
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            const Vec3 extent = Vec3::Constant(reach[i] + obstacleTravel + radius);
-            lo = lo.cwiseMin(x[i] - extent);
-            hi = hi.cwiseMax(x[i] + extent);
-        }
-        std::vector<int> near;
-        candidates(lo, hi, near);
-        if (near.empty())
-        {
-            return;
-        }
-        std::vector<Closest> features;
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            const Real searchDistance = reach[i] + obstacleTravel;
-            const Vec3 extent = Vec3::Constant(searchDistance + radius);
-            const Vec3 massLo = x[i] - extent;
-            const Vec3 massHi = x[i] + extent;
-            for (int index : near)
-            {
-                const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-                if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
-                    (massHi.array() < obstacle.broadphaseMin.array()).any())
+    parallelFor(x.size(), detectionChunkSize,
+                [&](std::size_t begin, std::size_t end)
                 {
-                    continue;
-                }
-                closestFeatures(index, x[i], radius, searchDistance, features);
-                const Motion& motion = m_frameMotion[std::size_t(index)];
-                for (const Closest& feature : features)
-                {
-                    ContactPlane plane;
-                    plane.mass = Index(i);
-                    plane.obstacle = index;
-                    plane.face = feature.face;
-                    plane.normal = feature.normal;
-                    plane.offset = feature.normal.dot(feature.point);
-                    plane.velocity = motion.at(feature.point, obstacle.pose.position);
-                    planes.push_back(plane);
-                }
-            }
-        }
-    });
+                    std::vector<ContactPlane>& planes = m_chunkPlanes[begin / detectionChunkSize];
+                    planes.clear();
+                    // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it
+                    // found against its own box. An obstacle left out there cannot give a plane: a plane needs the mass
+                    // within its search distance of the surface, hence its box to meet the obstacle's.
+                    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
+                    Vec3 hi = -lo;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const Vec3 extent = Vec3::Constant(reach[i] + obstacleTravel + radius);
+                        lo = lo.cwiseMin(x[i] - extent);
+                        hi = hi.cwiseMax(x[i] + extent);
+                    }
+                    std::vector<int> near;
+                    candidates(lo, hi, near);
+                    if (near.empty())
+                    {
+                        return;
+                    }
+                    std::vector<Closest> features;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const Real searchDistance = reach[i] + obstacleTravel;
+                        const Vec3 extent = Vec3::Constant(searchDistance + radius);
+                        const Vec3 massLo = x[i] - extent;
+                        const Vec3 massHi = x[i] + extent;
+                        for (int index : near)
+                        {
+                            const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+                            if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
+                                (massHi.array() < obstacle.broadphaseMin.array()).any())
+                            {
+                                continue;
+                            }
+                            closestFeatures(index, x[i], radius, searchDistance, features);
+                            const Motion& motion = m_frameMotion[std::size_t(index)];
+                            for (const Closest& feature : features)
+                            {
+                                ContactPlane plane;
+                                plane.mass = Index(i);
+                                plane.obstacle = index;
+                                plane.face = feature.face;
+                                plane.normal = feature.normal;
+                                plane.offset = feature.normal.dot(feature.point);
+                                plane.velocity = motion.at(feature.point, obstacle.pose.position);
+                                planes.push_back(plane);
+                            }
+                        }
+                    }
+                });
     // Joined in chunk order, each chunk copied to its place in parallel.
     std::vector<std::size_t> start(chunks + 1, out.size());
     for (std::size_t chunk = 0; chunk < chunks; ++chunk)
@@ -421,9 +423,11 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
         start[chunk + 1] = start[chunk] + m_chunkPlanes[chunk].size();
     }
     out.resize(start[chunks]);
-    parallelFor(chunks, 1, [&](std::size_t chunk, std::size_t) {
-        std::copy(m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end(), out.begin() + std::ptrdiff_t(start[chunk]));
-    });
+    parallelFor(chunks, 1,
+                [&](std::size_t chunk, std::size_t) {
+                    std::copy(m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end(),
+                              out.begin() + std::ptrdiff_t(start[chunk]));
+                });
 }
 
 std::optional<SweepHit> BulletEnvironment::sweep(const Vec3& from, const Vec3& to, Real radius)

@@ -95,7 +95,7 @@ private:
     std::vector<std::unique_ptr<Obstacle>> m_obstacles;
     Real m_time = 0;
     Real m_fastestKinematic = 0; ///< m/s, the fastest any kinematic obstacle's point moves now
-    std::vector<Motion> m_frameMotion;                  ///< per obstacle, its mean motion over the frame being detected
+    std::vector<Motion> m_frameMotion; ///< per obstacle, its mean motion over the frame being detected
     std::vector<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
 };
 } // namespace masse::bridge

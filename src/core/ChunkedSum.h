@@ -65,15 +65,15 @@ inline Real chunkedDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>
 
 /// The sum over [0, count) of term(begin, end), the terms of chunks of `chunkSize` items computed in parallel and
 /// added in chunk order: the same bits at any thread count. `term` sums its own range in index order.
-template <class Term>
-Real chunkedSum(std::size_t count, std::size_t chunkSize, const Term& term)
+template <class Term> Real chunkedSum(std::size_t count, std::size_t chunkSize, const Term& term)
 {
     const std::size_t chunks = chunkCount(count, chunkSize);
     constexpr std::size_t onStack = 256;
     Real stackPartial[onStack];
     std::vector<Real> heapPartial(chunks > onStack ? chunks : 0);
     Real* partial = chunks > onStack ? heapPartial.data() : stackPartial;
-    parallelFor(count, chunkSize, [&](std::size_t begin, std::size_t end) { partial[begin / chunkSize] = term(begin, end); });
+    parallelFor(count, chunkSize,
+                [&](std::size_t begin, std::size_t end) { partial[begin / chunkSize] = term(begin, end); });
     Real sum = 0;
     for (std::size_t c = 0; c < chunks; ++c) // always serial and in order
     {

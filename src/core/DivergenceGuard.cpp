@@ -70,28 +70,34 @@ Real mechanicalEnergy(const MassSpringSystem& system)
     // over ranges on all threads, summed in fixed chunks (the guard's figure is the same at any thread count).
     const Particles& p = system.particles;
     const Vec3 gravity = system.forces.gravity;
-    const Real masses = chunkedSum(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
-        Real energy = 0;
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            if (!p.pinned[i])
-            {
-                energy += p.mass[i] * (Real(0.5) * p.velocity[i].squaredNorm() - gravity.dot(p.position[i]));
-            }
-        }
-        return energy;
-    });
+    const Real masses = chunkedSum(p.size(), massChunkSize,
+                                   [&](std::size_t begin, std::size_t end)
+                                   {
+                                       Real energy = 0;
+                                       for (std::size_t i = begin; i < end; ++i)
+                                       {
+                                           if (!p.pinned[i])
+                                           {
+                                               energy += p.mass[i] * (Real(0.5) * p.velocity[i].squaredNorm() -
+                                                                      gravity.dot(p.position[i]));
+                                           }
+                                       }
+                                       return energy;
+                                   });
     const SpringSet& s = system.springs;
     const Real repulsion = system.forces.repulsion;
-    const Real springs = chunkedSum(s.size(), springEnergyChunkSize, [&](std::size_t begin, std::size_t end) {
-        Real energy = 0;
-        for (std::size_t k = begin; k < end; ++k)
-        {
-            const Real length = (p.position[s.ends[k].a] - p.position[s.ends[k].b]).norm();
-            energy += springPotential(length, s.stiffness[k], s.restLength[k], repulsion);
-        }
-        return energy;
-    });
+    const Real springs =
+        chunkedSum(s.size(), springEnergyChunkSize,
+                   [&](std::size_t begin, std::size_t end)
+                   {
+                       Real energy = 0;
+                       for (std::size_t k = begin; k < end; ++k)
+                       {
+                           const Real length = (p.position[s.ends[k].a] - p.position[s.ends[k].b]).norm();
+                           energy += springPotential(length, s.stiffness[k], s.restLength[k], repulsion);
+                       }
+                       return energy;
+                   });
     Real grabs = 0;
     for (const UserSpring& spring : system.userSprings.all())
     {
