@@ -26,6 +26,18 @@ ObstacleSpec box(const std::string& name, const Vec3& position, const Vec3& half
     return spec;
 }
 
+ObstacleSpec prism(const std::string& name, Real width, Real height, Real length, Real apex = 0)
+{
+    ObstacleSpec spec;
+    spec.name = name;
+    spec.kind = ObstacleKind::Prism;
+    spec.prismWidth = width;
+    spec.prismHeight = height;
+    spec.prismLength = length;
+    spec.prismApex = apex;
+    return spec;
+}
+
 /// Exact signed distance from a point to an axis-aligned box (negative inside).
 Real boxDistance(const Vec3& p, const Vec3& centre, const Vec3& half)
 {
@@ -76,13 +88,7 @@ TEST(ObstacleGeometry, HullOfCubeCornersHasSixFacesAndPrismFive)
     EXPECT_EQ(cube.vertices.size(), 8u);
     EXPECT_EQ(cube.faces.size(), 6u);
 
-    ObstacleSpec prism;
-    prism.name = "prism";
-    prism.kind = ObstacleKind::Prism;
-    prism.prismWidth = 2;
-    prism.prismHeight = 1;
-    prism.prismLength = 3;
-    const ObstacleGeometry wedge = makeObstacleGeometry(prism);
+    const ObstacleGeometry wedge = makeObstacleGeometry(prism("prism", 2, 1, 3));
     ASSERT_EQ(wedge.faces.size(), 5u);
     EXPECT_NEAR((wedge.faces[0].normal + Vec3::UnitY()).norm(), 0.0, 1e-12);
     EXPECT_GT(wedge.faces[1].normal.x(), 0.0);
@@ -216,14 +222,7 @@ TEST(ObstacleGeometry, FacePlaneDistanceIsExactWhereItAnswers)
 // it is the nearest point (no point of the solid lies in front of the answered face's plane); it is as far as stated.
 TEST(ObstacleGeometry, FacePlaneDistanceOnAPrismLiesOnItsSurface)
 {
-    ObstacleSpec spec;
-    spec.name = "wedge";
-    spec.kind = ObstacleKind::Prism;
-    spec.prismWidth = 1.0;
-    spec.prismHeight = 1.6;
-    spec.prismLength = 1.6;
-    spec.prismApex = 0.5;
-    const ObstacleGeometry g = makeObstacleGeometry(spec);
+    const ObstacleGeometry g = makeObstacleGeometry(prism("wedge", 1.0, 1.6, 1.6, 0.5));
     int answered = 0;
     for (int i = -8; i <= 8; ++i)
     {

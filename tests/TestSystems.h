@@ -31,6 +31,21 @@ inline MassSpringSystem makeChain(int count, Real mass, Real stiffness, Real spa
     return system;
 }
 
+/// A 1 m chain of 41 masses of 1 g and 90.2 N/m springs (Table 1's) laid straight over 0.8 m between two pinned ends,
+/// under gravity: it sags into a catenary, and its compressed springs make the implicit step buckle it at first.
+inline MassSpringSystem makeChainPinnedStraight()
+{
+    MassSpringSystem chain = makeChain(41, 0.001, 90.2, 1.0 / 40);
+    chain.forces.gravity = Vec3(0, -standardGravity, 0);
+    for (int j = 0; j <= 40; ++j)
+    {
+        chain.particles.position[std::size_t(j)] = Vec3(0.8 * j / 40, 0, 0);
+    }
+    chain.particles.setPinned(0, true);
+    chain.particles.setPinned(40, true);
+    return chain;
+}
+
 /// The paper's Table 1 TRiMM sheet of N x 2 x N masses with its air damping; `latticeOut` receives its lattice.
 inline MassSpringSystem paperSheet(int n, Lattice* latticeOut = nullptr)
 {

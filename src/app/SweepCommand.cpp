@@ -236,16 +236,7 @@ void runSweep(const SweepOptions& options)
     // Each case in a forked copy of this process, through the same command line as `masse run`. Fork needs a
     // single-threaded sweep: one thread in the pool (the sweep itself simulates nothing).
     setThreadCount(1);
-    local.runInProcess = [](std::vector<std::string>& arguments)
-    {
-        std::vector<char*> argv;
-        for (std::string& a : arguments)
-        {
-            argv.push_back(a.data());
-        }
-        argv.push_back(nullptr);
-        return masseMain(int(arguments.size()), argv.data());
-    };
+    local.runInProcess = masseMain;
     std::fflush(stdout);
     const scene::LocalRunReport report = scene::runCasesLocally(dir, cases, local, std::cerr);
     if (!report.overheadSeconds.empty())

@@ -297,9 +297,8 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
             if (distance <= searchDistance)
             {
                 const Vec3 localNormal = obstacle.geometry.faces[std::size_t(nearFace->face)].normal;
-                const int face = obstacle.geometry.faceAt(nearFace->point, localNormal);
                 out.push_back({distance, obstacle.pose.orientation * localNormal,
-                               obstacle.pose.orientation * nearFace->point + obstacle.pose.position, face});
+                               obstacle.pose.orientation * nearFace->point + obstacle.pose.position, nearFace->face});
             }
             return;
         }

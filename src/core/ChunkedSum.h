@@ -43,32 +43,12 @@ inline Real chunkDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>& 
     return (s0 + s1) + (s2 + s3);
 }
 
-/// a . b summed chunk by chunk in chunk order (see the file comment); `partial` holds one entry per chunk and is
-/// resized only when the size changes.
-inline Real chunkedDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>& b, Eigen::VectorX<Real>& partial)
-{
-    const std::size_t chunks = chunkCount(std::size_t(a.size()), reductionChunk);
-    if (std::size_t(partial.size()) != chunks)
-    {
-        partial.resize(Eigen::Index(chunks));
-    }
-    parallelFor(std::size_t(a.size()), reductionChunk,
-                [&](std::size_t begin, std::size_t)
-                { partial[Eigen::Index(begin / reductionChunk)] = chunkDot(a, b, begin / reductionChunk); });
-    Real sum = 0;
-    for (std::size_t c = 0; c < chunks; ++c) // always serial and in order
-    {
-        sum += partial[Eigen::Index(c)];
-    }
-    return sum;
-}
-
 /// The sum over [0, count) of term(begin, end), the terms of chunks of `chunkSize` items computed in parallel and
 /// added in chunk order: the same bits at any thread count. `term` sums its own range in index order.
 template <class Term> Real chunkedSum(std::size_t count, std::size_t chunkSize, const Term& term)
 {
     const std::size_t chunks = chunkCount(count, chunkSize);
-    constexpr std::size_t onStack = 256;
+    constexpr std::size_t onStack = 1024; // 2M entries at reductionChunk: no allocation below
     Real stackPartial[onStack];
     std::vector<Real> heapPartial(chunks > onStack ? chunks : 0);
     Real* partial = chunks > onStack ? heapPartial.data() : stackPartial;
@@ -80,5 +60,12 @@ template <class Term> Real chunkedSum(std::size_t count, std::size_t chunkSize, 
         sum += partial[c];
     }
     return sum;
+}
+
+/// a . b summed chunk by chunk in chunk order (see the file comment).
+inline Real chunkedDot(const Eigen::VectorX<Real>& a, const Eigen::VectorX<Real>& b)
+{
+    return chunkedSum(std::size_t(a.size()), reductionChunk,
+                      [&](std::size_t begin, std::size_t) { return chunkDot(a, b, begin / reductionChunk); });
 }
 } // namespace masse

@@ -68,7 +68,7 @@ void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector&
 
 Real ConjugateGradient::dot(const Vector& u, const Vector& v)
 {
-    return chunkedDot(u, v, m_partialSums);
+    return chunkedDot(u, v);
 }
 
 SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vector& x,

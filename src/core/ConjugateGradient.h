@@ -49,6 +49,5 @@ private:
     Vector m_direction;
     Vector m_preconditioned;
     Vector m_product;
-    Vector m_partialSums;
 };
 } // namespace masse

@@ -26,6 +26,17 @@ Real cappedSpringPotential(const UserSpring& spring, Real distance)
     return spring.maxForce * distance - Real(0.5) * spring.maxForce * cap;
 }
 
+/// The grabs' stored energy (their springs capped as above).
+Real grabEnergy(const MassSpringSystem& system)
+{
+    Real energy = 0;
+    for (const UserSpring& spring : system.userSprings.all())
+    {
+        energy += cappedSpringPotential(spring, (system.particles.position[spring.mass] - spring.target).norm());
+    }
+    return energy;
+}
+
 /// The sheet's weight times its size: the energy a fall of its own size gives it, the guard's unit of energy.
 Real energyScale(const MassSpringSystem& system)
 {
@@ -98,22 +109,7 @@ Real mechanicalEnergy(const MassSpringSystem& system)
                        }
                        return energy;
                    });
-    Real grabs = 0;
-    for (const UserSpring& spring : system.userSprings.all())
-    {
-        grabs += cappedSpringPotential(spring, (p.position[spring.mass] - spring.target).norm());
-    }
-    return masses + springs + grabs;
-}
-
-Real DivergenceGuard::grabEnergy(const MassSpringSystem& system)
-{
-    Real energy = 0;
-    for (const UserSpring& spring : system.userSprings.all())
-    {
-        energy += cappedSpringPotential(spring, (system.particles.position[spring.mass] - spring.target).norm());
-    }
-    return energy;
+    return masses + springs + grabEnergy(system);
 }
 
 void DivergenceGuard::beforeHooks(const MassSpringSystem& system)

@@ -98,8 +98,6 @@ public:
 
 private:
     [[noreturn]] void fail(Real time, const std::string& what) const;
-    /// Energy of the grab springs only (cheap: there are few).
-    static Real grabEnergy(const MassSpringSystem& system);
 
     GuardSettings m_settings;
     bool m_started = false;

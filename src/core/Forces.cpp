@@ -22,9 +22,9 @@ constexpr std::size_t springChunk = 16384;
 /// more at a time). The repulsion is a template switch so the usual sheet, without it, pays nothing for it. Writes
 /// only scale[begin, end): no two chunks share an output. Inlined into one function per SIMD path (below).
 template <bool withRepulsion>
-[[gnu::always_inline]] inline void springScalesBody(const SpringSet& springs, Real repulsion,
-                                                    const Vec3* __restrict x, const Vec3* __restrict v,
-                                                    std::size_t begin, std::size_t end, Real* __restrict scale)
+[[gnu::always_inline]] inline void springScalesBody(const SpringSet& springs, Real repulsion, const Vec3* __restrict x,
+                                                    const Vec3* __restrict v, std::size_t begin, std::size_t end,
+                                                    Real* __restrict scale)
 {
     const SpringEnds* __restrict ends = springs.ends.data();
     Real lengthSquared[springBlock];
@@ -99,10 +99,10 @@ template <bool ownForces>
 }
 
 // One copy of each kernel per SIMD path. Only the instruction set differs; see SimdPath.h for why the bits do not.
-#define MASSE_FORCE_KERNELS(suffix, targetAttribute)                                                                  \
+#define MASSE_FORCE_KERNELS(suffix, targetAttribute)                                                                   \
     template <bool withRepulsion>                                                                                      \
-    targetAttribute void springScales##suffix(const SpringSet& springs, Real repulsion, const Vec3* x, const Vec3* v,   \
-                                              std::size_t begin, std::size_t end, Real* scale)                        \
+    targetAttribute void springScales##suffix(const SpringSet& springs, Real repulsion, const Vec3* x, const Vec3* v,  \
+                                              std::size_t begin, std::size_t end, Real* scale)                         \
     {                                                                                                                  \
         springScalesBody<withRepulsion>(springs, repulsion, x, v, begin, end, scale);                                  \
     }                                                                                                                  \
@@ -136,8 +136,7 @@ void springScalesOn(SimdPath path, const SpringSet& springs, Real repulsion, con
     }
 }
 
-template <bool ownForces>
-void gatherOn(SimdPath path, const GatherArgs& args, std::size_t begin, std::size_t end)
+template <bool ownForces> void gatherOn(SimdPath path, const GatherArgs& args, std::size_t begin, std::size_t end)
 {
     switch (path)
     {
@@ -158,16 +157,18 @@ void computeSpringScales(const SpringSet& springs, Real repulsion, const std::ve
 {
     scale.resize(springs.size());
     const SimdPath path = activeSimdPath();
-    parallelFor(springs.size(), springChunk, [&](std::size_t begin, std::size_t end) {
-        if (repulsion > 0)
-        {
-            springScalesOn<true>(path, springs, repulsion, x.data(), v.data(), begin, end, scale.data());
-        }
-        else
-        {
-            springScalesOn<false>(path, springs, repulsion, x.data(), v.data(), begin, end, scale.data());
-        }
-    });
+    parallelFor(springs.size(), springChunk,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    if (repulsion > 0)
+                    {
+                        springScalesOn<true>(path, springs, repulsion, x.data(), v.data(), begin, end, scale.data());
+                    }
+                    else
+                    {
+                        springScalesOn<false>(path, springs, repulsion, x.data(), v.data(), begin, end, scale.data());
+                    }
+                });
 }
 
 /// The per-spring scales of the calling thread's last evaluation (kept to save an allocation per substep).
@@ -179,7 +180,14 @@ void accumulateSpringForces(const SpringSet& springs, Real repulsion, const std:
 {
     std::vector<Real>& scale = springScaleScratch;
     computeSpringScales(springs, repulsion, x, v, scale);
-    GatherArgs args{&springs.adjacency(x.size()), scale.data(), x.data(), v.data(), nullptr, nullptr, Vec3::Zero(), 0,
+    GatherArgs args{&springs.adjacency(x.size()),
+                    scale.data(),
+                    x.data(),
+                    v.data(),
+                    nullptr,
+                    nullptr,
+                    Vec3::Zero(),
+                    0,
                     force.data()};
     const SimdPath path = activeSimdPath();
     parallelFor(x.size(), massChunkSize,
@@ -194,8 +202,15 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
     force.resize(n);
     std::vector<Real>& scale = springScaleScratch;
     computeSpringScales(system.springs, system.forces.repulsion, x, v, scale);
-    GatherArgs args{&system.springs.adjacency(n), scale.data(), x.data(), v.data(), p.mass.data(),
-                    p.externalForce.data(), system.forces.gravity, system.forces.airDamping, force.data()};
+    GatherArgs args{&system.springs.adjacency(n),
+                    scale.data(),
+                    x.data(),
+                    v.data(),
+                    p.mass.data(),
+                    p.externalForce.data(),
+                    system.forces.gravity,
+                    system.forces.airDamping,
+                    force.data()};
     const SimdPath path = activeSimdPath();
     parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) { gatherOn<true>(path, args, begin, end); });
     for (const UserSpring& spring : system.userSprings.all())

@@ -2,8 +2,9 @@
 /// The springs of a sheet: topology (which masses, rest length, class) apart from coefficients.
 ///
 /// Topology (the ends) is append-only: springs are added while a lattice is built and never rewired, so the adjacency
-/// the force kernels gather through is built once, on first use, and shared by copies. Coefficients start from the spring's class (planar or inter-layer) and
-/// may later be rewritten per spring (heat changes stiffness), so the force kernel reads them per spring.
+/// the force kernels gather through is built once, on first use, and shared by copies. Coefficients start from the
+/// spring's class (planar or inter-layer) and may later be rewritten per spring (heat changes stiffness), so the force
+/// kernel reads them per spring.
 
 #include "SpringAdjacency.h"
 #include "Types.h"

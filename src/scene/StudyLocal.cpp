@@ -84,7 +84,7 @@ pid_t startCase(const std::string& caseDir, const LocalRunOptions& options)
         }
         if (options.runInProcess)
         {
-            const int code = options.runInProcess(arguments);
+            const int code = options.runInProcess(int(arguments.size()), argv.data());
             std::cout.flush();
             std::cerr.flush();
             std::fflush(nullptr);

@@ -17,11 +17,11 @@ struct LocalRunOptions
     int jobs = 1;         ///< worker processes at once
     int threads = 1;      ///< passed to each run as --threads
     bool terminal = false; ///< progress redrawn in place (else one line per finished case)
-    /// When set, a worker runs its case by calling this with the `masse run` arguments (the program name first) in
+    /// When set, a worker runs its case by calling this with the `masse run` command line (the program name first) in
     /// the forked child, instead of executing `masse` again: the same command line and exit code, without loading
     /// the program and its libraries once more (about 20 ms a case, most of a small case's overhead). The sweep must
     /// have no other threads when it forks (see runCasesLocally).
-    std::function<int(std::vector<std::string>& arguments)> runInProcess;
+    std::function<int(int argc, char** argv)> runInProcess;
 };
 
 struct LocalRunReport
