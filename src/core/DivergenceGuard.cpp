@@ -73,28 +73,71 @@ Real gravityEnergy(const MassSpringSystem& system)
     }
     return energy;
 }
+
+/// Kinetic and gravity energy of the free masses (J), summed in fixed chunks over ranges on all threads.
+Real massEnergy(const MassSpringSystem& system)
+{
+    const Particles& p = system.particles;
+    const Vec3 gravity = system.forces.gravity;
+    return chunkedSum(p.size(), massChunkSize,
+                      [&](std::size_t begin, std::size_t end)
+                      {
+                          Real energy = 0;
+                          for (std::size_t i = begin; i < end; ++i)
+                          {
+                              if (!p.pinned[i])
+                              {
+                                  energy +=
+                                      p.mass[i] * (Real(0.5) * p.velocity[i].squaredNorm() - gravity.dot(p.position[i]));
+                              }
+                          }
+                          return energy;
+                      });
+}
 } // namespace
+
+namespace
+{
+/// Kinetic energy of the free masses (J), in fixed chunks.
+Real kineticEnergy(const MassSpringSystem& system)
+{
+    const Particles& p = system.particles;
+    return chunkedSum(p.size(), massChunkSize,
+                      [&](std::size_t begin, std::size_t end)
+                      {
+                          Real energy = 0;
+                          for (std::size_t i = begin; i < end; ++i)
+                          {
+                              if (!p.pinned[i])
+                              {
+                                  energy += Real(0.5) * p.mass[i] * p.velocity[i].squaredNorm();
+                              }
+                          }
+                          return energy;
+                      });
+}
+
+/// J, what the hooks may put in is what they change the account's potential energy by (springs softened or
+/// stiffened by heat or a material's flow, gravity, pins, grab targets): no hook gives masses speed, so one that does
+/// (a fault) is not credited and its energy is a breach.
+Real hooksEnergy(const MassSpringSystem& system, EnergyAccount account)
+{
+    const Real kinetic = kineticEnergy(system);
+    return account == EnergyAccount::Mechanical ? mechanicalEnergy(system) - kinetic : motionEnergy(system) - kinetic;
+}
+} // namespace
+
+Real motionEnergy(const MassSpringSystem& system)
+{
+    return massEnergy(system) + grabEnergy(system);
+}
 
 Real mechanicalEnergy(const MassSpringSystem& system)
 {
     // Twice a step on the explicit path and twice a substep on the implicit one: a spring pass each time, so it runs
     // over ranges on all threads, summed in fixed chunks (the guard's figure is the same at any thread count).
     const Particles& p = system.particles;
-    const Vec3 gravity = system.forces.gravity;
-    const Real masses = chunkedSum(p.size(), massChunkSize,
-                                   [&](std::size_t begin, std::size_t end)
-                                   {
-                                       Real energy = 0;
-                                       for (std::size_t i = begin; i < end; ++i)
-                                       {
-                                           if (!p.pinned[i])
-                                           {
-                                               energy += p.mass[i] * (Real(0.5) * p.velocity[i].squaredNorm() -
-                                                                      gravity.dot(p.position[i]));
-                                           }
-                                       }
-                                       return energy;
-                                   });
+    const Real masses = massEnergy(system);
     const SpringSet& s = system.springs;
     const Real repulsion = system.forces.repulsion;
     const Real springs =
@@ -122,9 +165,11 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
     {
         // The first pass of a step.
         m_inStep = true;
-        const Real energy = mechanicalEnergy(system);
         if (!m_started)
         {
+            // The reference holds the springs' energy in either account: what they hold at the start may turn into
+            // motion.
+            const Real energy = mechanicalEnergy(system);
             m_started = true;
             m_reference = energy;
             m_scale = energyScale(system) + std::max(Real(0), energy - gravityEnergy(system));
@@ -133,7 +178,7 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
         {
             // What changed since the last step's check was done from outside (a viewer's pick moving its target, a
             // pin, a teleported mass): put in.
-            m_putIn += std::max(Real(0), energy - m_lastEnergy);
+            m_putIn += std::max(Real(0), accountedEnergy(system) - m_lastEnergy);
         }
         m_stepStart = system.particles.position;
     }
@@ -142,7 +187,7 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
     m_hooksMeasured = m_measureEveryPass;
     if (m_hooksMeasured)
     {
-        m_hooksEnergy = mechanicalEnergy(system);
+        m_hooksEnergy = hooksEnergy(system, m_settings.account);
     }
 }
 
@@ -158,7 +203,7 @@ void DivergenceGuard::afterHooks(const MassSpringSystem& system)
     }
     if (m_hooksMeasured)
     {
-        m_putIn += std::max(Real(0), mechanicalEnergy(system) - m_hooksEnergy);
+        m_putIn += std::max(Real(0), hooksEnergy(system, m_settings.account) - m_hooksEnergy);
         return;
     }
     if (system.revision != m_hooksRevision)
@@ -231,9 +276,12 @@ void DivergenceGuard::afterIntegrator(const MassSpringSystem& system, Integrator
     if (m_settings.enabled && m_settings.checkEnergy && isImplicit(integrator) &&
         m_substepStart.size() == system.particles.size())
     {
-        m_linearisationError = Real(0.5) * m_linearisationError + linearisationGap(system, m_substepStart);
+        if (m_settings.account == EnergyAccount::Mechanical)
+        {
+            m_linearisationError = Real(0.5) * m_linearisationError + linearisationGap(system, m_substepStart);
+        }
         m_contactStart = system.particles.position;
-        m_contactEnergy = mechanicalEnergy(system);
+        m_contactEnergy = accountedEnergy(system);
     }
 }
 
@@ -244,7 +292,7 @@ void DivergenceGuard::afterContact(const MassSpringSystem& system, IntegratorKin
     {
         return;
     }
-    const Real added = mechanicalEnergy(system) - m_contactEnergy;
+    const Real added = accountedEnergy(system) - m_contactEnergy;
     if (!(added > 0))
     {
         return;
@@ -315,17 +363,19 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
     }
 
     // Energy: what the sheet has against what it started with plus what was put in.
-    const Real energy = mechanicalEnergy(system);
+    const Real energy = accountedEnergy(system);
     if (m_rebase)
     {
         // A change within the hooks that was not measured (before the guard knew to measure them): the accounting
         // starts again from here.
+        const Real mechanical =
+            m_settings.account == EnergyAccount::Mechanical ? energy : mechanicalEnergy(system);
         m_rebase = false;
-        m_reference = energy;
+        m_reference = mechanical;
         m_putIn = 0;
         m_integratorError = 0;
         m_linearisationError = 0;
-        m_scale = energyScale(system) + std::max(Real(0), energy - gravityEnergy(system));
+        m_scale = energyScale(system) + std::max(Real(0), mechanical - gravityEnergy(system));
     }
     else
     {
@@ -400,6 +450,11 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
         m_measureDecided = true;
         m_measureEveryPass = m_changedInFirstStep;
     }
+}
+
+Real DivergenceGuard::accountedEnergy(const MassSpringSystem& system) const
+{
+    return m_settings.account == EnergyAccount::Mechanical ? mechanicalEnergy(system) : motionEnergy(system);
 }
 
 void DivergenceGuard::fail(Real time, const std::string& what) const

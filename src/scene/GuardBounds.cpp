@@ -117,9 +117,9 @@ GuardSettings guardSettings(const SceneSpec& spec, Real lightestMass)
     settings.obstacleSpeed = fastestObstacleSpeed(spec);
     // A material sheet's springs are rewritten by its Burgers model every substep, and a glassy one's are stiff
     // (meganewtons per metre): the contact putting its bottom layer back by a millimetre stores a hundred joules in
-    // them for a sheet whose weight times size is a tenth of a joule (measured on a 6x2x6 PET sheet), so the energy
-    // account has no scale to judge it by yet. Such sheets keep the finite and speed checks.
-    settings.checkEnergy = !spec.material.enabled;
+    // them for a sheet whose weight times size is a tenth of a joule (measured on a 6x2x6 PET sheet), which the
+    // implicit step damps away. Such sheets' account weighs the energy of motion only (EnergyAccount::Motion).
+    settings.account = spec.material.enabled ? EnergyAccount::Motion : EnergyAccount::Mechanical;
     return settings;
 }
 } // namespace masse::scene
