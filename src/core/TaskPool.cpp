@@ -3,6 +3,9 @@
 #include "InputError.h"
 
 #include <cstdlib>
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 #include <memory>
 #include <string>
 #include <utility>
@@ -18,6 +21,33 @@ std::unique_ptr<TaskPool>& sharedPoolSlot()
 {
     static std::unique_ptr<TaskPool> pool;
     return pool;
+}
+
+/// Polls of a word before sleeping on it. A step's loops come microseconds apart (four or five per substep), while a
+/// futex sleep and wake-up on a virtual machine costs tens of microseconds and a system call on both sides: a worker
+/// that polls this long (about 20-60 us) after a job catches the next one awake. Bounded, so an idle pool sleeps and
+/// steals no core from a shared machine.
+constexpr int pollsBeforeSleep = 4000;
+
+inline void cpuRelax()
+{
+#if defined(__x86_64__)
+    _mm_pause();
+#endif
+}
+
+/// Polls `word` until it differs from `seen` (true) or the polls run out (false).
+template <class T> bool pollWhileEqual(const std::atomic<T>& word, T seen)
+{
+    for (int poll = 0; poll < pollsBeforeSleep; ++poll)
+    {
+        if (word.load(std::memory_order_acquire) != seen)
+        {
+            return true;
+        }
+        cpuRelax();
+    }
+    return false;
 }
 
 /// Guards the creation and replacement of the shared pool (the viewer's threads may ask for it first).
@@ -53,7 +83,10 @@ void TaskPool::workerLoop()
     std::uint32_t seen = 0;
     for (;;)
     {
-        m_jobNumber.wait(seen, std::memory_order_acquire);
+        if (!pollWhileEqual(m_jobNumber, seen))
+        {
+            m_jobNumber.wait(seen, std::memory_order_acquire);
+        }
         seen = m_jobNumber.load(std::memory_order_acquire);
         if (m_stop.load(std::memory_order_acquire))
         {
@@ -146,7 +179,10 @@ void TaskPool::runErased(std::size_t chunkCount, const void* context, ChunkFunct
     for (std::size_t done = m_done.load(std::memory_order_acquire); done != chunkCount;
          done = m_done.load(std::memory_order_acquire))
     {
-        m_done.wait(done, std::memory_order_acquire);
+        if (!pollWhileEqual(m_done, done))
+        {
+            m_done.wait(done, std::memory_order_acquire);
+        }
     }
     if (m_error)
     {
