@@ -72,13 +72,19 @@ struct GatherArgs
     Vec3 gravity;
     Real drag;
     Vec3* force;
+    // The symplectic kick (gatherBody with `kick`): v_i += (h / m_i) f_i as soon as f_i is known.
+    Real h = 0;
+    const Real* inverseMass = nullptr;
+    Vec3* velocity = nullptr;
 };
 
 /// Pass 2 over masses [begin, end): each mass's force, its own (gravity, drag, external; or, without `ownForces`, the
 /// force already there) plus its springs' in increasing spring index. The force on mass i of a spring to `other` is
 /// scale * (x_i - x_other): +scale d at end a, and exactly -scale d at end b (IEEE negation is exact), so the sum has
-/// the bits of the serial scatter force[a] += f, force[b] -= f.
-template <bool ownForces>
+/// the bits of the serial scatter force[a] += f, force[b] -= f. With `kick`, the mass's velocity takes its symplectic
+/// update from the force just summed, while its line is in cache: the pass reads no other mass's velocity, so the
+/// update cannot be seen by another mass's force.
+template <bool ownForces, bool kick = false>
 [[gnu::always_inline]] inline void gatherBody(const GatherArgs& args, std::size_t begin, std::size_t end)
 {
     const std::size_t* __restrict offsets = args.adjacency->offsets.data();
@@ -95,6 +101,10 @@ template <bool ownForces>
             f += scale[entry[k].spring] * (xi - x[entry[k].other]);
         }
         args.force[i] = f;
+        if constexpr (kick)
+        {
+            args.velocity[i] += (args.h * args.inverseMass[i]) * f;
+        }
     }
 }
 
@@ -110,6 +120,10 @@ template <bool ownForces>
     targetAttribute void gather##suffix(const GatherArgs& args, std::size_t begin, std::size_t end)                    \
     {                                                                                                                  \
         gatherBody<ownForces>(args, begin, end);                                                                       \
+    }                                                                                                                  \
+    targetAttribute void gatherAndKick##suffix(const GatherArgs& args, std::size_t begin, std::size_t end)             \
+    {                                                                                                                  \
+        gatherBody<true, true>(args, begin, end);                                                                      \
     }
 
 MASSE_FORCE_KERNELS(Default, )
@@ -148,6 +162,21 @@ template <bool ownForces> void gatherOn(SimdPath path, const GatherArgs& args, s
 #endif
     default:
         return gatherDefault<ownForces>(args, begin, end);
+    }
+}
+
+void gatherAndKickOn(SimdPath path, const GatherArgs& args, std::size_t begin, std::size_t end)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return gatherAndKickAvx512(args, begin, end);
+    case SimdPath::Avx2:
+        return gatherAndKickAvx2(args, begin, end);
+#endif
+    default:
+        return gatherAndKickDefault(args, begin, end);
     }
 }
 
@@ -217,5 +246,33 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
     {
         force[spring.mass] += evaluateUserSpring(spring, x[spring.mass], v[spring.mass]).force;
     }
+}
+
+bool evaluateForcesAndKick(MassSpringSystem& system, Real h)
+{
+    if (!system.userSprings.all().empty())
+    {
+        return false; // their forces come after the gather, and the kick must see them in the same sum
+    }
+    Particles& p = system.particles;
+    const std::size_t n = p.size();
+    p.force.resize(n);
+    std::vector<Real>& scale = springScaleScratch;
+    computeSpringScales(system.springs, system.forces.repulsion, p.position, p.velocity, scale);
+    GatherArgs args{&system.springs.adjacency(n),
+                    scale.data(),
+                    p.position.data(),
+                    p.velocity.data(),
+                    p.mass.data(),
+                    p.externalForce.data(),
+                    system.forces.gravity,
+                    system.forces.airDamping,
+                    p.force.data()};
+    args.h = h;
+    args.inverseMass = p.inverseMass.data();
+    args.velocity = p.velocity.data();
+    const SimdPath path = activeSimdPath();
+    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) { gatherAndKickOn(path, args, begin, end); });
+    return true;
 }
 } // namespace masse
