@@ -131,6 +131,36 @@ TEST(CommandLine, BenchPrintsOneJsonLine)
     EXPECT_GT(j["spring_steps_per_second"].get<double>(), 0.0);
 }
 
+// `masse bench` times a scene file: by default data/scenes/bench-free-fall.json, with --contact bench-contact.json (the
+// sheet resting on two boxes, so it reports contact figures with masses touching), or the file given, whose
+// obstacles it times too; a file and --contact together are refused.
+TEST(CommandLine, BenchTimesTheSceneItIsGiven)
+{
+    const Outcome freeFall = runMasse("bench --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(freeFall.exitCode, 0) << freeFall.output;
+    const nlohmann::json f = nlohmann::json::parse(freeFall.output);
+    EXPECT_NE(f["scene"].get<std::string>().find("bench-free-fall.json"), std::string::npos) << f["scene"];
+    EXPECT_FALSE(f.contains("contact"));
+
+    const Outcome resting = runMasse("bench --contact --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(resting.exitCode, 0) << resting.output;
+    const nlohmann::json c = nlohmann::json::parse(resting.output);
+    EXPECT_NE(c["scene"].get<std::string>().find("bench-contact.json"), std::string::npos) << c["scene"];
+    ASSERT_TRUE(c.contains("contact"));
+    EXPECT_GT(c["contact"]["touching_masses"].get<int>(), 0);
+
+    const Outcome drop = runMasse("bench " + source + "/data/scenes/paper-drop.json --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(drop.exitCode, 0) << drop.output;
+    const nlohmann::json d = nlohmann::json::parse(drop.output);
+    EXPECT_NE(d["scene"].get<std::string>().find("paper-drop.json"), std::string::npos) << d["scene"];
+    EXPECT_TRUE(d.contains("contact"));
+    EXPECT_EQ(d["masses"], 113);
+
+    const Outcome both = runMasse("bench " + source + "/data/scenes/paper-drop.json --contact --steps 1");
+    EXPECT_EQ(both.exitCode, 2);
+    EXPECT_NE(both.output.find("--contact"), std::string::npos) << both.output;
+}
+
 // `masse compare` on the reference landing (the 8 x 2 x 8 Table 1 sheet onto a box at dt = 0.03 s), cut to 2 s:
 // compare.json holds, for MaSSE and for each Bullet run asked, its events, penetration, tunnelled nodes, kinetic
 // energy and wall time, and for each Bullet run its distance to MaSSE; the plots and the series are written whole;

@@ -1,4 +1,5 @@
-/// `masse bench`: how fast the engine steps a sheet, as one JSON line. "steps" are steps of --dt, each split into
+/// `masse bench`: how fast the engine steps a scene (by default data/scenes/bench-free-fall.json, or bench-contact.json
+/// with --contact: the benchmarks are scene files, so what is timed can be watched in the viewer), as one JSON line. "steps" are steps of --dt, each split into
 /// "substeps" by the explicit integrators; "spring_steps_per_second" (springs times substeps, divided by wall time)
 /// is the figure to compare across sizes, integrators and machines. Each figure is the median of --repeat rounds.
 
@@ -6,20 +7,18 @@
 #include "ScalarBaseline.h"
 #include "SceneOptions.h"
 
-#include "bridge/BulletEnvironment.h"
-
 #include "core/ContactSolver.h"
-#include "core/Damping.h"
 #include "core/Forces.h"
 #include "core/Format.h"
 #include "core/InputError.h"
-#include "core/Lattice.h"
-#include "core/MaterialSheet.h"
-#include "core/Simulator.h"
 #include "core/SimdPath.h"
+#include "core/Simulator.h"
 #include "core/TaskPool.h"
+#include "core/ViscoelasticSprings.h"
 #include "scene/MaterialFile.h"
 #include "scene/Runner.h"
+#include "scene/Scene.h"
+#include "scene/SceneOverrides.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -27,6 +26,7 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <vector>
@@ -37,17 +37,19 @@ namespace
 {
 struct BenchOptions
 {
-    std::string structure = "trimm";
-    std::string size = "256x2x256";
-    std::string integrator = "symplectic";
+    std::string scene;     // a scene file; "" for data/scenes/bench-free-fall.json (bench-contact.json with --contact)
+    std::string structure; // "" keeps the scene's
+    std::string size;      // "" keeps the scene's
+    std::string integrator;
     int steps = 5;
     int repeat = 5;
-    double dt = 0.03; // the paper's step; explicit integrators split it into stable substeps
+    std::string dt; // "" keeps the scene's (the paper's 0.03 s in the bench scenes)
     bool contact = false;
     bool baseline = false;
-    std::string preconditioner = "cholesky";
+    std::string preconditioner;
     std::string material; // a material file: the sheet is made of it (2 mm thick) instead of Table 1's springs
     double temperatureC = 20;
+    std::vector<std::string> settings; // --set KEY=VALUE
 };
 
 double median(std::vector<double> values)
@@ -56,12 +58,63 @@ double median(std::vector<double> values)
     return values[values.size() / 2];
 }
 
+/// The scene to time: the file given or the bench scene, with the flags' changes (each a --set of its key, so a bad
+/// value is reported as the scene reader reports it).
+scene::SceneSpec benchScene(const BenchOptions& options)
+{
+    if (!options.scene.empty() && options.contact)
+    {
+        throw InputError("--contact: chooses the contact bench scene (data/scenes/bench-contact.json); give either a "
+                         "scene file or --contact");
+    }
+    const std::string path =
+        !options.scene.empty()
+            ? options.scene
+            : dataDirectory() + (options.contact ? "/scenes/bench-contact.json" : "/scenes/bench-free-fall.json");
+    std::vector<std::string> settings;
+    if (!options.structure.empty())
+    {
+        settings.push_back("sheet.structure=" + options.structure);
+    }
+    if (!options.size.empty())
+    {
+        settings.push_back("sheet.size=" + options.size);
+    }
+    if (!options.integrator.empty())
+    {
+        settings.push_back("integrator.type=" + options.integrator);
+    }
+    if (!options.dt.empty())
+    {
+        settings.push_back("integrator.dt=" + options.dt);
+    }
+    if (!options.preconditioner.empty())
+    {
+        settings.push_back("integrator.preconditioner=" + options.preconditioner);
+    }
+    settings.insert(settings.end(), options.settings.begin(), options.settings.end());
+    scene::SceneSpec spec = scene::loadScene(path, parseSettings(settings));
+    if (!options.material.empty())
+    {
+        // A real 2 mm sheet (its layer spacing the thickness) at the given temperature, elastic: cold, its springs
+        // are thousands of times stiffer than Table 1's, the hard case for the implicit solve.
+        spec.material.enabled = true;
+        spec.material.file = options.material;
+        spec.material.material = scene::readMaterialFile(options.material);
+        spec.material.thickness = 0.002;
+        spec.material.springs.model = SpringModel::Elastic;
+        spec.material.springs.initialTemperature = options.temperatureC + 273.15;
+        validate(spec.material.springs);
+        spec.sheet.lattice.maxCorner.y() = spec.sheet.lattice.minCorner.y() + spec.material.thickness;
+    }
+    // The run's own length and rest do not apply: the bench takes its steps.
+    spec.run.stopAtRest = false;
+    spec.run.duration = std::numeric_limits<Real>::infinity();
+    return spec;
+}
+
 void runBench(const BenchOptions& options)
 {
-    LatticeSpec spec;
-    spec.structure = parseStructure(options.structure);
-    parseSize(options.size, spec);
-    const IntegratorKind kind = parseIntegrator(options.integrator);
     if (options.steps < 1)
     {
         throw InputError("--steps: must be >= 1 (got " + std::to_string(options.steps) + ")");
@@ -70,61 +123,17 @@ void runBench(const BenchOptions& options)
     {
         throw InputError("--repeat: must be >= 1 (got " + std::to_string(options.repeat) + ")");
     }
-    if (!(options.dt > 0))
-    {
-        throw InputError("--dt: must be > 0 seconds (got " + formatNumber(options.dt) + ")");
-    }
+    const scene::SceneSpec spec = benchScene(options);
+    const IntegratorKind kind = spec.time.integrator;
+    scene::Scene scene(spec);
+    Simulator& simulator = scene.simulator();
+    ContactSolver* contact = &scene.contact();
+    const bool timeContact = spec.environment.room.enabled || !spec.obstacles.empty();
+    const SimulatorSettings settings = simulator.settings();
 
-    if (options.preconditioner != "cholesky" && options.preconditioner != "jacobi")
-    {
-        throw InputError("--preconditioner: expected cholesky or jacobi (got '" + options.preconditioner + "')");
-    }
-    // A material sheet is a real 2 mm sheet (its layer spacing the thickness) at the given temperature: cold, its
-    // springs are thousands of times stiffer than Table 1's, the hard case for the implicit solve.
-    const Real materialThickness = 0.002;
-    if (!options.material.empty())
-    {
-        spec.maxCorner.y() = spec.minCorner.y() + materialThickness;
-    }
-    const Lattice lattice = buildLattice(spec);
-    MassSpringSystem sheet = options.material.empty()
-                                 ? makeSheet(lattice, SheetParams{})
-                                 : makeMaterialSheet(lattice, scene::readMaterialFile(options.material),
-                                                     materialThickness, options.temperatureC + 273.15);
-    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
-    SimulatorSettings settings;
-    settings.integrator = kind;
-    settings.implicit.preconditioner =
-        options.preconditioner == "jacobi" ? PreconditionerKind::Jacobi : PreconditionerKind::Cholesky;
-    Simulator simulator(std::move(sheet), settings);
-
-    // With --contact the sheet rests on two boxes (one under each half, a 0.1 m gap between them) in the room.
-    bridge::BulletEnvironment environment;
-    ContactSettings contactSettings;
-    std::unique_ptr<ContactSolver> contact;
-    if (options.contact)
-    {
-        environment.addRoom(bridge::RoomSpec{});
-        const Real top = spec.minCorner.y() - contactSettings.radius;
-        bridge::ObstacleSpec box;
-        box.kind = bridge::ObstacleKind::Box;
-        box.halfExtents = Vec3(0.4, 0.5, 0.8);
-        box.name = "left";
-        box.position = Vec3(-0.1, top - 0.5, 0.3);
-        environment.addObstacle(box);
-        box.name = "right";
-        box.position = Vec3(0.75, top - 0.5, 0.3);
-        environment.addObstacle(box);
-        contact = std::make_unique<ContactSolver>(environment, contactSettings);
-        simulator.setContactSolver(contact.get());
-    }
-
-    const Real dt = options.dt;
+    const Real dt = spec.time.dt;
     simulator.step(dt);
-    if (contact)
-    {
-        contact->timingsReset();
-    } // warm-up: first-touch of arrays, the implicit solver's pattern
+    contact->timingsReset(); // warm-up: first-touch of arrays, the implicit solver's pattern
 
     // Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander.
     std::vector<double> rates;
@@ -161,7 +170,7 @@ void runBench(const BenchOptions& options)
     // The share of contact: its own clock against the whole step, and against the spring forces alone, timed on
     // the final state for as many evaluations as the last round made.
     nlohmann::json contactFigures;
-    if (contact)
+    if (timeContact)
     {
         const double contactSeconds = contact->timings().total();
         const double allSeconds = std::accumulate(walls.begin(), walls.end(), 0.0);
@@ -193,8 +202,10 @@ void runBench(const BenchOptions& options)
     const double bestWall = sortedWalls.front();
 
     nlohmann::json out = {
-        {"structure", structureName(spec.structure)},
-        {"size", options.size},
+        {"scene", spec.path},
+        {"structure", structureName(spec.sheet.lattice.structure)},
+        {"size", std::to_string(spec.sheet.lattice.countX) + "x" + std::to_string(spec.sheet.lattice.layers) + "x" +
+                     std::to_string(spec.sheet.lattice.countZ)},
         {"integrator", integratorName(kind)},
         {"threads", threadCount()},
         {"simd", simdPathName(activeSimdPath())},
@@ -211,7 +222,7 @@ void runBench(const BenchOptions& options)
         {"realtime_factor", double(options.steps) * dt / wall},
         {"round_wall_seconds", walls},
     };
-    if (contact)
+    if (timeContact)
     {
         out["contact"] = contactFigures;
     }
@@ -246,25 +257,30 @@ void runBench(const BenchOptions& options)
 void addBenchCommand(CLI::App& app)
 {
     auto options = std::make_shared<BenchOptions>();
-    CLI::App* command = app.add_subcommand("bench", "Time the engine on a sheet falling freely; prints one JSON line");
-    command->add_option("--structure", options->structure, "square2d, samm, slamm or trimm")->capture_default_str();
-    command->add_option("--size", options->size, "NxLxN")->capture_default_str();
-    command->add_option("--integrator", options->integrator, "euler, symplectic, verlet, implicit or bdf2")
-        ->capture_default_str();
-    command->add_option("--preconditioner", options->preconditioner, "implicit solver: cholesky or jacobi")
-        ->capture_default_str();
+    CLI::App* command = app.add_subcommand(
+        "bench", "Time the engine on a scene (by default data/scenes/bench-free-fall.json: a 256x2x256 Table 1 sheet "
+                 "falling freely); prints one JSON line");
+    command->add_option("scene", options->scene,
+                        "Scene file to time (default data/scenes/bench-free-fall.json, or bench-contact.json with "
+                        "--contact); its run length and rest are ignored");
+    command->add_option("--structure", options->structure, "square2d, samm, slamm or trimm (default: the scene's)");
+    command->add_option("--size", options->size, "NxLxN (default: the scene's, 256x2x256 in the bench scenes)");
+    command->add_option("--integrator", options->integrator,
+                        "euler, symplectic, verlet, implicit or bdf2 (default: the scene's)");
+    command->add_option("--preconditioner", options->preconditioner, "implicit solver: cholesky or jacobi");
     command->add_option("--material", options->material,
-                        "Material file: a 2 mm sheet of it (e.g. data/materials/pet.json) instead of Table 1's");
+                        "Material file: a 2 mm elastic sheet of it (e.g. data/materials/pet.json) instead of Table 1's");
     command->add_option("--temperature", options->temperatureC, "Temperature of a --material sheet (C)")
         ->capture_default_str();
     command->add_option("--steps", options->steps, "Steps per timed round (after one warm-up step)")
         ->capture_default_str();
     command->add_option("--repeat", options->repeat, "Timed rounds; figures are the median round (and the best)")
         ->capture_default_str();
-    command->add_option("--dt", options->dt, "Step in seconds (explicit integrators substep it)")
-        ->capture_default_str();
+    command->add_option("--dt", options->dt, "Step in seconds (default: the scene's; explicit integrators substep it)");
     command->add_flag("--contact", options->contact,
-                      "Rest the sheet on two boxes and report the share of step time spent on contact");
+                      "Time data/scenes/bench-contact.json (the sheet resting on two boxes) and report the share of "
+                      "step time spent on contact");
+    addSetOption(*command, options->settings);
     addThreadsOption(*command);
     command->add_flag("--baseline", options->baseline,
                       "Also time a plain single-threaded scalar loop over the same springs, round by round, and "

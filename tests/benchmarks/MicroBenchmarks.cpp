@@ -1,27 +1,36 @@
 // Google Benchmark micro-benchmarks of the engine's kernels: `build/bin/masse_benchmarks` prints their figures.
-// They time; they do not assert (speed is reported, not tested).
+// They time; they do not assert (speed is reported, not tested). Their sheets come from the bench scenes in
+// data/scenes (bench-free-fall.json, bench-contact.json), at the size each benchmark names, so what they time can be
+// watched with `masse view`.
 
-#include "bridge/BulletEnvironment.h"
+#include "scene/Scene.h"
+#include "scene/SceneOverrides.h"
 
 #include "core/ContactSolver.h"
-#include "core/Damping.h"
 #include "core/Forces.h"
+#include "core/Damping.h"
 #include "core/Integrator.h"
-#include "core/Lattice.h"
 
 #include <benchmark/benchmark.h>
+
+#include <string>
 
 using namespace masse;
 
 namespace
 {
+/// A bench scene of data/scenes at n x 2 x n.
+scene::SceneSpec benchScene(const std::string& name, int n)
+{
+    const std::string size = std::to_string(n) + "x2x" + std::to_string(n);
+    return scene::loadScene(std::string(MASSE_SOURCE_DIR) + "/data/scenes/" + name,
+                            {scene::parseKeyOverride("sheet.size=" + size)});
+}
+
 MassSpringSystem paperSheet(int n)
 {
-    LatticeSpec spec;
-    spec.countX = n;
-    spec.countZ = n;
-    MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
-    sheet.forces.airDamping = airDampingRate(paperAirRetention, paperTimeStep);
+    scene::Scene scene(benchScene("bench-free-fall.json", n));
+    MassSpringSystem sheet = scene.system();
     for (Vec3& x : sheet.particles.position)
     {
         x *= 1.001; // slightly stretched, so every spring does its full work
@@ -56,17 +65,13 @@ void implicitStep(benchmark::State& state)
 }
 BENCHMARK(implicitStep)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
-/// One frame's detection for a sheet resting on a box: Bullet's broadphase and GJK for every mass.
+/// One frame's contact for the sheet resting on two boxes (bench-contact.json): detection (Bullet's broadphase,
+/// then face planes or GJK for every mass), one projection pass and the frame's end.
 void contactDetection(benchmark::State& state)
 {
-    MassSpringSystem sheet = paperSheet(int(state.range(0)));
-    bridge::BulletEnvironment environment;
-    bridge::ObstacleSpec box;
-    box.name = "box";
-    box.halfExtents = Vec3(1, 0.5, 1);
-    box.position = Vec3(0.3, 0.3 - 0.01 - 0.5, 0.3);
-    environment.addObstacle(box);
-    ContactSolver contact(environment, ContactSettings{});
+    scene::Scene scene(benchScene("bench-contact.json", int(state.range(0))));
+    MassSpringSystem sheet = scene.system();
+    ContactSolver& contact = scene.contact();
     for (auto _ : state)
     {
         contact.beginFrame(sheet, 0, paperTimeStep, false);
