@@ -6,7 +6,6 @@
 #include "TaskPool.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -14,20 +13,6 @@ namespace masse
 {
 namespace
 {
-/// Adds the wall time of its scope to a counter.
-class ScopeTimer
-{
-public:
-    explicit ScopeTimer(double& total) : m_total(total), m_start(std::chrono::steady_clock::now()) {}
-    ~ScopeTimer() { m_total += std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count(); }
-    ScopeTimer(const ScopeTimer&) = delete;
-    ScopeTimer& operator=(const ScopeTimer&) = delete;
-
-private:
-    double& m_total;
-    std::chrono::steady_clock::time_point m_start;
-};
-
 constexpr EnumName<ContactResponse> responseNames[] = {
     {ContactResponse::Sticky, "sticky"},
     {ContactResponse::Friction, "friction"},
@@ -125,7 +110,7 @@ void ContactSolver::resizeFor(std::size_t masses)
 
 void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, bool constrain)
 {
-    const ScopeTimer timer(m_timings.detection);
+    const StageScope stage(m_observer, Stage::ContactDetection);
     const Particles& p = system.particles;
     const std::size_t n = p.size();
     resizeFor(n);
@@ -262,7 +247,7 @@ void ContactSolver::recordFirstContact(int obstacle)
 
 void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
 {
-    const ScopeTimer timer(m_timings.projection);
+    const StageScope stage(m_observer, Stage::ContactProjection);
     Particles& p = system.particles;
     m_elapsed += h;
 
@@ -414,7 +399,7 @@ void ContactSolver::projectMass(Particles& p, Index i, Real h, std::vector<int>&
 
 void ContactSolver::endFrame(MassSpringSystem& system, Real time)
 {
-    const ScopeTimer timer(m_timings.sweep);
+    const StageScope stage(m_observer, Stage::ContactSweep);
     system.constraints.clear();
     Particles& p = system.particles;
     const Real radius = m_settings.radius;

@@ -13,21 +13,13 @@
 
 #include "Contact.h"
 #include "MassSpringSystem.h"
+#include "StageObserver.h"
 
 #include <utility>
 #include <vector>
 
 namespace masse
 {
-/// Wall-clock seconds the contact solver has spent, by phase (for benchmarks).
-struct ContactTimings
-{
-    double detection = 0;  ///< finding planes with the detector, once per frame
-    double projection = 0; ///< applying planes after every substep
-    double sweep = 0;      ///< the end-of-frame sweep and reports
-    double total() const { return detection + projection + sweep; }
-};
-
 /// The first contact of the sheet with one obstacle.
 struct ContactEvent
 {
@@ -72,8 +64,8 @@ public:
     Real maxPenetration(const MassSpringSystem& system);
     /// Releases every stuck mass (for a reset or a change of response).
     void releaseAll();
-    const ContactTimings& timings() const { return m_timings; }
-    void timingsReset() { m_timings = {}; }
+    /// Told when each contact stage begins and ends (nullptr: nobody); a profiler outside the core reads its clock.
+    void setStageObserver(StageObserver* observer) { m_observer = observer; }
 
 private:
     /// Records that a mass touches an obstacle this frame (called for every active contact of every substep, so
@@ -151,7 +143,7 @@ private:
     std::vector<std::pair<int, int>> m_touchedFaces;
     std::size_t m_touchingCount = 0;
     std::vector<ContactEvent> m_firstContacts;
-    ContactTimings m_timings;
+    StageObserver* m_observer = nullptr;
     std::vector<std::uint8_t> m_obstacleTouched;
 };
 } // namespace masse
