@@ -23,7 +23,7 @@ class Bdf2 final : public Integrator
 public:
     explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings) {}
 
-    IntegratorStats step(MassSpringSystem& system, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {
         Particles& p = system.particles;
         const std::size_t n = p.size();
@@ -32,7 +32,7 @@ public:
         IntegratorStats stats;
         if (!history)
         {
-            stats = m_solve.solve(system, h, m_none, m_none);
+            stats = m_solve.solve(system, context.constraints, h, m_none, m_none);
             m_previousPosition = p.position; // sized once; later steps copy into the same storage
             m_previousVelocity = p.velocity;
             m_offset.resize(n);
@@ -51,7 +51,7 @@ public:
                 m_offset[i] = (p.position[i] - m_previousPosition[i]) / Real(3);
                 m_momentum[i] = (p.velocity[i] - m_previousVelocity[i]) / Real(3);
             }
-            stats = m_solve.solve(system, a, m_offset, m_momentum);
+            stats = m_solve.solve(system, context.constraints, a, m_offset, m_momentum);
             std::copy(p.position.begin(), p.position.end(), m_previousPosition.begin());
             std::copy(p.velocity.begin(), p.velocity.end(), m_previousVelocity.begin());
             for (std::size_t i = 0; i < n; ++i)

@@ -108,7 +108,7 @@ void ContactSolver::resizeFor(std::size_t masses)
     m_reach.assign(masses, 0);
 }
 
-void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, bool constrain)
+void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain)
 {
     const StageScope stage(m_observer, Stage::ContactDetection);
     const Particles& p = system.particles;
@@ -157,7 +157,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     // a surface keeps the surface's normal velocity, and its friction becomes a tangential damping. A mass rests if
     // it touches the surface and is not leaving it, and the surface pushed on it in the last solve (its reaction),
     // or, for a new contact, its forces press it in. When the solve's reaction would pull, it lets go.
-    system.constraints.clear();
+    context.constraints.clear();
     m_wasResting.swap(m_resting);
     std::fill(m_resting.begin(), m_resting.end(), std::uint8_t(0));
     m_restingMasses.clear();
@@ -169,7 +169,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
     {
         if (m_stuck[i])
         {
-            system.constraints.push_back({Index(i), 3, m_stuckNormal[i], m_stuckVelocity[i], 0, Vec3::Zero()});
+            context.constraints.push_back({Index(i), 3, m_stuckNormal[i], m_stuckVelocity[i], 0, Vec3::Zero()});
         }
     }
     const Real touchTolerance = Real(1e-6) * m_settings.radius;
@@ -206,9 +206,9 @@ void ContactSolver::beginFrame(MassSpringSystem& system, Real time, Real dt, boo
                           dt * std::max(Real(0), push - limit) * p.inverseMass[i], m_settings.slipRegularization});
             damping = limit / slip;
         }
-        m_restingConstraint[i] = system.constraints.size();
+        m_restingConstraint[i] = context.constraints.size();
         m_restingPlane[i] = k;
-        system.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
+        context.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
         m_resting[i] = 1;
         m_restingMasses.push_back(i);
         m_restingNormal[i] = plane.normal;
@@ -245,7 +245,7 @@ void ContactSolver::recordFirstContact(int obstacle)
     m_firstContacts.push_back({obstacle, m_frameTime + m_elapsed});
 }
 
-void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
+void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& context, Real h)
 {
     const StageScope stage(m_observer, Stage::ContactProjection);
     Particles& p = system.particles;
@@ -283,7 +283,7 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, Real h)
         {
             continue;
         }
-        m_lastReaction[i] = system.constraints[m_restingConstraint[i]].reaction;
+        m_lastReaction[i] = context.constraints[m_restingConstraint[i]].reaction;
         const Vec3 relative = p.velocity[i] - m_restingVelocity[i];
         const Vec3 slip = relative - relative.dot(m_restingNormal[i]) * m_restingNormal[i];
         m_impulse[i] += m_lastReaction[i] - h * m_restingDamping[i] * slip; // the reaction holds; friction drags
@@ -397,10 +397,10 @@ void ContactSolver::projectMass(Particles& p, Index i, Real h, std::vector<int>&
     }
 }
 
-void ContactSolver::endFrame(MassSpringSystem& system, Real time)
+void ContactSolver::endFrame(MassSpringSystem& system, StepContext& context, Real time)
 {
     const StageScope stage(m_observer, Stage::ContactSweep);
-    system.constraints.clear();
+    context.constraints.clear();
     Particles& p = system.particles;
     const Real radius = m_settings.radius;
     m_elapsed = time - m_frameTime;

@@ -14,6 +14,7 @@
 #include "Contact.h"
 #include "MassSpringSystem.h"
 #include "StageObserver.h"
+#include "StepContext.h"
 
 #include <utility>
 #include <vector>
@@ -36,10 +37,11 @@ public:
     const ContactSettings& settings() const { return m_settings; }
 
     /// Called by the Simulator around the substeps of every frame. With `constrain`, the integrator honours velocity
-    /// constraints, and stuck and resting masses are handed to it as such (see VelocityConstraint.h).
-    void beginFrame(MassSpringSystem& system, Real time, Real dt, bool constrain);
-    void afterSubstep(MassSpringSystem& system, Real h);
-    void endFrame(MassSpringSystem& system, Real time);
+    /// constraints, and stuck and resting masses are handed to it as such in context.constraints (see
+    /// VelocityConstraint.h), whose reactions afterSubstep reads; endFrame clears them.
+    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain);
+    void afterSubstep(MassSpringSystem& system, const StepContext& context, Real h);
+    void endFrame(MassSpringSystem& system, StepContext& context, Real time);
 
     // Reports of the last frame.
     /// Obstacle each mass touched during the last frame, or -1.
@@ -120,7 +122,7 @@ private:
     std::vector<Real> m_restingDamping;
     std::vector<int> m_restingObstacle;
     std::vector<int> m_restingFace;
-    std::vector<std::size_t> m_restingConstraint; ///< index into MassSpringSystem::constraints
+    std::vector<std::size_t> m_restingConstraint; ///< index into StepContext::constraints
     std::vector<std::size_t> m_restingPlane;      ///< index into m_planes of the surface it rests on
     std::vector<Vec3> m_lastReaction;             ///< N s, from the previous frame's solve
     std::vector<std::uint8_t> m_wasResting;

@@ -12,7 +12,7 @@ namespace
 class ExplicitEuler final : public Integrator
 {
 public:
-    IntegratorStats step(MassSpringSystem& system, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h) override
     {
         Particles& p = system.particles;
         evaluateForces(system, p.position, p.velocity, p.force);

@@ -16,11 +16,11 @@ class ImplicitEuler final : public Integrator
 public:
     explicit ImplicitEuler(const ImplicitSettings& settings) : m_solve(settings) {}
 
-    IntegratorStats step(MassSpringSystem& system, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {
         Particles& p = system.particles;
         evaluateForces(system, p.position, p.velocity, p.force);
-        const IntegratorStats stats = m_solve.solve(system, h, m_none, m_none);
+        const IntegratorStats stats = m_solve.solve(system, context.constraints, h, m_none, m_none);
         for (std::size_t i = 0; i < p.size(); ++i)
         {
             p.velocity[i] += m_solve.deltaV(Index(i));

@@ -11,8 +11,8 @@
 
 namespace masse
 {
-IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
-                                     const std::vector<Vec3>& momentum)
+IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
+                                     const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum)
 {
     const std::size_t n = system.particles.size();
     if (m_patternSystem != &system || m_patternMasses != n || m_patternSprings != system.springs.size())
@@ -20,7 +20,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, Real a, const std
         buildPattern(system);
     }
     assemble(system, a, offset, momentum);
-    const bool constrained = applyConstraints(system, a);
+    const bool constrained = applyConstraints(system, constraints, a);
     m_tolerance = solverTolerance(system, a);
     const IntegratorStats stats = runSolver();
     if (constrained)
@@ -29,7 +29,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, Real a, const std
         {
             m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
         }
-        writeReactions(system);
+        writeReactions(constraints);
     }
     return stats;
 }
@@ -176,7 +176,7 @@ ImplicitSolve::BlockSlots ImplicitSolve::findSlots(std::size_t row, std::size_t 
 }
 
 /// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.
-void ImplicitSolve::writeReactions(MassSpringSystem& system)
+void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
 {
     m_reaction.resize(m_constrainedMasses.size());
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
@@ -187,7 +187,7 @@ void ImplicitSolve::writeReactions(MassSpringSystem& system)
     {
         m_reaction[neighbour.row] += neighbour.block * deltaV(neighbour.mass);
     }
-    for (VelocityConstraint& c : system.constraints)
+    for (VelocityConstraint& c : constraints)
     {
         c.reaction = c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
                          ? m_reaction[std::size_t(m_constraintOf[c.mass])]
@@ -233,8 +233,9 @@ void ImplicitSolve::addToBlock(const BlockSlots& slots, const Mat3& block)
     }
 }
 
-/// Applies the filter for the system's velocity constraints; returns false when there are none.
-bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, Real a)
+/// Applies the filter for the velocity constraints; returns false when there are none.
+bool ImplicitSolve::applyConstraints(const MassSpringSystem& system,
+                                     const std::vector<VelocityConstraint>& constraints, Real a)
 {
     const Particles& p = system.particles;
     for (Index i : m_constrainedMasses) // reset only what the last step set
@@ -246,11 +247,11 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, Real a)
     m_prescribed.clear();
     m_bases.clear();
     m_rowNeighbours.clear();
-    if (system.constraints.empty())
+    if (constraints.empty())
     {
         return false;
     }
-    for (const VelocityConstraint& c : system.constraints)
+    for (const VelocityConstraint& c : constraints)
     {
         if (c.mass >= p.size() || p.pinned[c.mass])
         {
@@ -284,7 +285,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, Real a)
         return false;
     }
     // Friction as a tangential damping -c (I - n n^T)(v' - u), added like the air drag before the filter.
-    for (const VelocityConstraint& c : system.constraints)
+    for (const VelocityConstraint& c : constraints)
     {
         if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass])
         {

@@ -34,10 +34,10 @@ class ImplicitSolve
 public:
     explicit ImplicitSolve(const ImplicitSettings& settings) : m_settings(settings) {}
 
-    /// Assembles and solves for dv with the forces already in system.particles.force. `offset` and `momentum` are
-    /// per mass, or empty for zero. Sets each constraint's reaction.
-    IntegratorStats solve(MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
-                          const std::vector<Vec3>& momentum);
+    /// Assembles and solves for dv with the forces already in system.particles.force, honouring `constraints`.
+    /// `offset` and `momentum` are per mass, or empty for zero. Sets each constraint's reaction.
+    IntegratorStats solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
+                          const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum);
 
     /// The velocity change of mass i from the last solve.
     Vec3 deltaV(Index i) const { return m_deltaV.segment<3>(Eigen::Index(3 * i)); }
@@ -59,12 +59,12 @@ private:
     BlockSlots findSlots(std::size_t row, std::size_t column) const;
     void assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
                   const std::vector<Vec3>& momentum);
-    bool applyConstraints(const MassSpringSystem& system, Real a);
+    bool applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints, Real a);
     IntegratorStats runSolver();
     /// The relative tolerance of this solve: the settings' one, tightened so that the residual never exceeds it times
     /// the impulse of the sheet's weight over the step (see the definition for why).
     Real solverTolerance(const MassSpringSystem& system, Real a) const;
-    void writeReactions(MassSpringSystem& system);
+    void writeReactions(std::vector<VelocityConstraint>& constraints);
     Mat3 readBlock(const BlockSlots& slots) const;
     void writeBlock(const BlockSlots& slots, const Mat3& block);
     void addToBlock(const BlockSlots& slots, const Mat3& block);

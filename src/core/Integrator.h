@@ -3,6 +3,7 @@
 /// stability estimate; implicit Euler and BDF2 are stable at any step.
 
 #include "MassSpringSystem.h"
+#include "StepContext.h"
 
 #include <memory>
 #include <string_view>
@@ -54,10 +55,17 @@ class Integrator
 {
 public:
     virtual ~Integrator() = default;
-    /// Advances the system by one step of h seconds.
-    virtual IntegratorStats step(MassSpringSystem& system, Real h) = 0;
+    /// Advances the system by one step of h seconds, with the frame's velocity constraints in `context` (the
+    /// integrators whose honoursConstraints() is true honour them and write their reactions; the others ignore it).
+    virtual IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) = 0;
+    /// A step without constraints.
+    IntegratorStats step(MassSpringSystem& system, Real h)
+    {
+        StepContext none;
+        return step(system, none, h);
+    }
     virtual IntegratorKind kind() const = 0;
-    /// Whether the step honours MassSpringSystem::constraints (otherwise the contact solver's projection does all).
+    /// Whether the step honours the context's constraints (otherwise the contact solver's projection does all).
     virtual bool honoursConstraints() const { return false; }
 };
 

@@ -5,7 +5,6 @@
 #include "Particles.h"
 #include "SpringSet.h"
 #include "UserSprings.h"
-#include "VelocityConstraint.h"
 
 #include <array>
 
@@ -27,8 +26,6 @@ struct MassSpringSystem
     SpringSet springs;
     ForceSettings forces;
     UserSprings userSprings;
-    /// Constraints for the implicit integrator during the current frame (set and cleared by the contact solver).
-    std::vector<VelocityConstraint> constraints;
     /// Bumped by every change made between steps that a cached integrator state depends on (pins, user springs,
     /// teleported masses, new coefficients); see markChanged.
     std::uint64_t revision = 0;

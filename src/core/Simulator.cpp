@@ -63,7 +63,7 @@ StepReport Simulator::step(Real dt)
     report.substep = dt / Real(report.substeps);
     if (m_contact)
     {
-        m_contact->beginFrame(m_system, m_time, dt, m_integrator->honoursConstraints());
+        m_contact->beginFrame(m_system, m_context, m_time, dt, m_integrator->honoursConstraints());
     }
     m_guard.beforeHooks(m_system);
     for (StepHook* hook : m_hooks)
@@ -74,7 +74,7 @@ StepReport Simulator::step(Real dt)
     for (int i = 0; i < report.substeps; ++i)
     {
         m_guard.beforeSubstep(m_system, m_settings.integrator);
-        const IntegratorStats stats = m_integrator->step(m_system, report.substep);
+        const IntegratorStats stats = m_integrator->step(m_system, m_context, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
         report.solverCapHits += stats.hitIterationCap ? 1 : 0;
@@ -85,7 +85,7 @@ StepReport Simulator::step(Real dt)
         m_guard.afterIntegrator(m_system, m_settings.integrator);
         if (m_contact)
         {
-            m_contact->afterSubstep(m_system, report.substep);
+            m_contact->afterSubstep(m_system, m_context, report.substep);
             m_guard.afterContact(m_system, m_settings.integrator);
         }
         const Real substepEnd = m_time + Real(i + 1) * report.substep;
@@ -100,7 +100,7 @@ StepReport Simulator::step(Real dt)
     m_time += dt;
     if (m_contact)
     {
-        m_contact->endFrame(m_system, m_time);
+        m_contact->endFrame(m_system, m_context, m_time);
     }
     m_guard.beforeHooks(m_system);
     for (StepHook* hook : m_hooks)

@@ -46,6 +46,9 @@ public:
 
     MassSpringSystem& system() { return m_system; }
     const MassSpringSystem& system() const { return m_system; }
+    /// What the frame's stages hand one another (the contact's velocity constraints). With a contact solver it is
+    /// rewritten every frame; without one, constraints a program sets here hold until it changes them.
+    StepContext& context() { return m_context; }
     const SimulatorSettings& settings() const { return m_settings; }
     void setIntegrator(IntegratorKind kind);
     /// Contact with obstacles, applied after every substep; nullptr for none. The solver must outlive its use here.
@@ -67,6 +70,7 @@ private:
     const StabilityEstimate& stability() const;
 
     MassSpringSystem m_system;
+    StepContext m_context;
     SimulatorSettings m_settings;
     std::unique_ptr<Integrator> m_integrator;
     ContactSolver* m_contact = nullptr;

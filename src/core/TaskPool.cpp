@@ -3,9 +3,6 @@
 #include "InputError.h"
 
 #include <cstdlib>
-#if defined(__x86_64__)
-#include <immintrin.h>
-#endif
 #include <memory>
 #include <string>
 #include <utility>
@@ -31,8 +28,8 @@ constexpr int pollsBeforeSleep = 4000;
 
 inline void cpuRelax()
 {
-#if defined(__x86_64__)
-    _mm_pause();
+#if defined(__x86_64__) && defined(__GNUC__)
+    __builtin_ia32_pause(); // the core includes only Eigen and the standard library
 #endif
 }
 

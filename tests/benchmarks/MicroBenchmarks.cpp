@@ -72,11 +72,12 @@ void contactDetection(benchmark::State& state)
     scene::Scene scene(benchScene("bench-contact.json", int(state.range(0))));
     MassSpringSystem sheet = scene.system();
     ContactSolver& contact = scene.contact();
+    StepContext context;
     for (auto _ : state)
     {
-        contact.beginFrame(sheet, 0, paperTimeStep, false);
-        contact.afterSubstep(sheet, paperTimeStep);
-        contact.endFrame(sheet, paperTimeStep);
+        contact.beginFrame(sheet, context, 0, paperTimeStep, false);
+        contact.afterSubstep(sheet, context, paperTimeStep);
+        contact.endFrame(sheet, context, paperTimeStep);
     }
     state.counters["planes"] = double(contact.planeCount());
 }
