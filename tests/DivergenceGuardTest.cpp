@@ -9,6 +9,7 @@
 #include "scene/SceneFile.h"
 
 #include "core/DivergenceGuard.h"
+#include "core/NumericalError.h"
 #include "core/Simulator.h"
 
 #include <gtest/gtest.h>

@@ -4,6 +4,7 @@
 #include "scene/Scene.h"
 
 #include "core/DivergenceGuard.h"
+#include "core/NumericalError.h"
 
 #include <string>
 

@@ -5,6 +5,7 @@
 #include "TestSystems.h"
 
 #include "bridge/MeshFile.h"
+#include "core/NumericalError.h"
 #include "scene/AtomicFile.h"
 #include "scene/FiniteOutput.h"
 #include "scene/JsonObject.h"

@@ -5,6 +5,7 @@
 #include "core/Damping.h"
 #include "core/Energy.h"
 #include "core/InputError.h"
+#include "core/NumericalError.h"
 #include "core/StateHash.h"
 
 #include <gtest/gtest.h>

@@ -4,6 +4,7 @@
 #include "Commands.h"
 
 #include "core/InputError.h"
+#include "core/NumericalError.h"
 #include "core/Simulator.h"
 
 #include <CLI/CLI.hpp>

@@ -6,6 +6,7 @@
 #include "StiffnessCalibration.h"
 
 #include "core/InputError.h"
+#include "core/NumericalError.h"
 #include "core/Simulator.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>

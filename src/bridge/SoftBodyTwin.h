@@ -16,6 +16,7 @@
 
 #include "core/Contact.h"
 #include "core/MassSpringSystem.h"
+#include "core/NumericalError.h"
 
 #include <memory>
 #include <string>

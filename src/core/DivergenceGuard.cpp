@@ -3,6 +3,7 @@
 #include "ChunkedSum.h"
 #include "Energy.h"
 #include "Format.h"
+#include "NumericalError.h"
 #include "SpringForce.h"
 
 #include <algorithm>

@@ -22,6 +22,7 @@
 
 #include "Integrator.h"
 #include "MassSpringSystem.h"
+#include "NumericalError.h"
 
 #include <limits>
 #include <stdexcept>
@@ -29,13 +30,6 @@
 
 namespace masse
 {
-/// Thrown when the state stops being sound (a diverged run); the message says when, where and what to try.
-class NumericalError : public std::runtime_error
-{
-public:
-    explicit NumericalError(const std::string& message) : std::runtime_error(message) {}
-};
-
 /// Which energies the account weighs against what was put in.
 enum class EnergyAccount
 {

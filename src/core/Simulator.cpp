@@ -2,6 +2,7 @@
 
 #include "Format.h"
 #include "InputError.h"
+#include "NumericalError.h"
 #include "TaskPool.h"
 
 #include <algorithm>

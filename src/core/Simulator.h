@@ -5,6 +5,7 @@
 #include "ContactSolver.h"
 #include "DivergenceGuard.h"
 #include "Integrator.h"
+#include "NumericalError.h"
 #include "SolverTally.h"
 #include "StabilityEstimate.h"
 #include "StepHook.h"

@@ -2,6 +2,7 @@
 #include "Format.h"
 
 #include "InputError.h"
+#include "NumericalError.h"
 #include "Simulator.h"
 
 #include <Eigen/Geometry>

@@ -4,6 +4,7 @@
 #include "Format.h"
 #include "InputError.h"
 #include "NamedEnum.h"
+#include "NumericalError.h"
 #include "Simulator.h"
 
 #include <algorithm>

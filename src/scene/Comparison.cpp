@@ -4,6 +4,7 @@
 #include "bridge/ObstacleProbe.h"
 
 #include "core/InputError.h"
+#include "core/NumericalError.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,6 +1,7 @@
 #include "FiniteOutput.h"
 
 #include "core/Format.h"
+#include "core/NumericalError.h"
 
 #include <cmath>
 #include <string>

@@ -4,6 +4,7 @@
 /// squared overflows); these checks find them and stop the run with a NumericalError (exit code 1) instead.
 
 #include "Scene.h"
+#include "core/NumericalError.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,7 @@
 #include "ViewerSession.h"
 
 #include "core/InputError.h"
+#include "core/NumericalError.h"
 #include "core/Simulator.h"
 #include "scene/SceneFile.h"
 
