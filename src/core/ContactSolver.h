@@ -12,22 +12,23 @@
 /// g (sin a - mu cos a), and stays when mu > tan a).
 
 #include "Contact.h"
+#include "ContactConstraints.h"
+#include "ContactPlanes.h"
+#include "ContactReport.h"
 #include "MassSpringSystem.h"
 #include "StageObserver.h"
 #include "StepContext.h"
+#include "StuckContacts.h"
 
 #include <utility>
 #include <vector>
 
 namespace masse
 {
-/// The first contact of the sheet with one obstacle.
-struct ContactEvent
-{
-    int obstacle;
-    Real time; ///< s, simulated, at the end of the substep that made the contact
-};
-
+/// The frame's contact stages, in order: detection and the implicit integrator's constraints (beginFrame), the
+/// projection after every substep (afterSubstep, ContactProjection.h), the sweep and the report (endFrame). Each
+/// concept has its own file: the frame's planes indexed by mass (ContactPlanes.h), the masses held by sticky contact
+/// (StuckContacts.h), the constraint builder (ContactConstraints.h) and what the frame did (ContactReport.h).
 class ContactSolver
 {
 public:
@@ -43,109 +44,42 @@ public:
     void afterSubstep(MassSpringSystem& system, const StepContext& context, Real h);
     void endFrame(MassSpringSystem& system, StepContext& context, Real time);
 
-    // Reports of the last frame.
-    /// Obstacle each mass touched during the last frame, or -1.
-    const std::vector<int>& touchingObstacle() const { return m_touchObstacle; }
-    /// Face of that obstacle, or -1.
-    const std::vector<int>& touchingFace() const { return m_touchFace; }
-    /// Mean contact force on each mass over the last frame (N).
-    const std::vector<Vec3>& contactForce() const { return m_contactForce; }
+    /// What the last frame and the run so far did (touches, forces, faces, first contacts).
+    const ContactReport& report() const { return m_report; }
+    // The report's figures, by their old names.
+    const std::vector<int>& touchingObstacle() const { return m_report.touchingObstacle(); }
+    const std::vector<int>& touchingFace() const { return m_report.touchingFace(); }
+    const std::vector<Vec3>& contactForce() const { return m_report.contactForce(); }
+    const std::vector<std::pair<int, int>>& touchedFaces() const { return m_report.touchedFaces(); }
+    std::size_t touchingCount() const { return m_report.touchingCount(); }
+    const std::vector<ContactEvent>& firstContacts() const { return m_report.firstContacts(); }
+    bool everTouched(int obstacle) const { return m_report.everTouched(obstacle); }
     /// Masses held by sticky contact.
-    const std::vector<std::uint8_t>& stuck() const { return m_stuck; }
-    /// (obstacle, face) pairs touched during the last frame, sorted, each once.
-    const std::vector<std::pair<int, int>>& touchedFaces() const { return m_touchedFaces; }
-    std::size_t touchingCount() const { return m_touchingCount; }
+    const std::vector<std::uint8_t>& stuck() const { return m_stuck.stuck; }
     std::size_t planeCount() const { return m_planes.size(); }
-
-    // History of the run.
-    /// First contact with each obstacle, in the order they happened.
-    const std::vector<ContactEvent>& firstContacts() const { return m_firstContacts; }
-    bool everTouched(int obstacle) const;
 
     /// Deepest penetration of any mass's sphere into an obstacle now (m, 0 if none), measured afresh by the detector.
     Real maxPenetration(const MassSpringSystem& system);
     /// Releases every stuck mass (for a reset or a change of response).
-    void releaseAll();
+    void releaseAll() { m_stuck.releaseAll(); }
     /// Told when each contact stage begins and ends (nullptr: nobody); a profiler outside the core reads its clock.
     void setStageObserver(StageObserver* observer) { m_observer = observer; }
 
 private:
-    /// Records that a mass touches an obstacle this frame (called for every active contact of every substep, so
-    /// it stays inline and cheap: the first-contact event is the rare path).
-    void touch(Index mass, int obstacle, int face)
-    {
-        if (m_touchObstacle[mass] < 0)
-        {
-            m_touchObstacle[mass] = obstacle;
-            m_touchFace[mass] = face;
-        }
-        if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
-            !m_obstacleTouched[std::size_t(obstacle)])
-        {
-            recordFirstContact(obstacle);
-        }
-    }
-    /// touch() for the parallel projection: the first-contact check is only read, and an obstacle touched for the
-    /// first time is noted in the chunk's list, merged in chunk order afterwards (so events do not depend on threads).
-    void touchInChunk(Index mass, int obstacle, int face, std::vector<int>& firstTouches)
-    {
-        if (m_touchObstacle[mass] < 0)
-        {
-            m_touchObstacle[mass] = obstacle;
-            m_touchFace[mass] = face;
-        }
-        if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
-            !m_obstacleTouched[std::size_t(obstacle)])
-        {
-            firstTouches.push_back(obstacle);
-        }
-    }
-    /// Projects mass i out of its planes after a substep of h (its part of afterSubstep; touches only mass i's state).
-    void projectMass(Particles& p, Index i, Real h, std::vector<int>& firstTouches, bool& madeStuck);
-    void recordFirstContact(int obstacle);
-    /// Sorts the frame's planes by mass and fills m_planeOffsets.
-    void indexPlanesByMass(std::size_t masses);
-    void resizeFor(std::size_t masses);
+    /// Simulated time now: the frame's start plus the substeps taken in it.
+    Real now() const { return m_frameTime + m_elapsed; }
 
     ContactDetector& m_detector;
     ContactSettings m_settings;
-
-    std::vector<ContactPlane> m_planes; ///< sorted by mass (stably), so each mass's planes are contiguous
-    std::vector<std::size_t> m_planeOffsets; ///< mass i's planes are m_planes[m_planeOffsets[i], m_planeOffsets[i + 1])
-    std::vector<Vec3> m_frameStart;
-    std::vector<Real> m_reach;
-    std::vector<Vec3> m_impulse;
-    // Resting contact handed to the implicit integrator this frame.
-    std::vector<std::uint8_t> m_resting;
-    std::vector<Vec3> m_restingNormal;
-    std::vector<Vec3> m_restingVelocity;
-    std::vector<Real> m_restingDamping;
-    std::vector<int> m_restingObstacle;
-    std::vector<int> m_restingFace;
-    std::vector<std::size_t> m_restingConstraint; ///< index into StepContext::constraints
-    std::vector<std::size_t> m_restingPlane;      ///< index into m_planes of the surface it rests on
-    std::vector<Vec3> m_lastReaction;             ///< N s, from the previous frame's solve
-    std::vector<std::uint8_t> m_wasResting;
-    std::vector<Index> m_restingMasses;
-    bool m_anyStuck = false;
+    ContactPlanes m_planes;
+    StuckContacts m_stuck;
+    ContactConstraints m_constraints;
+    ContactReport m_report;
+    std::vector<Vec3> m_frameStart; ///< each mass's position at the frame's start (for the sweep)
+    std::vector<Real> m_reach;      ///< m, how far each mass may get this frame
     Real m_frameTime = 0;
     Real m_frameDt = 0;
     Real m_elapsed = 0;
-
-    std::vector<std::uint8_t> m_stuck;
-    std::vector<Vec3> m_anchor;
-    std::vector<Vec3> m_stuckNormal;
-    std::vector<Vec3> m_stuckVelocity;
-    std::vector<int> m_stuckObstacle;
-    std::vector<int> m_stuckFace;
-
-    std::vector<int> m_touchObstacle;
-    std::vector<int> m_touchFace;
-    std::vector<Vec3> m_contactForce;
-    std::vector<std::pair<int, int>> m_touchedFaces;
-    std::size_t m_touchingCount = 0;
-    std::vector<ContactEvent> m_firstContacts;
     StageObserver* m_observer = nullptr;
-    std::vector<std::uint8_t> m_obstacleTouched;
 };
 } // namespace masse

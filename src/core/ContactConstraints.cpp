@@ -1,0 +1,107 @@
+#include "ContactConstraints.h"
+
+#include <algorithm>
+
+namespace masse
+{
+void ContactConstraints::resize(std::size_t masses)
+{
+    if (m_resting.size() == masses)
+    {
+        return;
+    }
+    m_resting.assign(masses, 0);
+    m_wasResting.assign(masses, 0);
+    m_normal.assign(masses, Vec3::UnitY());
+    m_velocity.assign(masses, Vec3::Zero());
+    m_damping.assign(masses, 0);
+    m_obstacle.assign(masses, -1);
+    m_face.assign(masses, -1);
+    m_constraint.assign(masses, 0);
+    m_plane.assign(masses, 0);
+    m_lastReaction.assign(masses, Vec3::Zero());
+}
+
+void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& planes, const StuckContacts& stuck,
+                                    const ContactSettings& settings, Real dt, bool constrain, StepContext& context)
+{
+    m_wasResting.swap(m_resting);
+    std::fill(m_resting.begin(), m_resting.end(), std::uint8_t(0));
+    m_restingMasses.clear();
+    if (!constrain)
+    {
+        return;
+    }
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        if (stuck.stuck[i])
+        {
+            context.constraints.push_back({Index(i), 3, stuck.normal[i], stuck.velocity[i], 0, Vec3::Zero()});
+        }
+    }
+    const Real touchTolerance = Real(1e-6) * settings.radius;
+    for (std::size_t k = 0; k < planes.size(); ++k)
+    {
+        const ContactPlane& plane = planes[k];
+        const Index i = plane.mass;
+        if (stuck.stuck[i] || m_resting[i] || p.pinned[i])
+        {
+            continue;
+        }
+        const Real separation = plane.normal.dot(p.position[i]) - plane.offset - settings.radius;
+        const Vec3 relative = p.velocity[i] - plane.velocity;
+        // Leaving means faster than rounding: a held mass's normal speed is zero to about 1e-11 m/s either way.
+        if (separation >= touchTolerance || relative.dot(plane.normal) > settings.slipRegularization)
+        {
+            continue;
+        }
+        const Real press = m_wasResting[i] ? m_lastReaction[i].dot(plane.normal) / dt : -p.force[i].dot(plane.normal);
+        if (press <= 0)
+        {
+            continue;
+        }
+        Real damping = 0;
+        if (settings.responseOf(plane.obstacle) == ContactResponse::Friction)
+        {
+            // The slip the damping is sized for: the current one, or, for a mass at rest pushed harder than
+            // friction holds, the slip the excess push gives it within the frame. With the latter the first step
+            // of a slide already has Coulomb's acceleration instead of creeping up from the regularisation speed.
+            const Real limit = settings.frictionOf(plane.obstacle) * press;
+            const Real push = (p.force[i] + press * plane.normal).norm();
+            const Real slip =
+                std::max({(relative - relative.dot(plane.normal) * plane.normal).norm(),
+                          dt * std::max(Real(0), push - limit) * p.inverseMass[i], settings.slipRegularization});
+            damping = limit / slip;
+        }
+        m_constraint[i] = context.constraints.size();
+        m_plane[i] = k;
+        context.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
+        m_resting[i] = 1;
+        m_restingMasses.push_back(i);
+        m_normal[i] = plane.normal;
+        m_velocity[i] = plane.velocity;
+        m_damping[i] = damping;
+        m_obstacle[i] = plane.obstacle;
+        m_face[i] = plane.face;
+    }
+}
+
+void ContactConstraints::afterSubstep(const Particles& p, const StepContext& context, const StuckContacts& stuck,
+                                      Real h, Real time, ContactReport& report)
+{
+    // Resting masses were handled inside the implicit solve: their contact impulse is the solve's reaction plus the
+    // friction it applied as a damping.
+    for (const Index i : m_restingMasses)
+    {
+        if (stuck.stuck[i])
+        {
+            continue;
+        }
+        m_lastReaction[i] = context.constraints[m_constraint[i]].reaction;
+        const Vec3 relative = p.velocity[i] - m_velocity[i];
+        const Vec3 slip = relative - relative.dot(m_normal[i]) * m_normal[i];
+        report.addImpulse(i, m_lastReaction[i] - h * m_damping[i] * slip); // the reaction holds; friction drags
+        report.touch(i, m_obstacle[i], m_face[i], time);
+    }
+}
+} // namespace masse
