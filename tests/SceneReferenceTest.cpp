@@ -95,3 +95,31 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
         EXPECT_TRUE(documented(document, action)) << "data/scenes/README.md lacks the action `" << action << "`";
     }
 }
+
+// A key has one row in its section's table: two rows for one key can disagree (obstacles[].temperature_c once had a
+// default of "none" in one row and "the air's" in the other).
+TEST(SceneReference, EachKeyHasOneRowInItsSection)
+{
+    std::istringstream document(readText(source + "/data/scenes/README.md"));
+    static const std::regex row(R"re(^\| (`[^|]*`) \|)re");
+    std::string section;
+    std::set<std::string> keys;
+    std::string line;
+    int rows = 0;
+    while (std::getline(document, line))
+    {
+        if (line.rfind("#", 0) == 0)
+        {
+            section = line;
+            keys.clear();
+            continue;
+        }
+        std::smatch m;
+        if (std::regex_search(line, m, row))
+        {
+            EXPECT_TRUE(keys.insert(m[1]).second) << section << ": " << m[1] << " has two rows";
+            ++rows;
+        }
+    }
+    EXPECT_GT(rows, 100);
+}
