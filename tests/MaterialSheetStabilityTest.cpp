@@ -127,3 +127,43 @@ INSTANTIATE_TEST_SUITE_P(FiveMaterialsTwoGrabs, MaterialSheetUnderAGrab,
                                     std::to_string(std::get<1>(param.param)) + "NPerM" +
                                     (std::get<2>(param.param) ? "Hot" : "Cold");
                          });
+
+// Issue 15, point 4, at the issue's own size: a cold 2 mm PET sheet 40x2x40 (20 mm between masses), unclamped, drops
+// 20 mm onto the shipped pyramid mesh (scale 0.5, apex at 0.4 m) with the default contact (friction 0.3, radius
+// 10 mm), implicit at dt 0.03. It still diverges: the sheet balances on the apex, turns, and at t = 1.14 s one step
+// puts 154 J of motion into it (mass 1581 at 15 m/s), which the guard stops. The same sheet over a pyramid hull of the
+// same shape, frictionless on the mesh, at 30x2x30 or at dt 0.015 runs to its end; cold HIPS on the mesh breaks the
+// same way (t = 1.53 s). The 12x2x12 matrix above does not reach it. The cause lies in the contact of a sheet with a
+// mesh (src/core's contact solver and src/bridge's triangle planes), outside this test's layer: disabled until then
+// (run it with --gtest_also_run_disabled_tests; about 20 s).
+TEST(MaterialSheetOnAMesh, DISABLED_Pet40x2x40OnThePyramidMeshRunsToTheEnd)
+{
+    const std::string json = R"({ "sheet": { "size": "40x2x40", "min": [-0.4, 0.42, -0.4], "max": [0.4, 0.43, 0.4] },
+        "material": { "file": "../materials/pet.json", "thickness": 0.002 },
+        "heat": {},
+        "obstacles": [ { "name": "mould", "type": "mesh", "file": "../meshes/pyramid.obj", "scale": 0.5 } ],
+        "integrator": { "type": "implicit", "dt": 0.03 },
+        "run": { "duration": 3, "stop_at_rest": false } })";
+    Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "pet40-on-a-pyramid-mesh"));
+    expectSound(scene, json);
+}
+
+// Issue 15, point 4's grab, at the issue's size: a cold PET sheet 20x2x20 on a table at 120 C (the air's temperature:
+// the table gives none), a corner pulled 0.5 m up and out over 2 s by a 50 N/m grab capped at 1 N. The guard stops it
+// at t = 1.26 s (9.6 J against 0.73 J put in; mass 379, beside the grabbed corner, at 10.6 m/s). With the table at
+// 20 C, no contact heat transfer, elastic springs or a 5-40 N/m grab it runs to the end: the Burgers springs of the
+// masses the hot table warms, pulled by the grab, are the likely cause (src/core). Disabled until then (about 4 s).
+TEST(MaterialSheetUnderAGrabOnAHotTable, DISABLED_Pet20x2x20RunsToTheEnd)
+{
+    const std::string json = R"({ "sheet": { "size": "20x2x20", "min": [-0.3, 0, -0.3], "max": [0.3, 0.01, 0.3] },
+        "material": { "file": "../materials/pet.json", "thickness": 0.002 },
+        "heat": { "air_temperature_c": 120 },
+        "obstacles": [ { "name": "table", "type": "box", "position": [0, -0.52, 0], "half_extents": [1, 0.5, 1] } ],
+        "integrator": { "type": "implicit", "dt": 0.03 },
+        "script": [ { "time": 0.1, "action": "grab", "label": "hand", "near": [0.3, 0, 0.3], "stiffness": 50,
+                      "max_force": 1,
+                      "path": [ { "position": [0.3, 0, 0.3] }, { "time": 2.1, "position": [0.6, 0.5, 0.6] } ] } ],
+        "run": { "duration": 3, "stop_at_rest": false } })";
+    Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "pet20-grab-on-a-hot-table"));
+    expectSound(scene, json);
+}

@@ -42,5 +42,10 @@ expect_input_error "a scalar the scene lacks: says why instead of painting one c
     env -u DISPLAY "$masse" view "$source_dir/data/scenes/paper-drop.json" --draw scalar --scalar temperature --frames 1
 expect_input_error "a scalar the scene lacks: names those it can show" "can show speed, strain" \
     env -u DISPLAY "$masse" view "$source_dir/data/scenes/paper-drop.json" --draw scalar --scalar thickness --frames 1
+# Not an error, but said before the window opens as `masse run` says it: here the display's absence ends the run after
+# the warning.
+expect_input_error "a scene needing over 1,000 substeps a step: says so and names the implicit integrator" \
+    "symplectic integrator needs [0-9]* substeps for each 0.03 s step.*--integrator implicit" \
+    env -u DISPLAY "$masse" view "$source_dir/data/scenes/own-forming.json" --integrator symplectic
 
 [ "$failures" -eq 0 ]

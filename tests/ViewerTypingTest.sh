@@ -14,7 +14,11 @@ mkdir -p "$out"
 if [ -z "${MASSE_TYPING_INNER:-}" ]; then
     command -v xdotool >/dev/null 2>&1 || { echo "xdotool is missing (.ci/build installs it)" >&2; exit 1; }
     command -v xvfb-run >/dev/null 2>&1 || { echo "xvfb-run is missing (.ci/build installs it)" >&2; exit 1; }
-    MASSE_TYPING_INNER=1 exec xvfb-run -a -s "-screen 0 1280x1024x24" sh "$0" "$@"
+    # -ardelay: no key autorepeat. xdotool holds each key for half its delay, but on a loaded machine it can be kept
+    # from running between a press and its release for longer than Xvfb's 660 ms autorepeat delay, and the server
+    # then types the held key again (a 64x2x64 scene under ctest -j2 loaded "Typped_SSScenne_B.json", 1 run in 8;
+    # a key held 1.5 s gives 23 characters with the default, 1 with -ardelay 60000).
+    MASSE_TYPING_INNER=1 exec xvfb-run -a -s "-screen 0 1280x1024x24 -ardelay 60000" sh "$0" "$@"
 fi
 
 # The scene to load: the given one under a name only typing with Shift reaches.

@@ -251,6 +251,12 @@ ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassSc
                              m_session.spec().name + "' can show " + available + ")");
         }
     }
+    // As `masse run` does, before the run starts: a sheet too stiff for an explicit integrator at the scene's step
+    // would otherwise only show as slow motion.
+    if (const std::string warning = m_session.scene().substepWarning(); !warning.empty())
+    {
+        std::fprintf(stderr, "warning: %s\n", warning.c_str());
+    }
     m_controls.panelVisible = options.showPanel;
     m_session.setPaused(options.startPaused);
     m_session.setPauseAtEnd(!options.benchmark);
