@@ -1,6 +1,6 @@
 // The comparison metrics on made-up trajectories, checked against figures worked out by hand.
 
-#include "bridge/CompareMetrics.h"
+#include "scene/CompareMetrics.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 using namespace masse;
-using namespace masse::bridge;
+using namespace masse::scene;
 
 namespace
 {

@@ -2,9 +2,9 @@
 // own, measured as an independent run of that engine alone would be; the scene's script reaches the twin.
 
 #include "scene/Comparison.h"
-#include "bridge/CompareMetrics.h"
-#include "bridge/ObstacleProbe.h"
 #include "bridge/SoftBodyTwin.h"
+#include "scene/CompareMetrics.h"
+#include "scene/ObstacleProbe.h"
 #include "scene/SceneFile.h"
 
 #include "core/InputError.h"
@@ -32,8 +32,8 @@ SceneSpec shortLanding()
 /// environment, spheres of the contact radius, tunnels, kinetic energy.
 struct Alone
 {
-    bridge::PenetrationStats penetration{0.01};
-    bridge::TunnelCount tunnels;
+    PenetrationStats penetration{0.01};
+    TunnelCount tunnels;
     std::vector<Real> energy;
     std::vector<Vec3> finalPositions;
 };
@@ -45,13 +45,12 @@ Alone measureAlone(bridge::BulletEnvironment& environment, int frames, Step&& st
     Alone alone;
     const Real search = 0.1;
     const std::vector<Vec3> start = positions();
-    bridge::TunnelCounter tunnels(start, bridge::signedDistances(environment, start, search),
-                                  bridge::obstacleQuery(environment));
+    TunnelCounter tunnels(start, signedDistances(environment, start, search), obstacleQuery(environment));
     for (int f = 0; f < frames; ++f)
     {
         step();
         const std::vector<Vec3> x = positions();
-        const std::vector<Real> d = bridge::signedDistances(environment, x, search);
+        const std::vector<Real> d = signedDistances(environment, x, search);
         alone.penetration.addFrame(d);
         tunnels.addFrame(x, d);
         alone.energy.push_back(energy());
@@ -131,7 +130,7 @@ TEST(Comparison, EachEngineReportsItsOwnMeasurements)
         check(j + 1, bullet[j], "bullet");
         EXPECT_EQ(engines[j + 1]["settings"]["piterations"], options.bulletIterations[j]);
         EXPECT_EQ(engines[j + 1]["label"], "Bullet (piterations=" + std::to_string(options.bulletIterations[j]) + ")");
-        const bridge::PositionDistance d = bridge::positionDistance(masse.finalPositions, bullet[j].finalPositions);
+        const PositionDistance d = positionDistance(masse.finalPositions, bullet[j].finalPositions);
         EXPECT_EQ(engines[j + 1]["distance_to_masse"]["final"]["rms"].get<double>(), d.rms);
         EXPECT_EQ(engines[j + 1]["distance_to_masse"]["final"]["max"].get<double>(), d.max);
         EXPECT_GT(bullet[j].penetration.max(), masse.penetration.max() + 0.005) << options.bulletIterations[j];

@@ -4,9 +4,9 @@
 #include "ContactRig.h"
 #include "TestSystems.h"
 
-#include "bridge/CompareMetrics.h"
-#include "bridge/ObstacleProbe.h"
 #include "bridge/SoftBodyTwin.h"
+#include "scene/CompareMetrics.h"
+#include "scene/ObstacleProbe.h"
 
 #include "core/Energy.h"
 #include "core/InputError.h"
@@ -19,6 +19,7 @@
 
 using namespace masse;
 using namespace masse::bridge;
+using namespace masse::scene;
 using namespace masse::test;
 
 namespace

@@ -1,7 +1,7 @@
 #include "Comparison.h"
 #include "core/Format.h"
 
-#include "bridge/ObstacleProbe.h"
+#include "ObstacleProbe.h"
 
 #include "core/InputError.h"
 #include "core/NumericalError.h"
@@ -88,7 +88,7 @@ Comparison::Comparison(SceneSpec spec, const CompareOptions& options, std::funct
                       {"substeps_per_frame", m_scene->simulator().substepsFor(s.time.dt)},
                       {"contact", contactResponseName(s.contact.response)},
                       {"contact_radius", s.contact.radius}};
-    masse.penetration = bridge::PenetrationStats(s.contact.radius);
+    masse.penetration = PenetrationStats(s.contact.radius);
     m_results.push_back(std::move(masse));
 
     buildTwins(options, log);
@@ -97,11 +97,10 @@ Comparison::Comparison(SceneSpec spec, const CompareOptions& options, std::funct
     bridge::BulletEnvironment& environment = m_scene->environment();
     environment.setTime(0);
     const std::vector<Vec3>& start = m_scene->system().particles.position;
-    const std::vector<Real> startDistances = bridge::signedDistances(environment, start, m_searchDistance);
+    const std::vector<Real> startDistances = signedDistances(environment, start, m_searchDistance);
     for (std::size_t k = 0; k < m_results.size(); ++k)
     {
-        m_tunnels.push_back(
-            std::make_unique<bridge::TunnelCounter>(start, startDistances, bridge::obstacleQuery(environment)));
+        m_tunnels.push_back(std::make_unique<TunnelCounter>(start, startDistances, obstacleQuery(environment)));
     }
 }
 
@@ -164,7 +163,7 @@ void Comparison::buildTwins(const CompareOptions& options, const std::function<v
         result.key = twinKey(settings);
         result.label = twinLabel(settings);
         result.isBullet = true;
-        result.penetration = bridge::PenetrationStats(s.contact.radius);
+        result.penetration = PenetrationStats(s.contact.radius);
         const bridge::SoftBodyTwin& t = *twin.twin;
         const bridge::SoftBodyTwinSettings& used = t.settings();
         Real kMin = 1;
@@ -334,10 +333,10 @@ void Comparison::updateTwinEvents(Twin& twin, EngineResult& result)
     }
 }
 
-void Comparison::measure(EngineResult& result, bridge::TunnelCounter& tunnels, const std::vector<Vec3>& positions,
-                         Real energy, double wallSeconds)
+void Comparison::measure(EngineResult& result, TunnelCounter& tunnels, const std::vector<Vec3>& positions, Real energy,
+                         double wallSeconds)
 {
-    const std::vector<Real> d = bridge::signedDistances(m_scene->environment(), positions, m_searchDistance);
+    const std::vector<Real> d = signedDistances(m_scene->environment(), positions, m_searchDistance);
     result.penetration.addFrame(d);
     result.framePenetration.push_back(result.penetration.lastFrameMax());
     tunnels.addFrame(positions, d);
@@ -422,7 +421,7 @@ void Comparison::step()
         const bridge::SoftBodyTwin& twin = *m_twins[k].twin;
         const std::vector<Vec3> nodes = twin.positions();
         measure(result, *m_tunnels[k + 1], nodes, twin.kineticEnergy(), twin.lastStepWallSeconds());
-        result.distance.push_back(bridge::positionDistance(x, nodes));
+        result.distance.push_back(positionDistance(x, nodes));
     }
 }
 

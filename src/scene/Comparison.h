@@ -1,8 +1,8 @@
 #pragma once
 /// MaSSE and its Bullet soft-body twin run side by side on one scene (`masse compare`): the same sheet, obstacles
 /// and dt, stepped frame by frame, each engine's masses measured after every frame by the same functions
-/// (bridge/ObstacleProbe.h against the scene's BulletEnvironment, bridge/CompareMetrics.h), so the figures differ
-/// only by what the engines did.
+/// (ObstacleProbe.h against the scene's obstacles, CompareMetrics.h), so the figures differ only by what the engines
+/// did.
 ///
 /// The twins are built from the scene at t = 0, one per Bullet setting asked for (piterations swept, substeps). The
 /// scene's script drives MaSSE as usual; after each MaSSE frame its effect is mirrored onto every twin before the
@@ -12,7 +12,7 @@
 
 #include "Scene.h"
 
-#include "bridge/CompareMetrics.h"
+#include "CompareMetrics.h"
 #include "bridge/SoftBodyTwin.h"
 #include "bridge/StiffnessCalibration.h"
 
@@ -53,12 +53,12 @@ struct EngineResult
     bool isBullet = false;
     nlohmann::json settings; ///< what the engine was run with
     std::vector<StageEvent> events;
-    bridge::PenetrationStats penetration{0.01};
-    bridge::TunnelCount tunnels;
-    bridge::RunRecord run;
+    PenetrationStats penetration{0.01};
+    TunnelCount tunnels;
+    RunRecord run;
     std::vector<Real> framePenetration; ///< m, the deepest sphere of each frame
     /// Bullet only: distance between its nodes and MaSSE's masses at each frame.
-    std::vector<bridge::PositionDistance> distance;
+    std::vector<PositionDistance> distance;
     std::string failure; ///< why the engine stopped early (a Bullet run that diverged), or ""
 
     /// Time of the first event with this name and object, if any.
@@ -136,14 +136,14 @@ private:
     void collectApproximations();
     void mirrorScript(Twin& twin);
     void updateTwinEvents(Twin& twin, EngineResult& result);
-    void measure(EngineResult& result, bridge::TunnelCounter& tunnels, const std::vector<Vec3>& positions, Real energy,
+    void measure(EngineResult& result, TunnelCounter& tunnels, const std::vector<Vec3>& positions, Real energy,
                  double wallSeconds);
     bool rested(std::size_t engine) const;
 
     std::unique_ptr<Scene> m_scene;
     std::vector<Twin> m_twins;
     std::vector<EngineResult> m_results;
-    std::vector<std::unique_ptr<bridge::TunnelCounter>> m_tunnels; ///< per engine
+    std::vector<std::unique_ptr<TunnelCounter>> m_tunnels; ///< per engine
     std::vector<Approximation> m_approximations;
     std::vector<Real> m_times;
     std::size_t m_masseEventsSeen = 0;

@@ -13,7 +13,7 @@ namespace masse::scene
 {
 namespace
 {
-nlohmann::json distanceJson(const bridge::PositionDistance& d)
+nlohmann::json distanceJson(const PositionDistance& d)
 {
     return {{"rms", d.rms}, {"max", d.max}, {"mass", d.mass}};
 }
@@ -56,7 +56,7 @@ nlohmann::json Comparison::report() const
     for (std::size_t k = 0; k < m_results.size(); ++k)
     {
         const EngineResult& r = m_results[k];
-        const bridge::TunnelCount tunnels = m_tunnels[k]->count();
+        const TunnelCount tunnels = m_tunnels[k]->count();
         nlohmann::json events = nlohmann::json::array();
         for (const StageEvent& e : r.events)
         {
@@ -234,7 +234,7 @@ std::string Comparison::table() const
     row("tunnelled nodes (inside/beyond)", each(
                                                [&](std::size_t k)
                                                {
-                                                   const bridge::TunnelCount c = m_tunnels[k]->count();
+                                                   const TunnelCount c = m_tunnels[k]->count();
                                                    return std::to_string(c.tunnelled()) + " (" +
                                                           std::to_string(c.inside) + "/" + std::to_string(c.beyond) +
                                                           "; entered " + std::to_string(c.entered) + ")";
@@ -254,7 +254,7 @@ std::string Comparison::table() const
         {
             return std::string("-");
         }
-        const bridge::PositionDistance& d = r.distance[*frame];
+        const PositionDistance& d = r.distance[*frame];
         return formatNumber("%.1f", 1000 * d.rms) + " / " + formatNumber("%.1f", 1000 * d.max);
     };
     for (const auto& [name, object] : stages)

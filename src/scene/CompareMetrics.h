@@ -4,15 +4,15 @@
 /// obstacle, how kinetic energy evolves, and what each run cost in wall time.
 ///
 /// Free of Bullet on purpose: obstacles reach it only as numbers (signed distances) and one segment test
-/// (ObstacleQuery), so both engines' positions are measured by the same function (ObstacleProbe.h makes it from a
-/// BulletEnvironment) and tests can feed made-up trajectories and analytic shapes.
+/// (ObstacleQuery), so both engines' positions are measured by the same function (ObstacleProbe.h makes it from the
+/// core's ContactDetector) and tests can feed made-up trajectories and analytic shapes.
 
 #include "core/Types.h"
 
 #include <functional>
 #include <vector>
 
-namespace masse::bridge
+namespace masse::scene
 {
 /// Distance between corresponding masses of two position arrays.
 struct PositionDistance
@@ -128,4 +128,4 @@ struct RunRecord
     /// Wall milliseconds per simulated second; 0 before the first frame.
     Real wallMsPerSimulatedSecond() const;
 };
-} // namespace masse::bridge
+} // namespace masse::scene

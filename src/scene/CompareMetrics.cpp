@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace masse::bridge
+namespace masse::scene
 {
 PositionDistance positionDistance(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
 {
@@ -148,4 +148,4 @@ Real RunRecord::wallMsPerSimulatedSecond() const
     const Real simulated = simulatedSeconds();
     return simulated > 0 ? Real(1000) * Real(wallSeconds) / simulated : Real(0);
 }
-} // namespace masse::bridge
+} // namespace masse::scene
