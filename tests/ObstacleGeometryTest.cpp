@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
 using namespace masse;
 using namespace masse::bridge;
@@ -249,4 +250,54 @@ TEST(ObstacleGeometry, FacePlaneDistanceOnAPrismLiesOnItsSurface)
         }
     }
     EXPECT_GT(answered, 100);
+}
+
+namespace
+{
+/// A mesh obstacle of two rectangles 2 m long (along z) meeting along z at x = 0, y = `creaseHeight`, each falling
+/// (or rising) to y = 0 at x = -1 and x = +1: a roof (a convex ridge) for a positive height, a valley (a concave
+/// crease) for a negative one.
+ObstacleSpec twoSlopes(const std::string& name, Real creaseHeight)
+{
+    const std::string path = ::testing::TempDir() + name + ".obj";
+    std::ofstream obj(path);
+    obj << "v -1 0 -1\nv 0 " << creaseHeight << " -1\nv 1 0 -1\nv -1 0 1\nv 0 " << creaseHeight << " 1\nv 1 0 1\n"
+        << "f 1 5 2\nf 1 4 5\nf 2 6 3\nf 2 5 6\n";
+    ObstacleSpec spec;
+    spec.name = name;
+    spec.kind = ObstacleKind::Mesh;
+    spec.meshPath = path;
+    return spec;
+}
+
+/// The planes the detector gives one mass at `x` (radius 10 mm, at rest, dt 0.03 s).
+std::vector<ContactPlane> planesAt(BulletEnvironment& environment, const Vec3& x)
+{
+    const Real radius = 0.01;
+    std::vector<ContactPlane> planes;
+    environment.findContacts({x}, {0.05}, radius, 0.03, planes);
+    return planes;
+}
+} // namespace
+
+// Beside a convex ridge of a mesh a mass gets the plane of the face it lies over and none from the face beyond the
+// ridge: that face's nearest point is on the ridge, and a plane tangent there, fixed for the frame, lies above the
+// nearer face away from the ridge (a sheet sliding down the face would be thrown off it each substep). In a concave
+// crease a mass over both faces gets both planes, or it would sink into the second.
+TEST(ObstacleGeometry, MeshGivesASecondPlaneInACreaseButNotBesideARidge)
+{
+    BulletEnvironment roof;
+    roof.addObstacle(twoSlopes("roof", 0.5));
+    const Vec3 rightNormal = Vec3(0.5, 1, 0).normalized();
+    const Vec3 nearRidge = Vec3(0.01, 0.495, 0.0) + 0.015 * rightNormal; // 15 mm above the right face, by the ridge
+    const std::vector<ContactPlane> ridgePlanes = planesAt(roof, nearRidge);
+    ASSERT_EQ(ridgePlanes.size(), 1u);
+    EXPECT_NEAR(ridgePlanes[0].normal.dot(rightNormal), 1.0, 1e-6);
+
+    BulletEnvironment valley;
+    valley.addObstacle(twoSlopes("valley", -0.5));
+    const std::vector<ContactPlane> creasePlanes = planesAt(valley, Vec3(0.0, -0.5 + 0.02, 0.0));
+    ASSERT_EQ(creasePlanes.size(), 2u);
+    EXPECT_NEAR(std::abs(creasePlanes[0].normal.x()), std::abs(creasePlanes[1].normal.x()), 1e-6);
+    EXPECT_LT(creasePlanes[0].normal.x() * creasePlanes[1].normal.x(), 0.0); // one from each face
 }
