@@ -50,11 +50,12 @@ std::string readText(const std::string& path)
     return text.str();
 }
 
-std::string header(const std::string& name, const std::string& unit)
+} // namespace
+
+std::string columnHeader(const std::string& name, const std::string& unit)
 {
     return unit.empty() ? name : name + " [" + unit + "]";
 }
-} // namespace
 
 std::string csvField(const std::string& text)
 {
@@ -140,7 +141,7 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
     manifest << "case,folder";
     for (const StudyParameter& p : study.parameters)
     {
-        manifest << "," << csvField(header(p.name, p.unit));
+        manifest << "," << csvField(columnHeader(p.name, p.unit));
     }
     manifest << "\n";
     for (std::size_t i = 0; i < study.cases.size(); ++i)

@@ -55,4 +55,7 @@ std::string lastLogLine(const std::string& caseDir);
 
 /// A CSV field, quoted when it holds a comma, a quote or a line break.
 std::string csvField(const std::string& text);
+
+/// A column's heading: the name, and its unit in brackets when it has one ("power [W]").
+std::string columnHeader(const std::string& name, const std::string& unit);
 } // namespace masse::scene

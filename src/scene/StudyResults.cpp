@@ -18,11 +18,6 @@ namespace
 {
 namespace fs = std::filesystem;
 
-std::string header(const std::string& name, const std::string& unit)
-{
-    return unit.empty() ? name : name + " [" + unit + "]";
-}
-
 std::string cellText(const nlohmann::json& value)
 {
     return value.is_null() ? "" : valueText(value);
@@ -114,11 +109,11 @@ std::string resultsCsv(const StudyResults& results)
     out << "case,status,exit_code";
     for (const StudyParameter& p : results.record.parameters)
     {
-        out << "," << csvField(header(p.name, p.unit));
+        out << "," << csvField(columnHeader(p.name, p.unit));
     }
     for (const StudyOutput& o : results.record.outputs)
     {
-        out << "," << csvField(header(o.name, o.unit));
+        out << "," << csvField(columnHeader(o.name, o.unit));
     }
     out << ",message\n";
     for (const CollectedCase& c : results.cases)
@@ -143,11 +138,11 @@ std::string resultsTable(const StudyResults& results)
     std::vector<std::string> head = {"case"};
     for (const StudyParameter& p : results.record.parameters)
     {
-        head.push_back(header(p.name, p.unit));
+        head.push_back(columnHeader(p.name, p.unit));
     }
     for (const StudyOutput& o : results.record.outputs)
     {
-        head.push_back(header(o.name, o.unit));
+        head.push_back(columnHeader(o.name, o.unit));
     }
     head.push_back("status");
     rows.push_back(head);
@@ -239,16 +234,16 @@ std::vector<std::string> plotResults(const StudyResults& results, const std::str
                 script << "\n\n";
             }
             script << "EOD\n";
-            const std::string outputLabel = header(record.outputs[o].name, record.outputs[o].unit);
+            const std::string outputLabel = columnHeader(record.outputs[o].name, record.outputs[o].unit);
             script << "set title '" << gnuplotText(record.name + ": " + outputLabel) << "' noenhanced\n"
-                   << "set xlabel '" << gnuplotText(header(record.parameters[p].name, record.parameters[p].unit))
+                   << "set xlabel '" << gnuplotText(columnHeader(record.parameters[p].name, record.parameters[p].unit))
                    << "' noenhanced\n"
                    << "set ylabel '" << gnuplotText(outputLabel) << "' noenhanced\n"
                    << "set grid\nset offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
             if (lines)
             {
                 script << "set key outside right title '"
-                       << gnuplotText(header(record.parameters[other].name, record.parameters[other].unit))
+                       << gnuplotText(columnHeader(record.parameters[other].name, record.parameters[other].unit))
                        << "' noenhanced\n";
             }
             else
