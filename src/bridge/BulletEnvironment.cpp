@@ -95,13 +95,7 @@ struct TriangleCollector : btTriangleCallback
     Vec3 centre;
     Real radius;
     Real searchDistance;
-    struct Found
-    {
-        Gjk closest;
-        int triangle;
-        bool overFace; ///< the closest point is inside the triangle (the normal is the face's), not on its rim
-    };
-    std::vector<Found> found;
+    std::vector<std::pair<Gjk, int>> found; // closest point and triangle index
 
     void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
     {
@@ -110,10 +104,7 @@ struct TriangleCollector : btTriangleCallback
         const std::optional<Gjk> closest = sphereConvex(shape, *transform, centre, radius);
         if (closest && closest->distance <= searchDistance)
         {
-            const Vec3 faceNormal =
-                toVec3(transform->getBasis() * (triangle[1] - triangle[0]).cross(triangle[2] - triangle[0]))
-                    .normalized();
-            found.push_back({*closest, triangleIndex, std::abs(faceNormal.dot(closest->normal)) > 0.99});
+            found.emplace_back(*closest, triangleIndex);
         }
     }
 };
@@ -333,29 +324,34 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(&collector, toBullet(local - Vec3::Constant(extent)),
                                                                   toBullet(local + Vec3::Constant(extent)));
     std::sort(collector.found.begin(), collector.found.end(),
-              [](const auto& a, const auto& b)
-              {
-                  return a.closest.distance < b.closest.distance ||
-                         (a.closest.distance == b.closest.distance && a.triangle < b.triangle);
+              [](const auto& a, const auto& b) {
+                  return a.first.distance < b.first.distance ||
+                         (a.first.distance == b.first.distance && a.second < b.second);
               });
     // The nearest triangle's plane, and up to two more from triangles the centre lies over (a crease of a concave
-    // mould, where one plane would let the sphere sink into the other face). A farther triangle whose nearest point is
-    // on its rim gives no plane: at a convex edge its plane, tangent at the edge and fixed for the frame, lies above
-    // the nearer face away from the edge, so a mass sliding down that face would be thrown off it each substep (a
-    // glassy 40x2x40 PET sheet on the pyramid mesh gained 154 J in one step that way).
-    for (const TriangleCollector::Found& candidate : collector.found)
+    // mould, where one plane would let the sphere sink into the other face): there the closest point is inside the
+    // triangle, so the contact normal is its face's. A farther triangle whose nearest point is on its rim gives no
+    // plane: at a convex edge its plane, tangent at the edge and fixed for the frame, lies above the nearer face away
+    // from the edge, so a mass sliding down that face would be thrown off it each substep (a glassy 40x2x40 PET sheet
+    // on the pyramid mesh gained 154 J in one step that way).
+    for (const auto& [closest, triangle] : collector.found)
     {
-        const Gjk& closest = candidate.closest;
-        bool distinct = true;
-        for (const Closest& kept : out)
+        const int face = obstacle.geometry.triangleFace[std::size_t(triangle)];
+        if (!out.empty())
         {
-            distinct = distinct && kept.normal.dot(closest.normal) < 0.99;
+            bool distinct = true;
+            for (const Closest& kept : out)
+            {
+                distinct = distinct && kept.normal.dot(closest.normal) < 0.99;
+            }
+            const Vec3 faceNormal = obstacle.pose.orientation * obstacle.geometry.faces[std::size_t(face)].normal;
+            const bool overFace = std::abs(faceNormal.dot(closest.normal)) > 0.99;
+            if (!distinct || !overFace || out.size() >= 3)
+            {
+                continue;
+            }
         }
-        if (out.empty() || (distinct && candidate.overFace && out.size() < 3))
-        {
-            out.push_back({closest.distance, closest.normal, closest.point,
-                           obstacle.geometry.triangleFace[std::size_t(candidate.triangle)]});
-        }
+        out.push_back({closest.distance, closest.normal, closest.point, face});
     }
 }
 

@@ -101,16 +101,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.list());
     m_planes.index(n);
     // A stuck mass moves with the point of its obstacle it is stuck to, as that point moves during this frame.
-    if (m_stuck.any)
-    {
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            if (m_stuck.stuck[i])
-            {
-                m_stuck.velocity[i] = m_detector.pointVelocity(m_stuck.obstacle[i], m_stuck.anchor[i], dt);
-            }
-        }
-    }
+    m_stuck.followSurfaces(m_detector, dt);
     m_detector.setTime(time + dt);
 
     context.constraints.clear();
@@ -125,28 +116,7 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
 
     // Stuck masses hold their anchors (moving with a kinematic surface) until the pull off the surface exceeds the
     // release force. The pull is the total force of this substep's evaluation, along the surface normal.
-    if (m_stuck.any)
-    {
-        for (std::size_t i = 0; i < p.size(); ++i)
-        {
-            if (!m_stuck.stuck[i])
-            {
-                continue;
-            }
-            const Real pull = p.force[i].dot(m_stuck.normal[i]);
-            if (m_settings.stickReleaseForce > 0 && pull > m_settings.stickReleaseForce)
-            {
-                m_stuck.stuck[i] = 0;
-                continue;
-            }
-            m_stuck.anchor[i] += h * m_stuck.velocity[i];
-            m_report.addImpulse(i, p.mass[i] * (m_stuck.velocity[i] - p.velocity[i]));
-            p.position[i] = m_stuck.anchor[i];
-            p.velocity[i] = m_stuck.velocity[i];
-            m_report.touch(Index(i), m_stuck.obstacle[i], m_stuck.face[i], now());
-        }
-    }
-
+    m_stuck.hold(p, h, m_settings.stickReleaseForce, m_report, now());
     m_constraints.afterSubstep(p, context, m_stuck, h, now(), m_report);
 
     // Each mass's planes, over mass ranges: a chunk touches only its own masses. First touches of an obstacle are

@@ -3,7 +3,8 @@
 /// the pull off the surface exceeds the release force. Per-mass state that lasts from frame to frame.
 
 #include "Contact.h"
-#include "Types.h"
+#include "ContactReport.h"
+#include "Particles.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -36,6 +37,13 @@ struct StuckContacts
         face.assign(masses, -1);
     }
     void releaseAll() { std::fill(stuck.begin(), stuck.end(), std::uint8_t(0)); }
+    /// At a frame's start: each stuck mass's anchor moves with the point of its obstacle it is stuck to, as that point
+    /// moves during the frame of dt.
+    void followSurfaces(ContactDetector& detector, Real dt);
+    /// After a substep of h: each stuck mass is released if the pull off its surface (its force along the normal)
+    /// exceeds `releaseForce` (> 0), else carried with its anchor; the impulse that takes goes to `report`, with a
+    /// touch at `time`.
+    void hold(Particles& p, Real h, Real releaseForce, ContactReport& report, Real time);
     /// Holds mass i at `position` on the plane's surface.
     void stick(Index i, const Vec3& position, const ContactPlane& plane)
     {
