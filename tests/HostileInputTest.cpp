@@ -334,9 +334,9 @@ TEST(HostileInput, OutputFoldersThatCannotBeWrittenAreRefusedUpFront)
     EXPECT_NE(inputErrorOf([&] { OutputFolder out(longName, false); }).find("has a name of 300 bytes"),
               std::string::npos);
     writeText(folder / "file", "not a folder");
-    EXPECT_NE(inputErrorOf([&] { OutputFolder out((folder / "file").string(), false); })
-                  .find("exists and is not a folder"),
-              std::string::npos);
+    EXPECT_NE(
+        inputErrorOf([&] { OutputFolder out((folder / "file").string(), false); }).find("exists and is not a folder"),
+        std::string::npos);
     EXPECT_NE(inputErrorOf([&] { OutputFolder out((folder / "file" / "sub").string(), false); }).find("cannot be"),
               std::string::npos);
 }

@@ -87,15 +87,17 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
     // would carry it, plus a radius of slack. A mass that outruns this is caught by the sweep at the end of the frame.
     // The frame's other per-mass resets go in the same pass over the masses.
     const Real gravity = system.forces.gravity.norm();
-    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
-            m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
-            m_frameStart[i] = p.position[i];
-            m_report.clearMass(i);
-        }
-    });
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
+                        m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
+                        m_frameStart[i] = p.position[i];
+                        m_report.clearMass(i);
+                    }
+                });
     m_planes.clear();
     m_detector.setTime(time);
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.list());
@@ -125,12 +127,14 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
     std::vector<std::vector<int>> firstTouches(chunkCount(masses, massChunkSize));
     std::vector<std::uint8_t> madeStuck(firstTouches.size(), 0);
     const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, h};
-    parallelFor(masses, massChunkSize, [&](std::size_t begin, std::size_t end) {
-        const std::size_t chunk = begin / massChunkSize;
-        bool stuck = false;
-        projection.run(begin, end, firstTouches[chunk], stuck);
-        madeStuck[chunk] = stuck ? 1 : 0;
-    });
+    parallelFor(masses, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    const std::size_t chunk = begin / massChunkSize;
+                    bool stuck = false;
+                    projection.run(begin, end, firstTouches[chunk], stuck);
+                    madeStuck[chunk] = stuck ? 1 : 0;
+                });
     for (std::size_t chunk = 0; chunk < firstTouches.size(); ++chunk)
     {
         m_stuck.any = m_stuck.any || madeStuck[chunk] != 0;

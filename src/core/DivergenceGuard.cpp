@@ -88,8 +88,8 @@ Real massEnergy(const MassSpringSystem& system)
                           {
                               if (!p.pinned[i])
                               {
-                                  energy +=
-                                      p.mass[i] * (Real(0.5) * p.velocity[i].squaredNorm() - gravity.dot(p.position[i]));
+                                  energy += p.mass[i] *
+                                            (Real(0.5) * p.velocity[i].squaredNorm() - gravity.dot(p.position[i]));
                               }
                           }
                           return energy;
@@ -369,8 +369,7 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
     {
         // A change within the hooks that was not measured (before the guard knew to measure them): the accounting
         // starts again from here.
-        const Real mechanical =
-            m_settings.account == EnergyAccount::Mechanical ? energy : mechanicalEnergy(system);
+        const Real mechanical = m_settings.account == EnergyAccount::Mechanical ? energy : mechanicalEnergy(system);
         m_rebase = false;
         m_reference = mechanical;
         m_putIn = 0;

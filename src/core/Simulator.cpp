@@ -126,14 +126,16 @@ void Simulator::checkFinite() const
     // for the culprit below runs only on failure.
     const Particles& p = m_system.particles;
     std::vector<std::uint8_t> chunkFinite(chunkCount(p.size(), massChunkSize), 1);
-    parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
-        Real sum = 0;
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            sum += p.position[i].sum() + p.velocity[i].sum();
-        }
-        chunkFinite[begin / massChunkSize] = std::isfinite(sum) ? 1 : 0;
-    });
+    parallelFor(p.size(), massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    Real sum = 0;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        sum += p.position[i].sum() + p.velocity[i].sum();
+                    }
+                    chunkFinite[begin / massChunkSize] = std::isfinite(sum) ? 1 : 0;
+                });
     if (std::all_of(chunkFinite.begin(), chunkFinite.end(), [](std::uint8_t finite) { return finite != 0; }))
     {
         return;

@@ -43,18 +43,17 @@ void requireFiniteState(const Scene& scene)
         const Real energy = Real(0.5) * p.mass[i] * p.velocity[i].squaredNorm();
         if (!std::isfinite(p.position[i].norm()) || !std::isfinite(energy))
         {
-            throw NumericalError("the run went beyond the range of double precision at t = " +
-                                 formatNumber(scene.time()) + " s: mass " + std::to_string(i) +
-                                 (std::isfinite(p.position[i].norm()) ? "'s speed or kinetic energy"
-                                                                      : "'s distance from the origin") +
-                                 " is not a finite number (nothing of this run is written)");
+            throw NumericalError(
+                "the run went beyond the range of double precision at t = " + formatNumber(scene.time()) + " s: mass " +
+                std::to_string(i) +
+                (std::isfinite(p.position[i].norm()) ? "'s speed or kinetic energy" : "'s distance from the origin") +
+                " is not a finite number (nothing of this run is written)");
         }
         total += energy;
     }
     if (!std::isfinite(total))
     {
-        throw NumericalError("the run went beyond the range of double precision at t = " +
-                             formatNumber(scene.time()) +
+        throw NumericalError("the run went beyond the range of double precision at t = " + formatNumber(scene.time()) +
                              " s: the sheet's kinetic energy is not a finite number (nothing of this run is written)");
     }
 }

@@ -38,8 +38,8 @@ nlohmann::json studyRecordJson(const Study& study)
     {
         cases.push_back(values);
     }
-    return {{"name", study.name}, {"scene", study.scenePath}, {"design", study.design},
-            {"parameters", parameters}, {"outputs", outputs}, {"cases", cases}};
+    return {{"name", study.name},       {"scene", study.scenePath}, {"design", study.design},
+            {"parameters", parameters}, {"outputs", outputs},       {"cases", cases}};
 }
 
 std::string readText(const std::string& path)
@@ -107,8 +107,8 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
         }
         if (!empty)
         {
-            nlohmann::json existing = nlohmann::json::parse(readText((fs::path(dir) / "study.json").string()),
-                                                            nullptr, false);
+            nlohmann::json existing =
+                nlohmann::json::parse(readText((fs::path(dir) / "study.json").string()), nullptr, false);
             // The same study may be resumed from another working folder: the scene's path may be written
             // differently, what matters is that every case's scene is the same (checked next).
             nlohmann::json mine = record;
@@ -119,7 +119,8 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
             mine.erase("scene");
             if (existing != mine)
             {
-                throw InputError("--out: '" + dir + "' holds another study (its parameters, values or outputs "
+                throw InputError("--out: '" + dir +
+                                 "' holds another study (its parameters, values or outputs "
                                  "differ): give a new folder to start this one");
             }
             for (std::size_t i = 0; i < scenes.size(); ++i)
@@ -127,7 +128,8 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
                 const std::string path = caseFolder(dir, i) + "/scene.json";
                 if (fs::exists(path) && readText(path) != scenes[i])
                 {
-                    throw InputError("--out: " + path + " differs from the case's scene now (the base scene "
+                    throw InputError("--out: " + path +
+                                     " differs from the case's scene now (the base scene "
                                      "changed?): give a new folder, or remove the old one");
                 }
             }
@@ -167,8 +169,8 @@ StudyRecord readStudyRecord(const std::string& dir)
     const std::string path = (fs::path(dir) / "study.json").string();
     if (!fs::exists(path))
     {
-        throw InputError("--collect: " + dir + " is not a study folder (no study.json; masse sweep STUDY --out " +
-                         dir + " makes one)");
+        throw InputError("--collect: " + dir + " is not a study folder (no study.json; masse sweep STUDY --out " + dir +
+                         " makes one)");
     }
     const nlohmann::json document = readJsonFile(path);
     StudyRecord record;

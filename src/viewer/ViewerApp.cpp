@@ -131,7 +131,10 @@ void mouseTrampoline(int button, int state, int x, int y)
 {
     InputEvent event;
     event.kind = state == GLUT_DOWN ? InputKind::MouseDown : InputKind::MouseUp;
-    event.button = button == GLUT_LEFT_BUTTON ? 0 : button == GLUT_RIGHT_BUTTON ? 1 : button == GLUT_MIDDLE_BUTTON ? 2 : -1;
+    event.button = button == GLUT_LEFT_BUTTON     ? 0
+                   : button == GLUT_RIGHT_BUTTON  ? 1
+                   : button == GLUT_MIDDLE_BUTTON ? 2
+                                                  : -1;
     event.x = x;
     event.y = y;
     event.modifiers = modifiersNow();
@@ -262,8 +265,8 @@ ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassSc
     m_session.setPauseAtEnd(!options.benchmark);
     m_layout = screenLayout(options.width, options.height, options.showUi);
     m_controls.viewport = m_layout.sceneViewport();
-    m_simulation = std::make_unique<SimulationThread>(m_session, m_scalars, options.stepsPerFrame == 0,
-                                                      options.computeBudget);
+    m_simulation =
+        std::make_unique<SimulationThread>(m_session, m_scalars, options.stepsPerFrame == 0, options.computeBudget);
 }
 
 ViewerApp::~ViewerApp()
