@@ -3,6 +3,7 @@
 #include "AtomicFile.h"
 #include "Plot.h"
 
+#include "core/Format.h"
 #include "core/LatticeSurface.h"
 
 #include <algorithm>
@@ -18,12 +19,6 @@ namespace
 {
 constexpr Real kelvinAtZeroCelsius = 273.15;
 
-std::string format(const char* pattern, double value)
-{
-    char text[64];
-    std::snprintf(text, sizeof(text), pattern, value);
-    return text;
-}
 } // namespace
 
 TopViewMap topViewMap(const Scene& scene, const std::vector<Real>& perMass, int width)
@@ -257,12 +252,13 @@ void writeFormingReports(Scene& scene, const std::string& directory)
         }
         const Vec3& thinnest = scene.system().particles.position[thickness->thinnestMass()];
         const std::string subtitle =
-            "thinnest " + format("%.3f mm", 1000 * thickness->minimumThickness()) + " (" +
-            format("%.0f%%", 100 * thickness->minimumThickness() / thickness->initialThickness()) + " of " +
-            format("%.2f mm", 1000 * thickness->initialThickness()) + ") at (" + format("%.3f", thinnest.x()) + ", " +
-            format("%.3f", thinnest.y()) + ", " + format("%.3f", thinnest.z()) + ") m; " +
-            format("%.1f%%", 100 * thinAreaShare(*thickness, report.thinBelow)) + " of the area below " +
-            format("%.0f%%", 100 * report.thinBelow) + " of h0";
+            "thinnest " + formatNumber("%.3f mm", 1000 * thickness->minimumThickness()) + " (" +
+            formatNumber("%.0f%%", 100 * thickness->minimumThickness() / thickness->initialThickness()) + " of " +
+            formatNumber("%.2f mm", 1000 * thickness->initialThickness()) + ") at (" +
+            formatNumber("%.3f", thinnest.x()) + ", " + formatNumber("%.3f", thinnest.y()) + ", " +
+            formatNumber("%.3f", thinnest.z()) + ") m; " +
+            formatNumber("%.1f%%", 100 * thinAreaShare(*thickness, report.thinBelow)) + " of the area below " +
+            formatNumber("%.0f%%", 100 * report.thinBelow) + " of h0";
         drawMap("thickness_map", millimetres, "wall thickness, top view", subtitle, "thickness (mm)",
                 "defined (0 '#3b0f70', 0.25 '#8c2981', 0.5 '#de4968', 0.75 '#fe9f6d', 1 '#fcfdbf')");
     }
@@ -275,7 +271,7 @@ void writeFormingReports(Scene& scene, const std::string& directory)
         }
         const auto [lo, hi] = std::minmax_element(celsius.begin(), celsius.end());
         drawMap("temperature_map", celsius, "temperature, top view",
-                "from " + format("%.1f", *lo) + " to " + format("%.1f", *hi) + " C", "temperature (C)",
+                "from " + formatNumber("%.1f", *lo) + " to " + formatNumber("%.1f", *hi) + " C", "temperature (C)",
                 "rgb 33,13,10");
     }
 }

@@ -5,6 +5,7 @@
 #include "JsonText.h"
 #include "SceneFile.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 
 #include <algorithm>
@@ -22,11 +23,10 @@ namespace masse::scene
 {
 namespace
 {
+/// Six significant digits: enough to tell an expectation from a result, short enough to read.
 std::string format(Real value)
 {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.6g", value);
-    return text;
+    return formatNumber("%.6g", value);
 }
 
 std::string formatVec(const nlohmann::json& v)

@@ -1,5 +1,6 @@
 #include "ViewerSession.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 #include "core/NumericalError.h"
 #include "core/Simulator.h"
@@ -19,9 +20,7 @@ Real secondsSince(std::chrono::steady_clock::time_point start)
 
 std::string formatTime(Real t)
 {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3f", t);
-    return text;
+    return formatNumber("%.3f", t);
 }
 } // namespace
 
