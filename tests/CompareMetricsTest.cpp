@@ -123,12 +123,9 @@ TEST(CompareMetrics, TunnelCounterTellsThroughInsideDipAndRound)
     EXPECT_FALSE(counter.entered(4));
 }
 
-// Masses 2 g and 1 g (pinned: 0) at speeds 3 and 4 m/s: E = 0.002 * 9 / 2 = 0.009 J. Ten frames of 0.03 s taking
-// 1.5 ms each: 15 ms over 0.3 simulated seconds = 50 ms per simulated second.
-TEST(CompareMetrics, KineticEnergyAndWallTimePerSimulatedSecond)
+// Ten frames of 0.03 s taking 1.5 ms each: 15 ms over 0.3 simulated seconds = 50 ms per simulated second.
+TEST(CompareMetrics, WallTimePerSimulatedSecond)
 {
-    EXPECT_DOUBLE_EQ(kineticEnergy({Vec3(0, 3, 0), Vec3(4, 0, 0)}, {0.002, 0.0}), 0.009);
-    EXPECT_THROW(kineticEnergy({Vec3::Zero()}, {}), std::invalid_argument);
     RunRecord run;
     for (int i = 1; i <= 10; ++i)
     {

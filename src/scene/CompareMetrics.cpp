@@ -122,20 +122,6 @@ TunnelCount TunnelCounter::count() const
     return result;
 }
 
-Real kineticEnergy(const std::vector<Vec3>& velocities, const std::vector<Real>& masses)
-{
-    if (velocities.size() != masses.size())
-    {
-        throw std::invalid_argument("kineticEnergy: velocities and masses differ in count");
-    }
-    Real energy = 0;
-    for (std::size_t i = 0; i < masses.size(); ++i)
-    {
-        energy += Real(0.5) * masses[i] * velocities[i].squaredNorm();
-    }
-    return energy;
-}
-
 void RunRecord::addFrame(Real t, Real energy, double stepWallSeconds)
 {
     time.push_back(t);

@@ -112,9 +112,6 @@ private:
     std::vector<std::uint8_t> m_startedInside;
 };
 
-/// J, sum of m v^2 / 2; masses of 0 (pinned) contribute nothing. Throws std::invalid_argument on mismatched sizes.
-Real kineticEnergy(const std::vector<Vec3>& velocities, const std::vector<Real>& masses);
-
 /// One engine's run, frame by frame, and what it cost.
 struct RunRecord
 {
