@@ -390,6 +390,10 @@ TEST(DivergenceGuard, ScenesThatCreateEnergyAreStopped)
         EXPECT_TRUE(run.guarded.find("energy") != std::string::npos || run.guarded.find("m/s") != std::string::npos)
             << name << ": " << run.guarded;
         EXPECT_NE(run.guarded.find("Try a smaller step"), std::string::npos) << name << ": " << run.guarded;
+        // Every case runs implicit: the remedy must not send it to the implicit integrator, and the engine's message
+        // names no scene-file key (the scene layer does that).
+        EXPECT_EQ(run.guarded.find(", the implicit integrator"), std::string::npos) << name << ": " << run.guarded;
+        EXPECT_EQ(run.guarded.find("integrator.dt"), std::string::npos) << name << ": " << run.guarded;
         EXPECT_TRUE(run.unguarded != run.guarded) << name << ": the run without the guard stopped the same way";
         std::printf("%s: %s\n  without the guard: %s\n", name.c_str(), run.guarded.c_str(),
                     run.unguarded.empty() ? (run.unguardedFinite ? "ran to its end" : "non-finite")

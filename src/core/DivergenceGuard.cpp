@@ -322,7 +322,6 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
     {
         return;
     }
-    const Real time = step.time;
     const Real dt = step.dt;
     const Particles& p = system.particles;
     // Finite state (the sum vectorises; the search runs only on failure) and the speed bound.
@@ -345,15 +344,15 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
         {
             if (!p.position[i].allFinite() || !p.velocity[i].allFinite())
             {
-                fail(time, "mass " + std::to_string(i) + " has a non-finite position or velocity");
+                fail(step, "mass " + std::to_string(i) + " has a non-finite position or velocity");
             }
         }
-        fail(time, "positions or velocities grew beyond the range of double precision");
+        fail(step, "positions or velocities grew beyond the range of double precision");
     }
     fastest = std::sqrt(fastest);
     if (fastest > m_settings.speedLimit)
     {
-        fail(time, "mass " + std::to_string(fastestMass) + " moves at " + formatNumber("%.3g", fastest) +
+        fail(step, "mass " + std::to_string(fastestMass) + " moves at " + formatNumber("%.3g", fastest) +
                        " m/s, above this scene's bound of " + formatNumber("%.3g", m_settings.speedLimit) +
                        " m/s (100 times the fastest that gravity and the scripted motions can give)");
     }
@@ -433,7 +432,7 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
         const Real allowed = m_reference + m_putIn + integratorAllowance() + slack;
         if (energy > allowed)
         {
-            fail(time, "the sheet's energy grew to " + formatNumber("%.4g", energy - m_reference) +
+            fail(step, "the sheet's energy grew to " + formatNumber("%.4g", energy - m_reference) +
                            " J above its start, more than the " + formatNumber("%.4g", m_putIn) +
                            " J that grabs, applied forces, moving obstacles and heat put in (plus " +
                            formatNumber("%.3g", integratorAllowance()) + " J of the " +
@@ -469,10 +468,15 @@ Real DivergenceGuard::accountedEnergy(const MassSpringSystem& system) const
     return m_settings.account == EnergyAccount::Mechanical ? mechanicalEnergy(system) : motionEnergy(system);
 }
 
-void DivergenceGuard::fail(Real time, const std::string& what) const
+void DivergenceGuard::fail(const GuardStep& step, const std::string& what) const
 {
-    throw NumericalError("the simulation diverged at t = " + formatNumber("%.4g", time) + " s: " + what +
-                         ". Try a smaller step (integrator.dt), the implicit integrator (\"integrator\": {\"type\": "
-                         "\"implicit\"}), or softer springs; no frame of this state was written");
+    // The remedy fits the integrator: an implicit run is not sent to the implicit integrator. The scene layer names the
+    // keys; the engine speaks of its own quantities.
+    const std::string remedy = isExplicit(step.integrator)
+                                   ? "Try a smaller step dt, the implicit integrator, or softer springs"
+                                   : "Try a smaller step dt or softer springs (the implicit integrator too can diverge "
+                                     "where contact or a grab changes the forces faster than a step resolves)";
+    throw NumericalError("the simulation diverged at t = " + formatNumber("%.4g", step.time) + " s: " + what + ". " +
+                         remedy + "; no frame of this state was written");
 }
 } // namespace masse

@@ -110,7 +110,7 @@ public:
     Real integratorAllowance() const { return m_integratorError + m_linearisationError; }
 
 private:
-    [[noreturn]] void fail(Real time, const std::string& what) const;
+    [[noreturn]] void fail(const GuardStep& step, const std::string& what) const;
     /// The energy the account weighs (settings().account).
     Real accountedEnergy(const MassSpringSystem& system) const;
     /// The accounted energy at a step's start: the last check's when the system has not been marked changed since
