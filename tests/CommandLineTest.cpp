@@ -240,6 +240,22 @@ TEST(CommandLine, CompareWritesBothEnginesFiguresAndPlots)
 
 // A bad "bullet" key, or a bad flag, stops `masse compare` with exit code 2 and a message naming it, before the
 // output folder is made.
+// As `masse run` does, `masse compare` says before it starts that a step will take over a thousand substeps: the
+// comparison's sheet stiffened 2,000-fold (2e5 N/m) needs about 1,350 symplectic substeps a step.
+TEST(CommandLine, CompareSaysWhenAStepNeedsOverAThousandSubsteps)
+{
+    const std::filesystem::path out = freshFolder("compare-stiff");
+    const Outcome o =
+        runMasse("compare " + source + "/data/scenes/box-landing.json --duration 0.03 --quiet" +
+                 " --set sheet.stiffness.planar=2e5 --set sheet.stiffness.inter_layer=2e5 --out " + out.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    EXPECT_NE(o.output.find("warning: the symplectic integrator needs"), std::string::npos) << o.output;
+    const Outcome soft = runMasse(
+        "compare " + source + "/data/scenes/box-landing.json --duration 0.03 --quiet --force --out " + out.string());
+    ASSERT_EQ(soft.exitCode, 0) << soft.output;
+    EXPECT_EQ(soft.output.find("warning:"), std::string::npos) << soft.output;
+}
+
 TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
 {
     const std::filesystem::path out = freshFolder("compare-bad");

@@ -59,6 +59,11 @@ void runCompare(const CompareCommandOptions& options, bool substepsGiven)
                                      }
                                  });
 
+    // As `masse run` does: a step the explicit integrators cut into more than a thousand substeps is said up front.
+    if (const std::string warning = comparison.scene().substepWarning(); !warning.empty())
+    {
+        std::cerr << "warning: " << warning << "\n";
+    }
     const auto start = std::chrono::steady_clock::now();
     scene::Progress progress(std::cerr, ::isatty(STDERR_FILENO) != 0, comparison.scene().spec().run.duration);
     comparison.run(
