@@ -199,7 +199,7 @@ TEST(Contact, FastSheetDoesNotTunnelThroughThinPlate)
                          ASSERT_GT(x.y(), -1.0 + 0.005) << integratorName(kind) << " at t = " << s.time();
                      }
                  });
-        EXPECT_TRUE(rig.contact->everTouched(0));
+        EXPECT_TRUE(rig.contact->report().everTouched(0));
     }
 }
 
@@ -223,7 +223,7 @@ TEST(Contact, SheetDoesNotFallThroughTheFloorAtPaperStep)
                          ASSERT_GE(x.y(), -2.81 + settings.radius - allowed) << integratorName(kind);
                      }
                  });
-        EXPECT_TRUE(rig.contact->everTouched(rig.environment.findObstacle("floor"))) << integratorName(kind);
+        EXPECT_TRUE(rig.contact->report().everTouched(rig.environment.findObstacle("floor"))) << integratorName(kind);
     }
 }
 
@@ -236,21 +236,21 @@ TEST(Contact, ReportsNameTheBoxAndItsTopFace)
     const int box = rig.environment.addObstacle(makeBox("box", Vec3(0.3, -1.0, 0.3), Vec3(1.0, 0.5, 1.0)));
     rig.start(paperSheet(6), IntegratorKind::ImplicitEuler, ContactSettings{});
     simulate(*rig.simulator, 3.0, paperTimeStep, [](const Simulator&) {});
-    ASSERT_EQ(rig.contact->firstContacts().size(), 1u);
-    EXPECT_EQ(rig.contact->firstContacts()[0].obstacle, box);
+    ASSERT_EQ(rig.contact->report().firstContacts().size(), 1u);
+    EXPECT_EQ(rig.contact->report().firstContacts()[0].obstacle, box);
     // Falling 0.8 m - radius from rest: t = sqrt(2 h / g) = 0.40 s; allow a frame and the air's drag.
-    EXPECT_NEAR(rig.contact->firstContacts()[0].time, std::sqrt(2 * (0.79) / standardGravity), 0.04);
-    ASSERT_EQ(rig.contact->touchedFaces().size(), 1u);
-    EXPECT_EQ(rig.contact->touchedFaces()[0], std::make_pair(box, 2));
+    EXPECT_NEAR(rig.contact->report().firstContacts()[0].time, std::sqrt(2 * (0.79) / standardGravity), 0.04);
+    ASSERT_EQ(rig.contact->report().touchedFaces().size(), 1u);
+    EXPECT_EQ(rig.contact->report().touchedFaces()[0], std::make_pair(box, 2));
     std::size_t touching = 0;
-    for (int obstacle : rig.contact->touchingObstacle())
+    for (int obstacle : rig.contact->report().touchingObstacle())
     {
         touching += obstacle == box ? 1 : 0;
     }
     EXPECT_EQ(touching, 36u); // the whole 6 x 6 bottom layer
     // Contact forces carry the sheet's weight (61 g).
     Vec3 total = Vec3::Zero();
-    for (const Vec3& f : rig.contact->contactForce())
+    for (const Vec3& f : rig.contact->report().contactForce())
     {
         total += f;
     }

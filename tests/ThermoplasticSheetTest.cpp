@@ -473,7 +473,7 @@ TEST(ThermoplasticSheet, ColdMouldFreezesWhatItTouches)
     contactSettings.radius = 0.002;
     ContactSolver contact(mould, contactSettings);
     sheet.simulator->setContactSolver(&contact);
-    sheet.thermal->setContact(&contact.touchingObstacle(), {celsiusToKelvin(40)});
+    sheet.thermal->setContact(&contact.report().touchingObstacle(), {celsiusToKelvin(40)});
 
     const std::size_t n = sheet.lattice.massCount();
     std::vector<Real> firstTouch(n, -1);
@@ -487,7 +487,7 @@ TEST(ThermoplasticSheet, ColdMouldFreezesWhatItTouches)
                      {
                          firstTouch[i] = s.time();
                      }
-                     everTouched[i] |= contact.touchingObstacle()[i] >= 0 ? 1 : 0;
+                     everTouched[i] |= contact.report().touchingObstacle()[i] >= 0 ? 1 : 0;
                  }
              });
     int held = 0;

@@ -1,7 +1,8 @@
 /// `masse bench`: how fast the engine steps a scene (by default data/scenes/bench-free-fall.json, or bench-contact.json
-/// with --contact: the benchmarks are scene files, so what is timed can be watched in the viewer), as one JSON line. "steps" are steps of --dt, each split into
-/// "substeps" by the explicit integrators; "spring_steps_per_second" (springs times substeps, divided by wall time)
-/// is the figure to compare across sizes, integrators and machines. Each figure is the median of --repeat rounds.
+/// with --contact: the benchmarks are scene files, so what is timed can be watched in the viewer), as one JSON line.
+/// "steps" are steps of --dt, each split into "substeps" by the explicit integrators; "spring_steps_per_second"
+/// (springs times substeps, divided by wall time) is the figure to compare across sizes, integrators and machines. Each
+/// figure is the median of --repeat rounds.
 
 #include "Commands.h"
 #include "ScalarBaseline.h"
@@ -193,7 +194,7 @@ void runBench(const BenchOptions& options)
             {"contact_share_of_step", contactSeconds / allSeconds},
             {"spring_force_seconds", springSeconds},
             {"contact_over_spring_forces", contactSeconds / springSeconds},
-            {"touching_masses", contact->touchingCount()},
+            {"touching_masses", contact->report().touchingCount()},
             {"detection_seconds", stageTimer.seconds(Stage::ContactDetection)},
             {"projection_seconds", stageTimer.seconds(Stage::ContactProjection)},
             {"sweep_seconds", stageTimer.seconds(Stage::ContactSweep)},
@@ -271,8 +272,9 @@ void addBenchCommand(CLI::App& app)
     command->add_option("--integrator", options->integrator,
                         "euler, symplectic, verlet, implicit or bdf2 (default: the scene's)");
     command->add_option("--preconditioner", options->preconditioner, "implicit solver: cholesky or jacobi");
-    command->add_option("--material", options->material,
-                        "Material file: a 2 mm elastic sheet of it (e.g. data/materials/pet.json) instead of Table 1's");
+    command->add_option(
+        "--material", options->material,
+        "Material file: a 2 mm elastic sheet of it (e.g. data/materials/pet.json) instead of Table 1's");
     command->add_option("--temperature", options->temperatureC, "Temperature of a --material sheet (C)")
         ->capture_default_str();
     command->add_option("--steps", options->steps, "Steps per timed round (after one warm-up step)")

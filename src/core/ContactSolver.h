@@ -46,14 +46,6 @@ public:
 
     /// What the last frame and the run so far did (touches, forces, faces, first contacts).
     const ContactReport& report() const { return m_report; }
-    // The report's figures, by their old names.
-    const std::vector<int>& touchingObstacle() const { return m_report.touchingObstacle(); }
-    const std::vector<int>& touchingFace() const { return m_report.touchingFace(); }
-    const std::vector<Vec3>& contactForce() const { return m_report.contactForce(); }
-    const std::vector<std::pair<int, int>>& touchedFaces() const { return m_report.touchedFaces(); }
-    std::size_t touchingCount() const { return m_report.touchingCount(); }
-    const std::vector<ContactEvent>& firstContacts() const { return m_report.firstContacts(); }
-    bool everTouched(int obstacle) const { return m_report.everTouched(obstacle); }
     /// Masses held by sticky contact.
     const std::vector<std::uint8_t>& stuck() const { return m_stuck.stuck; }
     std::size_t planeCount() const { return m_planes.size(); }

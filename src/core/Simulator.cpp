@@ -115,7 +115,7 @@ StepReport Simulator::step(Real dt)
     guarded.dt = dt;
     guarded.substep = report.substep;
     guarded.integrator = m_settings.integrator;
-    guarded.contactForce = m_contact ? &m_contact->contactForce() : nullptr;
+    guarded.contactForce = m_contact ? &m_contact->report().contactForce() : nullptr;
     m_guard.check(m_system, guarded);
     return report;
 }

@@ -34,7 +34,7 @@
 ///     springs.setThickness(&thermal.sheetThickness());
 ///     Simulator simulator(std::move(sheet), simulatorSettings);
 ///     simulator.setContactSolver(&contact);                                // optional
-///     thermal.setContact(&contact.touchingObstacle(), obstacleTemperatures); // optional
+///     thermal.setContact(&contact.report().touchingObstacle(), obstacleTemperatures); // optional
 ///     simulator.addHook(&thermal);
 ///     simulator.addHook(&springs);
 /// The order of the two hooks does not matter: the thermal model steps at the end of a frame, the springs read the

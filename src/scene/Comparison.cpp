@@ -158,6 +158,7 @@ void Comparison::buildTwins(const CompareOptions& options, const std::function<v
             twin.pathKeys.push_back(environment.obstacle(o).spec.path.size());
         }
         twin.touched.assign(std::size_t(environment.obstacleCount()), 0);
+        twin.rest = RestTracker(m_scene->spec().run.restKineticEnergy, m_scene->spec().run.restHold);
 
         EngineResult result;
         result.key = twinKey(settings);
@@ -309,27 +310,16 @@ void Comparison::updateTwinEvents(Twin& twin, EngineResult& result)
             result.events.push_back({"contact", environment.obstacle(obstacle).spec.name, t.time()});
         }
     }
-    // The scene's rest rule (Scene::updateRest), on the twin's contacts and energy.
-    const RunSpec& run = m_scene->spec().run;
-    bool prerequisites = true;
-    for (const std::string& name : run.restAfterContactWith)
+    // The scene's rest rule, on the twin's contacts and energy; the script is the scene's, played on both engines.
+    bool ready = !m_scene->scriptStillMoving();
+    for (const std::string& name : m_scene->spec().run.restAfterContactWith)
     {
         const int index = environment.findObstacle(name);
-        prerequisites = prerequisites && index >= 0 && twin.touched[std::size_t(index)];
+        ready = ready && index >= 0 && twin.touched[std::size_t(index)];
     }
-    if (!prerequisites || t.kineticEnergy() >= run.restKineticEnergy)
+    if (twin.rest.update(t.time(), ready ? t.kineticEnergy() : Real(0), ready))
     {
-        twin.restSince = -1;
-        return;
-    }
-    if (twin.restSince < 0)
-    {
-        twin.restSince = t.time();
-    }
-    if (!twin.rested && t.time() - twin.restSince >= run.restHold - 1e-9)
-    {
-        twin.rested = true;
-        result.events.push_back({"rest", "sheet", twin.restSince});
+        result.events.push_back({"rest", "sheet", twin.rest.since()});
     }
 }
 
@@ -349,7 +339,7 @@ bool Comparison::rested(std::size_t engine) const
     {
         return m_results[0].eventTime("rest", "sheet").has_value();
     }
-    return m_twins[engine - 1].rested;
+    return m_twins[engine - 1].rest.rested();
 }
 
 bool Comparison::finished() const

@@ -129,8 +129,7 @@ private:
         std::vector<std::uint8_t> pinned;
         std::vector<std::size_t> pathKeys; ///< keys of each obstacle's path the twin has
         std::vector<std::uint8_t> touched; ///< per obstacle
-        Real restSince = -1;
-        bool rested = false;
+        RestTracker rest;
     };
     void buildTwins(const CompareOptions& options, const std::function<void(const std::string&)>& log);
     void collectApproximations();

@@ -160,7 +160,7 @@ std::string massesCsv(Scene& scene)
     const Particles& p = scene.system().particles;
     const SheetThickness* thickness = scene.thickness();
     const ThermalModel* thermal = scene.thermal();
-    const std::vector<int>& touching = scene.contact().touchingObstacle();
+    const std::vector<int>& touching = scene.contact().report().touchingObstacle();
     std::ostringstream out;
     out << "mass,layer,x_m,y_m,z_m,thickness_m,thickness_ratio,temperature_c,contact\n";
     char line[256];

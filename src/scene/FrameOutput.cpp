@@ -99,7 +99,7 @@ void FrameOutput::write(Scene& scene)
         {
             FrameFields fields;
             fields.time = time;
-            fields.contactObstacle = scene.contact().touchingObstacle();
+            fields.contactObstacle = scene.contact().report().touchingObstacle();
             // Before the first step the contact solver has not looked yet: nothing touches.
             fields.contactObstacle.resize(scene.system().massCount(), -1);
             fields.obstacleNames = m_obstacleNames;

@@ -61,8 +61,7 @@ void Scene::build()
     m_environment.reset();
     m_events.clear();
     m_contactsSeen = 0;
-    m_restSince = -1;
-    m_restRecorded = false;
+    m_rest = RestTracker(m_spec.run.restKineticEnergy, m_spec.run.restHold);
     m_steps = 0;
 
     try
@@ -165,7 +164,7 @@ void Scene::build()
                 obstacleTemperature[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
                     m_spec.obstacleTemperature[k];
             }
-            m_thermal->setContact(&m_contact->touchingObstacle(), obstacleTemperature);
+            m_thermal->setContact(&m_contact->report().touchingObstacle(), obstacleTemperature);
             m_simulator->addHook(m_thermal.get());
         }
         if (m_springs)
@@ -178,7 +177,7 @@ void Scene::build()
             m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure));
             if (m_spec.forming.seal)
             {
-                m_pressure->setContact(&m_contact->touchingObstacle());
+                m_pressure->setContact(&m_contact->report().touchingObstacle());
             }
             m_simulator->addHook(m_pressure.get());
         }
@@ -316,7 +315,7 @@ StepReport Scene::step()
 {
     const StepReport report = m_simulator->step(nextStep());
     ++m_steps;
-    const std::vector<ContactEvent>& contacts = m_contact->firstContacts();
+    const std::vector<ContactEvent>& contacts = m_contact->report().firstContacts();
     for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)
     {
         const ContactEvent& c = contacts[m_contactsSeen];
@@ -334,33 +333,20 @@ void Scene::updateRest()
     }
     // A sheet that rests before its script is done (an action still to fire, a grab or an obstacle still to move)
     // is only waiting: rest counts from the end of the last scripted motion.
-    if (!m_script->pending().empty() || time() < m_scriptedMotionEnd - 1e-9)
-    {
-        m_restSince = -1;
-        return;
-    }
+    bool ready = !scriptStillMoving();
     for (int obstacle : m_restPrerequisites)
     {
-        if (!m_contact->everTouched(obstacle))
-        {
-            m_restSince = -1;
-            return;
-        }
+        ready = ready && m_contact->report().everTouched(obstacle);
     }
-    if (kineticEnergy() >= m_spec.run.restKineticEnergy)
+    if (m_rest.update(time(), ready ? kineticEnergy() : Real(0), ready))
     {
-        m_restSince = -1;
-        return;
+        record("rest", "sheet", m_rest.since());
     }
-    if (m_restSince < 0)
-    {
-        m_restSince = time();
-    }
-    if (!m_restRecorded && atRest())
-    {
-        m_restRecorded = true;
-        record("rest", "sheet", m_restSince);
-    }
+}
+
+bool Scene::scriptStillMoving() const
+{
+    return !m_script->pending().empty() || time() < m_scriptedMotionEnd - 1e-9;
 }
 
 std::vector<const ScriptAction*> Scene::pendingActions() const
@@ -388,6 +374,6 @@ std::string Scene::substepWarning() const
 
 bool Scene::finished() const
 {
-    return time() >= m_spec.run.duration - 1e-9 || (m_spec.run.stopAtRest && m_restRecorded);
+    return time() >= m_spec.run.duration - 1e-9 || (m_spec.run.stopAtRest && m_rest.rested());
 }
 } // namespace masse::scene

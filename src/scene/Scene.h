@@ -2,6 +2,7 @@
 /// A running scene: the sheet, its obstacles in Bullet, contact, time stepping, the script, and the events so far.
 /// The headless runner, the viewer, the tests and the benchmarks all drive a scene through this class.
 
+#include "RestTracker.h"
 #include "SceneSpec.h"
 #include "ScriptRunner.h"
 
@@ -71,12 +72,15 @@ public:
     /// Time of the first event with this name and object, or a negative number.
     Real eventTime(const std::string& name, const std::string& object) const;
     /// At rest by the spec's threshold, held long enough, after the contacts the spec asks for first.
-    bool atRest() const { return m_restSince >= 0 && time() - m_restSince >= m_spec.run.restHold - 1e-9; }
+    bool atRest() const { return m_rest.atRest(time()); }
     /// The run is over: its duration is reached, or it stops at rest and is at rest.
     bool finished() const;
     Real kineticEnergy() const;
     /// Script actions that have not fired yet, in the order they will.
     std::vector<const ScriptAction*> pendingActions() const;
+    /// Whether an action is still to fire or a scripted motion (a grab's or an obstacle's path) still to end: rest
+    /// cannot count yet.
+    bool scriptStillMoving() const;
     /// "" or, when the explicit integrator needs more than 1,000 substeps for each of this scene's steps, a warning
     /// with the count that names the integrator to use instead.
     std::string substepWarning() const;
@@ -106,9 +110,8 @@ private:
     std::vector<SceneEvent> m_events;
     std::size_t m_contactsSeen = 0;
     std::vector<int> m_restPrerequisites;
-    Real m_restSince = -1;
+    RestTracker m_rest;
     Real m_scriptedMotionEnd = 0; ///< s, when the last scripted action, grab path or obstacle path ends
-    bool m_restRecorded = false;
     std::uint64_t m_steps = 0;
     std::chrono::steady_clock::time_point m_start;
 };

@@ -33,7 +33,7 @@ std::shared_ptr<const SheetTopology> buildTopology(const scene::Scene& scene)
 void captureObstacles(scene::Scene& scene, std::vector<ObstacleShape>& out)
 {
     const bridge::BulletEnvironment& environment = scene.environment();
-    const std::vector<std::pair<int, int>>& touched = scene.contact().touchedFaces();
+    const std::vector<std::pair<int, int>>& touched = scene.contact().report().touchedFaces();
     out.resize(std::size_t(environment.obstacleCount()));
     for (int i = 0; i < environment.obstacleCount(); ++i)
     {
@@ -103,18 +103,18 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
     out.notice = session.notice();
     MassSpringSystem& system = scene.system();
     out.springCount = system.springCount();
-    out.touchingCount = scene.contact().touchingCount();
+    out.touchingCount = scene.contact().report().touchingCount();
     out.events = scene.events();
 
     const Particles& particles = system.particles;
     const std::size_t n = particles.size();
     out.positions.assign(particles.position.begin(), particles.position.end());
     out.flags.resize(n);
-    const std::vector<int>& touching = scene.contact().touchingObstacle();
+    const std::vector<int>& touching = scene.contact().report().touchingObstacle();
     for (std::size_t i = 0; i < n; ++i)
     {
-        out.flags[i] = particles.pinned[i] ? massPinned
-                                           : (i < touching.size() && touching[i] >= 0 ? massInContact : massFree);
+        out.flags[i] =
+            particles.pinned[i] ? massPinned : (i < touching.size() && touching[i] >= 0 ? massInContact : massFree);
     }
     out.missingScalars.clear();
     for (const MassScalar& registered : scalars.all())

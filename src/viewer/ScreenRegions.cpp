@@ -64,7 +64,7 @@ nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, con
     regions["height"] = viewport.height;
     regions["sheet"] = toJson(screenBox(camera, viewport, scene.system().particles.position));
     const bridge::BulletEnvironment& environment = scene.environment();
-    const std::vector<std::pair<int, int>>& touched = scene.contact().touchedFaces();
+    const std::vector<std::pair<int, int>>& touched = scene.contact().report().touchedFaces();
     nlohmann::json obstacles = nlohmann::json::array();
     for (int i = 0; i < environment.obstacleCount(); ++i)
     {
@@ -109,7 +109,8 @@ nlohmann::json screenRegions(const SceneSnapshot& snapshot, const OrbitCamera& c
         {
             continue;
         }
-        const bool wasTouched = std::find(obstacle.touched.begin(), obstacle.touched.end(), true) != obstacle.touched.end();
+        const bool wasTouched =
+            std::find(obstacle.touched.begin(), obstacle.touched.end(), true) != obstacle.touched.end();
         obstacles.push_back({{"name", obstacle.name},
                              {"box", toJson(screenBox(camera, viewport, obstacle.vertices))},
                              {"touched", wasTouched}});
