@@ -377,4 +377,10 @@ TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
     EXPECT_EQ(paper.output.rfind("masse: --out: '/proc/self/masse-paper' cannot be ", 0), 0u) << paper.output;
     EXPECT_EQ(std::count(paper.output.begin(), paper.output.end(), '\n'), 1) << "the experiment started:\n"
                                                                              << paper.output;
+    // masse sweep stopped with exit code 1 and the library's "filesystem error: cannot create directories".
+    const Outcome sweep =
+        runMasse("sweep " + source + "/tests/studies/slope-friction.json --out /proc/self/masse-sweep");
+    EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
+    EXPECT_EQ(sweep.output.rfind("masse: --out: '/proc/self/masse-sweep' cannot be written (", 0), 0u) << sweep.output;
+    EXPECT_EQ(std::count(sweep.output.begin(), sweep.output.end(), '\n'), 1) << "the study started:\n" << sweep.output;
 }
