@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -368,4 +369,34 @@ TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)
         runMasse("run " + source + "/data/scenes/slope.json --out " + (folder / std::string(300, 'x')).string());
     EXPECT_EQ(longName.exitCode, 2) << longName.output;
     EXPECT_NE(longName.output.find("has a name of 300 bytes"), std::string::npos) << longName.output;
+}
+
+// Issue 16, row 12: a read-only --out (the folder itself, its parent, or a missing parent inside a read-only one) is
+// refused with exit code 2 and one line naming the path, before the scene runs. The suite runs as root in CI, where
+// permission bits stop no write (CAP_DAC_OVERRIDE), so the read-only folder is one where no one, root included, can
+// create anything: the masse process's own folder in procfs, /proc/self. Nothing can be written there, so what this
+// checks is when and how the run is refused: with every frame written (--frames-every 1), a check left to the first
+// write or to the end would stop the run with exit code 1 and another message, after it had started.
+TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
+{
+    const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.3 --frames-every 1 --out ";
+    for (const std::string out : {"/proc/self", "/proc/self/masse-out", "/proc/self/masse-out/run"})
+    {
+        const Outcome o = runMasse(run + out);
+        EXPECT_EQ(o.exitCode, 2) << out << ":\n" << o.output;
+        EXPECT_EQ(o.output.rfind("masse: --out: '" + out + "' cannot be ", 0), 0u) << o.output;
+        EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << "the run started:\n" << o.output;
+    }
+    // masse paper ran all five sheet sizes before it failed on its --out.
+    const Outcome paper = runMasse("paper --out /proc/self/masse-paper");
+    EXPECT_EQ(paper.exitCode, 2) << paper.output;
+    EXPECT_EQ(paper.output.rfind("masse: --out: '/proc/self/masse-paper' cannot be ", 0), 0u) << paper.output;
+    EXPECT_EQ(std::count(paper.output.begin(), paper.output.end(), '\n'), 1) << "the experiment started:\n"
+                                                                             << paper.output;
+    // masse sweep stopped with exit code 1 and the library's "filesystem error: cannot create directories".
+    const Outcome sweep =
+        runMasse("sweep " + source + "/tests/studies/slope-friction.json --out /proc/self/masse-sweep");
+    EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
+    EXPECT_EQ(sweep.output.rfind("masse: --out: '/proc/self/masse-sweep' cannot be written (", 0), 0u) << sweep.output;
+    EXPECT_EQ(std::count(sweep.output.begin(), sweep.output.end(), '\n'), 1) << "the study started:\n" << sweep.output;
 }

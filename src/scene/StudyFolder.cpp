@@ -137,7 +137,13 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
     }
 
     // study.json first: a sweep interrupted while writing the cases finds its own study here and completes them.
-    fs::create_directories(fs::path(dir) / "cases");
+    // A folder that cannot be made or written (a read-only file system) is bad input, refused before any case runs.
+    std::error_code error;
+    fs::create_directories(fs::path(dir) / "cases", error);
+    if (error)
+    {
+        throw InputError("--out: '" + dir + "' cannot be written (" + error.message() + ")");
+    }
     writeFileAtomically((fs::path(dir) / "study.json").string(), record.dump(2) + "\n");
     std::ostringstream manifest;
     manifest << "case,folder";
