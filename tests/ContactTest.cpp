@@ -227,6 +227,49 @@ TEST(Contact, SheetDoesNotFallThroughTheFloorAtPaperStep)
     }
 }
 
+// A sheet that one implicit step carries farther than its thickness lands as a sheet: its lower layer arrives at the
+// box inside the solve and stops the upper one, which stays a layer's height above it. Left to the projection after
+// the step, both layers were put on the box: the sheet was squashed flat (issue 15's grab on a hot table).
+TEST(Contact, ImplicitLandingKeepsTheSheetsLayersApart)
+{
+    ContactRig rig;
+    ContactSettings settings;
+    rig.environment.addObstacle(makeBox("table", Vec3(0, -0.5, 0), Vec3(1, 0.5, 1)));
+    LatticeSpec spec;
+    spec.countX = 4;
+    spec.countZ = 4;
+    const Real gap = 0.01; // between the layers
+    const Real above = 0.002;
+    spec.minCorner = Vec3(-0.02, settings.radius + above, -0.02);
+    spec.maxCorner = Vec3(0.02, settings.radius + above + gap, 0.02);
+    const Lattice lattice = buildLattice(spec);
+    // Stiff, with the masses as far apart across the sheet as its layers: the inter-layer springs hold the layers
+    // apart (a wide, soft sheet's nearly flat inter-layer springs would let the upper layer through).
+    SheetParams stiff;
+    for (SpringClassParams& c : stiff.springClasses)
+    {
+        c.stiffness = 1e5;
+    }
+    MassSpringSystem sheet = makeSheet(lattice, stiff);
+    for (Vec3& v : sheet.particles.velocity)
+    {
+        v = Vec3(0, -1, 0); // 30 mm in a step of 0.03 s: through the gap and the layers' spacing
+    }
+    rig.start(std::move(sheet), IntegratorKind::ImplicitEuler, settings);
+    rig.simulator->step(paperTimeStep);
+    const Particles& p = rig.particles();
+    for (Index i = 0; i < lattice.layerStart[1]; ++i)
+    {
+        EXPECT_NEAR(p.position[i].y(), settings.radius, 1e-9) << "lower layer, mass " << i;
+        EXPECT_LE(std::abs(p.velocity[i].y()), 1e-9) << "lower layer, mass " << i;
+    }
+    for (Index i = lattice.layerStart[1]; i < p.size(); ++i)
+    {
+        EXPECT_GT(p.position[i].y(), settings.radius + 0.5 * gap) << "upper layer, mass " << i;
+    }
+    EXPECT_TRUE(rig.contact->everTouched(0));
+}
+
 // Reports: a sheet landing flat on a box touches the box's top face (face 2) and nothing else; its first contact is
 // recorded once, at the time of landing.
 TEST(Contact, ReportsNameTheBoxAndItsTopFace)

@@ -357,8 +357,10 @@ TEST(DivergenceGuard, ImplicitLinearisationErrorOfABucklingChainIsNotABreach)
 }
 
 // A case that creates energy for each way the issue found: a contact radius of a kilometre (every mass thrown out of
-// the box), a repulsion of 1e3 N m^2 (a spring pushing with kN at its rest length), and the implicit integrator with
-// springs of 1e12 N/m. Each stops with the guard's message naming the time, a mass, the quantity and a remedy; the
+// the box) and a repulsion of 1e3 N m^2 (a spring pushing with kN at its rest length). (The issue's third, the
+// implicit integrator with springs of 1e12 N/m, created its energy when the sheet landed: the projection after the
+// step put each layer on the box, through the springs. Its masses now arrive inside the solve, and it lands soundly.)
+// Each stops with the guard's message naming the time, a mass, the quantity and a remedy; the
 // same run without the guard goes on to its end or to a non-finite state (so it is the guard that stops it).
 TEST(DivergenceGuard, ScenesThatCreateEnergyAreStopped)
 {
@@ -372,14 +374,6 @@ TEST(DivergenceGuard, ScenesThatCreateEnergyAreStopped)
         scene::SceneSpec spec = dropScene("implicit");
         spec.sheet.repulsion = 1e3;
         cases.emplace_back("repulsion 1e3", spec);
-    }
-    {
-        scene::SceneSpec spec = dropScene("implicit");
-        for (SpringClassParams& c : spec.sheet.params.springClasses)
-        {
-            c.stiffness = 1e12;
-        }
-        cases.emplace_back("implicit, stiffness 1e12", spec);
     }
     for (const auto& [name, spec] : cases)
     {

@@ -148,11 +148,16 @@ TEST(MaterialSheetOnAMesh, Pet40x2x40OnThePyramidMeshRunsToTheEnd)
 }
 
 // Issue 15, point 4's grab, at the issue's size: a cold PET sheet 20x2x20 on a table at 120 C (the air's temperature:
-// the table gives none), a corner pulled 0.5 m up and out over 2 s by a 50 N/m grab capped at 1 N. The guard stops it
-// at t = 1.26 s (9.6 J against 0.73 J put in; mass 379, beside the grabbed corner, at 10.6 m/s). With the table at
-// 20 C, no contact heat transfer, elastic springs or a 5-40 N/m grab it runs to the end: the Burgers springs of the
-// masses the hot table warms, pulled by the grab, are the likely cause (src/core). Disabled until then (about 4 s).
-TEST(MaterialSheetUnderAGrabOnAHotTable, DISABLED_Pet20x2x20RunsToTheEnd)
+// the table gives none), a corner pulled 0.5 m up and out over 2 s by a 50 N/m grab capped at 1 N. The guard used to
+// stop it at t = 1.26 s (9.6 J against 0.73 J put in; mass 379, beside the grabbed corner, at 10.6 m/s). The cause
+// was the landing, not the grab: the sheet falls 10 mm onto the table, and the second step carried it 18 mm, farther
+// than its layers are apart (10 mm); the implicit solve moved it as if free and the projection after it put both
+// layers on the table, squashed flat with its glassy cross-layer springs compressed. That stored energy (which the
+// guard's motion account does not weigh) came out once the hot table softened the lower layer: the layers crossed,
+// the sheet curled and slid at 0.3 m/s under a 1 N pull, and flew apart. A mass about to touch now arrives at the
+// surface inside the solve (speculative constraints, ContactConstraints.h), so the lower layer stops the upper one.
+// About 1 s.
+TEST(MaterialSheetUnderAGrabOnAHotTable, Pet20x2x20RunsToTheEnd)
 {
     const std::string json = R"({ "sheet": { "size": "20x2x20", "min": [-0.3, 0, -0.3], "max": [0.3, 0.01, 0.3] },
         "material": { "file": "../materials/pet.json", "thickness": 0.002 },

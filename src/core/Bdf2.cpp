@@ -21,7 +21,9 @@ namespace
 class Bdf2 final : public Integrator
 {
 public:
-    explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings) {}
+    // Speculative constraints are left to backward Euler: with them the BDF2 drop scene (Determinism's) gained 27 J
+    // and was stopped at t = 0.54 s, not yet understood; BDF2 keeps the projection for masses that arrive.
+    explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, false) {}
 
     IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {

@@ -1,5 +1,7 @@
 #include "ContactProjection.h"
 
+#include <algorithm>
+
 namespace masse
 {
 void ContactProjection::run(std::size_t begin, std::size_t end, std::vector<int>& firstTouches, bool& madeStuck) const
@@ -37,7 +39,10 @@ void ContactProjection::projectMass(Index i, std::vector<int>& firstTouches, boo
             }
             continue;
         }
-        if (separation >= touchTolerance)
+        // A mass that arrived at this surface in the solve: the solve stopped its approach with an impulse, which
+        // gives its friction as the approach the projection stops gives any other's.
+        const bool arrived = constraints.arrived(i) && constraints.restingPlane(i) == k;
+        if (separation >= touchTolerance && !arrived)
         {
             continue;
         }
@@ -49,7 +54,13 @@ void ContactProjection::projectMass(Index i, std::vector<int>& firstTouches, boo
 
         const Vec3 relative = p.velocity[i] - plane.velocity;
         const Real normalSpeed = relative.dot(plane.normal);
-        if (normalSpeed >= 0)
+        Real stopped = -normalSpeed; // the normal speed the contact takes away
+        if (arrived)
+        {
+            stopped =
+                std::max(Real(0), -normalSpeed) + std::max(Real(0), constraints.arrivalImpulse(i)) * p.inverseMass[i];
+        }
+        else if (normalSpeed >= 0)
         {
             continue; // already leaving the surface
         }
@@ -63,7 +74,7 @@ void ContactProjection::projectMass(Index i, std::vector<int>& firstTouches, boo
             break;
         case ContactResponse::Friction:
         {
-            const Real budget = settings.frictionOf(plane.obstacle) * (-normalSpeed);
+            const Real budget = settings.frictionOf(plane.obstacle) * stopped;
             const Real speed = tangential.norm();
             tangential = speed <= budget ? Vec3::Zero() : Vec3(tangential * ((speed - budget) / speed));
             break;

@@ -14,7 +14,7 @@ namespace
 class ImplicitEuler final : public Integrator
 {
 public:
-    explicit ImplicitEuler(const ImplicitSettings& settings) : m_solve(settings) {}
+    explicit ImplicitEuler(const ImplicitSettings& settings) : m_solve(settings, true) {}
 
     IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {

@@ -19,19 +19,72 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
     {
         buildPattern(system);
     }
-    assemble(system, a, offset, momentum);
-    const bool constrained = applyConstraints(system, constraints, a);
-    m_tolerance = solverTolerance(system, a);
-    const IntegratorStats stats = runSolver();
-    if (constrained)
+    for (VelocityConstraint& c : constraints)
     {
-        for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
-        {
-            m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
-        }
-        writeReactions(constraints);
+        c.engaged = false;
+        c.released = false;
     }
-    return stats;
+    IntegratorStats stats;
+    for (int round = 1;; ++round)
+    {
+        assemble(system, a, offset, momentum);
+        const bool constrained = applyConstraints(system, constraints, a);
+        m_tolerance = solverTolerance(system, a);
+        const IntegratorStats solved = runSolver();
+        stats.solverIterations += solved.solverIterations;
+        stats.solverResidual = solved.solverResidual;
+        stats.hitIterationCap = stats.hitIterationCap || solved.hitIterationCap;
+        if (constrained)
+        {
+            for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+            {
+                m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
+            }
+            writeReactions(constraints);
+        }
+        if (!m_speculative || round == maxSpeculativeRounds || !updateSpeculative(system, constraints, a, offset))
+        {
+            return stats;
+        }
+    }
+}
+
+bool ImplicitSolve::updateSpeculative(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints,
+                                      Real a, const std::vector<Vec3>& offset)
+{
+    const Particles& p = system.particles;
+    bool changed = false;
+    for (VelocityConstraint& c : constraints)
+    {
+        if (!c.speculative || c.released || c.mass >= p.size() || p.pinned[c.mass])
+        {
+            continue;
+        }
+        if (c.engaged)
+        {
+            // Stopped short of the surface by the masses it is joined to (the upper layer of a sheet whose lower
+            // layer lands): the surface would have to pull it there.
+            if (c.reaction.dot(c.normal) < 0)
+            {
+                c.engaged = false;
+                c.released = true;
+                c.reaction.setZero();
+                changed = true;
+            }
+            continue;
+        }
+        Vec3 move = a * (p.velocity[c.mass] + deltaV(c.mass));
+        if (!offset.empty())
+        {
+            move += offset[c.mass];
+        }
+        if (c.gap + c.normal.dot(move) < 0)
+        {
+            c.engaged = true;
+            changed = true;
+        }
+    }
+    return changed;
 }
 
 Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) const
@@ -189,7 +242,7 @@ void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
     }
     for (VelocityConstraint& c : constraints)
     {
-        c.reaction = c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
+        c.reaction = (!c.speculative || c.engaged) && c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
                          ? m_reaction[std::size_t(m_constraintOf[c.mass])]
                          : Vec3::Zero();
     }
@@ -253,7 +306,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system,
     }
     for (const VelocityConstraint& c : constraints)
     {
-        if (c.mass >= p.size() || p.pinned[c.mass])
+        if (c.mass >= p.size() || p.pinned[c.mass] || (c.speculative && !c.engaged))
         {
             continue;
         }
@@ -287,7 +340,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system,
     // Friction as a tangential damping -c (I - n n^T)(v' - u), added like the air drag before the filter.
     for (const VelocityConstraint& c : constraints)
     {
-        if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass])
+        if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass] || (c.speculative && !c.engaged))
         {
             continue;
         }

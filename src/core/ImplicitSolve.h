@@ -15,6 +15,12 @@
 ///     (S A S + I - S) y = S (b - A c),
 /// which keeps the matrix symmetric positive definite.
 ///
+/// Speculative constraints (masses not touching their surface yet) make it an active set: the step is solved without
+/// them, each one whose mass the step would carry through its surface is engaged (the mass arrives at the surface), and
+/// the step solved again; an engaged one whose reaction pulls is released for good, and solved again. Each constraint
+/// changes at most twice, and a frame without arrivals takes one solve. After maxSpeculativeRounds solves the last is
+/// kept, and the contact's projection deals with what is left. Backward Euler engages them; BDF2 does not (Bdf2.cpp).
+///
 /// The sparsity pattern is built once per topology; each step only rewrites values, through slots recorded per
 /// spring (the index of each 3x3 block's columns in Eigen's value array), and every work array keeps its capacity,
 /// so a step allocates nothing once the first has run.
@@ -32,7 +38,14 @@ namespace masse
 class ImplicitSolve
 {
 public:
-    explicit ImplicitSolve(const ImplicitSettings& settings) : m_settings(settings) {}
+    /// The most solves one step takes for its speculative constraints (an impact frame of a falling sheet takes 3).
+    static constexpr int maxSpeculativeRounds = 6;
+
+    /// With `speculative`, speculative constraints are engaged where the step would carry their masses through
+    /// their surfaces; without, they are never engaged (the contact's projection deals with those masses).
+    ImplicitSolve(const ImplicitSettings& settings, bool speculative) : m_settings(settings), m_speculative(speculative)
+    {
+    }
 
     /// Assembles and solves for dv with the forces already in system.particles.force, honouring `constraints`.
     /// `offset` and `momentum` are per mass, or empty for zero. Sets each constraint's reaction.
@@ -65,11 +78,16 @@ private:
     /// the impulse of the sheet's weight over the step (see the definition for why).
     Real solverTolerance(const MassSpringSystem& system, Real a) const;
     void writeReactions(std::vector<VelocityConstraint>& constraints);
+    /// After a solve: engages each speculative constraint whose mass the step carries through its surface, releases
+    /// each engaged one whose reaction pulls. Returns whether any changed (then the step is solved again).
+    bool updateSpeculative(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
+                           const std::vector<Vec3>& offset);
     Mat3 readBlock(const BlockSlots& slots) const;
     void writeBlock(const BlockSlots& slots, const Mat3& block);
     void addToBlock(const BlockSlots& slots, const Mat3& block);
 
     ImplicitSettings m_settings;
+    bool m_speculative;
 
     Real m_tolerance = 0; ///< of the current solve
     SparseMatrix m_matrix;

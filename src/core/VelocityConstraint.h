@@ -5,6 +5,8 @@
 /// filter. Without them it would solve resting masses as if they were falling freely: the contact would stop them
 /// after the solve, while the rest of the sheet had already been moved as though they fell, and the sheet would
 /// settle in a false equilibrium full of spring stress (or, with stuck masses, sag and fold a little every step).
+/// For the same reason a mass about to touch gets a speculative constraint: if the step would carry it through its
+/// surface, it arrives there inside the solve, and the masses joined to it are stopped with it.
 /// The explicit integrators do not need them: the contact solver projects after every small substep.
 
 #include "Types.h"
@@ -25,5 +27,14 @@ struct VelocityConstraint
     /// step, from the unfiltered rows, r = A dv - b. Its normal part tells a pressed contact (positive) from one the
     /// mass is leaving (negative); it is the contact force times the step.
     Vec3 reaction = Vec3::Zero();
+    /// A speculative constraint, for a mass that does not touch its surface yet: the solve honours it only if the step
+    /// would carry the mass through the surface, and then only while the surface has to push (see ImplicitSolve.h).
+    bool speculative = false;
+    /// m, speculative only: how far the mass would be in front of the surface at the step's end if it did not move.
+    Real gap = 0;
+    /// Written back by the integrator, speculative only: whether it honoured the constraint in its final solve.
+    bool engaged = false;
+    /// Written back by the integrator, speculative only: it was engaged, then released because its reaction pulled.
+    bool released = false;
 };
 } // namespace masse
