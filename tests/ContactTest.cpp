@@ -267,7 +267,7 @@ TEST(Contact, ImplicitLandingKeepsTheSheetsLayersApart)
     {
         EXPECT_GT(p.position[i].y(), settings.radius + 0.5 * gap) << "upper layer, mass " << i;
     }
-    EXPECT_TRUE(rig.contact->everTouched(0));
+    EXPECT_TRUE(rig.contact->report().everTouched(0));
 }
 
 // Reports: a sheet landing flat on a box touches the box's top face (face 2) and nothing else; its first contact is
