@@ -71,6 +71,10 @@ struct ContactPlane
     Vec3 normal = Vec3::UnitY();  ///< unit, from the obstacle toward the mass
     Real offset = 0;              ///< normal . x of the surface point, at the start of the frame
     Vec3 velocity = Vec3::Zero(); ///< m/s, the surface's own velocity (kinematic obstacles)
+
+    /// m, how far a sphere of `radius` at `x` is in front of the surface as it was at the frame's start (negative:
+    /// through it).
+    Real separation(const Vec3& x, Real radius) const { return normal.dot(x) - offset - radius; }
 };
 
 /// The first crossing of an obstacle's surface by a sphere moving along a segment.

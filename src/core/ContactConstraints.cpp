@@ -57,7 +57,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
         {
             continue;
         }
-        const Real separation = plane.normal.dot(p.position[i]) - plane.offset - settings.radius;
+        const Real separation = plane.separation(p.position[i], settings.radius);
         const Vec3 relative = p.velocity[i] - plane.velocity;
         // Leaving means faster than rounding: a held mass's normal speed is zero to about 1e-11 m/s either way.
         if (separation >= touchTolerance || relative.dot(plane.normal) > settings.slipRegularization)
@@ -109,7 +109,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
         {
             continue;
         }
-        const Real separation = plane.normal.dot(p.position[i]) - plane.offset - settings.radius;
+        const Real separation = plane.separation(p.position[i], settings.radius);
         if (separation < touchTolerance)
         {
             continue; // touching, but not resting: the projection's

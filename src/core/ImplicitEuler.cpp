@@ -4,8 +4,8 @@
 /// Its numerical damping is strong: an undamped oscillator of frequency w loses amplitude by (1 + h^2 w^2)^(-1/2)
 /// each step, which at the paper's step erases most of a sheet's swing (BDF2 keeps it, see Bdf2.cpp).
 
-#include "ImplicitSolve.h"
 #include "Forces.h"
+#include "ImplicitSolve.h"
 
 namespace masse
 {

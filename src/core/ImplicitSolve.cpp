@@ -242,7 +242,7 @@ void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
     }
     for (VelocityConstraint& c : constraints)
     {
-        c.reaction = (!c.speculative || c.engaged) && c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
+        c.reaction = c.honoured() && c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
                          ? m_reaction[std::size_t(m_constraintOf[c.mass])]
                          : Vec3::Zero();
     }
@@ -287,8 +287,8 @@ void ImplicitSolve::addToBlock(const BlockSlots& slots, const Mat3& block)
 }
 
 /// Applies the filter for the velocity constraints; returns false when there are none.
-bool ImplicitSolve::applyConstraints(const MassSpringSystem& system,
-                                     const std::vector<VelocityConstraint>& constraints, Real a)
+bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints,
+                                     Real a)
 {
     const Particles& p = system.particles;
     for (Index i : m_constrainedMasses) // reset only what the last step set
@@ -306,7 +306,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system,
     }
     for (const VelocityConstraint& c : constraints)
     {
-        if (c.mass >= p.size() || p.pinned[c.mass] || (c.speculative && !c.engaged))
+        if (c.mass >= p.size() || p.pinned[c.mass] || !c.honoured())
         {
             continue;
         }
@@ -340,7 +340,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system,
     // Friction as a tangential damping -c (I - n n^T)(v' - u), added like the air drag before the filter.
     for (const VelocityConstraint& c : constraints)
     {
-        if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass] || (c.speculative && !c.engaged))
+        if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass] || !c.honoured())
         {
             continue;
         }

@@ -36,5 +36,8 @@ struct VelocityConstraint
     bool engaged = false;
     /// Written back by the integrator, speculative only: it was engaged, then released because its reaction pulled.
     bool released = false;
+
+    /// Whether the solve honours it now: always, unless it is speculative and not engaged.
+    bool honoured() const { return !speculative || engaged; }
 };
 } // namespace masse
