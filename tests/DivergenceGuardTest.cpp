@@ -42,7 +42,7 @@ class EnergyFromNowhere final : public StepHook
 {
 public:
     explicit EnergyFromNowhere(Real from) : m_from(from) {}
-    void endFrame(MassSpringSystem& system, Real time) override
+    void endFrame(MassSpringSystem& system, StepContext& /*context*/, Real time) override
     {
         if (time > m_from)
         {
@@ -62,7 +62,7 @@ class Kick final : public StepHook
 {
 public:
     Kick(Index mass, Vec3 velocity, Real at) : m_mass(mass), m_velocity(velocity), m_at(at) {}
-    void endFrame(MassSpringSystem& system, Real time) override
+    void endFrame(MassSpringSystem& system, StepContext& /*context*/, Real time) override
     {
         if (std::abs(time - m_at) < 1e-9)
         {
@@ -80,7 +80,7 @@ class Launch final : public StepHook
 {
 public:
     Launch(Vec3 velocity, Real at) : m_velocity(velocity), m_at(at) {}
-    void endFrame(MassSpringSystem& system, Real time) override
+    void endFrame(MassSpringSystem& system, StepContext& /*context*/, Real time) override
     {
         if (std::abs(time - m_at) < 1e-9)
         {

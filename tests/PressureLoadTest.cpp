@@ -56,7 +56,11 @@ TEST(PressureSchedule, RefusesKeysOutOfOrderNamingTheKey)
     const std::string message = test::inputErrorOf([] { PressureSchedule({{0, 0}, {2, 100}, {1, 200}}); });
     EXPECT_NE(message.find("[2].time"), std::string::npos) << message;
     EXPECT_NE(message.find("increasing"), std::string::npos) << message;
-    EXPECT_NE(test::inputErrorOf([] { PressureSchedule({{0, std::nan("")}}); }).find("[0].pressure"),
+    EXPECT_NE(test::inputErrorOf(
+                  [] {
+                      PressureSchedule({{0, std::nan("")}});
+                  })
+                  .find("[0].pressure"),
               std::string::npos);
 }
 
@@ -109,21 +113,23 @@ TEST(PressureLoad, SealedTrianglesCarryNoLoad)
     sheet.forces.gravity = Vec3::Zero();
     PressureLoad load(lattice, PressureSchedule({{0, 1000}}));
     std::vector<int> touching(lattice.massCount(), -1);
-    load.setContact(&touching);
-    load.beginFrame(sheet, 0, 0.01);
+    load.setSealing(true);
+    StepContext context;
+    context.touchingObstacle = touching;
+    load.beginFrame(sheet, context, 0, 0.01);
     EXPECT_NEAR(totalLoad(sheet.particles.externalForce).y(), -160, 1e-9);
     // The left half (columns 0..2) touches: its 2 x 4 cells are sealed, the other 2 x 4 still carry the pressure.
     for (Index i = 0; i < lattice.massCount(); ++i)
     {
         touching[i] = lattice.coord[i].column <= 2 ? 0 : -1;
     }
-    load.endFrame(sheet, 0.01);
-    load.beginFrame(sheet, 0.01, 0.01);
+    load.endFrame(sheet, context, 0.01);
+    load.beginFrame(sheet, context, 0.01, 0.01);
     EXPECT_NEAR(totalLoad(sheet.particles.externalForce).y(), -80, 1e-9);
     EXPECT_NEAR(load.sealedArea(), 0.08, 1e-12);
     // The hook replaces its own load and leaves any other external force alone.
     sheet.particles.externalForce[0] += Vec3(0, 0, 3);
-    load.beginFrame(sheet, 0.02, 0.01);
+    load.beginFrame(sheet, context, 0.02, 0.01);
     EXPECT_NEAR(totalLoad(sheet.particles.externalForce).z(), 3, 1e-12);
 }
 
@@ -246,8 +252,8 @@ BubbleRig makeBubble(Real a, Real modulusThickness)
     rig.sheet.forces.airDamping = 5;
     // The centre of the lattice's box (the bottom layer's masses are symmetric about it).
     const Vec3 centre = 0.5 * (spec.minCorner + spec.maxCorner);
-    auto radius = [&](Index i) { return std::hypot(rig.lattice.position[i].x() - centre.x(),
-                                                   rig.lattice.position[i].z() - centre.z()); };
+    auto radius = [&](Index i)
+    { return std::hypot(rig.lattice.position[i].x() - centre.x(), rig.lattice.position[i].z() - centre.z()); };
     Real best = 1e9;
     for (Index i = 0; i < rig.lattice.massCount(); ++i)
     {
@@ -317,7 +323,8 @@ Real inflate(BubbleRig& rig, Real pressure, Real dt, Real* halfPoint = nullptr, 
         const Real tolerance = 0.6 * rig.lattice.spacingX;
         for (Index i = 0; i < rig.lattice.layerStart[1]; ++i)
         {
-            const Real r = std::hypot(rig.lattice.position[i].x() - centre.x(), rig.lattice.position[i].z() - centre.z());
+            const Real r =
+                std::hypot(rig.lattice.position[i].x() - centre.x(), rig.lattice.position[i].z() - centre.z());
             if (std::abs(r - rig.clampRadius / 2) < tolerance)
             {
                 sum += rig.lattice.position[i].y() - x[i].y();

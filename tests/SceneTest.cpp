@@ -148,6 +148,30 @@ TEST(Scene, StopAtRestWaitsForPendingScriptActions)
     EXPECT_TRUE(scene.pendingActions().empty());
 }
 
+// Script actions at a frame's start run before that frame's stability estimate and contact detection (StepHook's
+// beforeFrame). A grab on a spring 100 times stiffer than the sheet's (1e5 N/m on a 1 g mass: omega = 1e4 rad/s)
+// fires at 0.06 s; the frame that starts then must already take the substeps the grab needs (h omega < 2, so more
+// than 150 for 0.03 s), not the sheet's own (about 28), which would drive the grabbed mass unstably for a frame. The
+// frames after it are checked the same way, and the frame before has the sheet's own count.
+TEST(Scene, ActionsAtAFramesStartAreInThatFramesStabilityEstimate)
+{
+    Scene scene(sceneFrom(R"({
+        "sheet": { "size": "6x2x6", "min": [-0.2, 0.3, -0.2], "max": [0.2, 0.31, 0.2] },
+        "environment": { "room": { "enabled": false } },
+        "integrator": { "type": "symplectic", "dt": 0.03 },
+        "script": [ { "time": 0.06, "action": "grab", "label": "hand", "mass": 0, "stiffness": 1e5,
+                      "path": [ { "position": [-0.2, 0.3, -0.2] } ] } ],
+        "run": { "duration": 0.3 } })"));
+    const int sheetOnly = scene.simulator().substepsFor(0.03);
+    EXPECT_LT(sheetOnly, 60);
+    EXPECT_EQ(scene.step().substeps, sheetOnly); // 0 to 0.03
+    EXPECT_EQ(scene.step().substeps, sheetOnly); // 0.03 to 0.06
+    const StepReport grabbed = scene.step();     // 0.06 to 0.09: the grab fires at its start
+    ASSERT_EQ(scene.system().userSprings.size(), 1u);
+    EXPECT_EQ(grabbed.substeps, scene.simulator().substepsFor(0.03));
+    EXPECT_GT(grabbed.substeps, 150);
+}
+
 // A run whose duration ends before some actions' times says which never fired, in its output and its summary.
 TEST(Scene, ARunSaysWhichActionsNeverFired)
 {

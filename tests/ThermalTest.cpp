@@ -435,12 +435,12 @@ TEST(Thermal, ContactWithAColdObstacleCoolsOnlyTheTouchingMasses)
         touching[lattice.index(0, row, 8)] = 1; // ... but the last column on obstacle 1, which has no temperature
     }
     const Real mould = celsiusToKelvin(40);
-    model.setContact(&touching, {mould});
+    model.setObstacleTemperatures({mould});
     const Real dt = 0.03;
     const int steps = 100;
     for (int i = 0; i < steps; ++i)
     {
-        model.advance(system, dt);
+        model.advance(system, dt, touching);
     }
     const Real rate = settings.contactHeatTransfer / (material.density * material.specificHeat * thickness);
     const Real expected = mould + (hot - mould) * std::exp(-rate * steps * dt);
@@ -449,7 +449,7 @@ TEST(Thermal, ContactWithAColdObstacleCoolsOnlyTheTouchingMasses)
     // The column on obstacle 1 loses heat only by conduction to its cooled neighbours: slower by far.
     EXPECT_GT(model.temperature()[lattice.index(0, 4, 8)], expected + 0.5 * (hot - expected));
 
-    EXPECT_NE(inputErrorOf([&] { model.setContact(&touching, {-400}); }).find("obstacles[0].temperature_c"),
+    EXPECT_NE(inputErrorOf([&] { model.setObstacleTemperatures({-400}); }).find("temperature of obstacle 0"),
               std::string::npos);
 }
 
@@ -468,14 +468,14 @@ TEST(Thermal, ObstacleWithoutATemperatureIsAtTheAirs)
     settings.contactHeatTransfer = 500;
     ThermalModel model(lattice, material, thickness, settings);
     const std::vector<int> touching(lattice.massCount(), 0);
-    model.setContact(&touching, {std::numeric_limits<Real>::quiet_NaN()});
+    model.setObstacleTemperatures({std::numeric_limits<Real>::quiet_NaN()});
     const Real dt = 0.03;
     const int steps = 100;
     const Real rate = settings.contactHeatTransfer / (material.density * material.specificHeat * thickness);
     auto expected = [&](Real air, Real start, int n) { return air + (start - air) * std::exp(-rate * n * dt); };
     for (int i = 0; i < steps; ++i)
     {
-        model.advance(system, dt);
+        model.advance(system, dt, touching);
     }
     const Real afterFirst = expected(settings.airTemperature, hot, steps);
     EXPECT_NEAR(model.temperature()[12], afterFirst, 0.01 * (hot - afterFirst));
@@ -487,7 +487,7 @@ TEST(Thermal, ObstacleWithoutATemperatureIsAtTheAirs)
     const Real start = model.temperature()[12];
     for (int i = 0; i < steps; ++i)
     {
-        model.advance(system, dt);
+        model.advance(system, dt, touching);
     }
     const Real afterSecond = expected(settings.airTemperature, start, steps);
     EXPECT_NEAR(model.temperature()[12], afterSecond, 0.01 * (start - afterSecond));

@@ -398,8 +398,6 @@ struct HeatedSheet
         settings.model = SpringModel::Burgers;
         springs = std::make_unique<ViscoelasticSprings>(system, stiffnessPerModulus(lattice, sheetThickness), material,
                                                         settings);
-        springs->setTemperatures(&thermal->temperature());
-        springs->setThickness(&thermal->sheetThickness());
         simulator = std::make_unique<Simulator>(std::move(system), SimulatorSettings{});
         simulator->addHook(thermal.get());
         simulator->addHook(springs.get());
@@ -473,7 +471,7 @@ TEST(ThermoplasticSheet, ColdMouldFreezesWhatItTouches)
     contactSettings.radius = 0.002;
     ContactSolver contact(mould, contactSettings);
     sheet.simulator->setContactSolver(&contact);
-    sheet.thermal->setContact(&contact.report().touchingObstacle(), {celsiusToKelvin(40)});
+    sheet.thermal->setObstacleTemperatures({celsiusToKelvin(40)});
 
     const std::size_t n = sheet.lattice.massCount();
     std::vector<Real> firstTouch(n, -1);

@@ -126,30 +126,31 @@ void PressureLoad::apply(MassSpringSystem& system, Real pressure)
     m_applied.swap(m_next);
 }
 
-void PressureLoad::beginFrame(MassSpringSystem& system, Real time, Real dt)
+void PressureLoad::beginFrame(MassSpringSystem& system, StepContext& /*context*/, Real time, Real dt)
 {
     apply(system, m_schedule.at(time + dt));
 }
 
-void PressureLoad::afterSubstep(MassSpringSystem& system, Real h, Real time)
+void PressureLoad::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
 {
     apply(system, m_schedule.at(time + h));
 }
 
-void PressureLoad::endFrame(MassSpringSystem& /*system*/, Real /*time*/)
+void PressureLoad::endFrame(MassSpringSystem& /*system*/, StepContext& context, Real /*time*/)
 {
-    if (!m_touching)
+    const std::span<const int> touching = context.touchingObstacle;
+    if (!m_sealing || touching.empty())
     {
         m_sealed.clear();
         return;
     }
-    m_sealed.resize(m_touching->size());
+    m_sealed.resize(touching.size());
     // Masses are numbered layer by layer from the bottom, so the layer below is decided before the one above.
     for (std::size_t i = 0; i < m_sealed.size(); ++i)
     {
         if (m_below[i].empty())
         {
-            m_sealed[i] = (*m_touching)[i] >= 0 ? 1 : 0;
+            m_sealed[i] = touching[i] >= 0 ? 1 : 0;
             continue;
         }
         bool sealed = true;

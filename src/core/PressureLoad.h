@@ -59,14 +59,13 @@ class PressureLoad final : public StepHook
 public:
     PressureLoad(const Lattice& lattice, PressureSchedule schedule);
 
-    /// Per mass: the obstacle it touched in the last frame or -1 (ContactSolver::touchingObstacle, read at the end
-    /// of every frame); nullptr seals nothing. A triangle whose corners all touched is sealed (see above). Must
-    /// outlive its use here.
-    void setContact(const std::vector<int>* touchingObstacle) { m_touching = touchingObstacle; }
+    /// Whether the sheet seals where it touches: at the end of every frame the step context's touchingObstacle (per
+    /// mass, the obstacle it touched or -1) decides which triangles are sealed (see above). Off: nothing is sealed.
+    void setSealing(bool sealing) { m_sealing = sealing; }
 
-    void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
-    void afterSubstep(MassSpringSystem& system, Real h, Real time) override;
-    void endFrame(MassSpringSystem& system, Real time) override;
+    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
+    void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
+    void endFrame(MassSpringSystem& system, StepContext& context, Real time) override;
 
     /// Writes the load for positions x and pressure p into `force` (one per mass), leaving out the triangles sealed
     /// as of the last frame.
@@ -85,11 +84,11 @@ private:
     void apply(MassSpringSystem& system, Real pressure);
 
     PressureSchedule m_schedule;
-    std::vector<Triangle> m_triangles;   ///< every layer's, bottom first
-    std::vector<Real> m_triangleShare;   ///< per triangle: 1 / L
-    std::vector<std::uint8_t> m_bottom;  ///< per triangle: of the bottom layer
+    std::vector<Triangle> m_triangles;       ///< every layer's, bottom first
+    std::vector<Real> m_triangleShare;       ///< per triangle: 1 / L
+    std::vector<std::uint8_t> m_bottom;      ///< per triangle: of the bottom layer
     std::vector<std::vector<Index>> m_below; ///< per mass: its inter-layer neighbours in the layer below
-    const std::vector<int>* m_touching = nullptr;
+    bool m_sealing = false;
     std::vector<std::uint8_t> m_sealed; ///< per mass: touched an obstacle in the last frame
     std::vector<Vec3> m_applied;
     std::vector<Vec3> m_next;

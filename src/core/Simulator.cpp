@@ -59,19 +59,26 @@ int Simulator::substepsFor(Real dt) const
 
 StepReport Simulator::step(Real dt)
 {
+    // Every stage of the hooks, in the order added; the guard accounts for the energy they put in or take out.
+    const auto runHooks = [this](const auto& stage)
+    {
+        m_guard.beforeHooks(m_system);
+        for (StepHook* hook : m_hooks)
+        {
+            stage(*hook);
+        }
+        m_guard.afterHooks(m_system);
+    };
     StepReport report;
+    runHooks([&](StepHook& hook) { hook.beforeFrame(m_system, m_context, m_time); });
     report.substeps = substepsFor(dt);
     report.substep = dt / Real(report.substeps);
     if (m_contact)
     {
         m_contact->beginFrame(m_system, m_context, m_time, dt, m_integrator->honoursConstraints());
+        publishContact();
     }
-    m_guard.beforeHooks(m_system);
-    for (StepHook* hook : m_hooks)
-    {
-        hook->beginFrame(m_system, m_time, dt);
-    }
-    m_guard.afterHooks(m_system);
+    runHooks([&](StepHook& hook) { hook.beginFrame(m_system, m_context, m_time, dt); });
     for (int i = 0; i < report.substeps; ++i)
     {
         m_guard.beforeSubstep(m_system, m_settings.integrator);
@@ -87,28 +94,20 @@ StepReport Simulator::step(Real dt)
         if (m_contact)
         {
             m_contact->afterSubstep(m_system, m_context, report.substep);
+            publishContact();
             m_guard.afterContact(m_system, m_settings.integrator);
         }
         const Real substepEnd = m_time + Real(i + 1) * report.substep;
-        m_guard.beforeHooks(m_system);
-        for (StepHook* hook : m_hooks)
-        {
-            hook->afterSubstep(m_system, report.substep, substepEnd);
-        }
-        m_guard.afterHooks(m_system);
+        runHooks([&](StepHook& hook) { hook.afterSubstep(m_system, m_context, report.substep, substepEnd); });
     }
     m_substepCount += std::uint64_t(report.substeps);
     m_time += dt;
     if (m_contact)
     {
         m_contact->endFrame(m_system, m_context, m_time);
+        publishContact();
     }
-    m_guard.beforeHooks(m_system);
-    for (StepHook* hook : m_hooks)
-    {
-        hook->endFrame(m_system, m_time);
-    }
-    m_guard.afterHooks(m_system);
+    runHooks([&](StepHook& hook) { hook.endFrame(m_system, m_context, m_time); });
     checkFinite(); // on every core; the guard's own finite check then only names the mass again
     GuardStep guarded;
     guarded.time = m_time;
@@ -118,6 +117,12 @@ StepReport Simulator::step(Real dt)
     guarded.contactForce = m_contact ? &m_contact->report().contactForce() : nullptr;
     m_guard.check(m_system, guarded);
     return report;
+}
+
+void Simulator::publishContact()
+{
+    // After every contact stage: the report's per-mass vector may have been resized by it.
+    m_context.touchingObstacle = m_contact->report().touchingObstacle();
 }
 
 void Simulator::checkFinite() const

@@ -66,6 +66,7 @@ public:
 
 private:
     void checkFinite() const;
+    void publishContact();
     /// The stability estimate, recomputed only when the system changed (its revision) or the repulsion makes it
     /// depend on the current spring lengths.
     const StabilityEstimate& stability() const;

@@ -1,8 +1,11 @@
 #pragma once
-/// A model that advances alongside the mechanics (heat, material state): the Simulator calls it around every frame
-/// and after every integrator substep, after the contact solver.
+/// A model that advances alongside the mechanics (heat, material state, loads, scripts): the Simulator calls it around
+/// every frame and after every integrator substep, after the contact solver. Hooks run in the order added; what a
+/// hook needs from another stage it reads from the StepContext (StepContext.h says who publishes what), never through
+/// a pointer into another model.
 
 #include "MassSpringSystem.h"
+#include "StepContext.h"
 
 namespace masse
 {
@@ -10,11 +13,14 @@ class StepHook
 {
 public:
     virtual ~StepHook() = default;
+    /// At a frame's very start, before the stability estimate and contact detection, so that what it changes (a pin
+    /// released, a grab's spring, an obstacle moved) is seen by both in this frame: the place for script actions.
+    virtual void beforeFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/) {}
     /// Before the first substep of a frame from `time` to `time + dt`.
-    virtual void beginFrame(MassSpringSystem& /*system*/, Real /*time*/, Real /*dt*/) {}
+    virtual void beginFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/, Real /*dt*/) {}
     /// After each substep of length h (and after contact), with the time at its end.
-    virtual void afterSubstep(MassSpringSystem& /*system*/, Real /*h*/, Real /*time*/) {}
+    virtual void afterSubstep(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*h*/, Real /*time*/) {}
     /// After the last substep (and after contact's end of frame), with the time at the end of the frame.
-    virtual void endFrame(MassSpringSystem& /*system*/, Real /*time*/) {}
+    virtual void endFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/) {}
 };
 } // namespace masse

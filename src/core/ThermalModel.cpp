@@ -217,7 +217,7 @@ void ThermalModel::setSettings(const ThermalSettings& settings)
     m_settings = settings;
 }
 
-void ThermalModel::setContact(const std::vector<int>* touchingObstacle, std::vector<Real> obstacleTemperature)
+void ThermalModel::setObstacleTemperatures(std::vector<Real> obstacleTemperature)
 {
     for (std::size_t k = 0; k < obstacleTemperature.size(); ++k)
     {
@@ -227,11 +227,10 @@ void ThermalModel::setContact(const std::vector<int>* touchingObstacle, std::vec
         }
         if (!(obstacleTemperature[k] > 0) || !std::isfinite(obstacleTemperature[k]))
         {
-            throw InputError("obstacles[" + std::to_string(k) + "].temperature_c: must be above absolute zero (got " +
+            throw InputError("temperature of obstacle " + std::to_string(k) + ": must be above absolute zero (got " +
                              formatNumber(obstacleTemperature[k] - 273.15) + " C)");
         }
     }
-    m_touching = touchingObstacle;
     m_obstacleTemperature = std::move(obstacleTemperature);
 }
 
@@ -273,54 +272,96 @@ void ThermalModel::computeConductances()
     }
 }
 
-void ThermalModel::beginFrame(MassSpringSystem& /*system*/, Real /*time*/, Real dt)
+void ThermalModel::beginFrame(MassSpringSystem& /*system*/, StepContext& context, Real /*time*/, Real dt)
 {
     m_frameDt = dt;
+    context.temperature = m_temperature;
+    context.thickness = &m_geometry;
 }
 
-void ThermalModel::endFrame(MassSpringSystem& system, Real /*time*/)
+void ThermalModel::endFrame(MassSpringSystem& system, StepContext& context, Real /*time*/)
 {
-    advance(system, m_frameDt);
+    advance(system, m_frameDt, context.touchingObstacle);
 }
 
-void ThermalModel::advance(const MassSpringSystem& system, Real dt)
+void ThermalModel::advance(const MassSpringSystem& system, Real dt, std::span<const int> touchingObstacle)
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("dt: must be a positive number of seconds (got " + formatNumber(dt) + ")");
+        throw InputError("thermal step: must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
-    const std::size_t n = m_temperature.size();
+    requireSizes(system, touchingObstacle);
     const std::vector<Vec3>& x = system.particles.position;
-    if (x.size() != n || system.springCount() != m_ends.size())
-    {
-        throw std::invalid_argument("ThermalModel: the system has " + std::to_string(x.size()) + " masses and " +
-                                    std::to_string(system.springCount()) + " springs, the lattice " +
-                                    std::to_string(n) + " and " + std::to_string(m_ends.size()));
-    }
-    if (m_touching && m_touching->size() != n)
-    {
-        throw std::invalid_argument("ThermalModel: touching obstacles for " + std::to_string(m_touching->size()) +
-                                    " masses, expected " + std::to_string(n));
-    }
     m_geometry.update(x);
     computeConductances();
-    const std::vector<Real>& area = m_geometry.area();
-    const std::vector<Vec3>& normal = m_geometry.normal();
-
     Real* values = m_matrix.valuePtr();
     std::fill(values, values + m_matrix.nonZeros(), Real(0));
+    m_report = ThermalReport{};
+    assembleExchanges(x, touchingObstacle, dt);
+    assembleConduction();
+    fixHeldTemperatures();
+    solve(dt);
+    reportFlows();
+}
+
+void ThermalModel::requireSizes(const MassSpringSystem& system, std::span<const int> touchingObstacle) const
+{
+    const std::size_t n = m_temperature.size();
+    if (system.massCount() != n || system.springCount() != m_ends.size())
+    {
+        throw std::invalid_argument("ThermalModel: the system has " + std::to_string(system.massCount()) +
+                                    " masses and " + std::to_string(system.springCount()) + " springs, the lattice " +
+                                    std::to_string(n) + " and " + std::to_string(m_ends.size()));
+    }
+    if (!touchingObstacle.empty() && touchingObstacle.size() != n)
+    {
+        throw std::invalid_argument("ThermalModel: touching obstacles for " + std::to_string(touchingObstacle.size()) +
+                                    " masses, expected " + std::to_string(n));
+    }
+}
+
+ThermalModel::AirAt ThermalModel::airAt(const Vec3& x) const
+{
+    for (const HotAirZone& zone : m_settings.hotAirZones)
+    {
+        if (contains(zone, x))
+        {
+            return {zone.temperature, zone.heatTransfer};
+        }
+    }
+    return {m_settings.airTemperature, m_settings.airHeatTransfer};
+}
+
+Real ThermalModel::absorbedHeat(std::size_t i, const Vec3& x, const Vec3& normal) const
+{
+    Real absorbed = 0;
+    for (const RadiantHeater& heater : m_settings.heaters)
+    {
+        if (m_faces[i] & topFace)
+        {
+            absorbed += heaterIrradiance(heater, x, normal);
+        }
+        if (m_faces[i] & bottomFace)
+        {
+            absorbed += heaterIrradiance(heater, x, -normal);
+        }
+    }
+    // (absorptivity * area) first: recorded results depend on this order.
+    return absorbed * (m_settings.absorptivity * m_geometry.area()[i]);
+}
+
+void ThermalModel::assembleExchanges(const std::vector<Vec3>& x, std::span<const int> touchingObstacle, Real dt)
+{
     // Per mass: the exchange coefficient (W/K) and the heat it brings at T = 0, so that the flow is
     // source - coefficient * T; kept to report the flows after the solve.
-    std::vector<Real>& airCoefficient = m_airCoefficient;
-    std::vector<Real>& airSource = m_airSource;
-    std::vector<Real>& contactCoefficient = m_contactCoefficient;
-    std::vector<Real>& contactSource = m_contactSource;
-    airCoefficient.assign(n, Real(0));
-    airSource.assign(n, Real(0));
-    contactCoefficient.assign(n, Real(0));
-    contactSource.assign(n, Real(0));
-    m_report = ThermalReport{};
-
+    const std::size_t n = m_temperature.size();
+    const std::vector<Real>& area = m_geometry.area();
+    const std::vector<Vec3>& normal = m_geometry.normal();
+    Real* values = m_matrix.valuePtr();
+    m_airCoefficient.assign(n, Real(0));
+    m_airSource.assign(n, Real(0));
+    m_contactCoefficient.assign(n, Real(0));
+    m_contactSource.assign(n, Real(0));
     for (std::size_t i = 0; i < n; ++i)
     {
         const Real diagonal = m_capacity[i] / dt;
@@ -329,52 +370,35 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
         const int faceCount = ((m_faces[i] & bottomFace) ? 1 : 0) + ((m_faces[i] & topFace) ? 1 : 0);
         if (faceCount > 0)
         {
-            Real airTemperature = m_settings.airTemperature;
-            Real heatTransfer = m_settings.airHeatTransfer;
-            for (const HotAirZone& zone : m_settings.hotAirZones)
-            {
-                if (contains(zone, x[i]))
-                {
-                    airTemperature = zone.temperature;
-                    heatTransfer = zone.heatTransfer;
-                    break;
-                }
-            }
-            airCoefficient[i] = heatTransfer * area[i] * Real(faceCount);
-            airSource[i] = airCoefficient[i] * airTemperature;
-            Real absorbed = 0;
-            for (const RadiantHeater& heater : m_settings.heaters)
-            {
-                if (m_faces[i] & topFace)
-                {
-                    absorbed += heaterIrradiance(heater, x[i], normal[i]);
-                }
-                if (m_faces[i] & bottomFace)
-                {
-                    absorbed += heaterIrradiance(heater, x[i], -normal[i]);
-                }
-            }
-            absorbed *= m_settings.absorptivity * area[i];
+            const AirAt air = airAt(x[i]);
+            m_airCoefficient[i] = air.heatTransfer * area[i] * Real(faceCount);
+            m_airSource[i] = m_airCoefficient[i] * air.temperature;
+            const Real absorbed = absorbedHeat(i, x[i], normal[i]);
             if (!m_held[i])
             {
                 m_report.heaterPower += absorbed;
             }
             m_rhs[Eigen::Index(i)] += absorbed;
         }
-        if (m_touching)
+        if (!touchingObstacle.empty())
         {
-            const int obstacle = (*m_touching)[i];
+            const int obstacle = touchingObstacle[i];
             if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTemperature.size())
             {
-                contactCoefficient[i] = m_settings.contactHeatTransfer * area[i];
+                m_contactCoefficient[i] = m_settings.contactHeatTransfer * area[i];
                 const Real given = m_obstacleTemperature[std::size_t(obstacle)];
                 const Real surface = std::isnan(given) ? m_settings.airTemperature : given;
-                contactSource[i] = contactCoefficient[i] * surface;
+                m_contactSource[i] = m_contactCoefficient[i] * surface;
             }
         }
-        values[m_diagonalSlot[i]] += airCoefficient[i] + contactCoefficient[i];
-        m_rhs[Eigen::Index(i)] += airSource[i] + contactSource[i];
+        values[m_diagonalSlot[i]] += m_airCoefficient[i] + m_contactCoefficient[i];
+        m_rhs[Eigen::Index(i)] += m_airSource[i] + m_contactSource[i];
     }
+}
+
+void ThermalModel::assembleConduction()
+{
+    Real* values = m_matrix.valuePtr();
     for (std::size_t s = 0; s < m_ends.size(); ++s)
     {
         const Index a = m_ends[s].a;
@@ -399,16 +423,24 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
         values[m_abSlot[s]] -= g;
         values[m_baSlot[s]] -= g;
     }
-    for (std::size_t i = 0; i < n; ++i)
+}
+
+void ThermalModel::fixHeldTemperatures()
+{
+    Real* values = m_matrix.valuePtr();
+    for (std::size_t i = 0; i < m_temperature.size(); ++i)
     {
         if (m_held[i])
         {
             values[m_diagonalSlot[i]] = 1;
             m_rhs[Eigen::Index(i)] = m_temperature[i];
         }
-        m_solution[Eigen::Index(i)] = m_temperature[i];
+        m_solution[Eigen::Index(i)] = m_temperature[i]; // the solve's first guess
     }
+}
 
+void ThermalModel::solve(Real dt)
+{
     m_solver.setTolerance(m_settings.solverTolerance);
     m_solver.setMaxIterations(m_settings.maxIterations);
     m_solver.compute(m_matrix);
@@ -420,7 +452,11 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
         throw NumericalError("the thermal model diverged: a temperature is not finite after a step of " +
                              formatNumber(dt) + " s");
     }
-    for (std::size_t i = 0; i < n; ++i)
+}
+
+void ThermalModel::reportFlows()
+{
+    for (std::size_t i = 0; i < m_temperature.size(); ++i)
     {
         const Real t = m_solution[Eigen::Index(i)];
         m_temperature[i] = t;
@@ -428,8 +464,8 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt)
         {
             continue;
         }
-        m_report.airPower += airSource[i] - airCoefficient[i] * t;
-        m_report.contactPower += contactSource[i] - contactCoefficient[i] * t;
+        m_report.airPower += m_airSource[i] - m_airCoefficient[i] * t;
+        m_report.contactPower += m_contactSource[i] - m_contactCoefficient[i] * t;
     }
 }
 } // namespace masse

@@ -8,7 +8,7 @@
 ///    the upper side, a single layer both): h (T_air - T_i) A_i, with the room air or, inside a hot-air zone, the
 ///    zone's air and coefficient;
 ///  - radiant heaters: absorptivity * q A_i on each face that looks at the panel (HeatSources.h);
-///  - an obstacle it touches (ContactSolver::touchingObstacle()): h_contact (T_obstacle - T_i) A_i;
+///  - an obstacle it touches (StepContext::touchingObstacle): h_contact (T_obstacle - T_i) A_i;
 ///  - its neighbours, along springs, by conduction G_s (T_j - T_i).
 /// A_i is the area the mass stands for in its layer now (SheetThickness), so a stretched region gains and loses heat
 /// faster, and conduction follows the local thickness h.
@@ -40,6 +40,7 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCore>
 
+#include <span>
 #include <vector>
 
 namespace masse
@@ -82,11 +83,10 @@ public:
     /// Replaces the settings (heaters switched, zones moved...) after validating them.
     void setSettings(const ThermalSettings& settings);
     const ThermalSettings& settings() const { return m_settings; }
-    /// Contact heat exchange: `touchingObstacle` gives per mass the obstacle it touches or -1 (normally
-    /// ContactSolver::touchingObstacle(); it must outlive its use here, nullptr for none), `obstacleTemperature`
-    /// each obstacle's temperature (K): NaN for one at the air's temperature (it follows the air when that changes).
-    /// Obstacles beyond the end of the list exchange no heat.
-    void setContact(const std::vector<int>* touchingObstacle, std::vector<Real> obstacleTemperature);
+    /// Contact heat exchange: each obstacle's temperature (K), NaN for one at the air's temperature (it follows the
+    /// air when that changes). Which mass touches which obstacle comes with each step (StepContext's
+    /// touchingObstacle); obstacles beyond the end of the list exchange no heat.
+    void setObstacleTemperatures(std::vector<Real> obstacleTemperature);
 
     /// K, per mass. Writable for initial conditions; a held mass is reset to its held value every frame.
     std::vector<Real>& temperature() { return m_temperature; }
@@ -95,11 +95,13 @@ public:
     void holdTemperature(Index mass, Real temperature);
     void releaseTemperature(Index mass);
 
-    /// One backward-Euler step of dt seconds at the system's current positions (endFrame calls it).
-    void advance(const MassSpringSystem& system, Real dt);
+    /// One backward-Euler step of dt seconds at the system's current positions (endFrame calls it), with per mass
+    /// the obstacle it touches or -1 (empty: no contact exchange).
+    void advance(const MassSpringSystem& system, Real dt, std::span<const int> touchingObstacle = {});
 
-    void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
-    void endFrame(MassSpringSystem& system, Real time) override;
+    /// Publishes the temperatures and the sheet's thickness in the step context for the hooks after it.
+    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
+    void endFrame(MassSpringSystem& system, StepContext& context, Real time) override;
 
     const ThermalReport& lastReport() const { return m_report; }
     /// Areas, normals and thicknesses as of the last step; ViscoelasticSprings can share it (setThickness).
@@ -114,9 +116,30 @@ private:
     using SparseMatrix = Eigen::SparseMatrix<Real>;
     using StorageIndex = SparseMatrix::StorageIndex;
 
+    /// The air a mass at x exchanges heat with: a hot-air zone's, or the room's.
+    struct AirAt
+    {
+        Real temperature;  ///< K
+        Real heatTransfer; ///< W/(m^2 K)
+    };
+
     void computeWeights(const Lattice& lattice);
     void buildPattern();
     void computeConductances();
+    // The stages of advance(), in order.
+    void requireSizes(const MassSpringSystem& system, std::span<const int> touchingObstacle) const;
+    /// Each mass's capacity, air, heater and contact terms: the matrix diagonal and the right-hand side.
+    void assembleExchanges(const std::vector<Vec3>& x, std::span<const int> touchingObstacle, Real dt);
+    /// The springs' conduction; a held neighbour's coupling goes to the right-hand side.
+    void assembleConduction();
+    /// Held masses' rows become T = T_held; every mass's current temperature is the solve's first guess.
+    void fixHeldTemperatures();
+    void solve(Real dt);
+    /// Takes the solution as the temperatures and sums the air and contact flows into the report.
+    void reportFlows();
+    AirAt airAt(const Vec3& x) const;
+    /// W absorbed by mass i from every heater, on each of its exposed faces.
+    Real absorbedHeat(std::size_t i, const Vec3& x, const Vec3& normal) const;
 
     Material m_material;
     ThermalSettings m_settings;
@@ -130,7 +153,6 @@ private:
     std::vector<Real> m_temperature;
     std::vector<std::uint8_t> m_held;
     std::vector<Real> m_conductance;
-    const std::vector<int>* m_touching = nullptr;
     std::vector<Real> m_obstacleTemperature;
     Real m_frameDt = 0;
     ThermalReport m_report;

@@ -105,36 +105,35 @@ Real ViscoelasticSprings::permanentSet(std::size_t spring) const
     return burgersPermanentSet(m_params[spring], m_state[spring]);
 }
 
-bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system)
+bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std::span<const Real> temperature,
+                                            SheetThickness* thickness)
 {
     const SpringSet& springs = system.springs;
-    const std::vector<Real>* temperature = m_temperatureSource;
-    if (temperature && temperature->size() != system.massCount())
+    if (!temperature.empty() && temperature.size() != system.massCount())
     {
-        throw std::invalid_argument("ViscoelasticSprings: " + std::to_string(temperature->size()) +
+        throw std::invalid_argument("ViscoelasticSprings: " + std::to_string(temperature.size()) +
                                     " temperatures for " + std::to_string(system.massCount()) + " masses");
     }
-    const bool followThickness = m_settings.followThickness && m_thickness;
+    const bool followThickness = m_settings.followThickness && thickness;
     if (followThickness)
     {
-        m_thickness->update(system.particles.position);
+        thickness->update(system.particles.position);
     }
     constexpr Real infinity = std::numeric_limits<Real>::infinity();
     bool changed = false;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
         const SpringEnds e = springs.ends[s];
-        const Real t = temperature ? Real(0.5) * ((*temperature)[e.a] + (*temperature)[e.b]) : m_uniformTemperature;
+        const Real t = temperature.empty() ? m_uniformTemperature : Real(0.5) * (temperature[e.a] + temperature[e.b]);
         if (!(t > 0) || !std::isfinite(t))
         {
             throw NumericalError("spring " + std::to_string(s) + " between masses " + std::to_string(e.a) + " and " +
                                  std::to_string(e.b) + " has temperature " + std::to_string(t) +
                                  " K: the temperatures are not finite and positive");
         }
-        const Real ratio = followThickness
-                               ? Real(0.5) * (m_thickness->thickness()[e.a] + m_thickness->thickness()[e.b]) /
-                                     m_thickness->initialThickness()
-                               : Real(1);
+        const Real ratio = followThickness ? Real(0.5) * (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
+                                                 thickness->initialThickness()
+                                           : Real(1);
         if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
         {
             continue;
@@ -168,9 +167,9 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system)
     return changed;
 }
 
-void ViscoelasticSprings::start(const MassSpringSystem& system)
+void ViscoelasticSprings::start(const MassSpringSystem& system, const StepContext& context)
 {
-    refreshParameters(system);
+    refreshParameters(system, context.temperature, context.thickness);
     // The sheet starts as an elastic body at its construction temperature: any initial stretch is elastic strain.
     const SpringSet& springs = system.springs;
     const std::vector<Vec3>& x = system.particles.position;
@@ -212,17 +211,17 @@ void ViscoelasticSprings::writeRestLengths(MassSpringSystem& system)
     system.markChanged();
 }
 
-void ViscoelasticSprings::beginFrame(MassSpringSystem& system, Real /*time*/, Real dt)
+void ViscoelasticSprings::beginFrame(MassSpringSystem& system, StepContext& context, Real /*time*/, Real dt)
 {
     bool changed;
     if (!m_started)
     {
-        start(system);
+        start(system, context);
         changed = true;
     }
     else
     {
-        changed = refreshParameters(system);
+        changed = refreshParameters(system, context.temperature, context.thickness);
     }
     const Real h = m_stepLength > 0 ? m_stepLength : dt;
     if (changed || h != m_stepLength)
@@ -232,11 +231,11 @@ void ViscoelasticSprings::beginFrame(MassSpringSystem& system, Real /*time*/, Re
     writeRestLengths(system);
 }
 
-void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, Real h, Real time)
+void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time)
 {
     if (!m_started)
     {
-        start(system); // stepped without beginFrame (an integrator driven by hand): start from here
+        start(system, context); // stepped without beginFrame (an integrator driven by hand): start from here
     }
     const SpringSet& springs = system.springs;
     const std::vector<Vec3>& x = system.particles.position;

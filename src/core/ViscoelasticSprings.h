@@ -30,21 +30,22 @@
 ///     MassSpringSystem sheet = makeMaterialSheet(lattice, material, thickness, thermalSettings.initialTemperature);
 ///     ... pin clamped masses ...
 ///     ViscoelasticSprings springs(sheet, stiffnessPerModulus(lattice, thickness), material, springSettings);
-///     springs.setTemperatures(&thermal.temperature());
-///     springs.setThickness(&thermal.sheetThickness());
 ///     Simulator simulator(std::move(sheet), simulatorSettings);
-///     simulator.setContactSolver(&contact);                                // optional
-///     thermal.setContact(&contact.report().touchingObstacle(), obstacleTemperatures); // optional
+///     simulator.setContactSolver(&contact);                    // optional
+///     thermal.setObstacleTemperatures(obstacleTemperatures);   // optional
 ///     simulator.addHook(&thermal);
 ///     simulator.addHook(&springs);
-/// The order of the two hooks does not matter: the thermal model steps at the end of a frame, the springs read the
-/// temperatures at the start of the next.
+/// The thermal model comes first: at the start of each frame it publishes its temperatures and the sheet's thickness
+/// in the StepContext, where the springs read them (it steps at the end of a frame, so the springs see the
+/// temperatures of the frame before). Without a heat model the springs keep their uniform temperature, and a
+/// SheetThickness set as the context's `thickness` by its owner is followed all the same.
 
 #include "BurgersSpring.h"
 #include "Material.h"
 #include "StepHook.h"
 #include "Thickness.h"
 
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -67,7 +68,7 @@ struct SpringModelSettings
     Real dampingRatio = 0.06; ///< fraction of critical damping of each spring's k_eff, in [0, 1]; paper Table 1: 6%
     /// Stiffness and viscosity scale with the local thickness h/h0 (a thinned region is weaker); needs setThickness.
     bool followThickness = true;
-    Real initialTemperature = 293.15; ///< K, used until setTemperatures is given a source; > 0
+    Real initialTemperature = 293.15; ///< K, used while the step context carries no temperatures; > 0
 };
 
 /// Throws InputError naming the bad field (damping_ratio outside [0, 1], a non-positive temperature).
@@ -82,17 +83,13 @@ public:
     ViscoelasticSprings(const MassSpringSystem& system, std::vector<Real> stiffnessPerModulus, const Material& material,
                         const SpringModelSettings& settings);
 
-    /// Per-mass temperatures (K) read at the start of every frame, e.g. ThermalModel::temperature(); nullptr returns
-    /// to the uniform temperature. The vector must outlive its use here.
-    void setTemperatures(const std::vector<Real>* temperature) { m_temperatureSource = temperature; }
-    /// Temperature of every spring while no per-mass source is set (K).
+    /// Temperature of every spring while the step context carries no per-mass temperatures (K).
     void setUniformTemperature(Real temperature);
-    /// Local thickness for followThickness; the hook updates it from the positions at the start of every frame.
-    /// nullptr (the default) keeps the initial thickness. It must outlive its use here.
-    void setThickness(SheetThickness* thickness) { m_thickness = thickness; }
 
-    void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
-    void afterSubstep(MassSpringSystem& system, Real h, Real time) override;
+    /// Reads the context's temperatures (if any) and, with followThickness, updates its thickness (if any) from the
+    /// positions; without one the springs keep the initial thickness.
+    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
+    void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
 
     const Material& material() const { return m_material; }
     const SpringModelSettings& settings() const { return m_settings; }
@@ -106,9 +103,10 @@ public:
     Real permanentSet(std::size_t spring) const;
 
 private:
-    void start(const MassSpringSystem& system);
+    void start(const MassSpringSystem& system, const StepContext& context);
     /// Recomputes the coefficients of springs whose temperature or thickness changed; returns whether any did.
-    bool refreshParameters(const MassSpringSystem& system);
+    bool refreshParameters(const MassSpringSystem& system, std::span<const Real> temperature,
+                           SheetThickness* thickness);
     /// Rebuilds the step coefficients for a substep of h and writes k_eff and damping into the system.
     void rebuildSteps(MassSpringSystem& system, Real h);
     /// Writes the effective rest lengths for the next substep from the state.
@@ -124,8 +122,6 @@ private:
     std::vector<BurgersState> m_state;
     std::vector<Real> m_springTemperature;
     std::vector<Real> m_thicknessRatio;
-    const std::vector<Real>* m_temperatureSource = nullptr;
-    SheetThickness* m_thickness = nullptr;
     Real m_uniformTemperature;
     Real m_stepLength = 0; ///< h of m_step; 0 before the first frame
     bool m_started = false;

@@ -50,7 +50,56 @@ void Scene::reset()
 
 void Scene::build()
 {
-    // Tear down in dependency order before building again.
+    tearDown();
+    try
+    {
+        // A sheet that cannot fit in memory is refused before anything is allocated for it.
+        withinSection("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
+        m_lattice = buildSheetLattice();
+        const MaterialSpec& material = m_spec.material;
+        const Real startTemperature =
+            m_spec.heat.enabled ? m_spec.heat.settings.initialTemperature : material.springs.initialTemperature;
+        if (m_spec.heat.enabled)
+        {
+            m_thermal =
+                std::make_unique<ThermalModel>(m_lattice, material.material, material.thickness, m_spec.heat.settings);
+            m_heaterOn = m_spec.heat.heaterOn;
+        }
+        MassSpringSystem sheet = buildSheet(startTemperature);
+        buildContact();
+        if (material.enabled)
+        {
+            SpringModelSettings springSettings = material.springs;
+            springSettings.initialTemperature = startTemperature;
+            m_springs = std::make_unique<ViscoelasticSprings>(sheet, stiffnessPerModulus(m_lattice, material.thickness),
+                                                              material.material, springSettings);
+            if (!m_thermal)
+            {
+                m_thickness = std::make_unique<SheetThickness>(m_lattice, material.thickness);
+            }
+        }
+        buildSimulator(std::move(sheet));
+        addHooks();
+        // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
+        // step.
+        withinSection("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
+    }
+    catch (const InputError& e)
+    {
+        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + e.what());
+    }
+    m_scriptedMotionEnd = scriptedMotionEnd(m_spec);
+    m_restPrerequisites.clear();
+    for (const std::string& name : m_spec.run.restAfterContactWith)
+    {
+        m_restPrerequisites.push_back(m_environment->findObstacle(name));
+    }
+    m_start = std::chrono::steady_clock::now();
+}
+
+void Scene::tearDown()
+{
+    // In dependency order: the hooks and the solver before what they refer to.
     m_pressure.reset();
     m_springs.reset();
     m_thermal.reset();
@@ -63,159 +112,140 @@ void Scene::build()
     m_contactsSeen = 0;
     m_rest = RestTracker(m_spec.run.restKineticEnergy, m_spec.run.restHold);
     m_steps = 0;
+}
 
-    try
+Lattice Scene::buildSheetLattice() const
+{
+    Lattice lattice = buildLattice(m_spec.sheet.lattice);
+    if (m_spec.sheet.rotationDegrees != Vec3::Zero())
     {
-        // A sheet that cannot fit in memory is refused before anything is allocated for it.
-        withinSection("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
-        m_lattice = buildLattice(m_spec.sheet.lattice);
-        if (m_spec.sheet.rotationDegrees != Vec3::Zero())
+        const Vec3 centre = 0.5 * (m_spec.sheet.lattice.minCorner + m_spec.sheet.lattice.maxCorner);
+        const auto turn = bridge::rotationFromDegrees(m_spec.sheet.rotationDegrees);
+        for (Vec3& x : lattice.position)
         {
-            const Vec3 centre = 0.5 * (m_spec.sheet.lattice.minCorner + m_spec.sheet.lattice.maxCorner);
-            const auto turn = bridge::rotationFromDegrees(m_spec.sheet.rotationDegrees);
-            for (Vec3& x : m_lattice.position)
-            {
-                x = centre + turn * (x - centre);
-            }
+            x = centre + turn * (x - centre);
         }
-        const MaterialSpec& material = m_spec.material;
-        const Real startTemperature =
-            m_spec.heat.enabled ? m_spec.heat.settings.initialTemperature : material.springs.initialTemperature;
-        if (m_spec.heat.enabled)
-        {
-            m_thermal =
-                std::make_unique<ThermalModel>(m_lattice, material.material, material.thickness, m_spec.heat.settings);
-            m_heaterOn = m_spec.heat.heaterOn;
-        }
-        MassSpringSystem sheet = material.enabled ? makeMaterialSheet(m_lattice, material.material, material.thickness,
-                                                                      startTemperature, material.springs.dampingRatio)
-                                                  : makeSheet(m_lattice, m_spec.sheet.params);
-        sheet.forces.gravity = m_spec.environment.gravity;
-        sheet.forces.airDamping = m_spec.environment.airDampingRate;
-        sheet.forces.repulsion = m_spec.sheet.repulsion;
-        for (Index i : resolvePins(m_spec.sheet.pinned, m_lattice))
-        {
-            sheet.particles.setPinned(i, true);
-        }
-
-        m_environment = std::make_unique<bridge::BulletEnvironment>();
-        m_environment->addRoom(m_spec.environment.room);
-        for (const bridge::ObstacleSpec& obstacle : m_spec.obstacles)
-        {
-            m_environment->addObstacle(obstacle);
-        }
-        ContactSettings contact = m_spec.contact;
-        contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
-        for (std::size_t k = 0; k < m_spec.obstacles.size() && k < m_spec.obstacleContact.size(); ++k)
-        {
-            contact.perObstacle[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
-                m_spec.obstacleContact[k];
-        }
-        m_contact = std::make_unique<ContactSolver>(*m_environment, contact);
-
-        SimulatorSettings settings;
-        settings.integrator = m_spec.time.integrator;
-        settings.implicit = m_spec.time.implicit;
-        settings.stabilitySafety = m_spec.time.stabilitySafety;
-        if (material.enabled)
-        {
-            SpringModelSettings springSettings = material.springs;
-            springSettings.initialTemperature = startTemperature;
-            m_springs = std::make_unique<ViscoelasticSprings>(sheet, stiffnessPerModulus(m_lattice, material.thickness),
-                                                              material.material, springSettings);
-            if (m_thermal)
-            {
-                m_springs->setTemperatures(&m_thermal->temperature());
-                m_springs->setThickness(&m_thermal->sheetThickness());
-            }
-            else
-            {
-                m_thickness = std::make_unique<SheetThickness>(m_lattice, material.thickness);
-                m_springs->setThickness(m_thickness.get());
-            }
-        }
-        m_simulator = std::make_unique<Simulator>(std::move(sheet), settings);
-        m_simulator->setContactSolver(m_contact.get());
-        const std::vector<Real>& masses = m_simulator->system().particles.mass;
-        m_simulator->guard().setSettings(
-            guardSettings(m_spec, masses.empty() ? Real(1) : *std::min_element(masses.begin(), masses.end())));
-        m_script = std::make_unique<ScriptRunner>(
-            m_spec.script, m_lattice, *m_environment,
-            [this](const std::string& name, const std::string& object, Real t) { record(name, object, t); },
-            [this](const ScriptAction& action)
-            {
-                if (action.kind == ScriptAction::Kind::Ambient)
-                {
-                    setAmbientTemperature(action.temperature);
-                    return;
-                }
-                const auto& names = m_spec.heat.heaterNames;
-                setHeater(std::size_t(std::find(names.begin(), names.end(), action.heater) - names.begin()), action.on);
-            });
-        m_simulator->addHook(m_script.get());
-        if (m_thermal)
-        {
-            // Obstacles exchange heat at their own temperature; the room's walls and obstacles without one (NaN) are
-            // at the air's, and follow it when an "ambient" action changes it.
-            std::vector<Real> obstacleTemperature(std::size_t(m_environment->obstacleCount()),
-                                                  std::numeric_limits<Real>::quiet_NaN());
-            for (std::size_t k = 0; k < m_spec.obstacles.size(); ++k)
-            {
-                obstacleTemperature[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
-                    m_spec.obstacleTemperature[k];
-            }
-            m_thermal->setContact(&m_contact->report().touchingObstacle(), obstacleTemperature);
-            m_simulator->addHook(m_thermal.get());
-        }
-        if (m_springs)
-        {
-            m_simulator->addHook(m_springs.get());
-        }
-        if (m_spec.forming.enabled)
-        {
-            requireSealedMould();
-            m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure));
-            if (m_spec.forming.seal)
-            {
-                m_pressure->setContact(&m_contact->report().touchingObstacle());
-            }
-            m_simulator->addHook(m_pressure.get());
-        }
-        // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
-        // step.
-        withinSection("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
     }
-    catch (const InputError& e)
+    return lattice;
+}
+
+MassSpringSystem Scene::buildSheet(Real startTemperature) const
+{
+    const MaterialSpec& material = m_spec.material;
+    MassSpringSystem sheet = material.enabled ? makeMaterialSheet(m_lattice, material.material, material.thickness,
+                                                                  startTemperature, material.springs.dampingRatio)
+                                              : makeSheet(m_lattice, m_spec.sheet.params);
+    sheet.forces.gravity = m_spec.environment.gravity;
+    sheet.forces.airDamping = m_spec.environment.airDampingRate;
+    sheet.forces.repulsion = m_spec.sheet.repulsion;
+    for (Index i : resolvePins(m_spec.sheet.pinned, m_lattice))
     {
-        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + e.what());
+        sheet.particles.setPinned(i, true);
     }
+    return sheet;
+}
 
-    m_scriptedMotionEnd = 0;
+void Scene::buildContact()
+{
+    m_environment = std::make_unique<bridge::BulletEnvironment>();
+    m_environment->addRoom(m_spec.environment.room);
     for (const bridge::ObstacleSpec& obstacle : m_spec.obstacles)
+    {
+        m_environment->addObstacle(obstacle);
+    }
+    ContactSettings contact = m_spec.contact;
+    contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
+    for (std::size_t k = 0; k < m_spec.obstacles.size() && k < m_spec.obstacleContact.size(); ++k)
+    {
+        contact.perObstacle[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
+            m_spec.obstacleContact[k];
+    }
+    m_contact = std::make_unique<ContactSolver>(*m_environment, contact);
+}
+
+void Scene::buildSimulator(MassSpringSystem sheet)
+{
+    SimulatorSettings settings;
+    settings.integrator = m_spec.time.integrator;
+    settings.implicit = m_spec.time.implicit;
+    settings.stabilitySafety = m_spec.time.stabilitySafety;
+    m_simulator = std::make_unique<Simulator>(std::move(sheet), settings);
+    // The heat model publishes its own thickness every frame; without one the springs follow this one.
+    m_simulator->context().thickness = m_thickness.get();
+    m_simulator->setContactSolver(m_contact.get());
+    const std::vector<Real>& masses = m_simulator->system().particles.mass;
+    m_simulator->guard().setSettings(
+        guardSettings(m_spec, masses.empty() ? Real(1) : *std::min_element(masses.begin(), masses.end())));
+}
+
+void Scene::addHooks()
+{
+    // In this order: the script first (its actions change what the models see), the heat model before the springs
+    // (it publishes the temperatures they read), the pressure last.
+    m_script = std::make_unique<ScriptRunner>(
+        m_spec.script, m_lattice, *m_environment,
+        [this](const std::string& name, const std::string& object, Real t) { record(name, object, t); },
+        [this](const ScriptAction& action)
+        {
+            if (action.kind == ScriptAction::Kind::Ambient)
+            {
+                setAmbientTemperature(action.temperature);
+                return;
+            }
+            const auto& names = m_spec.heat.heaterNames;
+            setHeater(std::size_t(std::find(names.begin(), names.end(), action.heater) - names.begin()), action.on);
+        });
+    m_simulator->addHook(m_script.get());
+    if (m_thermal)
+    {
+        // Obstacles exchange heat at their own temperature; the room's walls and obstacles without one (NaN) are
+        // at the air's, and follow it when an "ambient" action changes it.
+        std::vector<Real> obstacleTemperature(std::size_t(m_environment->obstacleCount()),
+                                              std::numeric_limits<Real>::quiet_NaN());
+        for (std::size_t k = 0; k < m_spec.obstacles.size(); ++k)
+        {
+            obstacleTemperature[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
+                m_spec.obstacleTemperature[k];
+        }
+        m_thermal->setObstacleTemperatures(obstacleTemperature);
+        m_simulator->addHook(m_thermal.get());
+    }
+    if (m_springs)
+    {
+        m_simulator->addHook(m_springs.get());
+    }
+    if (m_spec.forming.enabled)
+    {
+        requireSealedMould();
+        m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure));
+        m_pressure->setSealing(m_spec.forming.seal);
+        m_simulator->addHook(m_pressure.get());
+    }
+}
+
+Real Scene::scriptedMotionEnd(const SceneSpec& spec)
+{
+    Real end = 0;
+    for (const bridge::ObstacleSpec& obstacle : spec.obstacles)
     {
         if (!obstacle.path.empty())
         {
-            m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, obstacle.path.back().time);
+            end = std::max(end, obstacle.path.back().time);
         }
     }
-    for (const ScriptAction& action : m_spec.script)
+    for (const ScriptAction& action : spec.script)
     {
-        m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, action.time);
+        end = std::max(end, action.time);
         if (!action.path.empty())
         {
-            m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, action.path.back().first);
+            end = std::max(end, action.path.back().first);
         }
         if (!action.obstaclePath.empty())
         {
-            m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, action.obstaclePath.back().time);
+            end = std::max(end, action.obstaclePath.back().time);
         }
     }
-    m_restPrerequisites.clear();
-    for (const std::string& name : m_spec.run.restAfterContactWith)
-    {
-        m_restPrerequisites.push_back(m_environment->findObstacle(name));
-    }
-    m_start = std::chrono::steady_clock::now();
+    return end;
 }
 
 void Scene::requireSealedMould() const

@@ -90,6 +90,16 @@ public:
 
 private:
     void build();
+    // The stages of build(), in order.
+    void tearDown();
+    Lattice buildSheetLattice() const;
+    MassSpringSystem buildSheet(Real startTemperature) const;
+    /// The Bullet environment (room and obstacles) and the contact solver over it.
+    void buildContact();
+    void buildSimulator(MassSpringSystem sheet);
+    void addHooks();
+    /// The time after which nothing scripted moves: the last action, grab-path key or obstacle-path key.
+    static Real scriptedMotionEnd(const SceneSpec& spec);
     Real nextStep() const;
     /// Throws InputError when the forming section names a mould that is a mesh with a gap (an edge of one face).
     void requireSealedMould() const;

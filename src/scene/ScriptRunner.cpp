@@ -123,7 +123,7 @@ void ScriptRunner::fire(MassSpringSystem& system, const ScriptAction& action, Re
     }
 }
 
-void ScriptRunner::beginFrame(MassSpringSystem& system, Real time, Real /*dt*/)
+void ScriptRunner::beforeFrame(MassSpringSystem& system, StepContext& /*context*/, Real time)
 {
     // A small tolerance so an action at t = 0.3 fires at the frame that starts at 0.29999999999999999.
     while (m_next < m_actions.size() && m_actions[m_next].time <= time + 1e-9)
@@ -133,7 +133,7 @@ void ScriptRunner::beginFrame(MassSpringSystem& system, Real time, Real /*dt*/)
     }
 }
 
-void ScriptRunner::afterSubstep(MassSpringSystem& system, Real /*h*/, Real time)
+void ScriptRunner::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real /*h*/, Real time)
 {
     for (const Grab& grab : m_grabs)
     {

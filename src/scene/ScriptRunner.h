@@ -24,8 +24,10 @@ public:
     ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice, bridge::BulletEnvironment& environment,
                  EventSink sink, HeatAction heat = {});
 
-    void beginFrame(MassSpringSystem& system, Real time, Real dt) override;
-    void afterSubstep(MassSpringSystem& system, Real h, Real time) override;
+    /// Fires the actions due at the frame's start, before its stability estimate and contact detection.
+    void beforeFrame(MassSpringSystem& system, StepContext& context, Real time) override;
+    /// Aims every grab's spring along its path.
+    void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
 
     /// Actions that have not fired yet, in the order they will.
     std::vector<const ScriptAction*> pending() const;
