@@ -115,38 +115,23 @@ scene::SceneSpec benchScene(const BenchOptions& options)
     return spec;
 }
 
-void runBench(const BenchOptions& options)
+/// What the timed rounds measured, one entry per round.
+struct BenchRounds
 {
-    if (options.steps < 1)
-    {
-        throw InputError("--steps: must be >= 1 (got " + std::to_string(options.steps) + ")");
-    }
-    if (options.repeat < 1)
-    {
-        throw InputError("--repeat: must be >= 1 (got " + std::to_string(options.repeat) + ")");
-    }
-    const scene::SceneSpec spec = benchScene(options);
-    const IntegratorKind kind = spec.time.integrator;
-    scene::Scene scene(spec);
-    Simulator& simulator = scene.simulator();
-    ContactSolver* contact = &scene.contact();
-    const bool timeContact = spec.environment.room.enabled || !spec.obstacles.empty();
-    const SimulatorSettings settings = simulator.settings();
-
-    const Real dt = spec.time.dt;
-    simulator.step(dt);
-    // The warm-up step (first touch of arrays, the implicit solver's pattern) is not timed.
-    StageTimer stageTimer;
-    contact->setStageObserver(&stageTimer);
-
-    // Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander.
-    std::vector<double> rates;
-    std::vector<double> walls;
+    std::vector<double> walls; ///< s
+    std::vector<double> rates; ///< spring-steps per second
     std::vector<double> baselineRates;
-    std::vector<double> ratios;
-    std::uint64_t substeps = 0;
+    std::vector<double> ratios; ///< engine over baseline, round by round
+    std::uint64_t substeps = 0; ///< in the last round
     long long solverIterations = 0;
-    SolverTally timed; // the timed steps only: the warm-up step made the first factorisation
+    SolverTally solver; ///< the timed steps only: the warm-up step made the first factorisation
+};
+
+/// Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander. The
+/// baseline, when asked for, is timed round by round in between, so both see the same load.
+BenchRounds timeRounds(Simulator& simulator, Real dt, const BenchOptions& options)
+{
+    BenchRounds rounds;
     const double springs = double(simulator.system().springCount());
     for (int round = 0; round < options.repeat; ++round)
     {
@@ -155,56 +140,64 @@ void runBench(const BenchOptions& options)
         for (int i = 0; i < options.steps; ++i)
         {
             const StepReport report = simulator.step(dt);
-            solverIterations += report.solverIterations;
-            timed.add({report.solverIterations, report.solverResidual, report.solverCapHits > 0});
+            rounds.solverIterations += report.solverIterations;
+            rounds.solver.add({report.solverIterations, report.solverResidual, report.solverCapHits > 0});
         }
         const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        substeps = simulator.substepCount() - substepsBefore;
-        walls.push_back(wall);
-        rates.push_back(springs * double(substeps) / wall);
+        rounds.substeps = simulator.substepCount() - substepsBefore;
+        rounds.walls.push_back(wall);
+        rounds.rates.push_back(springs * double(rounds.substeps) / wall);
         if (options.baseline)
         {
-            // Interleaved with the engine's rounds, so both see the same load on a shared machine.
-            const Real h = dt * double(options.steps) / double(substeps);
-            const double baselineWall = timeScalarBaseline(simulator.system(), h, substeps);
-            baselineRates.push_back(springs * double(substeps) / baselineWall);
-            ratios.push_back(rates.back() / baselineRates.back());
+            const Real h = dt * double(options.steps) / double(rounds.substeps);
+            const double baselineWall = timeScalarBaseline(simulator.system(), h, rounds.substeps);
+            rounds.baselineRates.push_back(springs * double(rounds.substeps) / baselineWall);
+            rounds.ratios.push_back(rounds.rates.back() / rounds.baselineRates.back());
         }
     }
-    // The share of contact: its own clock against the whole step, and against the spring forces alone, timed on
-    // the final state for as many evaluations as the last round made.
-    nlohmann::json contactFigures;
-    if (timeContact)
+    return rounds;
+}
+
+/// The share of contact: its own clock against the whole step, and against the spring forces alone, timed on the
+/// final state for as many evaluations as the last round made.
+nlohmann::json contactFigures(const Simulator& simulator, const ContactSolver& contact, const StageTimer& stageTimer,
+                              const BenchRounds& rounds, int repeat)
+{
+    const double contactSeconds = stageTimer.contactSeconds();
+    const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+    std::vector<Vec3> force(simulator.system().massCount(), Vec3::Zero());
+    const MassSpringSystem& system = simulator.system();
+    const auto springStart = std::chrono::steady_clock::now();
+    for (std::uint64_t i = 0; i < rounds.substeps; ++i)
     {
-        const double contactSeconds = stageTimer.contactSeconds();
-        const double allSeconds = std::accumulate(walls.begin(), walls.end(), 0.0);
-        std::vector<Vec3> force(simulator.system().massCount(), Vec3::Zero());
-        const MassSpringSystem& system = simulator.system();
-        const auto springStart = std::chrono::steady_clock::now();
-        for (std::uint64_t i = 0; i < substeps; ++i)
-        {
-            accumulateSpringForces(system.springs, system.forces.repulsion, system.particles.position,
-                                   system.particles.velocity, force);
-        }
-        const double springSeconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - springStart).count() *
-            double(options.repeat);
-        contactFigures = {
-            {"contact_seconds", contactSeconds},
-            {"contact_share_of_step", contactSeconds / allSeconds},
-            {"spring_force_seconds", springSeconds},
-            {"contact_over_spring_forces", contactSeconds / springSeconds},
-            {"touching_masses", contact->report().touchingCount()},
-            {"detection_seconds", stageTimer.seconds(Stage::ContactDetection)},
-            {"projection_seconds", stageTimer.seconds(Stage::ContactProjection)},
-            {"sweep_seconds", stageTimer.seconds(Stage::ContactSweep)},
-        };
+        accumulateSpringForces(system.springs, system.forces.repulsion, system.particles.position,
+                               system.particles.velocity, force);
     }
-    std::vector<double> sortedWalls = walls;
+    const double springSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - springStart).count() * double(repeat);
+    return {
+        {"contact_seconds", contactSeconds},
+        {"contact_share_of_step", contactSeconds / allSeconds},
+        {"spring_force_seconds", springSeconds},
+        {"contact_over_spring_forces", contactSeconds / springSeconds},
+        {"touching_masses", contact.report().touchingCount()},
+        {"detection_seconds", stageTimer.seconds(Stage::ContactDetection)},
+        {"projection_seconds", stageTimer.seconds(Stage::ContactProjection)},
+        {"sweep_seconds", stageTimer.seconds(Stage::ContactSweep)},
+    };
+}
+
+/// The bench's JSON line, from the median round (and the best, for the spring rate).
+nlohmann::json benchReport(const scene::SceneSpec& spec, const Simulator& simulator, const BenchOptions& options,
+                           const BenchRounds& rounds)
+{
+    std::vector<double> sortedWalls = rounds.walls;
     std::sort(sortedWalls.begin(), sortedWalls.end());
     const double wall = sortedWalls[sortedWalls.size() / 2];
     const double bestWall = sortedWalls.front();
-
+    const double springs = double(simulator.system().springCount());
+    const Real dt = spec.time.dt;
+    const IntegratorKind kind = spec.time.integrator;
     nlohmann::json out = {
         {"scene", spec.path},
         {"structure", structureName(spec.sheet.lattice.structure)},
@@ -216,27 +209,23 @@ void runBench(const BenchOptions& options)
         {"masses", simulator.system().massCount()},
         {"springs", simulator.system().springCount()},
         {"steps", options.steps},
-        {"substeps", substeps},
+        {"substeps", rounds.substeps},
         {"dt", dt},
         {"repeat", options.repeat},
         {"wall_seconds", wall},
         {"steps_per_second", double(options.steps) / wall},
-        {"spring_steps_per_second", springs * double(substeps) / wall},
-        {"spring_steps_per_second_best", springs * double(substeps) / bestWall},
+        {"spring_steps_per_second", springs * double(rounds.substeps) / wall},
+        {"spring_steps_per_second_best", springs * double(rounds.substeps) / bestWall},
         {"realtime_factor", double(options.steps) * dt / wall},
-        {"round_wall_seconds", walls},
+        {"round_wall_seconds", rounds.walls},
     };
-    if (timeContact)
-    {
-        out["contact"] = contactFigures;
-    }
     if (options.baseline)
     {
         out["baseline"] = {
             {"what", "plain single-threaded scalar loop: scatter f[a] += f, f[b] -= f, then symplectic Euler"},
-            {"spring_steps_per_second", median(baselineRates)},
-            {"speedup", median(ratios)},
-            {"round_speedups", ratios},
+            {"spring_steps_per_second", median(rounds.baselineRates)},
+            {"speedup", median(rounds.ratios)},
+            {"round_speedups", rounds.ratios},
         };
     }
     if (!options.material.empty())
@@ -246,9 +235,37 @@ void runBench(const BenchOptions& options)
     }
     if (!isExplicit(kind))
     {
-        out["solver_iterations_per_step"] = double(solverIterations) / double(options.steps * options.repeat);
-        out["solver"] = scene::solverSummary(timed, settings.implicit);
-        const std::string warning = scene::solverCapWarning(timed, settings.implicit);
+        out["solver_iterations_per_step"] = double(rounds.solverIterations) / double(options.steps * options.repeat);
+        out["solver"] = scene::solverSummary(rounds.solver, simulator.settings().implicit);
+    }
+    return out;
+}
+
+void runBench(const BenchOptions& options)
+{
+    if (options.steps < 1)
+    {
+        throw InputError("--steps: must be >= 1 (got " + std::to_string(options.steps) + ")");
+    }
+    if (options.repeat < 1)
+    {
+        throw InputError("--repeat: must be >= 1 (got " + std::to_string(options.repeat) + ")");
+    }
+    const scene::SceneSpec spec = benchScene(options);
+    scene::Scene scene(spec);
+    Simulator& simulator = scene.simulator();
+    simulator.step(spec.time.dt); // a warm-up step (first touch of arrays, the implicit solver's pattern), not timed
+    StageTimer stageTimer;
+    scene.contact().setStageObserver(&stageTimer);
+    const BenchRounds rounds = timeRounds(simulator, spec.time.dt, options);
+    nlohmann::json out = benchReport(spec, simulator, options, rounds);
+    if (spec.environment.room.enabled || !spec.obstacles.empty())
+    {
+        out["contact"] = contactFigures(simulator, scene.contact(), stageTimer, rounds, options.repeat);
+    }
+    if (!isExplicit(spec.time.integrator))
+    {
+        const std::string warning = scene::solverCapWarning(rounds.solver, simulator.settings().implicit);
         if (!warning.empty())
         {
             std::cerr << warning << std::endl;
