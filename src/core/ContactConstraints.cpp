@@ -16,7 +16,6 @@ void ContactConstraints::resize(std::size_t masses)
     m_wasResting.assign(masses, 0);
     m_normal.assign(masses, Vec3::UnitY());
     m_velocity.assign(masses, Vec3::Zero());
-    m_damping.assign(masses, 0);
     m_obstacle.assign(masses, -1);
     m_face.assign(masses, -1);
     m_constraint.assign(masses, 0);
@@ -85,11 +84,11 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
         m_constraint[i] = context.constraints.size();
         m_plane[i] = k;
         context.constraints.push_back({i, 1, plane.normal, plane.velocity, damping, Vec3::Zero()});
+        context.constraints.back().friction = damping > 0 ? settings.frictionOf(plane.obstacle) : Real(0);
         m_resting[i] = 1;
         m_restingMasses.push_back(i);
         m_normal[i] = plane.normal;
         m_velocity[i] = plane.velocity;
-        m_damping[i] = damping;
         m_obstacle[i] = plane.obstacle;
         m_face[i] = plane.face;
     }
@@ -139,7 +138,8 @@ void ContactConstraints::afterSubstep(const Particles& p, const StepContext& con
         m_lastReaction[i] = context.constraints[m_constraint[i]].reaction;
         const Vec3 relative = p.velocity[i] - m_velocity[i];
         const Vec3 slip = relative - relative.dot(m_normal[i]) * m_normal[i];
-        report.addImpulse(i, m_lastReaction[i] - h * m_damping[i] * slip); // the reaction holds; friction drags
+        // The reaction holds; friction drags (with the damping the solve used, which it may have capped).
+        report.addImpulse(i, m_lastReaction[i] - h * context.constraints[m_constraint[i]].tangentialDamping * slip);
         report.touch(i, m_obstacle[i], m_face[i], time);
     }
     // Masses that arrived at their surface in the solve: the projection gives their impact its friction, and its

@@ -51,7 +51,6 @@ private:
     std::vector<Real> m_arrivalImpulse;
     std::vector<Vec3> m_normal;
     std::vector<Vec3> m_velocity;
-    std::vector<Real> m_damping;
     std::vector<int> m_obstacle;
     std::vector<int> m_face;
     std::vector<std::size_t> m_constraint; ///< index into StepContext::constraints

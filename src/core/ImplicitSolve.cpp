@@ -42,7 +42,13 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
             }
             writeReactions(constraints);
         }
-        if (!m_speculative || round == maxSpeculativeRounds || !updateSpeculative(system, constraints, a, offset))
+        if (round == maxSpeculativeRounds)
+        {
+            return stats;
+        }
+        const bool capped = m_coulombCap && constrained && capFriction(system, constraints, a);
+        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, offset);
+        if (!capped && !arrivals)
         {
             return stats;
         }
@@ -81,6 +87,29 @@ bool ImplicitSolve::updateSpeculative(const MassSpringSystem& system, std::vecto
         if (c.gap + c.normal.dot(move) < 0)
         {
             c.engaged = true;
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+bool ImplicitSolve::capFriction(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a)
+{
+    const Particles& p = system.particles;
+    bool changed = false;
+    for (VelocityConstraint& c : constraints)
+    {
+        if (c.directions != 1 || !c.honoured() || c.tangentialDamping <= 0 || c.friction <= 0 || c.mass >= p.size() ||
+            p.pinned[c.mass])
+        {
+            continue;
+        }
+        const Vec3 relative = p.velocity[c.mass] + deltaV(c.mass) - c.velocity;
+        const Real slip = (relative - relative.dot(c.normal) * c.normal).norm();
+        const Real limit = c.friction * std::max(Real(0), c.reaction.dot(c.normal));
+        if (a * c.tangentialDamping * slip > limit * (Real(1) + Real(1e-6)))
+        {
+            c.tangentialDamping = limit / (a * slip);
             changed = true;
         }
     }

@@ -42,8 +42,11 @@ public:
     static constexpr int maxSpeculativeRounds = 6;
 
     /// With `speculative`, speculative constraints are engaged where the step would carry their masses through
-    /// their surfaces; without, they are never engaged (the contact's projection deals with those masses).
-    ImplicitSolve(const ImplicitSettings& settings, bool speculative) : m_settings(settings), m_speculative(speculative)
+    /// their surfaces; without, they are never engaged (the contact's projection deals with those masses). With
+    /// `coulombCap`, a resting constraint's friction damping is lowered, and the step solved again, where the friction
+    /// impulse it gave exceeds mu times the constraint's normal reaction (see capFriction).
+    ImplicitSolve(const ImplicitSettings& settings, bool speculative, bool coulombCap = false)
+        : m_settings(settings), m_speculative(speculative), m_coulombCap(coulombCap)
     {
     }
 
@@ -82,12 +85,19 @@ private:
     /// each engaged one whose reaction pulls. Returns whether any changed (then the step is solved again).
     bool updateSpeculative(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
                            const std::vector<Vec3>& offset);
+    /// After a solve: where a resting constraint's friction, a damping c sized at the frame's start for the slip
+    /// expected then, gave an impulse a c |slip'| above mu times the normal reaction of this solve, lowers c to
+    /// mu r_n / (a |slip'|). Returns whether any changed (then the step is solved again). Without it, a mass whose
+    /// slip was expected to be small (at rest, say) is held by friction of any strength once the rest of the sheet
+    /// pulls it: the damping is a regularised Coulomb law only at the slip it was sized for.
+    bool capFriction(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a);
     Mat3 readBlock(const BlockSlots& slots) const;
     void writeBlock(const BlockSlots& slots, const Mat3& block);
     void addToBlock(const BlockSlots& slots, const Mat3& block);
 
     ImplicitSettings m_settings;
     bool m_speculative;
+    bool m_coulombCap;
 
     Real m_tolerance = 0; ///< of the current solve
     SparseMatrix m_matrix;

@@ -37,6 +37,10 @@ struct VelocityConstraint
     /// Written back by the integrator, speculative only: it was engaged, then released because its reaction pulled.
     bool released = false;
 
+    /// Coulomb's coefficient of the friction that tangentialDamping stands for (0: none given). With it a solve may
+    /// lower tangentialDamping so that the friction impulse stays within mu times the constraint's normal reaction.
+    Real friction = 0;
+
     /// Whether the solve honours it now: always, unless it is speculative and not engaged.
     bool honoured() const { return !speculative || engaged; }
 };
