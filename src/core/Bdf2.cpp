@@ -76,11 +76,7 @@ public:
             stats = m_solve.solve(system, context.constraints, a, m_offset, m_momentum);
             std::copy(p.position.begin(), p.position.end(), m_previousPosition.begin());
             std::copy(p.velocity.begin(), p.velocity.end(), m_previousVelocity.begin());
-            for (std::size_t i = 0; i < n; ++i)
-            {
-                p.velocity[i] += m_solve.deltaV(Index(i));
-            }
-            place(p, h, a);
+            applyCorrection(p, h, a);
             Real correction = std::numeric_limits<Real>::infinity(); // the last Newton correction's largest, m/s
             for (int iteration = 0; iteration < maxNewtonIterations && correction * h > newtonTolerance; ++iteration)
             {
@@ -107,11 +103,7 @@ public:
                 {
                     break; // not converging (contact changing under the iteration): keep the last iterate
                 }
-                for (std::size_t i = 0; i < n; ++i)
-                {
-                    p.velocity[i] += m_solve.deltaV(Index(i));
-                }
-                place(p, h, a);
+                applyCorrection(p, h, a);
                 correction = next;
             }
         }
@@ -124,6 +116,16 @@ public:
     bool honoursConstraints() const override { return true; }
 
 private:
+    /// Adds the last solve's velocity change to p and places the masses from it.
+    void applyCorrection(Particles& p, Real h, Real a) const
+    {
+        for (std::size_t i = 0; i < p.size(); ++i)
+        {
+            p.velocity[i] += m_solve.deltaV(Index(i));
+        }
+        place(p, h, a);
+    }
+
     /// The step's end positions from the velocities in p, its start in m_previousPosition and the offset d:
     /// x_n + d + a v, but x_n + h v for pinned masses and in each mass's constrained directions.
     void place(Particles& p, Real h, Real a) const
