@@ -123,9 +123,16 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
 
     // Each mass's planes, over mass ranges: a chunk touches only its own masses. First touches of an obstacle are
     // collected per chunk and recorded in chunk order, the order a serial loop would find them.
+    // The per-chunk lists keep their capacity from substep to substep: no allocation once the sheet has settled.
     const std::size_t masses = p.size();
-    std::vector<std::vector<int>> firstTouches(chunkCount(masses, massChunkSize));
-    std::vector<std::uint8_t> madeStuck(firstTouches.size(), 0);
+    std::vector<std::vector<int>>& firstTouches = m_chunkFirstTouches;
+    std::vector<std::uint8_t>& madeStuck = m_chunkMadeStuck;
+    firstTouches.resize(chunkCount(masses, massChunkSize));
+    for (std::vector<int>& touches : firstTouches)
+    {
+        touches.clear();
+    }
+    madeStuck.assign(firstTouches.size(), 0);
     const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, h};
     parallelFor(masses, massChunkSize,
                 [&](std::size_t begin, std::size_t end)
