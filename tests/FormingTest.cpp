@@ -214,8 +214,8 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
 // At the rim the flat disc of area pi r0^2 has become the first cap, so h_rim = h0 (1 + cos theta) / 2. With
 // r / r0 = 1 - S cos theta / r0 and r0 = H / tan theta (H the cone's depth to its apex):
 //     h / h0 = [(1 + cos theta) / 2] (1 - S sin theta / H)^(sec theta - 1).
-// Checked over the wall within 10% at each mass and 5% on average, for half-angles 45 and 60 degrees (walls at 45
-// and 30 degrees to the sheet).
+// Checked over the wall within 10% at each mass and 5% on average, for half-angles 60 and 70 degrees (walls at 30
+// and 20 degrees to the sheet); at 45 degrees the law does not hold for this elastic sheet (below).
 namespace
 {
 void checkConeLaw(int halfAngle, Real pressure)
@@ -235,9 +235,16 @@ TEST(Forming, ConeLawAt60Degrees)
     checkConeLaw(60, 40000.0);
 }
 
-// Disabled because it fails, a known open fault of the forming model (issue 13 stays open). With the sheet clamped at
+// The shallower cone (depth 0.029 m for the 0.08 m rim) at a smaller final vacuum, so the sheet reaches the same
+// depth down the wall (r/r0 = 0.19) as at 60 degrees.
+TEST(Forming, ConeLawAt70Degrees)
+{
+    checkConeLaw(70, 30000.0);
+}
+
+// Disabled because it fails, a known open fault of the forming model. With the sheet clamped at
 // the rim, the upper half of the wall scatters about the law (-10% to +15% mass by mass), but deeper it comes out
-// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 20%, mean 5.2%; it was 56%
+// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 19.7%, mean 5.0%; it was 56%
 // and 8.2% with the flange free to draw in). A finer lattice (33x2x39) gives the same mean (5.3%) and a worse worst
 // (32%, reaching deeper), so it is not resolution; it fits the law's assumption failing: the law's free bubble thins
 // uniformly, while an elastic sheet's pole thins faster than its edge (not yet measured on the free bubble itself). Run

@@ -5,8 +5,8 @@ point out of the solid (into the cavity for a cavity's wall). Run from this fold
   cup-mould.stl   binary STL: a 0.30 m square block, 0.12 m deep, top at y = 0, with a round cup cavity (rim radius
                   0.07 m, floor radius 0.055 m, depth 0.07 m)
   tray-mould.obj  OBJ: a 0.40 x 0.30 m block with a tray cavity (0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep)
-  cone-45.stl, cone-60.stl   ASCII STL: a block with a conical cavity of half-angle 45 and 60 degrees (rim radius
-                  0.08 m, to the apex), for the cone-law test
+  cone-45.stl, cone-60.stl, cone-70.stl   ASCII STL: a block with a conical cavity of half-angle 45, 60 and 70
+                  degrees (rim radius 0.08 m, to the apex), for the cone-law test
   plug.obj        OBJ: a closed cylinder, radius 0.045 m, height 0.06 m, rounded bottom edge, centred on its axis with
                   its bottom at y = 0 (the plug of the plug-assist scene)
 """
@@ -176,7 +176,7 @@ def main():
                               ring_on_rectangle(0.14 - draft, 0.09 - draft, n, -0.04)], (0.0, -0.04, 0.0))
     tray.write_obj("tray-mould.obj", "MaSSE tray mould: 0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep")
     # Cones: rim radius 0.08, to the apex.
-    for half_angle in (45, 60):
+    for half_angle in (45, 60, 70):
         r0 = 0.08
         depth = r0 / math.tan(math.radians(half_angle))
         rings = [circle(r0, n, 0.0)]
