@@ -96,7 +96,7 @@ struct TriangleCollector : btTriangleCallback
     Vec3 localCentre;
     Real radius;
     Real searchDistance;
-    std::vector<std::pair<Gjk, int>> found; // closest point and triangle index
+    std::vector<std::pair<Gjk, int>>* found; // closest point and triangle index
 
     void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
     {
@@ -123,7 +123,7 @@ struct TriangleCollector : btTriangleCallback
             localNormal /= length;
         }
         const Vec3 normal = toVec3(transform->getBasis() * toBullet(localNormal));
-        found.emplace_back(Gjk{gap - radius, normal, toVec3((*transform)(toBullet(nearest)))}, triangleIndex);
+        found->emplace_back(Gjk{gap - radius, normal, toVec3((*transform)(toBullet(nearest)))}, triangleIndex);
     }
 };
 
@@ -330,8 +330,13 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
         }
         return;
     }
-    // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame.
+    // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame. Their list is kept per thread
+    // (the queries run on the task pool's threads) and reused: a new one for each mass's query was a heap allocation
+    // or more per mass and frame.
+    thread_local std::vector<std::pair<Gjk, int>> scratch;
+    scratch.clear();
     TriangleCollector collector;
+    collector.found = &scratch;
     collector.transform = &transform;
     const Real extent = radius + std::max(searchDistance, Real(0));
     const Vec3 local = toLocal * (centre - obstacle.pose.position);
@@ -349,7 +354,7 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // on the pyramid mesh gained 154 J in one step that way). Only the nearest and the triangles the centre lies over
     // are put in order (nearest first, ties by triangle): sorting every triangle in the search box took 9% of a
     // vacuum-forming run.
-    auto& found = collector.found;
+    auto& found = scratch;
     if (found.empty())
     {
         return;
