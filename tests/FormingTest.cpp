@@ -8,13 +8,16 @@
 #include "bridge/StlFile.h"
 
 #include "scene/FormingReports.h"
+#include "scene/Plot.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
 #include "core/LatticeSurface.h"
 
 #include <gtest/gtest.h>
+#include <stb_image.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -83,8 +86,9 @@ TEST(StlFile, BadFilesAreNamedWithTheirLine)
     }
     const std::string cut = test::inputErrorOf([&] { bridge::loadStl(truncated, "mould"); });
     EXPECT_NE(cut.find("does not parse: neither binary STL"), std::string::npos) << cut;
-    EXPECT_NE(test::inputErrorOf([&] { bridge::loadStl(testing::TempDir() + "/none.stl", "m"); }).find("does not exist"),
-              std::string::npos);
+    EXPECT_NE(
+        test::inputErrorOf([&] { bridge::loadStl(testing::TempDir() + "/none.stl", "m"); }).find("does not exist"),
+        std::string::npos);
     // An ASCII file that stops inside a loop.
     const std::string unfinished = testing::TempDir() + "/unfinished.stl";
     std::ofstream(unfinished) << "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n";
@@ -109,9 +113,9 @@ namespace
 struct ConeResult
 {
     int compared = 0;
-    Real worst = 0;      ///< largest |h / h_theory - 1| over the wall
-    Real meanError = 0;  ///< mean of |h / h_theory - 1|
-    Real deepest = 1;    ///< smallest r / r0 reached on the wall
+    Real worst = 0;     ///< largest |h / h_theory - 1| over the wall
+    Real meanError = 0; ///< mean of |h / h_theory - 1|
+    Real deepest = 1;   ///< smallest r / r0 reached on the wall
 };
 
 ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
@@ -188,8 +192,8 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure)
             continue;
         }
         const Real slant = (rim - r) / std::cos(theta);
-        const Real theory = (1 + std::cos(theta)) / 2 *
-                            std::pow(1 - slant * std::sin(theta) / cavityDepth, 1 / std::cos(theta) - 1);
+        const Real theory =
+            (1 + std::cos(theta)) / 2 * std::pow(1 - slant * std::sin(theta) / cavityDepth, 1 / std::cos(theta) - 1);
         const Real error = std::abs(thickness.thickness()[i] / h0 / theory - 1);
         if (std::getenv("CONE_DUMP"))
         {
@@ -336,8 +340,8 @@ TEST(Forming, PlugAssistThickensTheCupBottom)
     int plugged = 0;
     const Real without = cupBottomThickness("vacuum-forming-cup.json", "20x2x20", &plain);
     const Real with = cupBottomThickness("plug-assist-cup.json", "20x2x20", &plugged);
-    std::printf("cup bottom h/h0: vacuum only %.3f (%d masses), with the plug %.3f (%d masses)\n", without, plain,
-                with, plugged);
+    std::printf("cup bottom h/h0: vacuum only %.3f (%d masses), with the plug %.3f (%d masses)\n", without, plain, with,
+                plugged);
     ASSERT_GT(plain, 0) << "no sheet reached the cup's bottom without the plug";
     ASSERT_GT(plugged, 0) << "no sheet reached the cup's bottom with the plug";
     EXPECT_GT(with, without * 1.1);
@@ -367,4 +371,75 @@ TEST(Forming, BadInputExitsWithTwoAndWritesNothing)
     }
     const Outcome open = runMasse("run " + source + "/tests/forming/open-mould.json --quiet");
     EXPECT_NE(open.output.find("is not a closed surface"), std::string::npos) << open.output;
+}
+
+// The thickness map keeps the sheet's own geometry: a flat TRiMM sheet (ragged left and right edges, so rows start
+// and end with blank pixels) is drawn through the report's own data and script with each mass's x as its value, in a
+// palette that turns from blue to red at the middle of the range (x = 0, the sheet being symmetric). Linear
+// interpolation of x is exact, so in the PNG the blue-red boundary must lie in the same pixel column on every row
+// (within 3 pixels, on 90% of the rows that show both colours). When gnuplot was told the blank pixels were missing
+// data, each row shifted by the blanks before it: the boundary wandered across the image and the cup's round cavity
+// came out a sheared ellipse.
+TEST(FormingReports, MapsStayOnTheSheetsOwnGrid)
+{
+    Scene run(sceneAt("vacuum-forming-cup.json", "12x2x12"));
+    const std::vector<Vec3>& x = run.system().particles.position;
+    std::vector<Real> across(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+        across[i] = x[i].x();
+    }
+    const TopViewMap map = topViewMap(run, across, 200);
+    const std::string dataPath = testing::TempDir() + "/map-grid.dat";
+    const std::string pngPath = testing::TempDir() + "/map-grid.png";
+    {
+        std::ofstream out(dataPath);
+        out << mapData(map);
+    }
+    // A palette with no in-between: the lower half of the colour range (the data's) pure blue, the upper pure red.
+    plotPng(mapPlotScript(dataPath, "grid", "", "side", "defined (0 '#0000ff', 1 '#0000ff', 1 '#ff0000', 2 '#ff0000')"),
+            pngPath, 600, 600);
+    int width = 0;
+    int height = 0;
+    int channels = 0;
+    unsigned char* rgb = stbi_load(pngPath.c_str(), &width, &height, &channels, 3);
+    ASSERT_NE(rgb, nullptr) << pngPath;
+    std::vector<int> boundaries;
+    for (int row = 0; row < height; ++row)
+    {
+        int lastBlue = -1;
+        int firstRed = -1;
+        int blues = 0;
+        int reds = 0;
+        for (int column = 0; column < width; ++column)
+        {
+            const unsigned char* pixel = rgb + 3 * (row * width + column);
+            const bool blue = pixel[0] == 0 && pixel[1] == 0 && pixel[2] == 255;
+            const bool red = pixel[0] == 255 && pixel[1] == 0 && pixel[2] == 0;
+            blues += blue;
+            reds += red;
+            if (red && firstRed < 0)
+            {
+                firstRed = column;
+            }
+            if (blue && firstRed < 0)
+            {
+                lastBlue = column;
+            }
+        }
+        if (blues >= 20 && reds >= 20 && lastBlue >= 0 && firstRed > lastBlue)
+        {
+            boundaries.push_back(firstRed);
+        }
+    }
+    stbi_image_free(rgb);
+    ASSERT_GE(boundaries.size(), 100u) << "the map's rows were not found in " << pngPath;
+    std::vector<int> sorted = boundaries;
+    std::sort(sorted.begin(), sorted.end());
+    const int median = sorted[sorted.size() / 2];
+    const auto aligned =
+        std::count_if(boundaries.begin(), boundaries.end(), [&](int column) { return std::abs(column - median) <= 3; });
+    std::printf("map rows %zu, boundary column %d (range %d to %d), %ld rows within 3 pixels of it\n",
+                boundaries.size(), median, sorted.front(), sorted.back(), long(aligned));
+    EXPECT_GE(double(aligned), 0.9 * double(boundaries.size()));
 }

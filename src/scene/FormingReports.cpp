@@ -116,6 +116,10 @@ std::string mapData(const TopViewMap& map)
 std::string mapPlotScript(const std::string& dataPath, const std::string& title, const std::string& subtitle,
                           const std::string& unitLabel, const std::string& palette)
 {
+    // Pixels off the sheet are NaN, which gnuplot's image leaves blank. They must not be declared missing data
+    // (`set datafile missing 'NaN'`): image then drops them from their scan lines, the grid no longer lines up, and
+    // every row shifts by the pixels dropped before it; the cup's cavity came out as a sheared ellipse 5 cm off
+    // centre (FormingReports.MapsStayOnTheSheetsOwnGrid).
     return "set title \"" + title + "\\n{/*0.8 " + subtitle +
            "}\" enhanced\n"
            "set xlabel 'x (m)'\n"
@@ -128,7 +132,6 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
            "set palette " +
            palette +
            "\n"
-           "set datafile missing 'NaN'\n"
            "set tics out\n"
            "unset key\n"
            "plot '" +
