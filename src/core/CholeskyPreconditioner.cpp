@@ -1,9 +1,23 @@
 #include "CholeskyPreconditioner.h"
 
+#include "TaskPool.h"
+
+#include <algorithm>
+
 namespace masse
 {
-void CholeskyPreconditioner::analyse(const SparseMatrix& a, const std::vector<Index>& massOrder)
+void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrder& dissection)
 {
+    const std::vector<Index>& massOrder = dissection.order;
+    m_stages.clear();
+    for (const std::vector<OrderRange>& stage : dissection.stages)
+    {
+        m_stages.emplace_back();
+        for (const OrderRange& range : stage)
+        {
+            m_stages.back().push_back({3 * range.begin, 3 * range.end});
+        }
+    }
     m_permutation.resize(a.rows());
     for (std::size_t position = 0; position < massOrder.size(); ++position)
     {
@@ -26,6 +40,11 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     m_permutedMatrix = a.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
     m_factor.factorize(m_permutedMatrix);
     m_ready = m_factor.info() == Eigen::Success;
+    if (m_ready)
+    {
+        copyColumnsForBackwardSolve();
+        m_diagonal = m_factor.vectorD(); // vectorD() returns a copy: taken once here, not on every apply
+    }
     ++m_refreshCount;
     return m_ready;
 }
@@ -63,10 +82,34 @@ void CholeskyPreconditioner::apply(const Vector& r, Vector& z) const
     }
 }
 
+void CholeskyPreconditioner::copyColumnsForBackwardSolve()
+{
+    const SparseMatrix& lower = m_factor.matrixL().nestedExpression();
+    const auto* outer = lower.outerIndexPtr();
+    const auto* inner = lower.innerIndexPtr();
+    const Real* values = lower.valuePtr();
+    const Eigen::Index n = lower.cols();
+    m_backwardStart.resize(std::size_t(n) + 1);
+    m_backwardRows.resize(std::size_t(outer[n]));
+    m_backwardValues.resize(std::size_t(outer[n]));
+    SparseMatrix::StorageIndex next = 0;
+    for (Eigen::Index q = 0; q < n; ++q)
+    {
+        m_backwardStart[std::size_t(q)] = next;
+        const Eigen::Index column = n - 1 - q;
+        std::copy(inner + outer[column], inner + outer[column + 1], m_backwardRows.begin() + next);
+        std::copy(values + outer[column], values + outer[column + 1], m_backwardValues.begin() + next);
+        next += outer[column + 1] - outer[column];
+    }
+    m_backwardStart[std::size_t(n)] = next;
+}
+
 void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
 {
     // P^T L D L^T P x = b, spelled out rather than through SimplicialLDLT::solve, whose in-place permutation
-    // allocates a mask on every call.
+    // allocates a mask on every call. The forward solve is Eigen's; the backward one runs the ranges of each stage
+    // (see DissectionOrder) on the pool, every entry computed by one gather in a fixed order whoever runs it: the
+    // same operations in the same order as Eigen's own backward solve, so the bits do not depend on the thread count.
     const auto& permutation = m_permutation.indices();
     const Eigen::Index n = b.size();
     for (Eigen::Index i = 0; i < n; ++i)
@@ -74,15 +117,37 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
         m_permuted[permutation[i]] = b[i];
     }
     m_factor.matrixL().solveInPlace(m_permuted);
-    const Vector& d = m_factor.vectorD();
-    for (Eigen::Index i = 0; i < n; ++i)
+    for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
-        m_permuted[i] /= d[i];
+        const std::vector<OrderRange>& ranges = *stage;
+        sharedPool().run(ranges.size(), [&](std::size_t k)
+                         { backwardRows(Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
     }
-    m_factor.matrixU().solveInPlace(m_permuted);
     for (Eigen::Index i = 0; i < n; ++i)
     {
         x[i] = m_permuted[permutation[i]];
+    }
+}
+
+void CholeskyPreconditioner::backwardRows(Eigen::Index begin, Eigen::Index end) const
+{
+    // x_j = y_j / d_j - sum over L's column j of L_ij x_i (rows i > j, ascending): the division first, as the
+    // unstaged solve divided the whole vector by D before its backward solve.
+    const Eigen::Index n = m_permuted.size();
+    const auto* start = m_backwardStart.data();
+    const auto* rows = m_backwardRows.data();
+    const Real* values = m_backwardValues.data();
+    const Real* d = m_diagonal.data();
+    Real* x = m_permuted.data();
+    for (Eigen::Index q = n - end; q < n - begin; ++q)
+    {
+        const Eigen::Index column = n - 1 - q;
+        Real sum = x[column] / d[column];
+        for (auto k = start[q]; k < start[q + 1]; ++k)
+        {
+            sum -= values[k] * x[rows[k]];
+        }
+        x[column] = sum;
     }
 }
 } // namespace masse

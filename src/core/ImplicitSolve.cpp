@@ -234,7 +234,8 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     m_constraintOf.assign(n, -1);
     if (m_settings.preconditioner == PreconditionerKind::Cholesky)
     {
-        m_cholesky.analyse(m_matrix, nestedDissectionOrder(system.particles.position, springs));
+        m_cholesky.analyse(m_matrix,
+                           nestedDissection(system.particles.position, springs, CholeskyPreconditioner::parallelDepth));
     }
     m_patternSystem = &system;
     m_patternMasses = n;

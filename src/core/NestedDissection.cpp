@@ -15,14 +15,26 @@ struct Dissection
     std::vector<std::size_t> neighbourStart; ///< CSR adjacency of the springs
     std::vector<Index> neighbours;
     std::vector<int> side; ///< scratch: 1 for masses of the current right half
-    std::vector<Index> order;
+    int parallelDepth;
+    DissectionOrder result;
 
-    void dissect(std::vector<Index> part)
+    /// Appends `part`, in index order, as one range; a part at or above the parallel depth is a stage-0 range.
+    void appendWhole(std::vector<Index>& part, int depth)
+    {
+        std::sort(part.begin(), part.end());
+        const std::size_t begin = result.order.size();
+        result.order.insert(result.order.end(), part.begin(), part.end());
+        if (depth <= parallelDepth)
+        {
+            result.stages[0].push_back({begin, result.order.size()});
+        }
+    }
+
+    void dissect(std::vector<Index> part, int depth)
     {
         if (part.size() <= leafSize)
         {
-            std::sort(part.begin(), part.end());
-            order.insert(order.end(), part.begin(), part.end());
+            appendWhole(part, depth);
             return;
         }
         Vec3 low = positions[part[0]];
@@ -65,22 +77,32 @@ struct Dissection
         }
         if (rest.empty()) // no progress (a part that is all separator): give up on dissecting it
         {
-            std::sort(part.begin(), part.end());
-            order.insert(order.end(), part.begin(), part.end());
+            appendWhole(part, depth);
             return;
         }
-        dissect(std::move(rest));
-        dissect(std::move(right));
+        const std::size_t begin = result.order.size();
+        dissect(std::move(rest), depth + 1);
+        dissect(std::move(right), depth + 1);
         std::sort(separator.begin(), separator.end());
-        order.insert(order.end(), separator.begin(), separator.end());
+        const std::size_t separatorBegin = result.order.size();
+        result.order.insert(result.order.end(), separator.begin(), separator.end());
+        if (depth == parallelDepth) // the whole part is one range: its own elimination is sequential
+        {
+            result.stages[0].push_back({begin, result.order.size()});
+        }
+        else if (depth < parallelDepth)
+        {
+            result.stages[std::size_t(parallelDepth - depth)].push_back({separatorBegin, result.order.size()});
+        }
     }
 };
 } // namespace
 
-std::vector<Index> nestedDissectionOrder(const std::vector<Vec3>& positions, const SpringSet& springs)
+DissectionOrder nestedDissection(const std::vector<Vec3>& positions, const SpringSet& springs, int parallelDepth)
 {
     const std::size_t n = positions.size();
-    Dissection d{positions, std::vector<std::size_t>(n + 1, 0), {}, std::vector<int>(n, 0), {}};
+    Dissection d{positions, std::vector<std::size_t>(n + 1, 0), {}, std::vector<int>(n, 0), parallelDepth, {}};
+    d.result.stages.resize(std::size_t(std::max(parallelDepth, 0)) + 1);
     for (const SpringEnds& e : springs.ends)
     {
         ++d.neighbourStart[e.a + 1];
@@ -102,8 +124,8 @@ std::vector<Index> nestedDissectionOrder(const std::vector<Vec3>& positions, con
     {
         all[i] = Index(i);
     }
-    d.order.reserve(n);
-    d.dissect(std::move(all));
-    return d.order;
+    d.result.order.reserve(n);
+    d.dissect(std::move(all), 0);
+    return d.result;
 }
 } // namespace masse

@@ -14,6 +14,24 @@
 
 namespace masse
 {
-/// Masses in elimination order (a permutation of 0..positions.size()-1).
-std::vector<Index> nestedDissectionOrder(const std::vector<Vec3>& positions, const SpringSet& springs);
+/// A range [begin, end) of positions in an elimination order.
+struct OrderRange
+{
+    std::size_t begin = 0;
+    std::size_t end = 0;
+};
+
+/// An elimination order and the parts of it that are independent of one another.
+struct DissectionOrder
+{
+    std::vector<Index> order; ///< masses in elimination order (a permutation of 0..positions.size()-1)
+    /// Stages in elimination order, each a list of ranges of `order`: no spring path joins two ranges of one stage
+    /// except through masses of later stages, so the factor's columns of one range never reach the rows of another,
+    /// and the triangular solves can run a stage's ranges at once (stage 0: the dissection's parts at
+    /// `parallelDepth` and the leaves above it; stage k: the separators k levels above them).
+    std::vector<std::vector<OrderRange>> stages;
+};
+
+/// Dissects the lattice; parts `parallelDepth` cuts deep (and any leaf above) are stage 0 of the result.
+DissectionOrder nestedDissection(const std::vector<Vec3>& positions, const SpringSet& springs, int parallelDepth);
 } // namespace masse
