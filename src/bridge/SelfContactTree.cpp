@@ -95,13 +95,10 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
                     for (std::size_t i = begin; i < end; ++i)
                     {
                         const Index v = vertices[i];
-                        const std::size_t first = pairs.size();
                         collector.vertex = v;
                         tree.collideTV(tree.m_root, selfContactBox(x[v], x[v], reach[v]), collector);
-                        // The tree's order depends on its history; the list's must not.
-                        std::sort(pairs.begin() + std::ptrdiff_t(first), pairs.end(),
-                                  [](const SelfContactPair& a, const SelfContactPair& b)
-                                  { return a.triangle < b.triangle; });
+                        // In the tree's order, not sorted: the tree is built and refitted on one thread from
+                        // the same boxes in the same order, so its order is the same at any thread count.
                     }
                 });
     out.clear();

@@ -69,10 +69,41 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_broadphase.setTriangles(m_triangles);
+    listNearAtRest();
 }
 
-bool SelfContact::excluded(Index vertex, const Triangle& triangle) const
+void SelfContact::listNearAtRest()
 {
+    // Every pair within twice the radius at rest is among the broadphase's pairs for the rest positions with a skin
+    // of one radius (their boxes are then within three radii); the exact test sorts them out once, instead of at
+    // every list.
+    const std::size_t n = m_restPosition.size();
+    std::fill(m_skin.begin(), m_skin.end(), m_settings.radius);
+    m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, m_vertices, m_found);
+    std::vector<std::vector<Index>> near(n);
+    const Real limitSquared = 4 * m_settings.radius * m_settings.radius;
+    for (const SelfContactPair& pair : m_found)
+    {
+        const Triangle& t = m_triangles[pair.triangle];
+        const std::vector<Vec3>& x = m_restPosition;
+        const Vec3 w = closestPointWeights(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]]);
+        if ((x[pair.vertex] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]])).squaredNorm() < limitSquared)
+        {
+            near[pair.vertex].push_back(pair.triangle);
+        }
+    }
+    m_nearStart.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        std::sort(near[i].begin(), near[i].end());
+        m_nearStart[i + 1] = m_nearStart[i] + near[i].size();
+        m_nearTriangles.insert(m_nearTriangles.end(), near[i].begin(), near[i].end());
+    }
+}
+
+bool SelfContact::excluded(Index vertex, Index triangleIndex) const
+{
+    const Triangle& triangle = m_triangles[triangleIndex];
     const auto first = m_neighbours.begin() + std::ptrdiff_t(m_neighbourStart[vertex]);
     const auto last = m_neighbours.begin() + std::ptrdiff_t(m_neighbourStart[vertex + 1]);
     for (const Index corner : triangle)
@@ -84,10 +115,9 @@ bool SelfContact::excluded(Index vertex, const Triangle& triangle) const
     }
     // Near at rest: with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one),
     // the flat sheet itself would be in contact with itself everywhere.
-    const std::vector<Vec3>& x = m_restPosition;
-    const Vec3 w = closestPointWeights(x[vertex], x[triangle[0]], x[triangle[1]], x[triangle[2]]);
-    const Vec3 closest = w[0] * x[triangle[0]] + w[1] * x[triangle[1]] + w[2] * x[triangle[2]];
-    return (x[vertex] - closest).squaredNorm() < 4 * m_settings.radius * m_settings.radius;
+    const auto nearFirst = m_nearTriangles.begin() + std::ptrdiff_t(m_nearStart[vertex]);
+    const auto nearLast = m_nearTriangles.begin() + std::ptrdiff_t(m_nearStart[vertex + 1]);
+    return std::binary_search(nearFirst, nearLast, triangleIndex);
 }
 
 void SelfContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/, Real /*time*/, Real dt)
@@ -128,7 +158,7 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
     m_pairs.clear();
     for (const SelfContactPair& pair : m_found)
     {
-        if (!excluded(pair.vertex, m_triangles[pair.triangle]))
+        if (!excluded(pair.vertex, pair.triangle))
         {
             m_pairs.push_back(pair);
         }

@@ -81,7 +81,9 @@ private:
     };
     /// A vertex and a triangle never tested: the triangle holds the vertex or a spring neighbour of it, or the two
     /// are within twice the radius at rest.
-    bool excluded(Index vertex, const Triangle& triangle) const;
+    bool excluded(Index vertex, Index triangle) const;
+    /// Lists, once, the triangles within twice the radius of each vertex at rest.
+    void listNearAtRest();
     /// Asks the broadphase for the pairs within reach of the masses' skins now.
     void listPairs(const std::vector<Vec3>& x);
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
@@ -95,12 +97,15 @@ private:
     std::vector<Triangle> m_triangles;
     std::vector<Index> m_vertices; ///< the surface's masses, increasing
     std::vector<std::size_t>
-        m_neighbourStart;             ///< per mass, its spring neighbours are m_neighbours[start[i], start[i+1])
-    std::vector<Index> m_neighbours;  ///< sorted within each mass
-    std::vector<Real> m_skin;         ///< per mass, m: how far it may move before the pairs are listed again
-    std::vector<Vec3> m_listedAt;     ///< per mass, where it was when the pairs were listed
-    std::vector<Vec3> m_restPosition; ///< the lattice's
-    std::vector<Vec3> m_triangleLow;  ///< per triangle, its box at this substep
+        m_neighbourStart;            ///< per mass, its spring neighbours are m_neighbours[start[i], start[i+1])
+    std::vector<Index> m_neighbours; ///< sorted within each mass
+    std::vector<std::size_t>
+        m_nearStart;                    ///< per mass, its triangles near at rest: m_nearTriangles[start[i], start[i+1])
+    std::vector<Index> m_nearTriangles; ///< sorted within each mass
+    std::vector<Real> m_skin;           ///< per mass, m: how far it may move before the pairs are listed again
+    std::vector<Vec3> m_listedAt;       ///< per mass, where it was when the pairs were listed
+    std::vector<Vec3> m_restPosition;   ///< the lattice's
+    std::vector<Vec3> m_triangleLow;    ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;          ///< per mass, its velocity at the last frame's start
     std::vector<SelfContactPair> m_found;      ///< the broadphase's pairs, before the adjacent ones are dropped

@@ -25,8 +25,8 @@ public:
     virtual void setTriangles(const std::vector<Triangle>& triangles) = 0;
     /// Replaces `out` by every pair of a vertex of `vertices` and a triangle whose boxes overlap: the vertex's box
     /// is x[v] grown by reach[v]; a triangle's is its vertices' box grown by their largest reach plus `radius`.
-    /// Pairs are listed by vertex in the order of `vertices`, each vertex's triangles in increasing index, so the
-    /// list is the same whatever the thread count.
+    /// Pairs are listed by vertex in the order of `vertices`, each vertex's triangles in an order that depends only on
+    /// the calls made so far, so the list is the same whatever the thread count.
     virtual void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                            const std::vector<Index>& vertices, std::vector<SelfContactPair>& out) = 0;
 };
