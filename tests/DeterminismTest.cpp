@@ -174,6 +174,14 @@ TEST(Determinism, ImplicitStickySceneHasTheSameHashAtAnyThreadCount)
     expectSameAtEveryThreadCount("sticky.json", "48x2x48", 0.9);
 }
 
+// The sheet against itself (issue 12): the fold over the rod at 48x2x48 through its halves' first meeting, where the
+// self-contact's queries and detection run over several ranges (4,513 surface masses, thousands of pairs) and its
+// responses are applied in pair order: the same hash and events at 1, 2, 3 and 8 threads.
+TEST(Determinism, SelfContactFoldHasTheSameHashAtAnyThreadCount)
+{
+    expectSameAtEveryThreadCount("fold-over-rod.json", "48x2x48", 0.6);
+}
+
 TEST(Determinism, Bdf2DropSceneHasTheSameHashAtAnyThreadCount)
 {
     expectSameAtEveryThreadCount("paper-drop.json", "48x2x48", 0.6, IntegratorKind::Bdf2);

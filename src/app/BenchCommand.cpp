@@ -14,6 +14,7 @@
 #include "core/Forces.h"
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/SelfContact.h"
 #include "core/SimdPath.h"
 #include "core/Simulator.h"
 #include "core/TaskPool.h"
@@ -264,6 +265,10 @@ void runBench(const BenchOptions& options)
     const auto warmUpEnd = std::chrono::steady_clock::now();
     StageTimer stageTimer;
     scene.contact().setStageObserver(&stageTimer);
+    if (SelfContact* self = scene.selfContact())
+    {
+        self->setStageObserver(&stageTimer);
+    }
     const BenchRounds rounds = timeRounds(simulator, spec.time.dt, options);
     nlohmann::json out = benchReport(spec, simulator, options, rounds);
     out["setup_seconds"] = {
@@ -273,6 +278,22 @@ void runBench(const BenchOptions& options)
     if (spec.environment.room.enabled || !spec.obstacles.empty())
     {
         out["contact"] = contactFigures(simulator, scene.contact(), stageTimer, rounds, options.repeat);
+    }
+    if (const SelfContact* self = scene.selfContact())
+    {
+        // The sheet against itself: its pair lists (Bullet's btDbvt) and its per-substep tests and responses, as
+        // shares of the timed rounds' wall time.
+        const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+        const double pairs = stageTimer.seconds(Stage::SelfContactPairs);
+        const double solve = stageTimer.seconds(Stage::SelfContactSolve);
+        out["self_contact"] = {
+            {"pairs_seconds", pairs},
+            {"solve_seconds", solve},
+            {"share_of_step", (pairs + solve) / allSeconds},
+            {"pair_lists", self->report().queries},
+            {"pairs_last_list", self->report().pairs},
+            {"touches_last_frame", self->report().lastFrame},
+        };
     }
     if (!isExplicit(spec.time.integrator))
     {

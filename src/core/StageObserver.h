@@ -9,9 +9,11 @@ enum class Stage
     ContactDetection,  ///< finding every mass's planes with the detector, once per frame
     ContactProjection, ///< applying the planes after every substep
     ContactSweep,      ///< the end-of-frame sweep and reports
+    SelfContactPairs,  ///< the sheet's self-contact broadphase, once per frame
+    SelfContactSolve,  ///< the sheet's self-contact narrowphase and response after every substep
 };
 
-inline constexpr int stageCount = 3;
+inline constexpr int stageCount = 5;
 
 class StageObserver
 {

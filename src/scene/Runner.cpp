@@ -144,6 +144,24 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"events", events},
         {"final", final},
     };
+    if (const SelfContact* self = scene.selfContact())
+    {
+        // The sheet against itself: touches (vertex-triangle pairs closer than the radius, summed over substeps) in
+        // the last frame and in the whole run, and the first one's time and place.
+        const SelfContactReport& r = self->report();
+        summary["self_contact"] = {
+            {"last_frame", r.lastFrame},
+            {"last_substep", r.lastSubstep},
+            {"total", r.total},
+            {"pairs_last_list", r.pairs},
+            {"pair_lists", r.queries},
+            {"first_time", r.firstTime >= 0 ? nlohmann::json(r.firstTime) : nlohmann::json(nullptr)},
+            {"first_mass", r.firstTime >= 0 ? nlohmann::json(r.firstVertex) : nlohmann::json(nullptr)},
+            {"first_position", r.firstTime >= 0
+                                   ? nlohmann::json({r.firstPosition.x(), r.firstPosition.y(), r.firstPosition.z()})
+                                   : nlohmann::json(nullptr)},
+        };
+    }
     if (!isExplicit(spec.time.integrator))
     {
         summary["solver"] = solverSummary(scene.simulator().solverTally(), spec.time.implicit);

@@ -3,8 +3,10 @@
 #include "GuardBounds.h"
 #include "MemoryBudget.h"
 #include "Pins.h"
+#include "SceneFile.h"
 
 #include "bridge/MeshTopology.h"
+#include "bridge/SelfContactTree.h"
 
 #include "core/Energy.h"
 #include "core/Format.h"
@@ -105,6 +107,8 @@ void Scene::tearDown()
     m_thermal.reset();
     m_thickness.reset();
     m_script.reset();
+    m_selfContact.reset();
+    m_selfContactPairs.reset();
     m_simulator.reset();
     m_contact.reset();
     m_environment.reset();
@@ -196,6 +200,18 @@ void Scene::addHooks()
             setHeater(std::size_t(std::find(names.begin(), names.end(), action.heater) - names.begin()), action.on);
         });
     m_simulator->addHook(m_script.get());
+    if (m_spec.selfCollision)
+    {
+        // Right after the script, so that it runs after the obstacle contact of every substep and before the models
+        // that read the positions.
+        requireExplicitForSelfCollision(m_spec); // again: --integrator may have changed the scene's
+        SelfContactSettings self;
+        self.radius = m_spec.contact.radius;
+        self.friction = m_spec.selfFriction;
+        m_selfContactPairs = std::make_unique<bridge::SelfContactTree>();
+        m_selfContact = std::make_unique<SelfContact>(m_lattice, *m_selfContactPairs, self);
+        m_simulator->addHook(m_selfContact.get());
+    }
     if (m_thermal)
     {
         // Obstacles exchange heat at their own temperature; the room's walls and obstacles without one (NaN) are

@@ -10,6 +10,7 @@
 
 #include "core/ContactSolver.h"
 #include "core/PressureLoad.h"
+#include "core/SelfContact.h"
 #include "core/Simulator.h"
 #include "core/ThermalModel.h"
 #include "core/ViscoelasticSprings.h"
@@ -53,6 +54,9 @@ public:
     bridge::BulletEnvironment& environment() { return *m_environment; }
     ContactSolver& contact() { return *m_contact; }
     const ContactSolver& contact() const { return *m_contact; }
+    /// The sheet against itself (nullptr unless contact.self_collision is on).
+    SelfContact* selfContact() { return m_selfContact.get(); }
+    const SelfContact* selfContact() const { return m_selfContact.get(); }
     const ScriptRunner& script() const { return *m_script; }
     /// The heat model (nullptr without a "heat" section) and the material springs (nullptr without a "material").
     ThermalModel* thermal() { return m_thermal.get(); }
@@ -112,6 +116,8 @@ private:
     std::unique_ptr<ContactSolver> m_contact;
     std::unique_ptr<Simulator> m_simulator;
     std::unique_ptr<ScriptRunner> m_script;
+    std::unique_ptr<SelfContactBroadphase> m_selfContactPairs;
+    std::unique_ptr<SelfContact> m_selfContact;
     std::unique_ptr<ThermalModel> m_thermal;
     std::unique_ptr<ViscoelasticSprings> m_springs;
     std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat

@@ -222,7 +222,7 @@ bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDi
     return spec;
 }
 
-ContactSettings readContact(const JsonObject& o)
+ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& selfFriction)
 {
     ContactSettings contact;
     contact.response = parseContactResponse(o.choice("response", "friction", {"sticky", "friction", "frictionless"}));
@@ -235,6 +235,8 @@ ContactSettings readContact(const JsonObject& o)
     contact.friction = o.number("friction", contact.friction, 0.0);
     contact.stickReleaseForce = o.number("release_force", contact.stickReleaseForce, 0.0);
     contact.slipRegularization = o.positive("slip_regularization", contact.slipRegularization);
+    selfCollision = o.boolean("self_collision", false);
+    selfFriction = o.number("self_friction", 0.3, 0.0);
     o.finish();
     return contact;
 }
@@ -698,6 +700,18 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
 }
 } // namespace
 
+void requireExplicitForSelfCollision(const SceneSpec& scene)
+{
+    if (scene.selfCollision && !isExplicit(scene.time.integrator))
+    {
+        throw InputError("contact.self_collision: works with the explicit integrators only (euler, symplectic, "
+                         "verlet), not with " +
+                         std::string(integratorName(scene.time.integrator)) +
+                         " (the implicit ones would need it inside their solve as constraints, which is not built "
+                         "yet); use \"integrator\": {\"type\": \"symplectic\"} or turn self_collision off");
+    }
+}
+
 void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey)
 {
     if (duration / dt > limits::maxSteps)
@@ -760,8 +774,10 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         {
             scene.forming = readForming(*forming);
         }
-        scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")));
+        scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")), scene.selfCollision,
+                                    scene.selfFriction);
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
+        requireExplicitForSelfCollision(scene);
         scene.run = readRun(top.object("run").value_or(JsonObject(empty, "run")));
         for (const JsonObject& a : top.objects("script"))
         {

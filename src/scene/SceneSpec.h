@@ -186,6 +186,9 @@ struct SceneSpec
     FormingSpec forming;               ///< pressure across the sheet (vacuum and pressure forming)
     FormingReportSpec formingReport;   ///< maps and per-mass CSV
     ContactSettings contact;
+    /// The sheet against itself ("contact.self_collision", off by default); its radius is contact.radius.
+    bool selfCollision = false;
+    Real selfFriction = 0.3; ///< "contact.self_friction": Coulomb mu between sheet and sheet
     TimeSpec time;
     RunSpec run;
     std::vector<ScriptAction> script;

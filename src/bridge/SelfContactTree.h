@@ -1,0 +1,37 @@
+#pragma once
+/// The broadphase of the sheet's self-contact, through Bullet: one btDbvt over the sheet's surface triangles with fat
+/// boxes, refitted once per frame, queried by every surface vertex's box (SelfContactBroadphase.h in the core says
+/// what the pairs mean). Once per frame, not per substep: a query per vertex per substep cost 4.2 times the step; the
+/// core tests the frame's pairs after every substep.
+
+#include "core/SelfContactBroadphase.h"
+
+#include <memory>
+#include <vector>
+
+class btDbvt;
+struct btDbvtNode;
+
+namespace masse::bridge
+{
+class SelfContactTree final : public SelfContactBroadphase
+{
+public:
+    SelfContactTree();
+    ~SelfContactTree() override;
+    SelfContactTree(const SelfContactTree&) = delete;
+    SelfContactTree& operator=(const SelfContactTree&) = delete;
+
+    void setTriangles(const std::vector<Triangle>& triangles) override;
+    void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
+                   const std::vector<Index>& vertices, std::vector<SelfContactPair>& out) override;
+
+private:
+    void refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius);
+
+    std::unique_ptr<btDbvt> m_tree;
+    std::vector<Triangle> m_triangles;
+    std::vector<btDbvtNode*> m_leaves;                      ///< per triangle
+    std::vector<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
+};
+} // namespace masse::bridge

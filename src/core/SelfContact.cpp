@@ -1,0 +1,350 @@
+#include "SelfContact.h"
+
+#include "ClosestPointOnTriangle.h"
+#include "Format.h"
+#include "InputError.h"
+#include "TaskPool.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace masse
+{
+namespace
+{
+/// Pairs per range of the substep's detection: enough work to pay for waking a thread.
+constexpr std::size_t selfPairChunkSize = 2048;
+} // namespace
+
+void validate(const SelfContactSettings& settings)
+{
+    if (!(settings.radius > 0) || !std::isfinite(settings.radius))
+    {
+        throw InputError("contact.radius: must be a positive number of metres (got " + formatNumber(settings.radius) +
+                         ")");
+    }
+    if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
+    {
+        throw InputError("contact.self_friction: must be >= 0 (got " + formatNumber(settings.friction) + ")");
+    }
+}
+
+SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadphase, const SelfContactSettings& settings)
+    : m_broadphase(broadphase), m_settings(settings)
+{
+    validate(settings);
+    const int top = lattice.spec.layers - 1;
+    m_triangles = layerTriangles(lattice, 0);
+    if (top > 0)
+    {
+        const std::vector<Triangle> upper = layerTriangles(lattice, top);
+        m_triangles.insert(m_triangles.end(), upper.begin(), upper.end());
+    }
+    for (const Triangle& t : m_triangles)
+    {
+        m_vertices.insert(m_vertices.end(), t.begin(), t.end());
+    }
+    std::sort(m_vertices.begin(), m_vertices.end());
+    m_vertices.erase(std::unique(m_vertices.begin(), m_vertices.end()), m_vertices.end());
+
+    // Spring neighbours of every mass, sorted, for the adjacency test.
+    const std::size_t n = lattice.massCount();
+    std::vector<std::vector<Index>> neighbours(n);
+    for (const SpringEnds& spring : lattice.springs.ends)
+    {
+        neighbours[spring.a].push_back(spring.b);
+        neighbours[spring.b].push_back(spring.a);
+    }
+    m_neighbourStart.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        std::sort(neighbours[i].begin(), neighbours[i].end());
+        m_neighbourStart[i + 1] = m_neighbourStart[i] + neighbours[i].size();
+        m_neighbours.insert(m_neighbours.end(), neighbours[i].begin(), neighbours[i].end());
+    }
+    m_skin.assign(n, 0);
+    m_listedAt.assign(n, Vec3::Zero());
+    m_restPosition = lattice.position;
+    m_triangleLow.resize(m_triangles.size());
+    m_triangleHigh.resize(m_triangles.size());
+    m_lastVelocity.assign(n, Vec3::Zero());
+    m_broadphase.setTriangles(m_triangles);
+    listNearAtRest();
+}
+
+void SelfContact::listNearAtRest()
+{
+    // Every pair within twice the radius at rest is among the broadphase's pairs for the rest positions with a skin
+    // of one radius (their boxes are then within three radii); the exact test sorts them out once, instead of at
+    // every list.
+    const std::size_t n = m_restPosition.size();
+    std::fill(m_skin.begin(), m_skin.end(), m_settings.radius);
+    m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, m_vertices, m_found);
+    std::vector<std::vector<Index>> near(n);
+    const Real limitSquared = 4 * m_settings.radius * m_settings.radius;
+    for (const SelfContactPair& pair : m_found)
+    {
+        const Triangle& t = m_triangles[pair.triangle];
+        const std::vector<Vec3>& x = m_restPosition;
+        const Vec3 w = closestPointWeights(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]]);
+        if ((x[pair.vertex] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]])).squaredNorm() < limitSquared)
+        {
+            near[pair.vertex].push_back(pair.triangle);
+        }
+    }
+    m_nearStart.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        std::sort(near[i].begin(), near[i].end());
+        m_nearStart[i + 1] = m_nearStart[i] + near[i].size();
+        m_nearTriangles.insert(m_nearTriangles.end(), near[i].begin(), near[i].end());
+    }
+}
+
+bool SelfContact::excluded(Index vertex, Index triangleIndex) const
+{
+    const Triangle& triangle = m_triangles[triangleIndex];
+    const auto first = m_neighbours.begin() + std::ptrdiff_t(m_neighbourStart[vertex]);
+    const auto last = m_neighbours.begin() + std::ptrdiff_t(m_neighbourStart[vertex + 1]);
+    for (const Index corner : triangle)
+    {
+        if (corner == vertex || std::binary_search(first, last, corner))
+        {
+            return true;
+        }
+    }
+    // Near at rest: with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one),
+    // the flat sheet itself would be in contact with itself everywhere.
+    const auto nearFirst = m_nearTriangles.begin() + std::ptrdiff_t(m_nearStart[vertex]);
+    const auto nearLast = m_nearTriangles.begin() + std::ptrdiff_t(m_nearStart[vertex + 1]);
+    return std::binary_search(nearFirst, nearLast, triangleIndex);
+}
+
+void SelfContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/, Real /*time*/, Real dt)
+{
+    const StageScope stage(m_observer, Stage::SelfContactPairs);
+    const Particles& p = system.particles;
+    // Each mass's skin for this frame: how far it may move relative to the surface's mean motion, twice what its
+    // velocity and the change of its velocity over the last frame (its observed acceleration, the contact's and the
+    // springs' included) relative to the surface's mean would carry it, and at least a quarter radius. Relative to
+    // the mean, because a pair's distance does not change when the whole sheet moves: a falling sheet needs no more
+    // pairs than a resting one. Not the force of the last evaluation: a mass resting on an obstacle carries the
+    // springs' and gravity's pull that the contact cancels. At most the radius: two halves of a fold swinging past
+    // each other at metres per second would otherwise list every pair within a frame's swing (millions on a
+    // 48x2x48 sheet); with the cap they are listed again every few substeps while they move that fast.
+    Vec3 meanVelocity = Vec3::Zero();
+    Vec3 meanChange = Vec3::Zero();
+    for (const Index i : m_vertices)
+    {
+        meanVelocity += p.velocity[i];
+        meanChange += p.velocity[i] - m_lastVelocity[i];
+    }
+    meanVelocity /= Real(m_vertices.size());
+    meanChange /= Real(m_vertices.size());
+    for (const Index i : m_vertices)
+    {
+        const Real speed = (p.velocity[i] - meanVelocity).norm();
+        const Real change = (p.velocity[i] - m_lastVelocity[i] - meanChange).norm();
+        m_skin[i] = std::min(2 * (speed + change) * dt + Real(0.25) * m_settings.radius, m_settings.radius);
+        m_lastVelocity[i] = p.velocity[i];
+    }
+    listPairs(p.position);
+    m_report.lastFrame = 0;
+}
+
+void SelfContact::listPairs(const std::vector<Vec3>& x)
+{
+    m_broadphase.findPairs(x, m_skin, m_settings.radius, m_vertices, m_found);
+    m_pairs.clear();
+    for (const SelfContactPair& pair : m_found)
+    {
+        if (!excluded(pair.vertex, pair.triangle))
+        {
+            m_pairs.push_back(pair);
+        }
+    }
+    for (const Index i : m_vertices)
+    {
+        m_listedAt[i] = x[i];
+    }
+    // Each range's list can hold every pair of its range, so the substeps never allocate.
+    const std::size_t ranges = chunkCount(m_pairs.size(), selfPairChunkSize);
+    if (m_touches.size() < ranges)
+    {
+        m_touches.resize(ranges);
+    }
+    for (std::vector<Touch>& touches : m_touches)
+    {
+        touches.reserve(selfPairChunkSize);
+    }
+    m_report.pairs = m_pairs.size();
+    ++m_report.queries;
+}
+
+bool SelfContact::outgrewPairs(const std::vector<Vec3>& x) const
+{
+    // The list holds every pair within the radius plus the two skins when it was made; it stays complete while each
+    // mass has moved less than its skin relative to the surface's mean displacement.
+    Vec3 mean = Vec3::Zero();
+    for (const Index i : m_vertices)
+    {
+        mean += x[i] - m_listedAt[i];
+    }
+    mean /= Real(m_vertices.size());
+    for (const Index i : m_vertices)
+    {
+        if ((x[i] - m_listedAt[i] - mean).squaredNorm() >= m_skin[i] * m_skin[i])
+        {
+            return true;
+        }
+    }
+    return false;
+}
+
+void SelfContact::detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const
+{
+    const Real radius = m_settings.radius;
+    const Real radiusSquared = radius * radius;
+    for (std::size_t k = begin; k < end; ++k)
+    {
+        const SelfContactPair& pair = m_pairs[k];
+        const Vec3& v = x[pair.vertex];
+        // Most listed pairs are a skin away: the triangle's box, grown by the radius, turns them away with six
+        // comparisons before the closest point is sought.
+        const Vec3& low = m_triangleLow[pair.triangle];
+        const Vec3& high = m_triangleHigh[pair.triangle];
+        if (v.x() < low.x() - radius || v.y() < low.y() - radius || v.z() < low.z() - radius ||
+            v.x() > high.x() + radius || v.y() > high.y() + radius || v.z() > high.z() + radius)
+        {
+            continue;
+        }
+        const Triangle& t = m_triangles[pair.triangle];
+        const Vec3 weights = closestPointWeights(v, x[t[0]], x[t[1]], x[t[2]]);
+        const Vec3 closest = weights[0] * x[t[0]] + weights[1] * x[t[1]] + weights[2] * x[t[2]];
+        if ((v - closest).squaredNorm() < radiusSquared)
+        {
+            out.push_back({std::uint32_t(k), weights});
+        }
+    }
+}
+
+void SelfContact::respond(Particles& p, const Touch& touch, Real h) const
+{
+    const SelfContactPair& pair = m_pairs[touch.pair];
+    const Triangle& t = m_triangles[pair.triangle];
+    const Index v = pair.vertex;
+    const Vec3& w = touch.weights;
+    // The generalised inverse mass of the pair's relative motion: an impulse J on the vertex and -w_k J on the
+    // triangle's masses changes their relative velocity by this times J.
+    const Real inverseMass = p.inverseMass[v] + w[0] * w[0] * p.inverseMass[t[0]] + w[1] * w[1] * p.inverseMass[t[1]] +
+                             w[2] * w[2] * p.inverseMass[t[2]];
+    if (!(inverseMass > 0))
+    {
+        return; // all four pinned
+    }
+    // Measured again here: an earlier response in this pass may have moved these masses.
+    const Vec3 closest = w[0] * p.position[t[0]] + w[1] * p.position[t[1]] + w[2] * p.position[t[2]];
+    Vec3 normal = p.position[v] - closest;
+    const Real distance = normal.norm();
+    if (distance >= m_settings.radius)
+    {
+        return;
+    }
+    if (distance > Real(1e-9) * m_settings.radius)
+    {
+        normal /= distance;
+    }
+    else
+    {
+        // On the triangle: push out along its face normal (either side is as good; this one is fixed).
+        normal = (p.position[t[1]] - p.position[t[0]]).cross(p.position[t[2]] - p.position[t[0]]);
+        const Real length = normal.norm();
+        if (!(length > 0))
+        {
+            return;
+        }
+        normal /= length;
+    }
+    const auto apply = [&](std::vector<Vec3>& field, const Vec3& change)
+    {
+        field[v] += p.inverseMass[v] * change;
+        for (int k = 0; k < 3; ++k)
+        {
+            field[t[std::size_t(k)]] -= (w[k] * p.inverseMass[t[std::size_t(k)]]) * change;
+        }
+    };
+    // Positions apart to the radius, shared so the masses' centre stays where it was.
+    apply(p.position, ((m_settings.radius - distance) / inverseMass) * normal);
+
+    const Vec3 relative = p.velocity[v] - (w[0] * p.velocity[t[0]] + w[1] * p.velocity[t[1]] + w[2] * p.velocity[t[2]]);
+    const Real normalSpeed = relative.dot(normal);
+    if (normalSpeed >= 0)
+    {
+        return; // already parting
+    }
+    // Inelastic: the impulse that stops the approach. Friction: at most mu times it, and never more than stops the
+    // sliding, so both only take kinetic energy away.
+    const Real normalImpulse = -normalSpeed / inverseMass;
+    const Vec3 tangential = relative - normalSpeed * normal;
+    const Real slip = tangential.norm();
+    Vec3 frictionImpulse = Vec3::Zero();
+    if (slip > 0)
+    {
+        const Real magnitude = std::min(slip / inverseMass, m_settings.friction * normalImpulse);
+        frictionImpulse = (-magnitude / slip) * tangential;
+    }
+    apply(p.velocity, normalImpulse * normal + frictionImpulse);
+    // The integrator moved the masses with their velocities from before the impulse: move them by the friction's
+    // change too, as the obstacle contact does, so a fold held by static friction does not creep.
+    apply(p.position, h * frictionImpulse);
+}
+
+void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
+{
+    Particles& p = system.particles;
+    if (outgrewPairs(p.position))
+    {
+        const StageScope stage(m_observer, Stage::SelfContactPairs);
+        listPairs(p.position);
+    }
+    const StageScope stage(m_observer, Stage::SelfContactSolve);
+    const std::vector<Vec3>& x = p.position;
+    parallelFor(m_triangles.size(), selfPairChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const Triangle& t = m_triangles[k];
+                        m_triangleLow[k] = x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]);
+                        m_triangleHigh[k] = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
+                    }
+                });
+    parallelFor(m_pairs.size(), selfPairChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    std::vector<Touch>& touches = m_touches[begin / selfPairChunkSize];
+                    touches.clear();
+                    detect(x, begin, end, touches);
+                });
+    // The responses in pair order, one after the other: touching pairs share masses.
+    std::size_t count = 0;
+    const std::size_t ranges = chunkCount(m_pairs.size(), selfPairChunkSize);
+    for (std::size_t range = 0; range < ranges; ++range)
+    {
+        for (const Touch& touch : m_touches[range])
+        {
+            if (m_report.firstTime < 0)
+            {
+                m_report.firstTime = time;
+                m_report.firstVertex = m_pairs[touch.pair].vertex;
+                m_report.firstPosition = p.position[m_report.firstVertex];
+            }
+            respond(p, touch, h);
+        }
+        count += m_touches[range].size();
+    }
+    m_report.lastSubstep = count;
+    m_report.lastFrame += count;
+    m_report.total += count;
+}
+} // namespace masse

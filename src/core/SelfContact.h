@@ -1,0 +1,117 @@
+#pragma once
+/// The sheet against itself: the vertices of its surface (the triangles of its bottom and top layers) are kept at
+/// least the contact radius from the surface's triangles, so a fold cannot pass through the sheet.
+///
+/// At each frame's start a broadphase (SelfContactBroadphase.h; Bullet's btDbvt in the bridge) lists the (vertex,
+/// triangle) pairs within the radius plus a skin: how far each mass may move this frame relative to the surface's
+/// mean motion (from its velocity and its last frame's change of velocity). A pair's distance does not change when
+/// the whole sheet moves, so a falling sheet needs no more pairs than a resting one. The list is complete while every
+/// mass stays within its skin of where it was listed, relative to the mean displacement; a substep that finds one
+/// beyond lists the pairs again (rare: the skin is twice the expected motion). After every substep each listed pair
+/// is measured (the closest point of the triangle, ClosestPointOnTriangle.h) and a pair closer than the radius gets
+/// the response: positions pushed apart to the radius and the approaching normal relative velocity removed
+/// (inelastic), with Coulomb friction between sheet and sheet, both shared among the four masses by their barycentric
+/// weights and inverse masses so the sheet's momentum is kept. The impulse never exceeds the one that stops the
+/// relative motion, so the response takes kinetic energy away and never adds any.
+///
+/// Pairs are never formed between a vertex and a triangle that contains it or one of whose masses is joined to it by
+/// a spring (the springs hold those apart), nor between a vertex and a triangle within twice the radius of it at rest:
+/// with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one), the flat sheet
+/// would otherwise touch itself everywhere.
+///
+/// Runs as a StepHook, after the obstacle contact of every substep, for the explicit integrators (the implicit ones
+/// would need it inside their solve as constraints, which is not built: the scene refuses the combination).
+/// Detection runs over ranges of pairs on every thread, each range listing its touches; the responses are applied in
+/// one pass in pair order, so the result is the same bit for bit at any thread count. Buffers are sized when the
+/// pairs are listed, so a substep that keeps its list allocates nothing.
+
+#include "Lattice.h"
+#include "LatticeSurface.h"
+#include "SelfContactBroadphase.h"
+#include "StageObserver.h"
+#include "StepHook.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace masse
+{
+struct SelfContactSettings
+{
+    Real radius = 0.01;  ///< m, the sheet's half thickness for contact: the scene's contact radius
+    Real friction = 0.3; ///< Coulomb coefficient mu between sheet and sheet
+};
+
+/// Throws InputError naming contact.radius or contact.self_friction when a value is out of range.
+void validate(const SelfContactSettings& settings);
+
+/// What the self-contact did.
+struct SelfContactReport
+{
+    std::size_t pairs = 0;             ///< candidate pairs in the last list
+    std::uint64_t queries = 0;         ///< broadphase queries so far (one per frame, more when a mass outruns its skin)
+    std::size_t lastSubstep = 0;       ///< pairs closer than the radius at the last substep
+    std::size_t lastFrame = 0;         ///< pair touches summed over the last frame's substeps
+    std::uint64_t total = 0;           ///< pair touches summed over every substep so far
+    Real firstTime = -1;               ///< s, the first touch (negative: none yet)
+    Index firstVertex = 0;             ///< the mass of the first touch
+    Vec3 firstPosition = Vec3::Zero(); ///< m, where that mass was when it first touched
+};
+
+class SelfContact final : public StepHook
+{
+public:
+    SelfContact(const Lattice& lattice, SelfContactBroadphase& broadphase, const SelfContactSettings& settings);
+
+    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
+    void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
+
+    const SelfContactReport& report() const { return m_report; }
+    const SelfContactSettings& settings() const { return m_settings; }
+    const std::vector<Triangle>& triangles() const { return m_triangles; }
+    /// Told when the broadphase and each substep's solve begin and end (nullptr: nobody).
+    void setStageObserver(StageObserver* observer) { m_observer = observer; }
+
+private:
+    /// A pair closer than the radius, found by the substep's detection.
+    struct Touch
+    {
+        std::uint32_t pair; ///< into m_pairs
+        Vec3 weights;       ///< barycentric weights of the triangle's closest point
+    };
+    /// A vertex and a triangle never tested: the triangle holds the vertex or a spring neighbour of it, or the two
+    /// are within twice the radius at rest.
+    bool excluded(Index vertex, Index triangle) const;
+    /// Lists, once, the triangles within twice the radius of each vertex at rest.
+    void listNearAtRest();
+    /// Asks the broadphase for the pairs within reach of the masses' skins now.
+    void listPairs(const std::vector<Vec3>& x);
+    /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
+    /// pairs were listed (the list may then miss a pair).
+    bool outgrewPairs(const std::vector<Vec3>& x) const;
+    void detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const;
+    void respond(Particles& p, const Touch& touch, Real h) const;
+
+    SelfContactBroadphase& m_broadphase;
+    SelfContactSettings m_settings;
+    std::vector<Triangle> m_triangles;
+    std::vector<Index> m_vertices; ///< the surface's masses, increasing
+    std::vector<std::size_t>
+        m_neighbourStart;            ///< per mass, its spring neighbours are m_neighbours[start[i], start[i+1])
+    std::vector<Index> m_neighbours; ///< sorted within each mass
+    std::vector<std::size_t>
+        m_nearStart;                    ///< per mass, its triangles near at rest: m_nearTriangles[start[i], start[i+1])
+    std::vector<Index> m_nearTriangles; ///< sorted within each mass
+    std::vector<Real> m_skin;           ///< per mass, m: how far it may move before the pairs are listed again
+    std::vector<Vec3> m_listedAt;       ///< per mass, where it was when the pairs were listed
+    std::vector<Vec3> m_restPosition;   ///< the lattice's
+    std::vector<Vec3> m_triangleLow;    ///< per triangle, its box at this substep
+    std::vector<Vec3> m_triangleHigh;
+    std::vector<Vec3> m_lastVelocity;          ///< per mass, its velocity at the last frame's start
+    std::vector<SelfContactPair> m_found;      ///< the broadphase's pairs, before the adjacent ones are dropped
+    std::vector<SelfContactPair> m_pairs;      ///< this frame's pairs
+    std::vector<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
+    SelfContactReport m_report;
+    StageObserver* m_observer = nullptr;
+};
+} // namespace masse

@@ -1,0 +1,312 @@
+// The sheet against itself (issue 12): the response of one vertex-triangle touch against its analytic outcome, and
+// the fold-over-rod scene with and without self-collision.
+
+#include "core/SelfContact.h"
+#include "core/ClosestPointOnTriangle.h"
+#include "core/Energy.h"
+#include "core/InputError.h"
+#include "scene/Scene.h"
+#include "scene/SceneFile.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <limits>
+
+using namespace masse;
+using namespace masse::scene;
+
+namespace
+{
+const std::string source = MASSE_SOURCE_DIR;
+
+/// Every (vertex, triangle) pair: the broadphase with nothing left out, so a test sees the core's own filtering.
+class EveryPair final : public SelfContactBroadphase
+{
+public:
+    void setTriangles(const std::vector<Triangle>& triangles) override { m_count = triangles.size(); }
+    void findPairs(const std::vector<Vec3>& /*x*/, const std::vector<Real>& /*reach*/, Real /*radius*/,
+                   const std::vector<Index>& vertices, std::vector<SelfContactPair>& out) override
+    {
+        out.clear();
+        for (const Index v : vertices)
+        {
+            for (std::size_t t = 0; t < m_count; ++t)
+            {
+                out.push_back({v, Index(t)});
+            }
+        }
+    }
+
+private:
+    std::size_t m_count = 0;
+};
+
+Vec3 momentum(const Particles& p)
+{
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        sum += p.mass[i] * p.velocity[i];
+    }
+    return sum;
+}
+
+/// A one-layer 8x1x2 sheet whose mass 7 (row 0, last column) is laid over its first triangle {0, 1, 9}, half a radius
+/// above it and moving at `velocity`; every other mass far away and at rest. Masses of different sizes, so the
+/// sharing by inverse masses shows.
+struct OneTouch
+{
+    Lattice lattice;
+    MassSpringSystem sheet;
+    Real radius = 0.01;
+
+    explicit OneTouch(const Vec3& velocity)
+    {
+        LatticeSpec spec;
+        spec.structure = Structure::Square2D;
+        spec.countX = 8;
+        spec.layers = 1;
+        spec.countZ = 2;
+        spec.minCorner = Vec3(0, 0, 0);
+        spec.maxCorner = Vec3(0.7, 0, 0.1);
+        lattice = buildLattice(spec);
+        sheet = makeSheet(lattice, SheetParams{});
+        Particles& p = sheet.particles;
+        for (std::size_t i = 0; i < p.size(); ++i)
+        {
+            // Far apart and in no common line or plane, so that no far triangle passes near another mass.
+            p.position[i] = Vec3(20 + 3 * Real(i), 10 + 0.5 * Real(i * i), 5 * Real(i % 2));
+            p.mass[i] = 0.001 * Real(1 + i % 3);
+            p.inverseMass[i] = 1 / p.mass[i];
+            p.velocity[i].setZero();
+            p.force[i].setZero();
+        }
+        p.position[0] = Vec3(0, 0, 0);
+        p.position[1] = Vec3(1, 0, 0);
+        p.position[9] = Vec3(1, 0, 1);
+        p.position[7] = Vec3(0.7, 0.5 * radius, 0.3);
+        p.velocity[7] = velocity;
+        sheet.forces.gravity.setZero();
+    }
+};
+} // namespace
+
+// A vertex falling onto a triangle at 1 m/s: after the substep's response it is exactly the radius away, the
+// relative normal velocity is zero (inelastic), the momentum is what it was (to rounding, 1e-15 kg m/s) and the
+// kinetic energy has not grown. Analytic: the vertex and the triangle's closest point (weights w) end with the
+// common normal velocity v m7 / (m7 + M), M = 1 / sum(w_k^2 / m_k).
+TEST(SelfContact, ATouchIsInelasticKeepsMomentumAndAddsNoEnergy)
+{
+    OneTouch touch(Vec3(0, -1, 0));
+    Particles& p = touch.sheet.particles;
+    EveryPair pairs;
+    SelfContactSettings settings;
+    settings.radius = touch.radius;
+    settings.friction = 0;
+    SelfContact self(touch.lattice, pairs, settings);
+    StepContext context;
+    const Vec3 momentumBefore = momentum(p);
+    const Real energyBefore = kineticEnergy(p);
+    const Vec3 w = closestPointWeights(p.position[7], p.position[0], p.position[1], p.position[9]);
+    self.beginFrame(touch.sheet, context, 0, 0.01);
+    self.afterSubstep(touch.sheet, context, 0.001, 0.001);
+
+    ASSERT_EQ(self.report().lastSubstep, 1u);
+    EXPECT_EQ(self.report().firstVertex, 7u);
+    const Vec3 closest = w[0] * p.position[0] + w[1] * p.position[1] + w[2] * p.position[9];
+    EXPECT_NEAR((p.position[7] - closest).norm(), touch.radius, 1e-12);
+    const Vec3 relative = p.velocity[7] - (w[0] * p.velocity[0] + w[1] * p.velocity[1] + w[2] * p.velocity[9]);
+    EXPECT_NEAR(relative.y(), 0, 1e-12);
+    EXPECT_LT((momentum(p) - momentumBefore).norm(), 1e-15);
+    EXPECT_LE(kineticEnergy(p), energyBefore);
+    const Real triangleMass = 1 / (w[0] * w[0] / p.mass[0] + w[1] * w[1] / p.mass[1] + w[2] * w[2] / p.mass[9]);
+    EXPECT_NEAR(p.velocity[7].y(), -p.mass[7] / (p.mass[7] + triangleMass), 1e-12);
+}
+
+// Sheet-on-sheet Coulomb friction: a vertex arriving at 1 m/s down and 3 m/s along the triangle with mu = 0.5 loses
+// mu times the normal relative speed it lost (1 m/s) of its relative sliding speed (3 m/s -> 2.5 m/s), to 1e-12;
+// with mu = 5 it stops sliding on the triangle altogether (the impulse never exceeds what stops it).
+TEST(SelfContact, FrictionTakesMuTimesTheNormalImpulseAndNeverReversesTheSlip)
+{
+    for (const Real mu : {0.5, 5.0})
+    {
+        OneTouch touch(Vec3(3, -1, 0));
+        Particles& p = touch.sheet.particles;
+        EveryPair pairs;
+        SelfContactSettings settings;
+        settings.radius = touch.radius;
+        settings.friction = mu;
+        SelfContact self(touch.lattice, pairs, settings);
+        StepContext context;
+        const Real energyBefore = kineticEnergy(p);
+        // The weights of the touch as detected (the friction's own displacement moves the closest point after).
+        const Vec3 w = closestPointWeights(p.position[7], p.position[0], p.position[1], p.position[9]);
+        self.beginFrame(touch.sheet, context, 0, 0.01);
+        self.afterSubstep(touch.sheet, context, 0.001, 0.001);
+        const Vec3 relative = p.velocity[7] - (w[0] * p.velocity[0] + w[1] * p.velocity[1] + w[2] * p.velocity[9]);
+        EXPECT_NEAR(relative.x(), mu < 3 ? 3 - mu * 1 : 0.0, 1e-12) << "mu " << mu;
+        EXPECT_NEAR(relative.y(), 0, 1e-12) << "mu " << mu;
+        EXPECT_LE(kineticEnergy(p), energyBefore) << "mu " << mu;
+    }
+}
+
+// A vertex never meets a triangle it belongs to or one joined to it by a spring: a flat sheet lying still, whose
+// neighbouring triangles are all within a spacing, gets no touch even with a radius of half the spacing.
+TEST(SelfContact, NeighbouringTrianglesAreNeverTested)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::SLaMM;
+    spec.countX = 6;
+    spec.countZ = 6;
+    spec.minCorner = Vec3(0, 0, 0);
+    spec.maxCorner = Vec3(0.5, 0.02, 0.5);
+    const Lattice lattice = buildLattice(spec);
+    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    EveryPair pairs;
+    SelfContactSettings settings;
+    settings.radius = 0.045; // just under half the 0.1 m spacing
+    SelfContact self(lattice, pairs, settings);
+    StepContext context;
+    const std::vector<Vec3> before = sheet.particles.position;
+    self.beginFrame(sheet, context, 0, 0.01);
+    self.afterSubstep(sheet, context, 0.001, 0.001);
+    EXPECT_EQ(self.report().lastSubstep, 0u);
+    EXPECT_EQ(sheet.particles.position, before);
+}
+
+namespace
+{
+/// The fold-over-rod scene's two halves, away from the fold: masses of either surface more than `strip` from the
+/// rod's plane x = 0 at rest, and the surface triangles wholly on one side.
+struct Halves
+{
+    std::vector<Index> leftVertices, rightVertices;
+    std::vector<Triangle> leftTriangles, rightTriangles;
+
+    Halves(const Scene& scene, const std::vector<Triangle>& triangles, Real strip)
+    {
+        const std::vector<Vec3>& rest = scene.lattice().position;
+        const auto side = [&](Index i) { return rest[i].x() < -strip ? -1 : rest[i].x() > strip ? 1 : 0; };
+        for (const Triangle& t : triangles)
+        {
+            const int s = side(t[0]);
+            if (s != 0 && side(t[1]) == s && side(t[2]) == s)
+            {
+                (s < 0 ? leftTriangles : rightTriangles).push_back(t);
+                for (const Index v : t)
+                {
+                    (s < 0 ? leftVertices : rightVertices).push_back(v);
+                }
+            }
+        }
+        for (auto* list : {&leftVertices, &rightVertices})
+        {
+            std::sort(list->begin(), list->end());
+            list->erase(std::unique(list->begin(), list->end()), list->end());
+        }
+    }
+
+    /// Smallest distance from a vertex of one half to a triangle of the other.
+    Real gap(const std::vector<Vec3>& x) const
+    {
+        Real smallest = std::numeric_limits<Real>::infinity();
+        const auto across = [&](const std::vector<Index>& vertices, const std::vector<Triangle>& others)
+        {
+            for (const Index v : vertices)
+            {
+                for (const Triangle& t : others)
+                {
+                    const Vec3 w = closestPointWeights(x[v], x[t[0]], x[t[1]], x[t[2]]);
+                    smallest = std::min(smallest, (x[v] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]])).norm());
+                }
+            }
+        };
+        across(leftVertices, rightTriangles);
+        across(rightVertices, leftTriangles);
+        return smallest;
+    }
+
+    /// The share of the left half's masses that lie on the +x side of their mirror image (the mass in the same row
+    /// and layer, at the mirrored column) in the right half: 0 while the halves hang on their own sides, near 1 once
+    /// they have passed through each other. (A few masses can swap where the edges of two touching halves slide past
+    /// each other without passing through, so the test looks at the share.)
+    Real crossedShare(const Scene& scene) const
+    {
+        const Lattice& lattice = scene.lattice();
+        const std::vector<Vec3>& x = scene.system().particles.position;
+        std::size_t swapped = 0;
+        for (const Index v : leftVertices)
+        {
+            const LatticeCoord c = lattice.coord[v];
+            const Index mirror = lattice.index(c.layer, c.row, lattice.layerCountX(c.layer) - 1 - c.column);
+            swapped += x[v].x() > x[mirror].x() ? 1 : 0;
+        }
+        return Real(swapped) / Real(leftVertices.size());
+    }
+};
+
+struct FoldOutcome
+{
+    Real smallestGap = std::numeric_limits<Real>::infinity(); ///< m, over every frame
+    Real crossedShare = 0;                                    ///< the largest at the end of any frame
+    std::uint64_t touches = 0;
+};
+
+FoldOutcome foldOverRod(bool selfCollision)
+{
+    SceneSpec spec = loadScene(source + "/data/scenes/fold-over-rod.json");
+    spec.selfCollision = selfCollision;
+    Scene scene(spec);
+    // The triangles the self-contact uses, for the measurement: from a self-contact of the same lattice.
+    EveryPair unused;
+    const SelfContact surface(scene.lattice(), unused, SelfContactSettings{});
+    const Halves halves(scene, surface.triangles(), 2.5 * scene.lattice().spacingX);
+    FoldOutcome outcome;
+    while (!scene.finished())
+    {
+        scene.step();
+        outcome.smallestGap = std::min(outcome.smallestGap, halves.gap(scene.system().particles.position));
+        outcome.crossedShare = std::max(outcome.crossedShare, halves.crossedShare(scene));
+    }
+    outcome.touches = scene.selfContact() ? scene.selfContact()->report().total : 0;
+    return outcome;
+}
+} // namespace
+
+// The issue's fold: a sheet dropped across a thin rod folds over it and its halves meet. With self-collision they
+// stay apart by at least the contact radius minus 1% at every frame and each stays on its side (measured: one mass of
+// 81, where the halves' edges slide past each other, at worst); without it the same scene shows them passing through
+// each other (every mass of the left half ends a frame beyond its mirror image, and the gap closes to under half the
+// radius), so the checks can fail.
+TEST(SelfContact, SheetFoldedOverARodKeepsItsHalvesApart)
+{
+    const Real radius = loadScene(source + "/data/scenes/fold-over-rod.json").contact.radius;
+    const FoldOutcome without = foldOverRod(false);
+    EXPECT_GT(without.crossedShare, 0.5) << "without self-collision the halves should pass through each other";
+    EXPECT_LT(without.smallestGap, 0.5 * radius);
+
+    const FoldOutcome with = foldOverRod(true);
+    EXPECT_GT(with.touches, 0u) << "the halves never met: the scene does not test self-collision";
+    EXPECT_LT(with.crossedShare, 0.1);
+    EXPECT_GE(with.smallestGap, 0.99 * radius);
+}
+
+// contact.self_collision is refused with the implicit integrators (not built for them yet), naming the key.
+TEST(SelfContact, RefusedWithTheImplicitIntegrators)
+{
+    SceneSpec spec = loadScene(source + "/data/scenes/fold-over-rod.json");
+    for (const IntegratorKind kind : {IntegratorKind::ImplicitEuler, IntegratorKind::Bdf2})
+    {
+        spec.time.integrator = kind;
+        try
+        {
+            Scene scene(spec);
+            ADD_FAILURE() << "accepted with " << integratorName(kind);
+        }
+        catch (const InputError& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("contact.self_collision"), std::string::npos) << e.what();
+        }
+    }
+}
