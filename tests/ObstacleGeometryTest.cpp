@@ -4,8 +4,8 @@
 
 #include "bridge/BulletEnvironment.h"
 #include "bridge/FacePlaneDistance.h"
-#include "bridge/TriangleDistance.h"
 
+#include "core/ClosestPointOnTriangle.h"
 #include "core/InputError.h"
 
 #include <gtest/gtest.h>
@@ -304,11 +304,12 @@ TEST(ObstacleGeometry, MeshGivesASecondPlaneInACreaseButNotBesideARidge)
     EXPECT_LT(creasePlanes[0].normal.x() * creasePlanes[1].normal.x(), 0.0); // one from each face
 }
 
-// The closed-form nearest point of a triangle (TriangleDistance.h), which replaced GJK for mesh triangles: over a grid
-// of points around an obtuse triangle (in its plane and off it, in every vertex, edge and face region), the answer
-// lies on the triangle (barycentric coordinates within -1e-12 of [0, 1]) and is no farther than any of 5,151 points
-// sampled on the triangle (tolerance 1e-12 m). A wrong region (a vertex where an edge is nearer, say) fails the second.
-TEST(TriangleDistance, NearestPointLiesOnTheTriangleAndBeatsEverySample)
+// The closed-form nearest point of a triangle (core/ClosestPointOnTriangle.h), which replaced GJK for mesh triangles:
+// over a grid of points around an obtuse triangle (in its plane and off it, in every vertex, edge and face region), the
+// answer lies on the triangle (barycentric coordinates within -1e-12 of [0, 1]) and is no farther than any of 5,151
+// points sampled on the triangle (tolerance 1e-12 m). A wrong region (a vertex where an edge is nearer, say) fails the
+// second.
+TEST(ClosestPointOnTriangle, NearestPointLiesOnTheTriangleAndBeatsEverySample)
 {
     const Vec3 a(0.0, 0.0, 0.0);
     const Vec3 b(1.0, 0.1, 0.0);

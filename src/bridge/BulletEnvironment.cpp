@@ -2,8 +2,8 @@
 
 #include "BulletMath.h"
 #include "FacePlaneDistance.h"
-#include "TriangleDistance.h"
 
+#include "core/ClosestPointOnTriangle.h"
 #include "core/InputError.h"
 #include "core/TaskPool.h"
 
