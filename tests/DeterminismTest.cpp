@@ -97,8 +97,8 @@ TEST(TaskPool, RunsEveryChunkExactlyOnceAtAnyThreadCount)
             pool.run(chunks, [&](std::size_t chunk) { runs[chunk].fetch_add(1); });
             for (std::size_t chunk = 0; chunk < chunks; ++chunk)
             {
-                ASSERT_EQ(runs[chunk].load(), 1) << "chunk " << chunk << " of " << chunks << ", " << threads
-                                                 << " threads";
+                ASSERT_EQ(runs[chunk].load(), 1)
+                    << "chunk " << chunk << " of " << chunks << ", " << threads << " threads";
             }
         }
     }
@@ -113,14 +113,16 @@ TEST(TaskPool, ParallelForCoversTheRangeInFixedChunks)
         const std::size_t count = 10007;
         const std::size_t chunkSize = 100;
         std::vector<int> owner(count, -1);
-        parallelFor(count, chunkSize, [&](std::size_t begin, std::size_t end) {
-            ASSERT_EQ(begin % chunkSize, 0u);
-            ASSERT_EQ(end, std::min(count, begin + chunkSize));
-            for (std::size_t i = begin; i < end; ++i)
-            {
-                owner[i] = int(begin / chunkSize);
-            }
-        });
+        parallelFor(count, chunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        ASSERT_EQ(begin % chunkSize, 0u);
+                        ASSERT_EQ(end, std::min(count, begin + chunkSize));
+                        for (std::size_t i = begin; i < end; ++i)
+                        {
+                            owner[i] = int(begin / chunkSize);
+                        }
+                    });
         for (std::size_t i = 0; i < count; ++i)
         {
             ASSERT_EQ(owner[i], int(i / chunkSize)) << "item " << i << ", " << threads << " threads";
@@ -133,12 +135,14 @@ TEST(TaskPool, ParallelForCoversTheRangeInFixedChunks)
 TEST(TaskPool, RethrowsAChunksExceptionAndRunsNestedLoopsInline)
 {
     TaskPool pool(3);
-    EXPECT_THROW(pool.run(16, [](std::size_t chunk) {
-        if (chunk == 11)
-        {
-            throw std::runtime_error("chunk 11 failed");
-        }
-    }),
+    EXPECT_THROW(pool.run(16,
+                          [](std::size_t chunk)
+                          {
+                              if (chunk == 11)
+                              {
+                                  throw std::runtime_error("chunk 11 failed");
+                              }
+                          }),
                  std::runtime_error);
     std::atomic<int> inner{0};
     pool.run(4, [&](std::size_t) { pool.run(5, [&](std::size_t) { inner.fetch_add(1); }); });

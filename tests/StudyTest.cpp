@@ -12,8 +12,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <set>
 
 using namespace masse;
@@ -100,8 +100,8 @@ TEST(SetOption, ChangesTheSceneAndIsCheckedLikeTheFile)
 {
     const std::string scene = source + "/data/scenes/drape-forming.json";
     const SceneSpec base = loadScene(scene);
-    const SceneSpec set = loadScene(scene, {parseKeyOverride("heat.heaters[0].power=8000"),
-                                            parseKeyOverride("integrator.type=symplectic")});
+    const SceneSpec set = loadScene(
+        scene, {parseKeyOverride("heat.heaters[0].power=8000"), parseKeyOverride("integrator.type=symplectic")});
     ASSERT_EQ(set.heat.heaterPower.size(), 1u);
     EXPECT_EQ(set.heat.heaterPower[0], 8000);
     EXPECT_NE(base.heat.heaterPower[0], 8000);
@@ -180,33 +180,41 @@ TEST(StudyFile, BadStudiesAreRefusedNamingTheKey)
     EXPECT_NE(unknown.find("did you mean 'friction'"), std::string::npos) << unknown;
 
     const std::string empty = errorOf(
-        [] { loadStudy(slopeStudy("empty", R"([{"key": "contact.friction", "range": {"min": 0.5, "max": 0.1, "count": 3}}])")); });
+        [] {
+            loadStudy(
+                slopeStudy("empty", R"([{"key": "contact.friction", "range": {"min": 0.5, "max": 0.1, "count": 3}}])"));
+        });
     EXPECT_NE(empty.find("vary[0].range.max: empty range"), std::string::npos) << empty;
     const std::string none =
         errorOf([] { loadStudy(slopeStudy("none", R"([{"key": "contact.friction", "values": []}])")); });
     EXPECT_NE(none.find("vary[0].values: empty"), std::string::npos) << none;
 
     // A value the scene refuses (a negative friction coefficient), in the third case only.
-    const std::string refused = errorOf(
-        [] { loadStudy(slopeStudy("refused", R"([{"key": "contact.friction", "values": [0.1, 0.2, -1]}])")); });
+    const std::string refused =
+        errorOf([] { loadStudy(slopeStudy("refused", R"([{"key": "contact.friction", "values": [0.1, 0.2, -1]}])")); });
     EXPECT_NE(refused.find("case 2 (contact.friction=-1)"), std::string::npos) << refused;
     EXPECT_NE(refused.find("contact.friction:"), std::string::npos) << refused;
 
-    const std::string output = errorOf([] {
-        loadStudy(writeStudy("output", "{ \"scene\": \"" + source + "/data/scenes/slope.json\", \"vary\": "
-                                       "[{\"key\": \"contact.friction\", \"values\": [0.1]}], \"outputs\": "
-                                       "[\"final.kinetic_enrgy\"] }"));
-    });
+    const std::string output = errorOf(
+        []
+        {
+            loadStudy(writeStudy("output", "{ \"scene\": \"" + source +
+                                               "/data/scenes/slope.json\", \"vary\": "
+                                               "[{\"key\": \"contact.friction\", \"values\": [0.1]}], \"outputs\": "
+                                               "[\"final.kinetic_enrgy\"] }"));
+        });
     EXPECT_NE(output.find("outputs[0]: final.kinetic_enrgy: the scene's summary.json has no such value"),
               std::string::npos)
         << output;
-    const std::string typo = errorOf(
-        [] { loadStudy(slopeStudy("typo", R"([{"key": "contact.friction", "valeus": [0.1]}])")); });
+    const std::string typo =
+        errorOf([] { loadStudy(slopeStudy("typo", R"([{"key": "contact.friction", "valeus": [0.1]}])")); });
     EXPECT_NE(typo.find("vary[0]"), std::string::npos) << typo;
-    const std::string lhs = errorOf([] {
-        loadStudy(slopeStudy("lhs", R"([{"key": "contact.friction", "values": [0.1]}])",
-                             R"(, "design": {"latin_hypercube": {"samples": 4, "seed": 1}})"));
-    });
+    const std::string lhs = errorOf(
+        []
+        {
+            loadStudy(slopeStudy("lhs", R"([{"key": "contact.friction", "values": [0.1]}])",
+                                 R"(, "design": {"latin_hypercube": {"samples": 4, "seed": 1}})"));
+        });
     EXPECT_NE(lhs.find("vary[0].values: a Latin hypercube samples ranges"), std::string::npos) << lhs;
 }
 

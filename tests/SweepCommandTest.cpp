@@ -199,11 +199,11 @@ TEST(Sweep, AFailedCaseIsRecordedAndTheOthersRun)
     fs::create_directories(folder);
     const nlohmann::json stopper = nlohmann::json::parse(readText(source + "/data/scenes/slope.json"))["obstacles"][1];
     nlohmann::json missing = {{"name", "stopper"}, {"type", "mesh"}, {"file", "missing.obj"}};
-    const nlohmann::json failing = {{"scene", source + "/data/scenes/slope.json"},
-                                    {"set", {{"run.duration", 0.2}}},
-                                    {"vary", {{{"name", "stopper"}, {"key", "obstacles[1]"},
-                                               {"values", {stopper, missing}}}}},
-                                    {"outputs", {"sim_seconds"}}};
+    const nlohmann::json failing = {
+        {"scene", source + "/data/scenes/slope.json"},
+        {"set", {{"run.duration", 0.2}}},
+        {"vary", {{{"name", "stopper"}, {"key", "obstacles[1]"}, {"values", {stopper, missing}}}}},
+        {"outputs", {"sim_seconds"}}};
     std::ofstream(folder / "failing.json") << failing.dump(2);
     const fs::path dir = freshFolder("sweep-failing");
     const Outcome o = runMasse("sweep " + (folder / "failing.json").string() + " --out " + dir.string() + " --jobs 2");

@@ -2,8 +2,8 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
-#include "scene/SceneFile.h"
 #include "core/TaskPool.h"
+#include "scene/SceneFile.h"
 
 #include <CLI/CLI.hpp>
 
@@ -30,8 +30,8 @@ void addSetOption(CLI::App& command, std::vector<std::string>& settings)
 {
     command
         .add_option("--set", settings,
-                     "Set a scene key by its path, KEY=VALUE (JSON or plain text), e.g. heat.heaters[0].power=8000; "
-                     "repeatable")
+                    "Set a scene key by its path, KEY=VALUE (JSON or plain text), e.g. heat.heaters[0].power=8000; "
+                    "repeatable")
         ->take_all()
         ->allow_extra_args(false);
 }
@@ -60,10 +60,9 @@ double secondsFlag(const std::string& flag, const std::string& text, double lo, 
 {
     char* end = nullptr;
     const double value = std::strtod(text.c_str(), &end);
-    const std::string range = lo == 0 ? "(0, " + formatNumber(hi) + "]" : "[" + formatNumber(lo) + ", " +
-                                                                              formatNumber(hi) + "]";
-    if (text.empty() || *end != '\0' || !std::isfinite(value) || !(lo == 0 ? value > 0 : value >= lo) ||
-        !(value <= hi))
+    const std::string range =
+        lo == 0 ? "(0, " + formatNumber(hi) + "]" : "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || !(lo == 0 ? value > 0 : value >= lo) || !(value <= hi))
     {
         throw InputError(flag + ": must be a number of seconds in " + range + " (got '" + text + "')");
     }
@@ -114,8 +113,9 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
 void addThreadsOption(CLI::App& command)
 {
     auto threads = std::make_shared<int>(0);
-    command.add_option("--threads", *threads, "Threads for the engine's kernels (default: $MASSE_THREADS, else every "
-                                              "core); results are the same bits at any count");
+    command.add_option("--threads", *threads,
+                       "Threads for the engine's kernels (default: $MASSE_THREADS, else every "
+                       "core); results are the same bits at any count");
     command.parse_complete_callback([threads] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); });
 }
 

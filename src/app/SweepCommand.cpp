@@ -104,7 +104,7 @@ void checkOptions(const SweepOptions& options)
     }
     if (options.threads < 0 || options.cpusPerTask < 0 || options.throttle < 0)
     {
-        throw InputError(std::string(options.threads < 0         ? "--threads"
+        throw InputError(std::string(options.threads < 0       ? "--threads"
                                      : options.cpusPerTask < 0 ? "--cpus-per-task"
                                                                : "--throttle") +
                          ": must be >= 0");

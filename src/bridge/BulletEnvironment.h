@@ -37,7 +37,7 @@ struct Obstacle
     bool partOfRoom = false;
     Pose pose;
     Motion motion;
-    Real boundingRadius = 0; ///< m, of the local vertices about the local origin
+    Real boundingRadius = 0;           ///< m, of the local vertices about the local origin
     Vec3 broadphaseMin = Vec3::Zero(); ///< the box Bullet's broadphase holds for it (world frame, with Bullet's margin)
     Vec3 broadphaseMax = Vec3::Zero();
 };
@@ -94,7 +94,7 @@ private:
     std::unique_ptr<btCollisionWorld> m_world;
     std::vector<std::unique_ptr<Obstacle>> m_obstacles;
     Real m_time = 0;
-    Real m_fastestKinematic = 0; ///< m/s, the fastest any kinematic obstacle's point moves now
+    Real m_fastestKinematic = 0;       ///< m/s, the fastest any kinematic obstacle's point moves now
     std::vector<Motion> m_frameMotion; ///< per obstacle, its mean motion over the frame being detected
     std::vector<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
 };

@@ -16,13 +16,15 @@ public:
     {
         Particles& p = system.particles;
         evaluateForces(system, p.position, p.velocity, p.force);
-        parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-            {
-                p.position[i] += h * p.velocity[i];
-                p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
-            }
-        });
+        parallelFor(p.size(), massChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t i = begin; i < end; ++i)
+                        {
+                            p.position[i] += h * p.velocity[i];
+                            p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
+                        }
+                    });
         return {};
     }
     IntegratorKind kind() const override { return IntegratorKind::ExplicitEuler; }

@@ -259,15 +259,9 @@ bool evaluateForcesAndKick(MassSpringSystem& system, Real h)
     p.force.resize(n);
     std::vector<Real>& scale = springScaleScratch;
     computeSpringScales(system.springs, system.forces.repulsion, p.position, p.velocity, scale);
-    GatherArgs args{&system.springs.adjacency(n),
-                    scale.data(),
-                    p.position.data(),
-                    p.velocity.data(),
-                    p.mass.data(),
-                    p.externalForce.data(),
-                    system.forces.gravity,
-                    system.forces.airDamping,
-                    p.force.data()};
+    GatherArgs args{
+        &system.springs.adjacency(n), scale.data(),          p.position.data(),        p.velocity.data(), p.mass.data(),
+        p.externalForce.data(),       system.forces.gravity, system.forces.airDamping, p.force.data()};
     args.h = h;
     args.inverseMass = p.inverseMass.data();
     args.velocity = p.velocity.data();

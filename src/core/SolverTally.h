@@ -11,12 +11,12 @@ namespace masse
 {
 struct SolverTally
 {
-    std::uint64_t solves = 0;        ///< implicit steps (substeps) solved
-    std::uint64_t iterations = 0;    ///< summed over them
-    int largestIterations = 0;       ///< in one step
-    std::uint64_t capHits = 0;       ///< steps that stopped at the iteration cap
-    Real finalResidual = 0;          ///< relative residual of the last solve
-    Real largestResidual = 0;        ///< over all solves
+    std::uint64_t solves = 0;     ///< implicit steps (substeps) solved
+    std::uint64_t iterations = 0; ///< summed over them
+    int largestIterations = 0;    ///< in one step
+    std::uint64_t capHits = 0;    ///< steps that stopped at the iteration cap
+    Real finalResidual = 0;       ///< relative residual of the last solve
+    Real largestResidual = 0;     ///< over all solves
 
     void add(const IntegratorStats& stats)
     {

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <string>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace masse
@@ -28,7 +28,8 @@ constexpr std::size_t springChunk = 16384;
 /// default; the bound stays available for comparison.
 bool powerEstimateEnabled()
 {
-    static const bool enabled = [] {
+    static const bool enabled = []
+    {
         const char* text = std::getenv("MASSE_STABILITY");
         if (!text || std::string(text) == "power")
         {
@@ -75,18 +76,21 @@ Real powerFrequency(const MassSpringSystem& system)
     std::vector<Vec3> direction(m);
     std::vector<Real> axial(m);
     std::vector<Real> geometric(m);
-    parallelFor(m, springChunk, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t s = begin; s < end; ++s)
-        {
-            const Vec3 d = p.position[springs.ends[s].a] - p.position[springs.ends[s].b];
-            const Real length = d.norm();
-            const Real k = springs.stiffness[s];
-            direction[s] = length > 0 ? Vec3(d / length) : Vec3::UnitX();
-            axial[s] = k;
-            // A spring at zero length has no direction; its geometric part is then bounded by k (isotropic).
-            geometric[s] = length > 0 ? std::abs(k * (Real(1) - springs.restLength[s] / length)) : k;
-        }
-    });
+    parallelFor(m, springChunk,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        const Vec3 d = p.position[springs.ends[s].a] - p.position[springs.ends[s].b];
+                        const Real length = d.norm();
+                        const Real k = springs.stiffness[s];
+                        direction[s] = length > 0 ? Vec3(d / length) : Vec3::UnitX();
+                        axial[s] = k;
+                        // A spring at zero length has no direction; its geometric part is then bounded by k
+                        // (isotropic).
+                        geometric[s] = length > 0 ? std::abs(k * (Real(1) - springs.restLength[s] / length)) : k;
+                    }
+                });
     std::vector<Real> userStiffness(n, Real(0));
     for (const UserSpring& spring : system.userSprings.all())
     {
@@ -105,7 +109,8 @@ Real powerFrequency(const MassSpringSystem& system)
     std::vector<Real> partialQY(chunks);
     std::vector<Real> partialYY(chunks);
     std::vector<Real> partialQQ(chunks);
-    const auto sumInOrder = [](const std::vector<Real>& parts) {
+    const auto sumInOrder = [](const std::vector<Real>& parts)
+    {
         Real sum = 0;
         for (Real part : parts)
         {
@@ -114,14 +119,16 @@ Real powerFrequency(const MassSpringSystem& system)
         return sum;
     };
     // Normalise the start vector.
-    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-        Real qq = 0;
-        for (std::size_t i = begin; i < end; ++i)
-        {
-            qq += q[i].squaredNorm();
-        }
-        partialQQ[begin / massChunkSize] = qq;
-    });
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    Real qq = 0;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        qq += q[i].squaredNorm();
+                    }
+                    partialQQ[begin / massChunkSize] = qq;
+                });
     const Real startNorm = std::sqrt(sumInOrder(partialQQ));
     if (!(startNorm > 0))
     {
@@ -132,42 +139,46 @@ Real powerFrequency(const MassSpringSystem& system)
     for (int iteration = 0; iteration < powerIterations; ++iteration)
     {
         // y = W^1/2 K W^1/2 (scale q): springs first, then each mass gathers its springs.
-        parallelFor(m, springChunk, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t s = begin; s < end; ++s)
-            {
-                const Index a = springs.ends[s].a;
-                const Index b = springs.ends[s].b;
-                const Vec3 dz = scale * (sqrtW[a] * q[a] - sqrtW[b] * q[b]);
-                const Vec3& u = direction[s];
-                const Real along = u.dot(dz);
-                springForce[s] = (axial[s] * along) * u + geometric[s] * (dz - along * u);
-            }
-        });
-        parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-            Real qy = 0;
-            Real yy = 0;
-            for (std::size_t i = begin; i < end; ++i)
-            {
-                Vec3 f = userStiffness[i] * (scale * sqrtW[i] * q[i]);
-                for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k)
-                {
-                    const SpringAdjacency::Entry e = adjacency.entries[k];
-                    if (springs.ends[e.spring].a == Index(i))
+        parallelFor(m, springChunk,
+                    [&](std::size_t begin, std::size_t end)
                     {
-                        f += springForce[e.spring];
-                    }
-                    else
+                        for (std::size_t s = begin; s < end; ++s)
+                        {
+                            const Index a = springs.ends[s].a;
+                            const Index b = springs.ends[s].b;
+                            const Vec3 dz = scale * (sqrtW[a] * q[a] - sqrtW[b] * q[b]);
+                            const Vec3& u = direction[s];
+                            const Real along = u.dot(dz);
+                            springForce[s] = (axial[s] * along) * u + geometric[s] * (dz - along * u);
+                        }
+                    });
+        parallelFor(n, massChunkSize,
+                    [&](std::size_t begin, std::size_t end)
                     {
-                        f -= springForce[e.spring];
-                    }
-                }
-                y[i] = sqrtW[i] * f;
-                qy += (scale * q[i]).dot(y[i]);
-                yy += y[i].squaredNorm();
-            }
-            partialQY[begin / massChunkSize] = qy;
-            partialYY[begin / massChunkSize] = yy;
-        });
+                        Real qy = 0;
+                        Real yy = 0;
+                        for (std::size_t i = begin; i < end; ++i)
+                        {
+                            Vec3 f = userStiffness[i] * (scale * sqrtW[i] * q[i]);
+                            for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k)
+                            {
+                                const SpringAdjacency::Entry e = adjacency.entries[k];
+                                if (springs.ends[e.spring].a == Index(i))
+                                {
+                                    f += springForce[e.spring];
+                                }
+                                else
+                                {
+                                    f -= springForce[e.spring];
+                                }
+                            }
+                            y[i] = sqrtW[i] * f;
+                            qy += (scale * q[i]).dot(y[i]);
+                            yy += y[i].squaredNorm();
+                        }
+                        partialQY[begin / massChunkSize] = qy;
+                        partialYY[begin / massChunkSize] = yy;
+                    });
         highest = std::max(highest, sumInOrder(partialQY)); // Rayleigh quotient of a unit vector
         const Real norm = std::sqrt(sumInOrder(partialYY));
         if (!(norm > 0))

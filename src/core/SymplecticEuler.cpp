@@ -18,22 +18,26 @@ public:
         if (evaluateForcesAndKick(system, h))
         {
             // The velocities are updated: move the positions (the step is memory-bound, so a pass less counts).
-            parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
-                for (std::size_t i = begin; i < end; ++i)
-                {
-                    p.position[i] += h * p.velocity[i];
-                }
-            });
+            parallelFor(p.size(), massChunkSize,
+                        [&](std::size_t begin, std::size_t end)
+                        {
+                            for (std::size_t i = begin; i < end; ++i)
+                            {
+                                p.position[i] += h * p.velocity[i];
+                            }
+                        });
             return {};
         }
         evaluateForces(system, p.position, p.velocity, p.force);
-        parallelFor(p.size(), massChunkSize, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-            {
-                p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
-                p.position[i] += h * p.velocity[i];
-            }
-        });
+        parallelFor(p.size(), massChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t i = begin; i < end; ++i)
+                        {
+                            p.velocity[i] += (h * p.inverseMass[i]) * p.force[i];
+                            p.position[i] += h * p.velocity[i];
+                        }
+                    });
         return {};
     }
     IntegratorKind kind() const override { return IntegratorKind::SymplecticEuler; }

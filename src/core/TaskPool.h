@@ -31,12 +31,10 @@ public:
 
     /// Calls body(chunk) for every chunk in [0, chunkCount), spread over the threads, and returns when all are done.
     /// The first exception thrown by a chunk is rethrown here (the other chunks still run).
-    template <class Body>
-    void run(std::size_t chunkCount, const Body& body)
+    template <class Body> void run(std::size_t chunkCount, const Body& body)
     {
-        runErased(chunkCount, &body, [](const void* context, std::size_t chunk) {
-            (*static_cast<const Body*>(context))(chunk);
-        });
+        runErased(chunkCount, &body,
+                  [](const void* context, std::size_t chunk) { (*static_cast<const Body*>(context))(chunk); });
     }
 
 private:
@@ -53,7 +51,7 @@ private:
     /// scheduler has not run yet (on a loaded machine that wait cost milliseconds per loop).
     std::atomic<std::uint64_t> m_claim{0};
     std::atomic<std::uint32_t> m_jobNumber{0}; ///< what sleeping workers wait on
-    std::atomic<std::size_t> m_done{0};         ///< chunks of the current job finished
+    std::atomic<std::size_t> m_done{0};        ///< chunks of the current job finished
     std::atomic<std::size_t> m_chunkCount{0};
     std::atomic<const void*> m_context{nullptr};
     std::atomic<ChunkFunction> m_call{nullptr};
@@ -73,8 +71,7 @@ TaskPool& sharedPool();
 
 /// Runs body(begin, end) over [0, count) in chunks of `chunkSize` (the last one shorter), in parallel. Chunk k is
 /// [k * chunkSize, min(count, (k + 1) * chunkSize)), whatever the thread count.
-template <class Body>
-void parallelFor(std::size_t count, std::size_t chunkSize, const Body& body)
+template <class Body> void parallelFor(std::size_t count, std::size_t chunkSize, const Body& body)
 {
     const std::size_t chunks = (count + chunkSize - 1) / chunkSize;
     if (chunks <= 1)
@@ -85,10 +82,12 @@ void parallelFor(std::size_t count, std::size_t chunkSize, const Body& body)
         }
         return;
     }
-    sharedPool().run(chunks, [&](std::size_t chunk) {
-        const std::size_t begin = chunk * chunkSize;
-        body(begin, std::min(count, begin + chunkSize));
-    });
+    sharedPool().run(chunks,
+                     [&](std::size_t chunk)
+                     {
+                         const std::size_t begin = chunk * chunkSize;
+                         body(begin, std::min(count, begin + chunkSize));
+                     });
 }
 
 /// Masses per chunk of the per-mass kernels (integrators, contact projection, checks): a few hundred KB of state,

@@ -23,20 +23,24 @@ public:
             evaluateForces(system, p.position, p.velocity, p.force);
         }
         const Real halfStep = Real(0.5) * h;
-        parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-            {
-                p.velocity[i] += (halfStep * p.inverseMass[i]) * p.force[i];
-                p.position[i] += h * p.velocity[i];
-            }
-        });
+        parallelFor(n, massChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t i = begin; i < end; ++i)
+                        {
+                            p.velocity[i] += (halfStep * p.inverseMass[i]) * p.force[i];
+                            p.position[i] += h * p.velocity[i];
+                        }
+                    });
         evaluateForces(system, p.position, p.velocity, p.force);
-        parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-            {
-                p.velocity[i] += (halfStep * p.inverseMass[i]) * p.force[i];
-            }
-        });
+        parallelFor(n, massChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t i = begin; i < end; ++i)
+                        {
+                            p.velocity[i] += (halfStep * p.inverseMass[i]) * p.force[i];
+                        }
+                    });
         m_cachedSystem = &system;
         m_cachedRevision = system.revision;
         return {};

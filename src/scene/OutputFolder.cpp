@@ -117,8 +117,9 @@ OutputFolder::OutputFolder(const std::string& path, bool force, const std::strin
     {
         if (part.string().size() > maxFolderName)
         {
-            throw InputError(failure(flag, path, "has a name of " + std::to_string(part.string().size()) +
-                                                     " bytes, over the limit of " + std::to_string(maxFolderName)));
+            throw InputError(failure(flag, path,
+                                     "has a name of " + std::to_string(part.string().size()) +
+                                         " bytes, over the limit of " + std::to_string(maxFolderName)));
         }
     }
     std::error_code error;
@@ -166,9 +167,9 @@ OutputFolder::OutputFolder(const std::string& path, bool force, const std::strin
     if (error || ::access(parent.c_str(), W_OK) != 0)
     {
         abandon();
-        throw InputError(failure(flag, path, "cannot be created: its parent folder '" + parent.string() +
-                                                 "' cannot be written" +
-                                                 (error ? " (" + error.message() + ")" : std::string())));
+        throw InputError(failure(flag, path,
+                                 "cannot be created: its parent folder '" + parent.string() + "' cannot be written" +
+                                     (error ? " (" + error.message() + ")" : std::string())));
     }
     removeStaleLeftovers(parent.string());
     m_target = folder.string();

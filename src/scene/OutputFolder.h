@@ -3,10 +3,10 @@
 /// beside it (".NAME.partial-PID"), which replaces the folder in one rename when the run succeeds and is removed when
 /// it fails. A run killed outright leaves its staging folder behind; the next run into the same folder removes it.
 ///
-/// A folder that already holds a run (summary.json, events.csv, frames/, compare.json or figure18.csv) is refused unless
-/// `force` is given; with it, the old folder is replaced whole, only once the new run is complete. A folder holding
-/// other files only (a study's case folder with its scene.json and run.log) keeps them: the run's files are renamed
-/// into it one by one when the run has finished.
+/// A folder that already holds a run (summary.json, events.csv, frames/, compare.json or figure18.csv) is refused
+/// unless `force` is given; with it, the old folder is replaced whole, only once the new run is complete. A folder
+/// holding other files only (a study's case folder with its scene.json and run.log) keeps them: the run's files are
+/// renamed into it one by one when the run has finished.
 
 #include <cstddef>
 #include <string>

@@ -263,8 +263,8 @@ RunSpec readRun(const JsonObject& o)
     run.duration = o.positive("duration", run.duration);
     if (run.duration > limits::maxDuration)
     {
-        o.fail("duration", "must be in (0, " + formatNumber(limits::maxDuration) + "] s (got " +
-                               formatNumber(run.duration) + ")");
+        o.fail("duration",
+               "must be in (0, " + formatNumber(limits::maxDuration) + "] s (got " + formatNumber(run.duration) + ")");
     }
     if (const nlohmann::json* rest = o.raw("stop_at_rest"))
     {

@@ -16,15 +16,15 @@ SceneSpec loadScene(const std::string& path);
 /// are held to the same ones.
 namespace limits
 {
-constexpr Real minTimeStep = 1e-6;   ///< s: below it a run of seconds takes more than a million steps
-constexpr Real maxTimeStep = 1;      ///< s: the paper's step is 0.03 s
-constexpr Real maxDuration = 1e6;    ///< s of simulated time
-constexpr Real maxSteps = 1e9;       ///< duration / dt
-constexpr Real minMass = 1e-6;       ///< kg per mass (1 mg)
-constexpr Real maxMass = 1e3;        ///< kg per mass
-constexpr Real maxStiffness = 1e6;   ///< N/m per spring
+constexpr Real minTimeStep = 1e-6;     ///< s: below it a run of seconds takes more than a million steps
+constexpr Real maxTimeStep = 1;        ///< s: the paper's step is 0.03 s
+constexpr Real maxDuration = 1e6;      ///< s of simulated time
+constexpr Real maxSteps = 1e9;         ///< duration / dt
+constexpr Real minMass = 1e-6;         ///< kg per mass (1 mg)
+constexpr Real maxMass = 1e3;          ///< kg per mass
+constexpr Real maxStiffness = 1e6;     ///< N/m per spring
 constexpr Real maxContactRadius = 0.1; ///< m: a mass's sphere, far below the sheet's size
-constexpr Real maxRepulsion = 1;     ///< N m^2
+constexpr Real maxRepulsion = 1;       ///< N m^2
 } // namespace limits
 
 /// Throws InputError naming contact.self_collision when it is on with an implicit integrator (not built yet).

@@ -108,8 +108,7 @@ SceneSpec loadScene(const std::string& path, const std::vector<KeyOverride>& ove
     {
         return loadScene(path);
     }
-    return parseSceneWith(readSceneDocument(path), overrides, std::filesystem::path(path).parent_path().string(),
-                          path);
+    return parseSceneWith(readSceneDocument(path), overrides, std::filesystem::path(path).parent_path().string(), path);
 }
 
 void rebaseFilePaths(nlohmann::json& document, const std::string& fromDirectory, const std::string& toDirectory)

@@ -183,8 +183,8 @@ struct SceneSpec
     MaterialSpec material;
     HeatSpec heat;
     ReportSpec report;
-    FormingSpec forming;               ///< pressure across the sheet (vacuum and pressure forming)
-    FormingReportSpec formingReport;   ///< maps and per-mass CSV
+    FormingSpec forming;             ///< pressure across the sheet (vacuum and pressure forming)
+    FormingReportSpec formingReport; ///< maps and per-mass CSV
     ContactSettings contact;
     /// The sheet against itself ("contact.self_collision", off by default); its radius is contact.radius.
     bool selfCollision = false;

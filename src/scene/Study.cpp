@@ -144,8 +144,9 @@ void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, c
         if (event.empty() || event.front() == ':' || event.back() == ':' ||
             std::count(event.begin(), event.end(), ':') > 1)
         {
-            throw InputError(where + ": " + output.path + ": expected event:NAME or event:NAME:OBJECT, such as "
-                                                          "event:contact:mould");
+            throw InputError(where + ": " + output.path +
+                             ": expected event:NAME or event:NAME:OBJECT, such as "
+                             "event:contact:mould");
         }
         return;
     }
@@ -537,8 +538,7 @@ Study loadStudy(const std::string& path)
             }
             if (count > double(maxCases))
             {
-                top.fail("vary", "the grid has " + valueText(count) + " cases; at most " +
-                                     std::to_string(maxCases));
+                top.fail("vary", "the grid has " + valueText(count) + " cases; at most " + std::to_string(maxCases));
             }
             study.cases = gridDesign(values);
         }
@@ -569,7 +569,8 @@ Study loadStudy(const std::string& path)
         {
             try
             {
-                const SceneSpec spec = parseSceneWith(study.sceneDocument, caseOverrides(study, i), sceneFolder, study.scenePath, "");
+                const SceneSpec spec =
+                    parseSceneWith(study.sceneDocument, caseOverrides(study, i), sceneFolder, study.scenePath, "");
                 if (i == 0)
                 {
                     Scene built(spec);

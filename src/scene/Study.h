@@ -39,7 +39,7 @@ struct StudyOutput
 
 struct Study
 {
-    std::string file;      ///< the study file as given
+    std::string file; ///< the study file as given
     std::string name;
     std::string scenePath; ///< the base scene, as a path from the working folder
     nlohmann::json sceneDocument;

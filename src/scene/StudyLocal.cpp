@@ -141,7 +141,8 @@ LocalRunReport runCasesLocally(const std::string& dir, const std::vector<std::si
     std::map<pid_t, Worker> running;
     std::size_t next = 0;
     double caseSeconds = 0;
-    auto show = [&](const std::string& finishedLine) {
+    auto show = [&](const std::string& finishedLine)
+    {
         const std::size_t done = report.ran;
         const double elapsed = secondsSince(start);
         // What is left, at the pace so far (wall time per finished case divided over the workers).
@@ -177,7 +178,9 @@ LocalRunReport runCasesLocally(const std::string& dir, const std::vector<std::si
             show("");
         }
         int status = 0;
-        struct rusage usage{};
+        struct rusage usage
+        {
+        };
         const pid_t pid = ::wait4(-1, &status, 0, &usage);
         if (pid < 0)
         {

@@ -13,9 +13,9 @@ namespace masse::scene
 {
 struct LocalRunOptions
 {
-    std::string masse;    ///< the masse executable the workers run
-    int jobs = 1;         ///< worker processes at once
-    int threads = 1;      ///< passed to each run as --threads
+    std::string masse;     ///< the masse executable the workers run
+    int jobs = 1;          ///< worker processes at once
+    int threads = 1;       ///< passed to each run as --threads
     bool terminal = false; ///< progress redrawn in place (else one line per finished case)
     /// When set, a worker runs its case by calling this with the `masse run` command line (the program name first) in
     /// the forked child, instead of executing `masse` again: the same command line and exit code, without loading

@@ -10,13 +10,13 @@ namespace masse::scene
 {
 struct SlurmOptions
 {
-    std::string masse;     ///< the masse executable the tasks run (must be reachable from the compute nodes)
+    std::string masse; ///< the masse executable the tasks run (must be reachable from the compute nodes)
     std::string jobName;
     std::string partition; ///< "" leaves it to the cluster's default
     std::string timeLimit = "01:00:00";
     int cpusPerTask = 1;
-    int throttle = 0;      ///< at most this many tasks at once (0: no limit)
-    int threads = 1;       ///< passed to each run as --threads
+    int throttle = 0; ///< at most this many tasks at once (0: no limit)
+    int threads = 1;  ///< passed to each run as --threads
 };
 
 /// "0-3,5,7-9": Slurm's --array list for the indices (sorted, without repeats).

@@ -72,7 +72,7 @@ enum MassFlag : std::uint8_t
 
 struct SceneSnapshot
 {
-    std::uint64_t generation = 0; ///< the session's; a new one means a new spec and topology
+    std::uint64_t generation = 0;    ///< the session's; a new one means a new spec and topology
     std::uint64_t appliedTicket = 0; ///< every command posted with a ticket up to this one has been carried out
     /// Counts the simulation thread's publications (0: made by hand): a snapshot object is reused for later ones, so
     /// the renderer tells a new one from the one it already uploaded by this.

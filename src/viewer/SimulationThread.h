@@ -58,7 +58,7 @@ private:
     bool m_realTime;
     Real m_computeBudget;
 
-    mutable std::mutex m_mutex; ///< guards everything below, held only briefly (never over a step)
+    mutable std::mutex m_mutex;          ///< guards everything below, held only briefly (never over a step)
     std::condition_variable m_wake;      ///< the simulation thread: a command came, or stop
     std::condition_variable m_published; ///< waitFor
     std::vector<SessionCommand> m_commands;

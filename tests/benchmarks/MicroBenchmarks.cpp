@@ -7,8 +7,8 @@
 #include "scene/SceneOverrides.h"
 
 #include "core/ContactSolver.h"
-#include "core/Forces.h"
 #include "core/Damping.h"
+#include "core/Forces.h"
 #include "core/Integrator.h"
 
 #include <benchmark/benchmark.h>
