@@ -110,17 +110,22 @@ struct TriangleCollector : btTriangleCallback
         {
             return;
         }
-        // A centre on the triangle itself has no offset to point along: the face's own normal (outward for a mesh
-        // wound outward) stands in, as EPA's answer did.
-        Vec3 localNormal = gap > 0 ? Vec3(offset / gap) : Vec3((b - a).cross(c - a));
-        if (gap == 0)
+        Vec3 localNormal;
+        if (gap > 0)
         {
-            const Real length = localNormal.norm();
+            localNormal = offset / gap;
+        }
+        else
+        {
+            // A centre on the triangle itself has no offset to point along: the face's own normal (outward for a
+            // mesh wound outward) stands in, as EPA's answer did.
+            const Vec3 face = (b - a).cross(c - a);
+            const Real length = face.norm();
             if (!(length > 0))
             {
                 return;
             }
-            localNormal /= length;
+            localNormal = face / length;
         }
         const Vec3 normal = toVec3(transform->getBasis() * toBullet(localNormal));
         found->emplace_back(Gjk{gap - radius, normal, toVec3((*transform)(toBullet(nearest)))}, triangleIndex);
@@ -333,10 +338,10 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame. Their list is kept per thread
     // (the queries run on the task pool's threads) and reused: a new one for each mass's query was a heap allocation
     // or more per mass and frame.
-    thread_local std::vector<std::pair<Gjk, int>> scratch;
-    scratch.clear();
+    thread_local std::vector<std::pair<Gjk, int>> found;
+    found.clear();
     TriangleCollector collector;
-    collector.found = &scratch;
+    collector.found = &found;
     collector.transform = &transform;
     const Real extent = radius + std::max(searchDistance, Real(0));
     const Vec3 local = toLocal * (centre - obstacle.pose.position);
@@ -354,7 +359,6 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // on the pyramid mesh gained 154 J in one step that way). Only the nearest and the triangles the centre lies over
     // are put in order (nearest first, ties by triangle): sorting every triangle in the search box took 9% of a
     // vacuum-forming run.
-    auto& found = scratch;
     if (found.empty())
     {
         return;

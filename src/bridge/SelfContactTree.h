@@ -1,8 +1,9 @@
 #pragma once
 /// The broadphase of the sheet's self-contact, through Bullet: one btDbvt over the sheet's surface triangles with fat
-/// boxes, refitted once per frame, queried by every surface vertex's box (SelfContactBroadphase.h in the core says
-/// what the pairs mean). Once per frame, not per substep: a query per vertex per substep cost 4.2 times the step; the
-/// core tests the frame's pairs after every substep.
+/// boxes, refitted and queried by every surface vertex's box when the core lists its pairs (SelfContactBroadphase.h
+/// says what the pairs mean): at each frame's start, and again within a frame only when a mass has moved beyond its
+/// skin (SelfContact.h). Not every substep: a query per vertex per substep cost 4.2 times the step; the core tests
+/// the listed pairs after every substep.
 
 #include "core/SelfContactBroadphase.h"
 

@@ -125,27 +125,25 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
     // collected per chunk and recorded in chunk order, the order a serial loop would find them.
     // The per-chunk lists keep their capacity from substep to substep: no allocation once the sheet has settled.
     const std::size_t masses = p.size();
-    std::vector<std::vector<int>>& firstTouches = m_chunkFirstTouches;
-    std::vector<std::uint8_t>& madeStuck = m_chunkMadeStuck;
-    firstTouches.resize(chunkCount(masses, massChunkSize));
-    for (std::vector<int>& touches : firstTouches)
+    m_chunkFirstTouches.resize(chunkCount(masses, massChunkSize));
+    for (std::vector<int>& touches : m_chunkFirstTouches)
     {
         touches.clear();
     }
-    madeStuck.assign(firstTouches.size(), 0);
+    m_chunkMadeStuck.assign(m_chunkFirstTouches.size(), 0);
     const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, h};
     parallelFor(masses, massChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     const std::size_t chunk = begin / massChunkSize;
                     bool stuck = false;
-                    projection.run(begin, end, firstTouches[chunk], stuck);
-                    madeStuck[chunk] = stuck ? 1 : 0;
+                    projection.run(begin, end, m_chunkFirstTouches[chunk], stuck);
+                    m_chunkMadeStuck[chunk] = stuck ? 1 : 0;
                 });
-    for (std::size_t chunk = 0; chunk < firstTouches.size(); ++chunk)
+    for (std::size_t chunk = 0; chunk < m_chunkFirstTouches.size(); ++chunk)
     {
-        m_stuck.any = m_stuck.any || madeStuck[chunk] != 0;
-        m_report.recordFirstTouches(firstTouches[chunk], now());
+        m_stuck.any = m_stuck.any || m_chunkMadeStuck[chunk] != 0;
+        m_report.recordFirstTouches(m_chunkFirstTouches[chunk], now());
     }
 }
 

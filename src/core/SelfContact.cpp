@@ -47,21 +47,10 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     std::sort(m_vertices.begin(), m_vertices.end());
     m_vertices.erase(std::unique(m_vertices.begin(), m_vertices.end()), m_vertices.end());
 
-    // Spring neighbours of every mass, sorted, for the adjacency test.
+    // Spring neighbours of every mass, for the adjacency test: a copy of the lattice's own adjacency, so the hook
+    // holds nothing of the lattice it was built from.
     const std::size_t n = lattice.massCount();
-    std::vector<std::vector<Index>> neighbours(n);
-    for (const SpringEnds& spring : lattice.springs.ends)
-    {
-        neighbours[spring.a].push_back(spring.b);
-        neighbours[spring.b].push_back(spring.a);
-    }
-    m_neighbourStart.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        std::sort(neighbours[i].begin(), neighbours[i].end());
-        m_neighbourStart[i + 1] = m_neighbourStart[i] + neighbours[i].size();
-        m_neighbours.insert(m_neighbours.end(), neighbours[i].begin(), neighbours[i].end());
-    }
+    m_springsAt = lattice.springs.adjacency(n);
     m_skin.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
     m_restPosition = lattice.position;
@@ -86,8 +75,8 @@ void SelfContact::listNearAtRest()
     {
         const Triangle& t = m_triangles[pair.triangle];
         const std::vector<Vec3>& x = m_restPosition;
-        const Vec3 w = closestPointWeights(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]]);
-        if ((x[pair.vertex] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]])).squaredNorm() < limitSquared)
+        if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+            limitSquared)
         {
             near[pair.vertex].push_back(pair.triangle);
         }
@@ -104,11 +93,14 @@ void SelfContact::listNearAtRest()
 bool SelfContact::excluded(Index vertex, Index triangleIndex) const
 {
     const Triangle& triangle = m_triangles[triangleIndex];
-    const auto first = m_neighbours.begin() + std::ptrdiff_t(m_neighbourStart[vertex]);
-    const auto last = m_neighbours.begin() + std::ptrdiff_t(m_neighbourStart[vertex + 1]);
-    for (const Index corner : triangle)
+    if (std::find(triangle.begin(), triangle.end(), vertex) != triangle.end())
     {
-        if (corner == vertex || std::binary_search(first, last, corner))
+        return true;
+    }
+    const SpringAdjacency& springs = m_springsAt;
+    for (std::size_t k = springs.offsets[vertex]; k < springs.offsets[vertex + 1]; ++k)
+    {
+        if (std::find(triangle.begin(), triangle.end(), springs.entries[k].other) != triangle.end())
         {
             return true;
         }

@@ -96,9 +96,7 @@ private:
     SelfContactSettings m_settings;
     std::vector<Triangle> m_triangles;
     std::vector<Index> m_vertices; ///< the surface's masses, increasing
-    std::vector<std::size_t>
-        m_neighbourStart;            ///< per mass, its spring neighbours are m_neighbours[start[i], start[i+1])
-    std::vector<Index> m_neighbours; ///< sorted within each mass
+    SpringAdjacency m_springsAt;   ///< the lattice's springs at each mass
     std::vector<std::size_t>
         m_nearStart;                    ///< per mass, its triangles near at rest: m_nearTriangles[start[i], start[i+1])
     std::vector<Index> m_nearTriangles; ///< sorted within each mass

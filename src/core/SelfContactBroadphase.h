@@ -1,7 +1,8 @@
 #pragma once
 /// The broadphase of the sheet's self-contact: which (vertex, triangle) pairs of the sheet's surface may come within
 /// the contact radius during a frame. The Bullet bridge implements it with a btDbvt over the triangles; the core sees
-/// only this interface, asks it once per frame and tests the pairs it returns after every substep.
+/// only this interface, asks it at each frame's start (and again when a mass outruns its skin, SelfContact.h) and
+/// tests the pairs it returns after every substep.
 
 #include "LatticeSurface.h"
 #include "Types.h"

@@ -9,7 +9,7 @@ enum class Stage
     ContactDetection,  ///< finding every mass's planes with the detector, once per frame
     ContactProjection, ///< applying the planes after every substep
     ContactSweep,      ///< the end-of-frame sweep and reports
-    SelfContactPairs,  ///< the sheet's self-contact broadphase, once per frame
+    SelfContactPairs,  ///< the sheet's self-contact broadphase: each frame's start and when a mass outruns its skin
     SelfContactSolve,  ///< the sheet's self-contact narrowphase and response after every substep
 };
 

@@ -235,8 +235,8 @@ ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& self
     contact.friction = o.number("friction", contact.friction, 0.0);
     contact.stickReleaseForce = o.number("release_force", contact.stickReleaseForce, 0.0);
     contact.slipRegularization = o.positive("slip_regularization", contact.slipRegularization);
-    selfCollision = o.boolean("self_collision", false);
-    selfFriction = o.number("self_friction", 0.3, 0.0);
+    selfCollision = o.boolean("self_collision", selfCollision);
+    selfFriction = o.number("self_friction", selfFriction, 0.0);
     o.finish();
     return contact;
 }
