@@ -121,7 +121,7 @@ std::vector<Index> Lattice::bottomCorners() const
 Real Lattice::minRestLength() const
 {
     Real shortest = std::numeric_limits<Real>::infinity();
-    for (Real length : springs.restLength)
+    for (Real length : springs.restLength())
     {
         shortest = std::min(shortest, length);
     }
@@ -141,6 +141,13 @@ Lattice buildLattice(const LatticeSpec& spec)
     {
         buildSquareLattice(lattice);
     }
+    std::vector<int> row(lattice.massCount());
+    for (std::size_t i = 0; i < row.size(); ++i)
+    {
+        row[i] = lattice.coord[i].row;
+    }
+    lattice.springs.setRowPlan(buildSpringRowPlan(lattice.springs.ends(), lattice.springs.classes(),
+                                                  lattice.springs.adjacency(lattice.massCount()), row));
     return lattice;
 }
 } // namespace masse
