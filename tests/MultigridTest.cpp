@@ -45,8 +45,8 @@ SparseMatrix restMatrix(const MassSpringSystem& system, Real stiffness, std::siz
     }
     for (std::size_t s = 0; s < system.springs.size(); ++s)
     {
-        const Index a = system.springs.ends[s].a;
-        const Index b = system.springs.ends[s].b;
+        const Index a = system.springs.ends()[s].a;
+        const Index b = system.springs.ends()[s].b;
         if (a < pinned || b < pinned)
         {
             continue;

@@ -46,9 +46,9 @@ NodeGraph planarGraph(const SpringSet& springs, std::size_t masses)
     edges.reserve(springs.size());
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        if (springs.springClass[s] == SpringClass::Planar)
+        if (springs.classes()[s] == SpringClass::Planar)
         {
-            edges.emplace_back(springs.ends[s].a, springs.ends[s].b);
+            edges.emplace_back(springs.ends()[s].a, springs.ends()[s].b);
         }
     }
     return graphFromEdges(masses, edges);
