@@ -11,6 +11,7 @@
 #include "StageTimer.h"
 
 #include "core/ContactSolver.h"
+#include "core/EdgeContact.h"
 #include "core/Forces.h"
 #include "core/Format.h"
 #include "core/InputError.h"
@@ -269,6 +270,10 @@ void runBench(const BenchOptions& options)
     {
         self->setStageObserver(&stageTimer);
     }
+    if (EdgeContact* edges = scene.edgeContact())
+    {
+        edges->setStageObserver(&stageTimer);
+    }
     const BenchRounds rounds = timeRounds(simulator, spec.time.dt, options);
     nlohmann::json out = benchReport(spec, simulator, options, rounds);
     out["setup_seconds"] = {
@@ -293,6 +298,23 @@ void runBench(const BenchOptions& options)
             {"pair_lists", self->report().queries},
             {"pairs_last_list", self->report().pairs},
             {"touches_last_frame", self->report().lastFrame},
+        };
+    }
+    if (const EdgeContact* edges = scene.edgeContact())
+    {
+        // The sheet's edges and triangles against the obstacles' edges and corners: its listings (Bullet's btDbvt over
+        // the sheet) and its per-substep tests and responses, as shares of the timed rounds' wall time.
+        const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+        const double pairs = stageTimer.seconds(Stage::EdgeContactPairs);
+        const double solve = stageTimer.seconds(Stage::EdgeContactSolve);
+        out["edge_contact"] = {
+            {"pairs_seconds", pairs},
+            {"solve_seconds", solve},
+            {"share_of_step", (pairs + solve) / allSeconds},
+            {"pair_lists", edges->report().lists},
+            {"edge_pairs_last_list", edges->report().edgePairs},
+            {"corner_pairs_last_list", edges->report().cornerPairs},
+            {"touches_last_frame", edges->report().lastFrame},
         };
     }
     if (!isExplicit(spec.time.integrator))

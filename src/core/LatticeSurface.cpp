@@ -1,5 +1,7 @@
 #include "LatticeSurface.h"
 
+#include <algorithm>
+
 namespace masse
 {
 std::vector<Triangle> layerTriangles(const Lattice& lattice, int layer)
@@ -40,5 +42,82 @@ std::vector<Triangle> layerTriangles(const Lattice& lattice, int layer)
         }
     }
     return triangles;
+}
+} // namespace masse
+
+namespace masse
+{
+namespace
+{
+/// Cells a side of a surface patch: 128 triangles a patch, so the broadphase's tree has a leaf per 128 triangles.
+constexpr int patchCells = 8;
+
+/// Appends the patches of a layer whose triangles start at `first` (layerTriangles' order: two a cell, cell by cell
+/// along each row, row after row).
+void addPatches(const Lattice& lattice, int layer, Index first, SheetSurface& surface)
+{
+    const int cellsX = lattice.layerCountX(layer) - 1;
+    const int cellsZ = lattice.layerCountZ(layer) - 1;
+    for (int rowBlock = 0; rowBlock < cellsZ; rowBlock += patchCells)
+    {
+        for (int columnBlock = 0; columnBlock < cellsX; columnBlock += patchCells)
+        {
+            for (int row = rowBlock; row < std::min(rowBlock + patchCells, cellsZ); ++row)
+            {
+                for (int column = columnBlock; column < std::min(columnBlock + patchCells, cellsX); ++column)
+                {
+                    const Index cell = first + Index(2 * (row * cellsX + column));
+                    surface.patchTriangles.push_back(cell);
+                    surface.patchTriangles.push_back(cell + 1);
+                }
+            }
+            surface.patchStart.push_back(surface.patchTriangles.size());
+        }
+    }
+}
+} // namespace
+
+SheetSurface sheetSurface(const Lattice& lattice)
+{
+    SheetSurface surface;
+    surface.triangles = layerTriangles(lattice, 0);
+    surface.patchStart.push_back(0);
+    addPatches(lattice, 0, 0, surface);
+    const int top = lattice.spec.layers - 1;
+    if (top > 0)
+    {
+        const std::vector<Triangle> upper = layerTriangles(lattice, top);
+        addPatches(lattice, top, Index(surface.triangles.size()), surface);
+        surface.triangles.insert(surface.triangles.end(), upper.begin(), upper.end());
+    }
+    for (const Triangle& t : surface.triangles)
+    {
+        surface.vertices.insert(surface.vertices.end(), t.begin(), t.end());
+        for (int k = 0; k < 3; ++k)
+        {
+            const Index a = t[std::size_t(k)];
+            const Index b = t[std::size_t((k + 1) % 3)];
+            surface.edges.push_back({std::min(a, b), std::max(a, b)});
+        }
+    }
+    std::sort(surface.vertices.begin(), surface.vertices.end());
+    surface.vertices.erase(std::unique(surface.vertices.begin(), surface.vertices.end()), surface.vertices.end());
+    std::sort(surface.edges.begin(), surface.edges.end());
+    surface.edges.erase(std::unique(surface.edges.begin(), surface.edges.end()), surface.edges.end());
+    surface.triangleEdges.reserve(surface.triangles.size());
+    for (const Triangle& t : surface.triangles)
+    {
+        std::array<Index, 3> edges{};
+        for (int k = 0; k < 3; ++k)
+        {
+            const Index a = t[std::size_t(k)];
+            const Index b = t[std::size_t((k + 1) % 3)];
+            const Edge edge{std::min(a, b), std::max(a, b)};
+            edges[std::size_t(k)] =
+                Index(std::lower_bound(surface.edges.begin(), surface.edges.end(), edge) - surface.edges.begin());
+        }
+        surface.triangleEdges.push_back(edges);
+    }
+    return surface;
 }
 } // namespace masse

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace masse
 {
@@ -33,19 +34,9 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     : m_broadphase(broadphase), m_settings(settings)
 {
     validate(settings);
-    const int top = lattice.spec.layers - 1;
-    m_triangles = layerTriangles(lattice, 0);
-    if (top > 0)
-    {
-        const std::vector<Triangle> upper = layerTriangles(lattice, top);
-        m_triangles.insert(m_triangles.end(), upper.begin(), upper.end());
-    }
-    for (const Triangle& t : m_triangles)
-    {
-        m_vertices.insert(m_vertices.end(), t.begin(), t.end());
-    }
-    std::sort(m_vertices.begin(), m_vertices.end());
-    m_vertices.erase(std::unique(m_vertices.begin(), m_vertices.end()), m_vertices.end());
+    SheetSurface surface = sheetSurface(lattice);
+    m_triangles = std::move(surface.triangles);
+    m_vertices = std::move(surface.vertices);
 
     // Spring neighbours of every mass, for the adjacency test: a copy of the lattice's own adjacency, so the hook
     // holds nothing of the lattice it was built from.

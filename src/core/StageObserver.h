@@ -11,9 +11,11 @@ enum class Stage
     ContactSweep,      ///< the end-of-frame sweep and reports
     SelfContactPairs,  ///< the sheet's self-contact broadphase: each frame's start and when a mass outruns its skin
     SelfContactSolve,  ///< the sheet's self-contact narrowphase and response after every substep
+    EdgeContactPairs,  ///< listing the sheet's edges and triangles near obstacle edges and corners
+    EdgeContactSolve,  ///< their narrowphase and response after every substep
 };
 
-inline constexpr int stageCount = 5;
+inline constexpr int stageCount = 7;
 
 class StageObserver
 {

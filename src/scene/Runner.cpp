@@ -162,6 +162,27 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
                                    : nlohmann::json(nullptr)},
         };
     }
+    if (const EdgeContact* edges = scene.edgeContact())
+    {
+        // The sheet's edges and triangles against the obstacles' edges and corners: touches (pairs closer than the
+        // radius, summed over substeps) in the last frame and in the whole run, and the first one's time and place.
+        const EdgeContactReport& r = edges->report();
+        const bool touched = r.firstTime >= 0;
+        summary["edge_contact"] = {
+            {"last_frame", r.lastFrame},
+            {"last_substep", r.lastSubstep},
+            {"total", r.total},
+            {"edge_pairs_last_list", r.edgePairs},
+            {"corner_pairs_last_list", r.cornerPairs},
+            {"pair_lists", r.lists},
+            {"first_time", touched ? nlohmann::json(r.firstTime) : nlohmann::json(nullptr)},
+            {"first_obstacle", touched && r.firstObstacle >= 0
+                                   ? nlohmann::json(scene.environment().obstacle(r.firstObstacle).spec.name)
+                                   : nlohmann::json(nullptr)},
+            {"first_position", touched ? nlohmann::json({r.firstPosition.x(), r.firstPosition.y(), r.firstPosition.z()})
+                                       : nlohmann::json(nullptr)},
+        };
+    }
     if (!isExplicit(spec.time.integrator))
     {
         summary["solver"] = solverSummary(scene.simulator().solverTally(), spec.time.implicit);

@@ -7,6 +7,7 @@
 
 #include "bridge/MeshTopology.h"
 #include "bridge/SelfContactTree.h"
+#include "bridge/SheetEdgeTree.h"
 
 #include "core/Energy.h"
 #include "core/Format.h"
@@ -107,6 +108,8 @@ void Scene::tearDown()
     m_thermal.reset();
     m_thickness.reset();
     m_script.reset();
+    m_edgeContact.reset();
+    m_edgeContactPairs.reset();
     m_selfContact.reset();
     m_selfContactPairs.reset();
     m_simulator.reset();
@@ -204,13 +207,21 @@ void Scene::addHooks()
     {
         // Right after the script, so that it runs after the obstacle contact of every substep and before the models
         // that read the positions.
-        requireExplicitForSelfCollision(m_spec); // again: --integrator may have changed the scene's
+        requireExplicitForSheetContact(m_spec); // again: --integrator may have changed the scene's
         SelfContactSettings self;
         self.radius = m_spec.contact.radius;
         self.friction = m_spec.selfFriction;
         m_selfContactPairs = std::make_unique<bridge::SelfContactTree>();
         m_selfContact = std::make_unique<SelfContact>(m_lattice, *m_selfContactPairs, self);
         m_simulator->addHook(m_selfContact.get());
+    }
+    if (m_spec.edgeCollision)
+    {
+        // After the self-contact, so that in every substep the obstacles have the last word.
+        requireExplicitForSheetContact(m_spec);
+        m_edgeContactPairs = std::make_unique<bridge::SheetEdgeTree>(*m_environment);
+        m_edgeContact = std::make_unique<EdgeContact>(m_lattice, *m_edgeContactPairs, m_contact->settings());
+        m_simulator->addHook(m_edgeContact.get());
     }
     if (m_thermal)
     {

@@ -9,6 +9,7 @@
 #include "bridge/BulletEnvironment.h"
 
 #include "core/ContactSolver.h"
+#include "core/EdgeContact.h"
 #include "core/PressureLoad.h"
 #include "core/SelfContact.h"
 #include "core/Simulator.h"
@@ -57,6 +58,10 @@ public:
     /// The sheet against itself (nullptr unless contact.self_collision is on).
     SelfContact* selfContact() { return m_selfContact.get(); }
     const SelfContact* selfContact() const { return m_selfContact.get(); }
+    /// The sheet's edges and triangles against the obstacles' edges and corners (nullptr unless
+    /// contact.edge_collision is on).
+    EdgeContact* edgeContact() { return m_edgeContact.get(); }
+    const EdgeContact* edgeContact() const { return m_edgeContact.get(); }
     const ScriptRunner& script() const { return *m_script; }
     /// The heat model (nullptr without a "heat" section) and the material springs (nullptr without a "material").
     ThermalModel* thermal() { return m_thermal.get(); }
@@ -118,6 +123,8 @@ private:
     std::unique_ptr<ScriptRunner> m_script;
     std::unique_ptr<SelfContactBroadphase> m_selfContactPairs;
     std::unique_ptr<SelfContact> m_selfContact;
+    std::unique_ptr<EdgeContactDetector> m_edgeContactPairs;
+    std::unique_ptr<EdgeContact> m_edgeContact;
     std::unique_ptr<ThermalModel> m_thermal;
     std::unique_ptr<ViscoelasticSprings> m_springs;
     std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 namespace masse::scene
 {
@@ -222,7 +223,7 @@ bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDi
     return spec;
 }
 
-ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& selfFriction)
+ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& selfFriction, bool& edgeCollision)
 {
     ContactSettings contact;
     contact.response = parseContactResponse(o.choice("response", "friction", {"sticky", "friction", "frictionless"}));
@@ -237,6 +238,7 @@ ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& self
     contact.slipRegularization = o.positive("slip_regularization", contact.slipRegularization);
     selfCollision = o.boolean("self_collision", selfCollision);
     selfFriction = o.number("self_friction", selfFriction, 0.0);
+    edgeCollision = o.boolean("edge_collision", edgeCollision);
     o.finish();
     return contact;
 }
@@ -702,15 +704,24 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
 }
 } // namespace
 
-void requireExplicitForSelfCollision(const SceneSpec& scene)
+void requireExplicitForSheetContact(const SceneSpec& scene)
 {
-    if (scene.selfCollision && !isExplicit(scene.time.integrator))
+    if (isExplicit(scene.time.integrator))
     {
-        throw InputError("contact.self_collision: works with the explicit integrators only (euler, symplectic, "
-                         "verlet), not with " +
-                         std::string(integratorName(scene.time.integrator)) +
-                         " (the implicit ones would need it inside their solve as constraints, which is not built "
-                         "yet); use \"integrator\": {\"type\": \"symplectic\"} or turn self_collision off");
+        return;
+    }
+    for (const auto& [on, key] :
+         {std::pair{scene.selfCollision, "self_collision"}, std::pair{scene.edgeCollision, "edge_collision"}})
+    {
+        if (on)
+        {
+            throw InputError(std::string("contact.") + key +
+                             ": works with the explicit integrators only (euler, symplectic, verlet), not with " +
+                             std::string(integratorName(scene.time.integrator)) +
+                             " (the implicit ones would need it inside their solve as constraints, which is not built "
+                             "yet); use \"integrator\": {\"type\": \"symplectic\"} or turn " +
+                             key + " off");
+        }
     }
 }
 
@@ -777,9 +788,9 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
             scene.forming = readForming(*forming);
         }
         scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")), scene.selfCollision,
-                                    scene.selfFriction);
+                                    scene.selfFriction, scene.edgeCollision);
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
-        requireExplicitForSelfCollision(scene);
+        requireExplicitForSheetContact(scene);
         scene.run = readRun(top.object("run").value_or(JsonObject(empty, "run")));
         for (const JsonObject& a : top.objects("script"))
         {

@@ -189,6 +189,9 @@ struct SceneSpec
     /// The sheet against itself ("contact.self_collision", off by default); its radius is contact.radius.
     bool selfCollision = false;
     Real selfFriction = 0.3; ///< "contact.self_friction": Coulomb mu between sheet and sheet
+    /// The sheet's surface edges and triangles against the obstacles' sharp edges and corners
+    /// ("contact.edge_collision", off by default).
+    bool edgeCollision = false;
     TimeSpec time;
     RunSpec run;
     std::vector<ScriptAction> script;
