@@ -190,7 +190,11 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     const Eigen::Index size = Eigen::Index(3 * n);
     if (size > Eigen::Index(std::numeric_limits<StorageIndex>::max() / 4))
     {
-        throw InputError("integrator: the sheet is too large for the implicit solver's sparse matrix");
+        throw InputError("the sheet's " + std::to_string(n) +
+                         " masses are too many for the implicit solver's sparse "
+                         "matrix (at most " +
+                         std::to_string(std::numeric_limits<StorageIndex>::max() / 12) +
+                         "); use an explicit integrator");
     }
     std::vector<Eigen::Triplet<Real, StorageIndex>> triplets;
     triplets.reserve(9 * (n + 2 * springs.size()));

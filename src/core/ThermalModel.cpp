@@ -34,44 +34,56 @@ Real cotangent(const Vec3& o, const Vec3& a, const Vec3& b)
 
 void validate(const ThermalSettings& s)
 {
-    auto temperature = [](Real kelvin, const char* key)
+    auto temperature = [](Real kelvin, const char* field)
     {
         if (!(kelvin > 0) || !std::isfinite(kelvin))
         {
-            throw InputError(std::string(key) + ": must be above absolute zero (got " + formatNumber(kelvin - 273.15) +
-                             " C)");
+            throw InputError(field, "must be above absolute zero (got " + formatNumber(kelvin) + " K, " +
+                                        formatNumber(kelvin - 273.15) + " C)");
         }
     };
-    temperature(s.initialTemperature, "initial_temperature_c");
-    temperature(s.airTemperature, "air_temperature_c");
+    temperature(s.initialTemperature, "initialTemperature");
+    temperature(s.airTemperature, "airTemperature");
     if (!(s.airHeatTransfer >= 0) || !std::isfinite(s.airHeatTransfer))
     {
-        throw InputError("air_heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(s.airHeatTransfer) + ")");
+        throw InputError("airHeatTransfer", "must be >= 0 W/(m^2 K) (got " + formatNumber(s.airHeatTransfer) + ")");
     }
     if (!(s.absorptivity >= 0 && s.absorptivity <= 1))
     {
-        throw InputError("absorptivity: must be in [0, 1] (got " + formatNumber(s.absorptivity) + ")");
+        throw InputError("absorptivity", "must be in [0, 1] (got " + formatNumber(s.absorptivity) + ")");
     }
     if (!(s.contactHeatTransfer >= 0) || !std::isfinite(s.contactHeatTransfer))
     {
-        throw InputError("contact_heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(s.contactHeatTransfer) +
-                         ")");
+        throw InputError("contactHeatTransfer",
+                         "must be >= 0 W/(m^2 K) (got " + formatNumber(s.contactHeatTransfer) + ")");
     }
     if (!(s.solverTolerance > 0 && s.solverTolerance <= 1e-3))
     {
-        throw InputError("solver_tolerance: must be in (0, 1e-3] (got " + formatNumber(s.solverTolerance) + ")");
+        throw InputError("solverTolerance", "must be in (0, 1e-3] (got " + formatNumber(s.solverTolerance) + ")");
     }
     if (s.maxIterations < 1)
     {
-        throw InputError("max_iterations: must be >= 1 (got " + std::to_string(s.maxIterations) + ")");
+        throw InputError("maxIterations", "must be >= 1 (got " + std::to_string(s.maxIterations) + ")");
     }
+    // A heater's or zone's own field, under its place in the list: "heaters[1].power".
+    auto element = [](const char* list, std::size_t k, auto&& check)
+    {
+        try
+        {
+            check();
+        }
+        catch (const InputError& e)
+        {
+            throw InputError(std::string(list) + "[" + std::to_string(k) + "]." + e.field(), e.problem());
+        }
+    };
     for (std::size_t k = 0; k < s.heaters.size(); ++k)
     {
-        validate(s.heaters[k], "heaters[" + std::to_string(k) + "]");
+        element("heaters", k, [&] { validate(s.heaters[k]); });
     }
     for (std::size_t k = 0; k < s.hotAirZones.size(); ++k)
     {
-        validate(s.hotAirZones[k], "hot_air_zones[" + std::to_string(k) + "]");
+        element("hotAirZones", k, [&] { validate(s.hotAirZones[k]); });
     }
 }
 
@@ -227,8 +239,8 @@ void ThermalModel::setObstacleTemperatures(std::vector<Real> obstacleTemperature
         }
         if (!(obstacleTemperature[k] > 0) || !std::isfinite(obstacleTemperature[k]))
         {
-            throw InputError("temperature of obstacle " + std::to_string(k) + ": must be above absolute zero (got " +
-                             formatNumber(obstacleTemperature[k] - 273.15) + " C)");
+            throw InputError("obstacleTemperature[" + std::to_string(k) + "]",
+                             "must be above absolute zero (got " + formatNumber(obstacleTemperature[k]) + " K)");
         }
     }
     m_obstacleTemperature = std::move(obstacleTemperature);
@@ -238,7 +250,7 @@ void ThermalModel::holdTemperature(Index mass, Real temperature)
 {
     if (!(temperature > 0) || !std::isfinite(temperature))
     {
-        throw InputError("held temperature: must be above absolute zero (got " + formatNumber(temperature) + " K)");
+        throw InputError("temperature", "must be above absolute zero (got " + formatNumber(temperature) + " K)");
     }
     m_held.at(mass) = 1;
     m_temperature[mass] = temperature;
@@ -288,7 +300,7 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt, std::span<co
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("thermal step: must be a positive number of seconds (got " + formatNumber(dt) + ")");
+        throw InputError("dt", "must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     requireSizes(system, touchingObstacle);
     const std::vector<Vec3>& x = system.particles.position;

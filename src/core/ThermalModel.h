@@ -60,7 +60,7 @@ struct ThermalSettings
     int maxIterations = 1000;            ///< per frame, >= 1
 };
 
-/// Throws InputError naming the bad field, heaters and zones included (e.g. "heaters[1].power: must be >= 0 W").
+/// Throws InputError naming the bad field, heaters and zones included (e.g. "heaters[1].power", "must be >= 0 W").
 void validate(const ThermalSettings& settings);
 
 /// Heat flows of the last frame (W, into the sheet positive), and how the solve went.

@@ -1,5 +1,6 @@
 #include "Thickness.h"
 
+#include "Format.h"
 #include "InputError.h"
 
 #include <Eigen/Geometry>
@@ -70,7 +71,7 @@ SheetThickness::SheetThickness(const Lattice& lattice, Real thickness) : m_initi
 {
     if (!(thickness > 0) || !std::isfinite(thickness))
     {
-        throw InputError("thickness: must be a positive number of m (got " + std::to_string(thickness) + ")");
+        throw InputError("thickness", "must be a positive number of m (got " + formatNumber(thickness) + ")");
     }
     const bool triangular = lattice.spec.structure == Structure::TRiMM;
     m_cornersPerCell = triangular ? 3 : 4;

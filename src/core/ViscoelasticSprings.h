@@ -71,7 +71,7 @@ struct SpringModelSettings
     Real initialTemperature = 293.15; ///< K, used while the step context carries no temperatures; > 0
 };
 
-/// Throws InputError naming the bad field (damping_ratio outside [0, 1], a non-positive temperature).
+/// Throws InputError naming the bad field (dampingRatio outside [0, 1], a non-positive initialTemperature).
 void validate(const SpringModelSettings& settings);
 
 class ViscoelasticSprings final : public StepHook

@@ -94,12 +94,17 @@ public:
 
 private:
     void build();
-    // The stages of build(), in order.
+    // The stages of build(), in order. The spec's values were checked as the scene was read; what the core still
+    // refuses is named by its key all the same (FieldKeys.h).
     void tearDown();
     Lattice buildSheetLattice() const;
+    /// The heat model, if the scene has a "heat" section.
+    void buildHeat();
     MassSpringSystem buildSheet(Real startTemperature) const;
     /// The Bullet environment (room and obstacles) and the contact solver over it.
     void buildContact();
+    /// The material's springs (and the sheet's thickness, when no heat model keeps it), if the scene has a material.
+    void buildMaterialSprings(const MassSpringSystem& sheet, Real startTemperature);
     void buildSimulator(MassSpringSystem sheet);
     void addHooks();
     /// The time after which nothing scripted moves: the last action, grab-path key or obstacle-path key.

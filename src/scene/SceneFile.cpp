@@ -1,5 +1,6 @@
 #include "SceneFile.h"
 
+#include "FieldKeys.h"
 #include "JsonObject.h"
 #include "MaterialFile.h"
 #include "MemoryBudget.h"
@@ -17,7 +18,7 @@ namespace masse::scene
 {
 namespace
 {
-/// Re-throws a core validation error ("size: ...") under the section it belongs to ("sheet.size: ...").
+/// Re-throws a bridge validation error ("room: ...") under the section it belongs to ("environment.room: ...").
 template <typename Check> void within(const std::string& section, Check&& check)
 {
     try
@@ -89,10 +90,10 @@ SheetSpec readSheet(const JsonObject& o)
     LatticeSpec& lattice = sheet.lattice;
     const std::string structure = o.choice("structure", "trimm", {"square2d", "samm", "slamm", "trimm"});
     lattice.structure = parseStructure(structure);
-    within("sheet", [&] { parseSize(o.string("size", "8x2x8"), lattice); });
+    checkUnder("sheet", latticeKeys, [&] { parseSize(o.string("size", "8x2x8"), lattice); });
     lattice.minCorner = o.vec3("min", lattice.minCorner);
     lattice.maxCorner = o.vec3("max", lattice.maxCorner);
-    within("sheet", [&] { validate(lattice); });
+    checkUnder("sheet", latticeKeys, [&] { validate(lattice); });
 
     SheetParams& params = sheet.params;
     params.massPerMass = o.number("mass", params.massPerMass, limits::minMass, limits::maxMass);
@@ -515,7 +516,7 @@ HeatSpec readHeat(const JsonObject& o)
     {
         check.heaters[i].power = heat.heaterPower[i];
     }
-    within("heat", [&] { validate(check); });
+    checkUnder("heat", thermalKeys, [&] { validate(check); });
     return heat;
 }
 
