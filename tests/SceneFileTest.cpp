@@ -116,6 +116,28 @@ TEST(SceneFile, ValuesTheCoreRefusesAreNamedByTheirKey)
     }
 }
 
+// The obstacles' and the room's descriptions are the scene layer's own: their bad values are named by key when read,
+// before the bridge builds anything.
+TEST(SceneFile, ObstacleAndRoomValuesAreNamedByTheirKey)
+{
+    const std::pair<std::string, std::string> cases[] = {
+        {R"({"obstacles": [{"name": "b", "type": "box", "half_extents": [0, 1, 1]}]})",
+         "obstacles[0].half_extents: must be positive numbers of metres (got 0, 1, 1)"},
+        {R"({"obstacles": [{"name": "a", "half_extents": [1, 1, 1]},
+                           {"name": "p", "type": "prism", "width": 1, "height": -2, "length": 1}]})",
+         "obstacles[1].height: must be a positive number of metres (got -2)"},
+        {R"({"environment": {"room": {"min": [0, 0, 0], "max": [-1, 1, 1]}}})",
+         "environment.room.max: must exceed min on every axis"},
+        {R"({"environment": {"room": {"wall_thickness": 0}}})", "environment.room.wall_thickness: must be > 0"},
+    };
+    for (const auto& [json, expected] : cases)
+    {
+        const std::string message = masse::test::inputErrorOf(
+            [&] { Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "inline")); });
+        EXPECT_EQ(message.rfind("inline: " + expected, 0), 0u) << json << "\n" << message;
+    }
+}
+
 // The tables' lookup: indices are carried over in order, an entry for one element wins, an unknown field has no key.
 TEST(FieldKeys, KeyOfCarriesTheIndicesOver)
 {
@@ -225,4 +247,9 @@ TEST(SceneFile, BulletKeysSetTheTwinsSettings)
               "doc: bullet.sdf_cell_size: must be in [0.001, 1] (got 2)");
     EXPECT_EQ(errorOfDocument(R"({"bullet": {"calibrate": "yes"}})"),
               "doc: bullet.calibrate: expected true or false (got \"yes\")");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"collisions": "SDF_RDF"}})"),
+              "doc: bullet.collisions: SDF_RDF is not supported: it belongs to btDeformableMultiBodyDynamicsWorld, "
+              "not to the classic soft body the twin uses; use SDF_RS");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"collisions": "VF_SS"}})"),
+              "doc: bullet.collisions: must be SDF_RS (got 'VF_SS')");
 }

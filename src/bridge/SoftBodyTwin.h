@@ -11,7 +11,7 @@
 /// What Bullet cannot say the same way is listed by notes(): each note names the scene key it concerns and what the
 /// twin does instead. Options it cannot represent at all throw InputError from the constructor.
 
-#include "ObstacleSpec.h"
+#include "KinematicPath.h"
 #include "SoftBodyTwinSettings.h"
 
 #include "core/Contact.h"
@@ -98,7 +98,7 @@ public:
     Vec3 gravity() const;
     void setPinned(Index node, bool pinned);
     bool pinned(Index node) const;
-    void setObstaclePath(int obstacle, const std::vector<PathKey>& path);
+    void setObstaclePath(int obstacle, const std::vector<PoseKey>& keys);
 
     btSoftBody& softBody() { return *m_body; }
     btSoftRigidDynamicsWorld& world();

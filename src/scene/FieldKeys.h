@@ -86,6 +86,16 @@ inline constexpr FieldKey thermalKeys[] = {{"initialTemperature", "initial_tempe
                                            {"hotAirZones[].maxCorner", "hot_air_zones[].max"},
                                            {"hotAirZones[].temperature", "hot_air_zones[].temperature_c"},
                                            {"hotAirZones[].heatTransfer", "hot_air_zones[].heat_transfer"}};
+/// bridge::SoftBodyTwinSettings, from "bullet".
+inline constexpr FieldKey bulletKeys[] = {{"kLST", "kLST"},
+                                          {"kDP", "kDP"},
+                                          {"kDF", "kDF"},
+                                          {"kCHR", "kCHR"},
+                                          {"kKHR", "kKHR"},
+                                          {"margin", "margin"},
+                                          {"piterations", "piterations"},
+                                          {"substeps", "substeps"},
+                                          {"sdfCellSize", "sdf_cell_size"}};
 /// PressureSchedule, from "forming".
 inline constexpr FieldKey pressureKeys[] = {{"keys[].time", "pressure[].time"},
                                             {"keys[].pressure", "pressure[].pressure"}};

@@ -97,7 +97,7 @@ Lattice Scene::buildSheetLattice() const
     if (m_spec.sheet.rotationDegrees != Vec3::Zero())
     {
         const Vec3 centre = 0.5 * (m_spec.sheet.lattice.minCorner + m_spec.sheet.lattice.maxCorner);
-        const auto turn = bridge::rotationFromDegrees(m_spec.sheet.rotationDegrees);
+        const auto turn = rotationFromDegrees(m_spec.sheet.rotationDegrees);
         for (Vec3& x : lattice.position)
         {
             x = centre + turn * (x - centre);
@@ -173,10 +173,10 @@ void Scene::buildMaterialSprings(const MassSpringSystem& sheet, Real startTemper
 void Scene::buildContact()
 {
     m_environment = std::make_unique<bridge::BulletEnvironment>();
-    m_environment->addRoom(m_spec.environment.room);
-    for (const bridge::ObstacleSpec& obstacle : m_spec.obstacles)
+    addRoom(*m_environment, m_spec.environment.room);
+    for (const ObstacleSpec& obstacle : m_spec.obstacles)
     {
-        m_environment->addObstacle(obstacle);
+        m_environment->addObstacle(obstacleBody(obstacle));
     }
     ContactSettings contact = m_spec.contact;
     contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
@@ -266,7 +266,7 @@ void Scene::addHooks()
 Real Scene::scriptedMotionEnd(const SceneSpec& spec)
 {
     Real end = 0;
-    for (const bridge::ObstacleSpec& obstacle : spec.obstacles)
+    for (const ObstacleSpec& obstacle : spec.obstacles)
     {
         if (!obstacle.path.empty())
         {
@@ -306,7 +306,9 @@ void Scene::requireSealedMould() const
     }
     if (const auto open = bridge::findOpenEdge(faces))
     {
-        throw InputError("forming.mould: obstacle '" + mould.spec.name + "' (" + mould.spec.meshPath +
+        const auto spec = std::find_if(m_spec.obstacles.begin(), m_spec.obstacles.end(),
+                                       [&](const ObstacleSpec& o) { return o.name == mould.name; });
+        throw InputError("forming.mould: obstacle '" + mould.name + "' (" + spec->meshPath +
                          ") is not a closed surface: the edge between vertices " + std::to_string(open->a + 1) +
                          " and " + std::to_string(open->b + 1) + " belongs to " + std::to_string(open->faces) +
                          " face(s) instead of 2, so the sheet cannot seal the cavity over its rim");
@@ -389,7 +391,7 @@ StepReport Scene::step()
     for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)
     {
         const ContactEvent& c = contacts[m_contactsSeen];
-        record("contact", m_environment->obstacle(c.obstacle).spec.name, c.time);
+        record("contact", m_environment->obstacle(c.obstacle).name, c.time);
     }
     updateRest();
     return report;
