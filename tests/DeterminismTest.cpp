@@ -1,6 +1,9 @@
 // The task system and the engine's promise: the same scene gives the same bits at any thread count.
 
+#include "core/Forces.h"
 #include "core/InputError.h"
+#include "core/Lattice.h"
+#include "core/MassSpringSystem.h"
 #include "core/SimdPath.h"
 #include "core/StateHash.h"
 #include "core/TaskPool.h"
@@ -11,8 +14,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <atomic>
 #include <optional>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -230,6 +235,111 @@ TEST(Determinism, EverySimdPathGivesTheSameHash)
         }
     }
     setSimdPath(active);
+}
+
+namespace
+{
+/// A lattice sheet with every mass moved and set moving at random (so every spring is stretched or squeezed and
+/// damped), with repulsion or not.
+MassSpringSystem shakenSheet(Structure structure, const std::string& size, Real repulsion)
+{
+    LatticeSpec spec;
+    spec.structure = structure;
+    parseSize(size, spec);
+    MassSpringSystem system = makeSheet(buildLattice(spec), SheetParams{});
+    system.forces.repulsion = repulsion;
+    system.forces.airDamping = 0.5;
+    std::mt19937_64 random(42);
+    std::uniform_real_distribution<Real> jitter(-0.3, 0.3);
+    const Real spacing = 1.0 / spec.countX;
+    for (std::size_t i = 0; i < system.massCount(); ++i)
+    {
+        system.particles.position[i] += spacing * Vec3(jitter(random), jitter(random), jitter(random));
+        system.particles.velocity[i] = Vec3(jitter(random), jitter(random), jitter(random));
+        system.particles.externalForce[i] = 1e-3 * Vec3(jitter(random), jitter(random), jitter(random));
+    }
+    return system;
+}
+
+bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
+                                              [](const Vec3& p, const Vec3& q)
+                                              { return std::memcmp(p.data(), q.data(), sizeof(Vec3)) == 0; });
+}
+} // namespace
+
+// The banded kernel over lattice rows (SpringRowPlan) must give the bits of the plain per-mass gather over the spring
+// adjacency, which sums each mass's springs in increasing spring index: forces alone, and the fused symplectic substep,
+// for every lattice family, with and without repulsion, at several thread counts and every SIMD path. The 100x2x100
+// sheets have several bands, so the boundary rows between bands are exercised.
+TEST(Determinism, BandedKernelHasTheBitsOfThePerMassGather)
+{
+    const ThreadCountGuard guard;
+    const SimdPath active = activeSimdPath();
+    const std::pair<Structure, const char*> sheets[] = {
+        {Structure::Square2D, "9x1x7"}, {Structure::SaMM, "8x2x11"}, {Structure::SLaMM, "7x3x9"},
+        {Structure::TRiMM, "10x2x8"},   {Structure::TRiMM, "100x2x100"}, {Structure::SaMM, "90x3x60"}};
+    for (const auto& [structure, size] : sheets)
+    {
+        for (const Real repulsion : {0.0, 1e-4})
+        {
+            const MassSpringSystem banded = shakenSheet(structure, size, repulsion);
+            ASSERT_NE(banded.springs.rowPlan, nullptr) << size;
+            MassSpringSystem gathered = banded;
+            gathered.springs.rowPlan = nullptr;
+            setThreadCount(1);
+            setSimdPath(SimdPath::Default);
+            std::vector<Vec3> reference;
+            evaluateForces(gathered, gathered.particles.position, gathered.particles.velocity, reference);
+            MassSpringSystem steppedReference = gathered;
+            ASSERT_TRUE(symplecticSubstep(steppedReference, 1e-3));
+            for (const SimdPath path : supportedSimdPaths())
+            {
+                setSimdPath(path);
+                for (const int threads : {1, 2, 3})
+                {
+                    setThreadCount(threads);
+                    const std::string where = std::string(structureName(structure)) + " " + size + " repulsion " +
+                                              std::to_string(repulsion) + " " + std::string(simdPathName(path)) +
+                                              " at " + std::to_string(threads) + " threads";
+                    std::vector<Vec3> force;
+                    evaluateForces(banded, banded.particles.position, banded.particles.velocity, force);
+                    EXPECT_TRUE(sameBits(force, reference)) << where;
+                    MassSpringSystem stepped = banded;
+                    ASSERT_TRUE(symplecticSubstep(stepped, 1e-3));
+                    EXPECT_TRUE(sameBits(stepped.particles.force, steppedReference.particles.force)) << where;
+                    EXPECT_TRUE(sameBits(stepped.particles.velocity, steppedReference.particles.velocity)) << where;
+                    EXPECT_TRUE(sameBits(stepped.particles.position, steppedReference.particles.position)) << where;
+                }
+            }
+        }
+    }
+    setSimdPath(active);
+}
+
+// The builders emit each row's springs direction by direction, so the plan's runs are whole rows: on a 64x2x64 TRiMM
+// sheet nearly every mass sits in a run of at least 32 (only a row's two ends break the pattern), and every spring in
+// a run of at least 32 but the few at a row's ends.
+TEST(Determinism, LatticeRowsMakeLongRuns)
+{
+    LatticeSpec spec;
+    parseSize("64x2x64", spec);
+    const Lattice lattice = buildLattice(spec);
+    const SpringRowPlan& plan = *lattice.springs.rowPlan;
+    std::size_t massesInLongRuns = 0;
+    for (const SpringRowPlan::MassRun& run : plan.massRuns)
+    {
+        massesInLongRuns += run.count >= 32 ? run.count : 0;
+    }
+    std::size_t springsInLongRuns = 0;
+    for (const SpringRowPlan::SpringRun& run : plan.springRuns)
+    {
+        springsInLongRuns += run.count >= 32 ? run.count : 0;
+    }
+    EXPECT_GT(Real(massesInLongRuns) / Real(lattice.massCount()), 0.95);
+    EXPECT_GT(Real(springsInLongRuns) / Real(lattice.springCount()), 0.95);
+    EXPECT_GT(plan.bandCount(), std::size_t(1));
 }
 
 TEST(SimdPath, NamesRoundTripAndTheBaselineIsAlwaysSupported)

@@ -1,5 +1,6 @@
 #include "Forces.h"
 
+#include "BandedForces.h"
 #include "SimdPath.h"
 #include "SpringForce.h"
 #include "TaskPool.h"
@@ -180,6 +181,31 @@ void gatherAndKickOn(SimdPath path, const GatherArgs& args, std::size_t begin, s
     }
 }
 
+/// The banded kernel's arguments for a system's total forces at x, v.
+BandedForceArgs bandedArgs(const MassSpringSystem& system, const SpringRowPlan& plan, const std::vector<Vec3>& x,
+                           const std::vector<Vec3>& v, std::vector<Vec3>& force)
+{
+    BandedForceArgs args;
+    args.plan = &plan;
+    args.springs = &system.springs;
+    args.repulsion = system.forces.repulsion;
+    args.x = x.data();
+    args.v = v.data();
+    args.force = force.data();
+    args.mass = system.particles.mass.data();
+    args.externalForce = system.particles.externalForce.data();
+    args.gravity = system.forces.gravity;
+    args.drag = system.forces.airDamping;
+    return args;
+}
+
+/// The plan of a system's springs, if it has a valid one.
+const SpringRowPlan* rowPlanOf(const SpringSet& springs, std::size_t massCount)
+{
+    const SpringRowPlan* plan = springs.rowPlan.get();
+    return plan && plan->springCount == springs.size() && plan->massCount == massCount ? plan : nullptr;
+}
+
 /// Pass 1 over every spring, in parallel chunks.
 void computeSpringScales(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,
                          const std::vector<Vec3>& v, std::vector<Real>& scale)
@@ -207,6 +233,18 @@ thread_local std::vector<Real> springScaleScratch;
 void accumulateSpringForces(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,
                             const std::vector<Vec3>& v, std::vector<Vec3>& force)
 {
+    if (const SpringRowPlan* plan = rowPlanOf(springs, x.size()))
+    {
+        BandedForceArgs args;
+        args.plan = plan;
+        args.springs = &springs;
+        args.repulsion = repulsion;
+        args.x = x.data();
+        args.v = v.data();
+        args.force = force.data();
+        runBandedForces(BandedPass::AddSpringForces, args);
+        return;
+    }
     std::vector<Real>& scale = springScaleScratch;
     computeSpringScales(springs, repulsion, x, v, scale);
     GatherArgs args{&springs.adjacency(x.size()),
@@ -229,26 +267,35 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
     const Particles& p = system.particles;
     const std::size_t n = p.size();
     force.resize(n);
-    std::vector<Real>& scale = springScaleScratch;
-    computeSpringScales(system.springs, system.forces.repulsion, x, v, scale);
-    GatherArgs args{&system.springs.adjacency(n),
-                    scale.data(),
-                    x.data(),
-                    v.data(),
-                    p.mass.data(),
-                    p.externalForce.data(),
-                    system.forces.gravity,
-                    system.forces.airDamping,
-                    force.data()};
-    const SimdPath path = activeSimdPath();
-    parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) { gatherOn<true>(path, args, begin, end); });
+    if (const SpringRowPlan* plan = rowPlanOf(system.springs, n))
+    {
+        BandedForceArgs args = bandedArgs(system, *plan, x, v, force);
+        runBandedForces(BandedPass::TotalForces, args);
+    }
+    else
+    {
+        std::vector<Real>& scale = springScaleScratch;
+        computeSpringScales(system.springs, system.forces.repulsion, x, v, scale);
+        GatherArgs args{&system.springs.adjacency(n),
+                        scale.data(),
+                        x.data(),
+                        v.data(),
+                        p.mass.data(),
+                        p.externalForce.data(),
+                        system.forces.gravity,
+                        system.forces.airDamping,
+                        force.data()};
+        const SimdPath path = activeSimdPath();
+        parallelFor(n, massChunkSize,
+                    [&](std::size_t begin, std::size_t end) { gatherOn<true>(path, args, begin, end); });
+    }
     for (const UserSpring& spring : system.userSprings.all())
     {
         force[spring.mass] += evaluateUserSpring(spring, x[spring.mass], v[spring.mass]).force;
     }
 }
 
-bool evaluateForcesAndKick(MassSpringSystem& system, Real h)
+bool symplecticSubstep(MassSpringSystem& system, Real h)
 {
     if (!system.userSprings.all().empty())
     {
@@ -257,6 +304,16 @@ bool evaluateForcesAndKick(MassSpringSystem& system, Real h)
     Particles& p = system.particles;
     const std::size_t n = p.size();
     p.force.resize(n);
+    if (const SpringRowPlan* plan = rowPlanOf(system.springs, n))
+    {
+        BandedForceArgs args = bandedArgs(system, *plan, p.position, p.velocity, p.force);
+        args.h = h;
+        args.inverseMass = p.inverseMass.data();
+        args.position = p.position.data();
+        args.velocity = p.velocity.data();
+        runBandedForces(BandedPass::SymplecticSubstep, args);
+        return true;
+    }
     std::vector<Real>& scale = springScaleScratch;
     computeSpringScales(system.springs, system.forces.repulsion, p.position, p.velocity, scale);
     GatherArgs args{
@@ -267,6 +324,15 @@ bool evaluateForcesAndKick(MassSpringSystem& system, Real h)
     args.velocity = p.velocity.data();
     const SimdPath path = activeSimdPath();
     parallelFor(n, massChunkSize, [&](std::size_t begin, std::size_t end) { gatherAndKickOn(path, args, begin, end); });
+    // The velocities are updated: move the positions (a pass of its own, as no mass's force may see a moved mass).
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        p.position[i] += h * p.velocity[i];
+                    }
+                });
     return true;
 }
 } // namespace masse

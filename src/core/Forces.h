@@ -11,11 +11,12 @@ namespace masse
 void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                     std::vector<Vec3>& force);
 
-/// The first half of a symplectic Euler substep in one pass over the masses: evaluates the forces at the system's own
-/// state into particles.force and updates each velocity by (h / m) f as soon as its force is summed (the same
-/// arithmetic as a separate loop, so the same bits, with one pass less over memory). Returns false, doing nothing,
-/// when the system has user springs (their forces are added after the gather): use evaluateForces then.
-bool evaluateForcesAndKick(MassSpringSystem& system, Real h);
+/// One symplectic Euler substep of the system's own state: evaluates the forces into particles.force, then
+/// v += (h / m) f and x += h v. A lattice sheet (a SpringRowPlan) does all three in one pass over its bands of rows;
+/// other spring sets in a gather pass and a drift pass. The same bits either way as evaluateForces followed by the two
+/// updates. Returns false, doing nothing, when the system has user springs (their forces are added after the gather):
+/// use evaluateForces then.
+bool symplecticSubstep(MassSpringSystem& system, Real h);
 
 /// Adds the sheet springs' forces only (the hot loop; exposed for benchmarks).
 void accumulateSpringForces(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,

@@ -142,6 +142,13 @@ Lattice buildLattice(const LatticeSpec& spec)
     {
         buildSquareLattice(lattice);
     }
+    std::vector<int> row(lattice.massCount());
+    for (std::size_t i = 0; i < row.size(); ++i)
+    {
+        row[i] = lattice.coord[i].row;
+    }
+    lattice.springs.rowPlan =
+        buildSpringRowPlan(lattice.springs.ends, lattice.springs.adjacency(lattice.massCount()), row);
     return lattice;
 }
 } // namespace masse

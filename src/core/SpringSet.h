@@ -7,6 +7,7 @@
 /// kernel reads them per spring.
 
 #include "SpringAdjacency.h"
+#include "SpringRowPlan.h"
 #include "Types.h"
 
 #include <array>
@@ -69,6 +70,10 @@ struct SpringSet
         stiffness.push_back(0);
         damping.push_back(0);
     }
+
+    /// The springs and masses by lattice row, for the banded force kernel; set by the lattice builders, shared by
+    /// copies, and used only while it still matches the set (see SpringRowPlan.h).
+    std::shared_ptr<const SpringRowPlan> rowPlan;
 
 private:
     mutable std::shared_ptr<const SpringAdjacency> m_adjacency;

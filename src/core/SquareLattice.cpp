@@ -58,27 +58,30 @@ void buildSquareLattice(Lattice& lattice)
     const std::vector<Vec3>& x = lattice.position;
     auto link = [&](Index a, Index b, SpringClass cls) { springs.add(a, b, distance(x, a, b), cls); };
 
+    // Springs are emitted row by row, and within a row direction by direction (along x, along z, the brace; then the
+    // inter-layer springs, one corner at a time), so that each direction of a row is a run of consecutive springs
+    // joining consecutive masses: the banded force kernel (SpringRowPlan.h) then loads them contiguously.
     for (int layer = 0; layer < spec.layers; ++layer)
     {
         const int nx = lattice.layerCountX(layer);
         const int nz = lattice.layerCountZ(layer);
         for (int row = 0; row < nz; ++row)
         {
+            for (int column = 0; column + 1 < nx; ++column)
+            {
+                link(lattice.index(layer, row, column), lattice.index(layer, row, column + 1), SpringClass::Planar);
+            }
+            if (row + 1 == nz)
+            {
+                continue;
+            }
             for (int column = 0; column < nx; ++column)
             {
-                const Index here = lattice.index(layer, row, column);
-                if (column + 1 < nx)
-                {
-                    link(here, lattice.index(layer, row, column + 1), SpringClass::Planar);
-                }
-                if (row + 1 < nz)
-                {
-                    link(here, lattice.index(layer, row + 1, column), SpringClass::Planar);
-                }
-                if (braced && column + 1 < nx && row + 1 < nz)
-                {
-                    link(here, lattice.index(layer, row + 1, column + 1), SpringClass::Planar);
-                }
+                link(lattice.index(layer, row, column), lattice.index(layer, row + 1, column), SpringClass::Planar);
+            }
+            for (int column = 0; braced && column + 1 < nx; ++column)
+            {
+                link(lattice.index(layer, row, column), lattice.index(layer, row + 1, column + 1), SpringClass::Planar);
             }
         }
         if (layer == 0)
@@ -88,13 +91,14 @@ void buildSquareLattice(Lattice& lattice)
         // Each mass of this layer sits over the square (row, column)..(row + 1, column + 1) of the layer below.
         for (int row = 0; row < nz; ++row)
         {
-            for (int column = 0; column < nx; ++column)
+            const int corners[4][2] = {{0, 0}, {0, 1}, {1, 0}, {1, 1}}; // (row, column) offsets below the upper mass
+            for (const auto& corner : corners)
             {
-                const Index upper = lattice.index(layer, row, column);
-                link(upper, lattice.index(layer - 1, row, column), SpringClass::InterLayer);
-                link(upper, lattice.index(layer - 1, row, column + 1), SpringClass::InterLayer);
-                link(upper, lattice.index(layer - 1, row + 1, column), SpringClass::InterLayer);
-                link(upper, lattice.index(layer - 1, row + 1, column + 1), SpringClass::InterLayer);
+                for (int column = 0; column < nx; ++column)
+                {
+                    link(lattice.index(layer, row, column),
+                         lattice.index(layer - 1, row + corner[0], column + corner[1]), SpringClass::InterLayer);
+                }
             }
         }
     }

@@ -15,17 +15,8 @@ public:
     IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h) override
     {
         Particles& p = system.particles;
-        if (evaluateForcesAndKick(system, h))
+        if (symplecticSubstep(system, h))
         {
-            // The velocities are updated: move the positions (the step is memory-bound, so a pass less counts).
-            parallelFor(p.size(), massChunkSize,
-                        [&](std::size_t begin, std::size_t end)
-                        {
-                            for (std::size_t i = begin; i < end; ++i)
-                            {
-                                p.position[i] += h * p.velocity[i];
-                            }
-                        });
             return {};
         }
         evaluateForces(system, p.position, p.velocity, p.force);

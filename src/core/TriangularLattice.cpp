@@ -52,30 +52,37 @@ void buildTriangularLattice(Lattice& lattice)
     const std::vector<Vec3>& x = lattice.position;
     auto link = [&](Index a, Index b, SpringClass cls) { springs.add(a, b, (x[a] - x[b]).norm(), cls); };
 
+    // Springs are emitted row by row, and within a row direction by direction (along the row, to the next row's mass
+    // in the same column, the zig-zag diagonal; then the inter-layer springs, one direction at a time), so that each
+    // direction of a row is a run of consecutive springs joining consecutive masses: the banded force kernel
+    // (SpringRowPlan.h) then loads them contiguously.
     for (int layer = 0; layer < spec.layers; ++layer)
     {
         const int nx = lattice.layerCountX(layer);
         const int nz = lattice.layerCountZ(layer);
         for (int row = 0; row < nz; ++row)
         {
-            // In every layer, the row after an even row is shifted half a spacing to +x, after an odd row to -x.
-            const bool nextShiftedRight = row % 2 == 0;
+            for (int column = 0; column + 1 < nx; ++column)
+            {
+                link(lattice.index(layer, row, column), lattice.index(layer, row, column + 1), SpringClass::Planar);
+            }
+            if (row + 1 == nz)
+            {
+                continue;
+            }
             for (int column = 0; column < nx; ++column)
             {
-                const Index here = lattice.index(layer, row, column);
-                if (column + 1 < nx)
-                {
-                    link(here, lattice.index(layer, row, column + 1), SpringClass::Planar);
-                }
-                if (row + 1 == nz)
-                {
-                    continue;
-                }
-                link(here, lattice.index(layer, row + 1, column), SpringClass::Planar);
-                const int diagonal = nextShiftedRight ? column - 1 : column + 1;
+                link(lattice.index(layer, row, column), lattice.index(layer, row + 1, column), SpringClass::Planar);
+            }
+            // In every layer, the row after an even row is shifted half a spacing to +x, after an odd row to -x.
+            const int diagonalOffset = row % 2 == 0 ? -1 : 1;
+            for (int column = 0; column < nx; ++column)
+            {
+                const int diagonal = column + diagonalOffset;
                 if (diagonal >= 0 && diagonal < nx)
                 {
-                    link(here, lattice.index(layer, row + 1, diagonal), SpringClass::Planar);
+                    link(lattice.index(layer, row, column), lattice.index(layer, row + 1, diagonal),
+                         SpringClass::Planar);
                 }
             }
         }
@@ -86,12 +93,14 @@ void buildTriangularLattice(Lattice& lattice)
         for (int row = 0; row < nz; ++row)
         {
             const int apexOffset = row % 2 == 0 ? 0 : 1;
-            for (int column = 0; column < nx; ++column)
+            const int lowerOffsets[3][2] = {{0, 0}, {0, 1}, {1, apexOffset}}; // (row, column) below the upper mass
+            for (const auto& offset : lowerOffsets)
             {
-                const Index upper = lattice.index(layer, row, column);
-                link(upper, lattice.index(layer - 1, row, column), SpringClass::InterLayer);
-                link(upper, lattice.index(layer - 1, row, column + 1), SpringClass::InterLayer);
-                link(upper, lattice.index(layer - 1, row + 1, column + apexOffset), SpringClass::InterLayer);
+                for (int column = 0; column < nx; ++column)
+                {
+                    link(lattice.index(layer, row, column),
+                         lattice.index(layer - 1, row + offset[0], column + offset[1]), SpringClass::InterLayer);
+                }
             }
         }
     }

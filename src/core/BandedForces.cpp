@@ -1,0 +1,450 @@
+/// The banded spring-force kernel (see BandedForces.h and SpringRowPlan.h).
+///
+/// A band first copies its masses' positions and velocities into a structure of arrays (one array per component), so
+/// that every loop after it loads and stores contiguously and vectorises across neighbouring springs or masses. Then,
+/// row by row, it computes the forces F = scale * d of the row's springs once each, with the arithmetic of the plain
+/// kernel (Forces.cpp, springScalesBody), into a small per-row scratch, and each mass of the row sums its own force and
+/// its springs' in the plan's order: +F where it is end a, -F where it is end b, the bits of the plain gather (which
+/// adds scale * (x_b - x_a) = -F exactly). A band's rows touch only its own masses, except its last row, whose springs
+/// reach into the next band: those rows are computed before any band starts, from the masses' own arrays. So a band
+/// may move its masses (the symplectic kick and drift, fused into the same pass) without another band ever reading a
+/// moved mass, and nothing depends on which thread runs which band.
+
+#include "BandedForces.h"
+
+#include "SimdPath.h"
+#include "SpringForce.h"
+#include "TaskPool.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace masse
+{
+namespace
+{
+/// The spring forces of one spring row: x, y and z components of slot s at x[s], x[slots + s], x[2 * slots + s].
+struct RowForces
+{
+    Real* x = nullptr;
+    std::size_t slots = 0;
+};
+
+/// A band's copy of its masses' state: component c of local mass i at position[c * stride + i].
+struct BandState
+{
+    Real* position = nullptr;
+    Real* velocity = nullptr;
+    std::size_t stride = 0;
+};
+
+/// The forces of `n` springs whose ends' components are read with `stride` (3: the masses' own arrays of Vec3; 1: a
+/// band's copy), into three component arrays. The arithmetic is springScalesBody's, term for term: Eigen's squaredNorm
+/// and dot of 3-vectors sum (x + y) + z.
+template <bool withRepulsion, std::size_t stride>
+[[gnu::always_inline]] inline void
+springLoop(std::size_t n, const Real* __restrict xa, const Real* __restrict xb, std::size_t xComponent,
+           const Real* __restrict va, const Real* __restrict vb, std::size_t vComponent, const Real* __restrict rest,
+           const Real* __restrict stiffness, const Real* __restrict damping, Real repulsion, Real* __restrict fx,
+           std::size_t fComponent)
+{
+    // Nothing here aliases (spring forces go to the row scratch), but GCC cannot tell once this is inlined, and the
+    // run-time alias checks it would need exceed its limit: without ivdep the loops stay scalar.
+#pragma GCC ivdep
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        const Real dx = xa[stride * j] - xb[stride * j];
+        const Real dy = xa[xComponent + stride * j] - xb[xComponent + stride * j];
+        const Real dz = xa[2 * xComponent + stride * j] - xb[2 * xComponent + stride * j];
+        const Real ux = va[stride * j] - vb[stride * j];
+        const Real uy = va[vComponent + stride * j] - vb[vComponent + stride * j];
+        const Real uz = va[2 * vComponent + stride * j] - vb[2 * vComponent + stride * j];
+        const Real lengthSquared = (dx * dx + dy * dy) + dz * dz;
+        const Real speedTimesLength = (ux * dx + uy * dy) + uz * dz;
+        const Real length = std::sqrt(lengthSquared);
+        const Real inverse = Real(1) / length;
+        Real magnitude = hookeMagnitude(length, speedTimesLength * inverse, stiffness[j], damping[j], rest[j]);
+        if constexpr (withRepulsion)
+        {
+            magnitude += repulsionMagnitude(length, rest[j], repulsion);
+        }
+        const Real scale = length > degenerateLengthFraction * rest[j] ? magnitude * inverse : Real(0);
+        fx[j] = scale * dx;
+        fx[fComponent + j] = scale * dy;
+        fx[2 * fComponent + j] = scale * dz;
+    }
+}
+
+/// A spring row from the masses' own arrays (the rows between bands).
+template <bool withRepulsion>
+[[gnu::always_inline]] inline void springRowFromArrays(const SpringRowPlan& plan, const BandedForceArgs& args,
+                                                       std::size_t row, const RowForces& out)
+{
+    const SpringSet& springs = *args.springs;
+    for (Index k = plan.springRunStart[row]; k < plan.springRunStart[row + 1]; ++k)
+    {
+        const SpringRowPlan::SpringRun& run = plan.springRuns[k];
+        springLoop<withRepulsion, 3>(
+            run.count, args.x[run.a].data(), args.x[run.b].data(), 1, args.v[run.a].data(), args.v[run.b].data(), 1,
+            springs.restLength.data() + run.firstSpring, springs.stiffness.data() + run.firstSpring,
+            springs.damping.data() + run.firstSpring, args.repulsion, out.x + run.firstSlot, out.slots);
+    }
+}
+
+/// A spring row of a band, from the band's copy.
+template <bool withRepulsion>
+[[gnu::always_inline]] inline void springRowFromBand(const SpringRowPlan& plan, const BandedForceArgs& args,
+                                                     std::size_t row, const BandState& state, const RowForces& out)
+{
+    const SpringSet& springs = *args.springs;
+    for (Index k = plan.springRunStart[row]; k < plan.springRunStart[row + 1]; ++k)
+    {
+        const SpringRowPlan::SpringRun& run = plan.springRuns[k];
+        springLoop<withRepulsion, 1>(
+            run.count, state.position + run.aLocal, state.position + run.bLocal, state.stride,
+            state.velocity + run.aLocal, state.velocity + run.bLocal, state.stride,
+            springs.restLength.data() + run.firstSpring, springs.stiffness.data() + run.firstSpring,
+            springs.damping.data() + run.firstSpring, args.repulsion, out.x + run.firstSlot, out.slots);
+    }
+}
+
+/// Copies `n` Vec3 into three component arrays `stride` apart.
+[[gnu::always_inline]] inline void splitComponents(std::size_t n, const Real* __restrict from, Real* __restrict to,
+                                                   std::size_t stride)
+{
+#pragma GCC ivdep
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        to[j] = from[3 * j];
+        to[stride + j] = from[3 * j + 1];
+        to[2 * stride + j] = from[3 * j + 2];
+    }
+}
+
+/// The most entries a mass run's pattern may have for the fused loop (a TRiMM mass has at most 9, SaMM 8, SLaMM 10, a
+/// middle layer of a multi-layer SLaMM sheet 14); a longer pattern is summed entry by entry (entryByEntry).
+constexpr int maxFusedEntries = 16;
+
+/// Where one entry of a mass run reads its springs' forces.
+struct EntrySource
+{
+    const Real* x; ///< component x of the run's first mass's spring; y and z at + stride, + 2 stride
+    std::size_t stride;
+    Real sign; ///< +1 at end a, -1 at end b: adding sign * F has the bits of adding F or subtracting it
+};
+
+EntrySource entrySource(const SpringRowPlan::Entry& e, const RowForces& previous, const RowForces& current)
+{
+    const RowForces& row = e.sameRow ? current : previous;
+    return {row.x + e.slot, row.slots, e.negated ? Real(-1) : Real(1)};
+}
+
+template <BandedPass pass>
+[[gnu::always_inline]] inline void ownForce(const BandedForceArgs& args, const BandState& state, std::size_t mass,
+                                            std::size_t local, Real& fx, Real& fy, Real& fz)
+{
+    if constexpr (pass == BandedPass::AddSpringForces)
+    {
+        fx = args.force[mass].x();
+        fy = args.force[mass].y();
+        fz = args.force[mass].z();
+    }
+    else
+    {
+        // m (g - drag v) + external, as Eigen evaluates it component by component in the plain gather.
+        const Real m = args.mass[mass];
+        fx = m * (args.gravity.x() - args.drag * state.velocity[local]) + args.externalForce[mass].x();
+        fy = m * (args.gravity.y() - args.drag * state.velocity[state.stride + local]) + args.externalForce[mass].y();
+        fz = m * (args.gravity.z() - args.drag * state.velocity[2 * state.stride + local]) +
+             args.externalForce[mass].z();
+    }
+}
+
+/// Stores mass `mass`'s force and, for the symplectic substep, its kick and drift from the band's copy.
+template <BandedPass pass>
+[[gnu::always_inline]] inline void finishMass(const BandedForceArgs& args, const BandState& state, std::size_t mass,
+                                              std::size_t local, Real fx, Real fy, Real fz)
+{
+    Real* force = args.force[mass].data();
+    force[0] = fx;
+    force[1] = fy;
+    force[2] = fz;
+    if constexpr (pass == BandedPass::SymplecticSubstep)
+    {
+        const Real kick = args.h * args.inverseMass[mass];
+        const std::size_t s = state.stride;
+        const Real vx = state.velocity[local] + kick * fx;
+        const Real vy = state.velocity[s + local] + kick * fy;
+        const Real vz = state.velocity[2 * s + local] + kick * fz;
+        Real* v = args.velocity[mass].data();
+        v[0] = vx;
+        v[1] = vy;
+        v[2] = vz;
+        Real* x = args.position[mass].data();
+        x[0] = state.position[local] + args.h * vx;
+        x[1] = state.position[s + local] + args.h * vy;
+        x[2] = state.position[2 * s + local] + args.h * vz;
+    }
+}
+
+/// Each mass of a run whose pattern has exactly `entryCount` entries sums its force in one pass, the force held in
+/// registers while the entries are added in the pattern's order. The count is a template argument so that the loop
+/// over entries unrolls and the loop over masses vectorises.
+template <BandedPass pass, int entryCount>
+[[gnu::always_inline]] inline void fusedMassRun(const SpringRowPlan::MassRun& run, const SpringRowPlan::Entry* entries,
+                                                const RowForces& previous, const RowForces& current,
+                                                const BandedForceArgs& args, const BandState& state)
+{
+    EntrySource source[entryCount];
+    for (int k = 0; k < entryCount; ++k)
+    {
+        source[k] = entrySource(entries[run.firstEntry + Index(k)], previous, current);
+    }
+    const std::size_t first = run.firstMass;
+    const std::size_t local = run.local;
+#pragma GCC ivdep
+    for (std::size_t j = 0; j < run.count; ++j)
+    {
+        Real fx;
+        Real fy;
+        Real fz;
+        ownForce<pass>(args, state, first + j, local + j, fx, fy, fz);
+        for (int k = 0; k < entryCount; ++k)
+        {
+            fx += source[k].sign * source[k].x[j];
+            fy += source[k].sign * source[k].x[source[k].stride + j];
+            fz += source[k].sign * source[k].x[2 * source[k].stride + j];
+        }
+        finishMass<pass>(args, state, first + j, local + j, fx, fy, fz);
+    }
+}
+
+/// The same sums for a pattern of any length, mass by mass.
+template <BandedPass pass>
+[[gnu::always_inline]] inline void entryByEntry(const SpringRowPlan::MassRun& run, const SpringRowPlan::Entry* entries,
+                                                const RowForces& previous, const RowForces& current,
+                                                const BandedForceArgs& args, const BandState& state)
+{
+    for (std::size_t j = 0; j < run.count; ++j)
+    {
+        Real fx;
+        Real fy;
+        Real fz;
+        ownForce<pass>(args, state, run.firstMass + j, run.local + j, fx, fy, fz);
+        for (Index k = 0; k < run.entryCount; ++k)
+        {
+            const EntrySource source = entrySource(entries[run.firstEntry + k], previous, current);
+            fx += source.sign * source.x[j];
+            fy += source.sign * source.x[source.stride + j];
+            fz += source.sign * source.x[2 * source.stride + j];
+        }
+        finishMass<pass>(args, state, run.firstMass + j, run.local + j, fx, fy, fz);
+    }
+}
+
+/// Dispatches a mass run to the fused loop of its entry count.
+template <BandedPass pass, int entryCount = 1>
+[[gnu::always_inline]] inline void massRun(const SpringRowPlan::MassRun& run, const SpringRowPlan::Entry* entries,
+                                           const RowForces& previous, const RowForces& current,
+                                           const BandedForceArgs& args, const BandState& state)
+{
+    if constexpr (entryCount > maxFusedEntries)
+    {
+        entryByEntry<pass>(run, entries, previous, current, args, state);
+    }
+    else if (run.entryCount == Index(entryCount))
+    {
+        fusedMassRun<pass, entryCount>(run, entries, previous, current, args, state);
+    }
+    else
+    {
+        massRun<pass, entryCount + 1>(run, entries, previous, current, args, state);
+    }
+}
+
+/// Where the row before each band keeps its spring forces: band k's at boundary + boundaryOffset[k].
+struct Boundaries
+{
+    Real* boundary = nullptr;
+    const std::size_t* offset = nullptr;
+
+    RowForces before(const SpringRowPlan& plan, std::size_t band) const
+    {
+        return {boundary + offset[band], plan.slotCount[band * plan.bandRows - 1]};
+    }
+};
+
+/// One band: its masses' state copied, then row by row the row's springs and the row's masses. `scratch` holds the
+/// copy and two spring rows.
+template <BandedPass pass, bool withRepulsion>
+[[gnu::always_inline]] inline void bandBody(const BandedForceArgs& args, const Boundaries& boundaries, std::size_t band,
+                                            Real* scratch)
+{
+    const SpringRowPlan& plan = *args.plan;
+    const std::size_t stride = plan.largestBandMassCount;
+    const BandState state{scratch, scratch + 3 * stride, stride};
+    for (Index k = plan.bandRangeStart[band]; k < plan.bandRangeStart[band + 1]; ++k)
+    {
+        const SpringRowPlan::MassRange& range = plan.bandRanges[k];
+        splitComponents(range.count, args.x[range.firstMass].data(), state.position + range.local, stride);
+        splitComponents(range.count, args.v[range.firstMass].data(), state.velocity + range.local, stride);
+    }
+    Real* rowScratch = scratch + 6 * stride;
+    const std::size_t slots = plan.largestSlotCount;
+    const std::size_t begin = band * plan.bandRows;
+    const std::size_t end = std::min(plan.rowCount, begin + plan.bandRows);
+    RowForces previous;
+    if (band > 0)
+    {
+        previous = boundaries.before(plan, band);
+    }
+    for (std::size_t row = begin; row < end; ++row)
+    {
+        RowForces current;
+        if (row + 1 == end && end < plan.rowCount)
+        {
+            current = boundaries.before(plan, band + 1);
+        }
+        else
+        {
+            current = {rowScratch + (row % 2) * 3 * slots, slots};
+            springRowFromBand<withRepulsion>(plan, args, row, state, current);
+        }
+        for (Index k = plan.massRunStart[row]; k < plan.massRunStart[row + 1]; ++k)
+        {
+            massRun<pass>(plan.massRuns[k], plan.entries.data(), previous, current, args, state);
+        }
+        previous = current;
+    }
+}
+
+/// The rows before bands [firstBand, endBand), into the boundary buffer.
+template <bool withRepulsion>
+[[gnu::always_inline]] inline void boundaryBody(const BandedForceArgs& args, const Boundaries& boundaries,
+                                                std::size_t firstBand, std::size_t endBand)
+{
+    const SpringRowPlan& plan = *args.plan;
+    for (std::size_t band = firstBand; band < endBand; ++band)
+    {
+        springRowFromArrays<withRepulsion>(plan, args, band * plan.bandRows - 1, boundaries.before(plan, band));
+    }
+}
+
+// One copy of each kernel per SIMD path: only the instruction set differs (see SimdPath.h for why the bits do not).
+#define MASSE_BAND_KERNELS(suffix, targetAttribute)                                                                    \
+    template <BandedPass pass, bool withRepulsion>                                                                     \
+    targetAttribute void band##suffix(const BandedForceArgs& args, const Boundaries& boundaries, std::size_t band,     \
+                                      Real* scratch)                                                                   \
+    {                                                                                                                  \
+        bandBody<pass, withRepulsion>(args, boundaries, band, scratch);                                                \
+    }                                                                                                                  \
+    template <bool withRepulsion>                                                                                      \
+    targetAttribute void boundary##suffix(const BandedForceArgs& args, const Boundaries& boundaries,                   \
+                                          std::size_t firstBand, std::size_t endBand)                                  \
+    {                                                                                                                  \
+        boundaryBody<withRepulsion>(args, boundaries, firstBand, endBand);                                             \
+    }
+
+MASSE_BAND_KERNELS(Default, )
+#if defined(__x86_64__) && defined(__GNUC__)
+MASSE_BAND_KERNELS(Avx2, __attribute__((target("avx2"))))
+MASSE_BAND_KERNELS(Avx512, __attribute__((target("avx512f"))))
+#endif
+#undef MASSE_BAND_KERNELS
+
+template <BandedPass pass, bool withRepulsion>
+void bandOn(SimdPath path, const BandedForceArgs& args, const Boundaries& boundaries, std::size_t band, Real* scratch)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return bandAvx512<pass, withRepulsion>(args, boundaries, band, scratch);
+    case SimdPath::Avx2:
+        return bandAvx2<pass, withRepulsion>(args, boundaries, band, scratch);
+#endif
+    default:
+        return bandDefault<pass, withRepulsion>(args, boundaries, band, scratch);
+    }
+}
+
+template <bool withRepulsion>
+void boundaryOn(SimdPath path, const BandedForceArgs& args, const Boundaries& boundaries, std::size_t firstBand,
+                std::size_t endBand)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return boundaryAvx512<withRepulsion>(args, boundaries, firstBand, endBand);
+    case SimdPath::Avx2:
+        return boundaryAvx2<withRepulsion>(args, boundaries, firstBand, endBand);
+#endif
+    default:
+        return boundaryDefault<withRepulsion>(args, boundaries, firstBand, endBand);
+    }
+}
+
+template <BandedPass pass> void runBands(const BandedForceArgs& args)
+{
+    const SpringRowPlan& plan = *args.plan;
+    const std::size_t bands = plan.bandCount();
+    // The rows between bands, kept by the calling thread from call to call (no allocation per substep).
+    thread_local std::vector<Real> boundary;
+    thread_local std::vector<std::size_t> offset;
+    offset.assign(bands + 1, 0);
+    for (std::size_t band = 1; band < bands; ++band)
+    {
+        offset[band + 1] = offset[band] + 3 * std::size_t(plan.slotCount[band * plan.bandRows - 1]);
+    }
+    if (boundary.size() < offset[bands])
+    {
+        boundary.resize(offset[bands]);
+    }
+    const Boundaries boundaries{boundary.data(), offset.data()};
+    const SimdPath path = activeSimdPath();
+    const bool repulsion = args.repulsion > 0;
+    // A few boundary rows a chunk: each is one row of springs, too little to wake a thread for alone.
+    constexpr std::size_t boundaryChunk = 4;
+    if (bands > 1)
+    {
+        parallelFor(bands - 1, boundaryChunk,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        repulsion ? boundaryOn<true>(path, args, boundaries, begin + 1, end + 1)
+                                  : boundaryOn<false>(path, args, boundaries, begin + 1, end + 1);
+                    });
+    }
+    const std::size_t scratchSize = 6 * plan.largestBandMassCount + 2 * 3 * plan.largestSlotCount;
+    parallelFor(bands, 1,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    // Each thread's band copy and two spring rows, kept from call to call.
+                    thread_local std::vector<Real> scratch;
+                    if (scratch.size() < scratchSize)
+                    {
+                        scratch.resize(scratchSize);
+                    }
+                    for (std::size_t band = begin; band < end; ++band)
+                    {
+                        repulsion ? bandOn<pass, true>(path, args, boundaries, band, scratch.data())
+                                  : bandOn<pass, false>(path, args, boundaries, band, scratch.data());
+                    }
+                });
+}
+} // namespace
+
+void runBandedForces(BandedPass pass, const BandedForceArgs& args)
+{
+    switch (pass)
+    {
+    case BandedPass::AddSpringForces:
+        return runBands<BandedPass::AddSpringForces>(args);
+    case BandedPass::TotalForces:
+        return runBands<BandedPass::TotalForces>(args);
+    case BandedPass::SymplecticSubstep:
+        return runBands<BandedPass::SymplecticSubstep>(args);
+    }
+}
+} // namespace masse
