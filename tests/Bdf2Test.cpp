@@ -268,7 +268,8 @@ TEST(Bdf2, DISABLED_UndampedSheetSwingingFromTwoCornersKeepsItsEnergy)
         Lattice lattice;
         MassSpringSystem sheet = paperSheet(12, &lattice);
         sheet.forces.airDamping = 0;
-        std::fill(sheet.springs.damping.begin(), sheet.springs.damping.end(), Real(0));
+        std::vector<Real>& damping = sheet.springs.mutableDamping();
+        std::fill(damping.begin(), damping.end(), Real(0));
         sheet.particles.setPinned(lattice.bottomCorners()[0], true);
         sheet.particles.setPinned(lattice.bottomCorners()[1], true);
         SimulatorSettings settings;

@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <atomic>
+#include <cstring>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -263,9 +263,9 @@ MassSpringSystem shakenSheet(Structure structure, const std::string& size, Real 
 
 bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
 {
-    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(),
-                                              [](const Vec3& p, const Vec3& q)
-                                              { return std::memcmp(p.data(), q.data(), sizeof(Vec3)) == 0; });
+    return a.size() == b.size() &&
+           std::equal(a.begin(), a.end(), b.begin(),
+                      [](const Vec3& p, const Vec3& q) { return std::memcmp(p.data(), q.data(), sizeof(Vec3)) == 0; });
 }
 } // namespace
 
@@ -277,17 +277,22 @@ TEST(Determinism, BandedKernelHasTheBitsOfThePerMassGather)
 {
     const ThreadCountGuard guard;
     const SimdPath active = activeSimdPath();
-    const std::pair<Structure, const char*> sheets[] = {
-        {Structure::Square2D, "9x1x7"}, {Structure::SaMM, "8x2x11"}, {Structure::SLaMM, "7x3x9"},
-        {Structure::TRiMM, "10x2x8"},   {Structure::TRiMM, "100x2x100"}, {Structure::SaMM, "90x3x60"}};
+    const std::pair<Structure, const char*> sheets[] = {{Structure::Square2D, "9x1x7"},  {Structure::SaMM, "8x2x11"},
+                                                        {Structure::SLaMM, "7x3x9"},     {Structure::TRiMM, "10x2x8"},
+                                                        {Structure::TRiMM, "100x2x100"}, {Structure::SaMM, "90x3x60"}};
     for (const auto& [structure, size] : sheets)
     {
         for (const Real repulsion : {0.0, 1e-4})
         {
             const MassSpringSystem banded = shakenSheet(structure, size, repulsion);
-            ASSERT_NE(banded.springs.rowPlan, nullptr) << size;
+            ASSERT_NE(banded.springs.rowPlan(banded.massCount()), nullptr) << size;
+            ASSERT_NE(banded.springs.uniformCoefficients(), nullptr) << size;
+            // The same sheet through the banded kernel reading every spring's coefficients, not its classes'.
+            MassSpringSystem bandedPerSpring = banded;
+            bandedPerSpring.springs.mutableStiffness();
+            ASSERT_EQ(bandedPerSpring.springs.uniformCoefficients(), nullptr);
             MassSpringSystem gathered = banded;
-            gathered.springs.rowPlan = nullptr;
+            gathered.springs.setRowPlan(nullptr);
             setThreadCount(1);
             setSimdPath(SimdPath::Default);
             std::vector<Vec3> reference;
@@ -303,14 +308,18 @@ TEST(Determinism, BandedKernelHasTheBitsOfThePerMassGather)
                     const std::string where = std::string(structureName(structure)) + " " + size + " repulsion " +
                                               std::to_string(repulsion) + " " + std::string(simdPathName(path)) +
                                               " at " + std::to_string(threads) + " threads";
-                    std::vector<Vec3> force;
-                    evaluateForces(banded, banded.particles.position, banded.particles.velocity, force);
-                    EXPECT_TRUE(sameBits(force, reference)) << where;
-                    MassSpringSystem stepped = banded;
-                    ASSERT_TRUE(symplecticSubstep(stepped, 1e-3));
-                    EXPECT_TRUE(sameBits(stepped.particles.force, steppedReference.particles.force)) << where;
-                    EXPECT_TRUE(sameBits(stepped.particles.velocity, steppedReference.particles.velocity)) << where;
-                    EXPECT_TRUE(sameBits(stepped.particles.position, steppedReference.particles.position)) << where;
+                    for (const MassSpringSystem* system : std::initializer_list<const MassSpringSystem*>{&banded, &bandedPerSpring})
+                    {
+                        const std::string which = where + (system == &banded ? " (class coefficients)" : "");
+                        std::vector<Vec3> force;
+                        evaluateForces(*system, system->particles.position, system->particles.velocity, force);
+                        EXPECT_TRUE(sameBits(force, reference)) << which;
+                        MassSpringSystem stepped = *system;
+                        ASSERT_TRUE(symplecticSubstep(stepped, 1e-3));
+                        EXPECT_TRUE(sameBits(stepped.particles.force, steppedReference.particles.force)) << which;
+                        EXPECT_TRUE(sameBits(stepped.particles.velocity, steppedReference.particles.velocity)) << which;
+                        EXPECT_TRUE(sameBits(stepped.particles.position, steppedReference.particles.position)) << which;
+                    }
                 }
             }
         }
@@ -326,7 +335,7 @@ TEST(Determinism, LatticeRowsMakeLongRuns)
     LatticeSpec spec;
     parseSize("64x2x64", spec);
     const Lattice lattice = buildLattice(spec);
-    const SpringRowPlan& plan = *lattice.springs.rowPlan;
+    const SpringRowPlan& plan = *lattice.springs.rowPlan(lattice.massCount());
     std::size_t massesInLongRuns = 0;
     for (const SpringRowPlan::MassRun& run : plan.massRuns)
     {

@@ -76,12 +76,12 @@ TEST(Lattice, EverySpringIsWellFormedAndUnique)
             std::vector<int> degree(lattice.massCount(), 0);
             for (std::size_t s = 0; s < lattice.springCount(); ++s)
             {
-                const SpringEnds e = lattice.springs.ends[s];
+                const SpringEnds e = lattice.springs.ends()[s];
                 ASSERT_LT(e.a, lattice.massCount());
                 ASSERT_LT(e.b, lattice.massCount());
                 EXPECT_NE(e.a, e.b);
-                EXPECT_GT(lattice.springs.restLength[s], 0.0);
-                EXPECT_NEAR(lattice.springs.restLength[s], (lattice.position[e.a] - lattice.position[e.b]).norm(),
+                EXPECT_GT(lattice.springs.restLength()[s], 0.0);
+                EXPECT_NEAR(lattice.springs.restLength()[s], (lattice.position[e.a] - lattice.position[e.b]).norm(),
                             1e-15);
                 const auto key = std::minmax(e.a, e.b);
                 EXPECT_TRUE(seen.insert(key).second)
@@ -125,9 +125,9 @@ TEST(Lattice, TrimmUpperMassSitsOverItsTriangleCentroid)
     std::vector<std::vector<Index>> below(lattice.massCount());
     for (std::size_t s = 0; s < lattice.springCount(); ++s)
     {
-        if (lattice.springs.springClass[s] == SpringClass::InterLayer)
+        if (lattice.springs.classes()[s] == SpringClass::InterLayer)
         {
-            below[lattice.springs.ends[s].a].push_back(lattice.springs.ends[s].b);
+            below[lattice.springs.ends()[s].a].push_back(lattice.springs.ends()[s].b);
         }
     }
     for (Index i = lattice.layerStart[1]; i < lattice.layerStart[2]; ++i)

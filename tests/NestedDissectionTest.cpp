@@ -36,10 +36,10 @@ SparseMatrix springMatrix(const MassSpringSystem& system, int dof)
     for (std::size_t s = 0; s < system.springs.size(); ++s)
     {
         const Real k = Real(10) + Real(s % 13);
-        add(system.springs.ends[s].a, system.springs.ends[s].a, k);
-        add(system.springs.ends[s].b, system.springs.ends[s].b, k);
-        add(system.springs.ends[s].a, system.springs.ends[s].b, -k);
-        add(system.springs.ends[s].b, system.springs.ends[s].a, -k);
+        add(system.springs.ends()[s].a, system.springs.ends()[s].a, k);
+        add(system.springs.ends()[s].b, system.springs.ends()[s].b, k);
+        add(system.springs.ends()[s].a, system.springs.ends()[s].b, -k);
+        add(system.springs.ends()[s].b, system.springs.ends()[s].a, -k);
     }
     const Eigen::Index size = Eigen::Index(dof) * Eigen::Index(system.massCount());
     SparseMatrix a(size, size);

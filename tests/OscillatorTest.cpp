@@ -28,7 +28,7 @@ TEST(Oscillator, TwoMassPeriodMatchesReducedMass)
         system.particles.add(Vec3(0, 0, 0), m1);
         system.particles.add(Vec3(1.1, 0, 0), m2); // stretched by 0.1
         system.springs.add(0, 1, 1.0, SpringClass::Planar);
-        system.springs.stiffness[0] = k;
+        system.springs.mutableStiffness()[0] = k;
         system.forces.gravity.setZero();
         SimulatorSettings settings;
         settings.integrator = kind;

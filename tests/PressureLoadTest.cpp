@@ -245,8 +245,9 @@ BubbleRig makeBubble(Real a, Real modulusThickness)
     const Real modulus = modulusThickness / thickness;
     for (std::size_t s = 0; s < perModulus.size(); ++s)
     {
-        rig.sheet.springs.stiffness[s] = modulus * perModulus[s];
-        rig.sheet.springs.damping[s] = 2 * std::sqrt(rig.sheet.springs.stiffness[s] * params.massPerMass / 2);
+        rig.sheet.springs.mutableStiffness()[s] = modulus * perModulus[s];
+        rig.sheet.springs.mutableDamping()[s] =
+            2 * std::sqrt(rig.sheet.springs.stiffness()[s] * params.massPerMass / 2);
     }
     rig.sheet.forces.gravity = Vec3::Zero();
     rig.sheet.forces.airDamping = 5;
@@ -271,8 +272,8 @@ BubbleRig makeBubble(Real a, Real modulusThickness)
     int count = 0;
     for (std::size_t s = 0; s < rig.lattice.springCount(); ++s)
     {
-        const Index i = rig.lattice.springs.ends[s].a;
-        const Index j = rig.lattice.springs.ends[s].b;
+        const Index i = rig.lattice.springs.ends()[s].a;
+        const Index j = rig.lattice.springs.ends()[s].b;
         if (rig.lattice.coord[i].layer != 0 || rig.lattice.coord[j].layer != 0 ||
             rig.sheet.particles.pinned[i] == rig.sheet.particles.pinned[j])
         {

@@ -107,9 +107,9 @@ TEST(SoftBodyTwin, MirrorsTheSheetsNodesLinksAndMasses)
     {
         for (std::size_t j = 0; j < sheet.springCount(); ++j)
         {
-            EXPECT_EQ(twin.linkEnds(j).a, sheet.springs.ends[j].a);
-            EXPECT_EQ(twin.linkEnds(j).b, sheet.springs.ends[j].b);
-            EXPECT_EQ(twin.linkRestLength(j), sheet.springs.restLength[j]) << "link " << j << " round " << round;
+            EXPECT_EQ(twin.linkEnds(j).a, sheet.springs.ends()[j].a);
+            EXPECT_EQ(twin.linkEnds(j).b, sheet.springs.ends()[j].b);
+            EXPECT_EQ(twin.linkRestLength(j), sheet.springs.restLength()[j]) << "link " << j << " round " << round;
         }
         twin.step();
     }
@@ -253,17 +253,17 @@ TEST(SoftBodyTwin, NotesApproximationsAndRefusesWhatItCannotRepresent)
             hasNote(twin, "contact.response", "Bullet has no sticky contact: approximated by friction kDF = 1,"));
         EXPECT_EQ(*twin.settings().kDF, 1.0);
         EXPECT_TRUE(hasNote(twin, "forces.repulsion", "is left out"));
-        EXPECT_TRUE(hasNote(twin, "springs.damping", "no dashpot"));
+        EXPECT_TRUE(hasNote(twin, "springs.damping()", "no dashpot"));
         EXPECT_TRUE(hasNote(twin, "integrator", "position"));
         EXPECT_TRUE(hasNote(twin, "contact", "no sweep"));
         // 4 x 2 x 4 Table 1 sheet at h = 0.03 s: k h^2 / mu = 162, far beyond the one-link formula.
-        EXPECT_TRUE(hasNote(twin, "springs.stiffness", "reaches 162.398"));
+        EXPECT_TRUE(hasNote(twin, "springs.stiffness()", "reaches 162.398"));
     }
     {
         SoftBodyTwinSettings fine;
         fine.substeps = 30; // k h^2 / mu = 0.18
         SoftBodyTwin twin(paperSheet(4), environment, ContactSettings{}, paperTimeStep, fine);
-        EXPECT_FALSE(hasNote(twin, "springs.stiffness", ""));
+        EXPECT_FALSE(hasNote(twin, "springs.stiffness()", ""));
         EXPECT_TRUE(hasNote(twin, "contact.friction", "not Coulomb's"));
     }
     auto refusal = [&](const SoftBodyTwinSettings& settings, const MassSpringSystem& s)
@@ -458,7 +458,7 @@ TEST(SoftBodyTwin, PinningBetweenStepsKeepsRestLengths)
     EXPECT_EQ(twin.position(3), held);
     for (std::size_t j = 0; j < sheet.springCount(); ++j)
     {
-        EXPECT_EQ(twin.linkRestLength(j), sheet.springs.restLength[j]) << j;
+        EXPECT_EQ(twin.linkRestLength(j), sheet.springs.restLength()[j]) << j;
     }
     twin.setPinned(3, false);
     twin.step();

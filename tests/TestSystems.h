@@ -24,8 +24,8 @@ inline MassSpringSystem makeChain(int count, Real mass, Real stiffness, Real spa
     for (int i = 0; i + 1 < count; ++i)
     {
         system.springs.add(Index(i), Index(i + 1), spacing, SpringClass::Planar);
-        system.springs.stiffness.back() = stiffness;
-        system.springs.damping.back() = dampingCoefficient;
+        system.springs.mutableStiffness().back() = stiffness;
+        system.springs.mutableDamping().back() = dampingCoefficient;
     }
     system.forces.gravity = Vec3::Zero();
     return system;

@@ -121,7 +121,7 @@ TEST(Thermal, BarReachesTheLinearSteadyProfileAndFouriersFlux)
             Real flux = 0;
             for (std::size_t s = 0; s < lattice.springCount(); ++s)
             {
-                const SpringEnds e = lattice.springs.ends[s];
+                const SpringEnds e = lattice.springs.ends()[s];
                 const LatticeCoord a = lattice.coord[e.a];
                 const LatticeCoord b = lattice.coord[e.b];
                 if (std::min(a.column, b.column) == 9 && std::max(a.column, b.column) == 10)
@@ -200,8 +200,8 @@ TEST(Thermal, ImplicitStepIsStableAndMonotoneAtTheSheetsStep)
     std::vector<Real> rowSum(lattice.massCount(), 0.0);
     for (std::size_t s = 0; s < lattice.springCount(); ++s)
     {
-        rowSum[lattice.springs.ends[s].a] += model.conductance()[s];
-        rowSum[lattice.springs.ends[s].b] += model.conductance()[s];
+        rowSum[lattice.springs.ends()[s].a] += model.conductance()[s];
+        rowSum[lattice.springs.ends()[s].b] += model.conductance()[s];
     }
     Real fastest = 0;
     for (std::size_t i = 0; i < lattice.massCount(); ++i)

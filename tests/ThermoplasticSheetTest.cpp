@@ -152,7 +152,7 @@ TEST(ThermoplasticSheet, HotSheetCreepsAndKeepsItsShapeWhenCooled)
     RecordProperty("hot_sag_30s_m", std::to_string(hotSag));
 
     const std::vector<Vec3> before = sheet.system().particles.position;
-    const Real hotStiffness = sheet.system().springs.stiffness[0];
+    const Real hotStiffness = sheet.system().springs.stiffness()[0];
     sheet.springs->setUniformTemperature(cold);
     sheet.run(3.0);
     Real moved = 0;
@@ -161,7 +161,7 @@ TEST(ThermoplasticSheet, HotSheetCreepsAndKeepsItsShapeWhenCooled)
         moved = std::max(moved, (sheet.system().particles.position[i] - before[i]).norm());
     }
     EXPECT_LT(moved, 0.01 * hotSag);
-    EXPECT_GT(sheet.system().springs.stiffness[0], 1000 * hotStiffness);
+    EXPECT_GT(sheet.system().springs.stiffness()[0], 1000 * hotStiffness);
 
     sheet.system().forces.gravity.setZero();
     sheet.run(3.0);
@@ -253,11 +253,11 @@ TEST(ThermoplasticSheet, NewtonianSagGrowsAsCubeRootOfTime)
         const Real reference = 1e6; // Pa
         for (std::size_t s = 0; s < stretched.springCount(); ++s)
         {
-            const SpringEnds e = stretched.springs.ends[s];
-            stretched.springs.stiffness[s] = perModulus[s] * reference;
-            stretched.springs.damping[s] = springDampingCoefficient(
+            const SpringEnds e = stretched.springs.ends()[s];
+            stretched.springs.mutableStiffness()[s] = perModulus[s] * reference;
+            stretched.springs.mutableDamping()[s] = springDampingCoefficient(
                 perModulus[s] * reference, 1.0, stretched.particles.mass[e.a], stretched.particles.mass[e.b]);
-            stretched.springs.restLength[s] = sheet.lattice.springs.restLength[s];
+            stretched.springs.mutableRestLength()[s] = sheet.lattice.springs.restLength()[s];
         }
         for (Vec3& x : stretched.particles.position)
         {
@@ -509,18 +509,18 @@ TEST(ThermoplasticSheet, ColdMouldFreezesWhatItTouches)
     const SpringSet& springs = sheet.simulator->system().springs;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        if (springs.springClass[s] != SpringClass::Planar)
+        if (springs.classes()[s] != SpringClass::Planar)
         {
             continue;
         }
-        const SpringEnds e = springs.ends[s];
+        const SpringEnds e = springs.ends()[s];
         if (contact.stuck()[e.a] && contact.stuck()[e.b])
         {
-            frozen = std::max(frozen, springs.stiffness[s]);
+            frozen = std::max(frozen, springs.stiffness()[s]);
         }
         else if (!everTouched[e.a] && !everTouched[e.b] && sheet.lattice.coord[e.a].layer == 0)
         {
-            free = std::min(free, springs.stiffness[s]);
+            free = std::min(free, springs.stiffness()[s]);
         }
     }
     EXPECT_GT(frozen, 100 * free);

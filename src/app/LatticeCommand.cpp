@@ -36,7 +36,7 @@ void runLattice(const LatticeOptions& options)
     const Lattice lattice = buildLattice(spec);
 
     std::size_t planar = 0;
-    for (SpringClass cls : lattice.springs.springClass)
+    for (SpringClass cls : lattice.springs.classes())
     {
         planar += cls == SpringClass::Planar ? 1 : 0;
     }

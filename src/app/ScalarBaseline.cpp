@@ -24,13 +24,13 @@ double timeScalarBaseline(const MassSpringSystem& system, Real h, std::uint64_t 
         }
         for (std::size_t s = 0; s < springs.size(); ++s)
         {
-            const Index a = springs.ends[s].a;
-            const Index b = springs.ends[s].b;
+            const Index a = springs.ends()[s].a;
+            const Index b = springs.ends()[s].b;
             const Vec3 d = x[a] - x[b];
             const Real length = d.norm();
             const Vec3 n = d / length;
-            const Real magnitude =
-                -(springs.stiffness[s] * (length - springs.restLength[s]) + springs.damping[s] * (v[a] - v[b]).dot(n));
+            const Real magnitude = -(springs.stiffness()[s] * (length - springs.restLength()[s]) +
+                                     springs.damping()[s] * (v[a] - v[b]).dot(n));
             f[a] += magnitude * n;
             f[b] -= magnitude * n;
         }

@@ -81,15 +81,15 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
         const Particles& p = sheet.particles;
         for (std::size_t j = 0; j < sheet.springs.size(); ++j)
         {
-            const SpringEnds e = sheet.springs.ends[j];
+            const SpringEnds e = sheet.springs.ends()[j];
             const Real inverseMass =
                 (p.pinned[e.a] ? 0 : p.inverseMass[e.a]) + (p.pinned[e.b] ? 0 : p.inverseMass[e.b]);
-            load = std::max(load, sheet.springs.stiffness[j] * substep * substep * inverseMass);
+            load = std::max(load, sheet.springs.stiffness()[j] * substep * substep * inverseMass);
         }
         if (load > maxFormulaLoad)
         {
             notes.push_back(
-                {"springs.stiffness",
+                {"springs.stiffness()",
                  "kLST comes from the one-link formula (StiffnessCalibration.h), which holds while "
                  "k h^2 / mu is about 0.2 or less; here it reaches " +
                      formatNumber(load) +
@@ -99,13 +99,13 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
         }
     }
     bool dashpots = false;
-    for (Real kd : sheet.springs.damping)
+    for (Real kd : sheet.springs.damping())
     {
         dashpots = dashpots || kd > 0;
     }
     if (dashpots)
     {
-        notes.push_back({"springs.damping",
+        notes.push_back({"springs.damping()",
                          "Bullet links have no dashpot: the springs' damping (k_d) is left out; what damps the "
                          "twin's internal motion is its projection, whose damping depends on kLST, h and "
                          "piterations, not on k_d."});
@@ -194,13 +194,13 @@ void validateSheet(const MassSpringSystem& sheet)
     }
     for (std::size_t j = 0; j < sheet.springs.size(); ++j)
     {
-        const SpringEnds ends = sheet.springs.ends[j];
+        const SpringEnds ends = sheet.springs.ends()[j];
         if (ends.a == ends.b || ends.a >= p.size() || ends.b >= p.size())
         {
             throw InputError("twin: spring " + std::to_string(j) +
                              " does not join two distinct masses of the sheet; a Bullet link cannot represent it");
         }
-        if (!(sheet.springs.restLength[j] >= 0) || !(sheet.springs.stiffness[j] >= 0))
+        if (!(sheet.springs.restLength()[j] >= 0) || !(sheet.springs.stiffness()[j] >= 0))
         {
             throw InputError("twin: spring " + std::to_string(j) +
                              " has a negative or non-finite rest length or "
@@ -290,7 +290,7 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
     const SpringSet& springs = sheet.springs;
     for (std::size_t j = 0; j < springs.size(); ++j)
     {
-        const SpringEnds ends = springs.ends[j];
+        const SpringEnds ends = springs.ends()[j];
         Real kLST = 1;
         if (m_settings.kLST)
         {
@@ -302,12 +302,12 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
                 p.inverseMass[ends.a] * (p.pinned[ends.a] ? 0 : 1) + p.inverseMass[ends.b] * (p.pinned[ends.b] ? 0 : 1);
             // A link between two pinned nodes is never projected; any factor will do.
             kLST = inverseMass > 0
-                       ? pbdLinearStiffness(springs.stiffness[j], 1 / inverseMass, h, m_settings.piterations)
+                       ? pbdLinearStiffness(springs.stiffness()[j], 1 / inverseMass, h, m_settings.piterations)
                        : Real(1);
         }
         m_body->appendLink(int(ends.a), int(ends.b), materialFor(kLST), false);
         btSoftBody::Link& link = m_body->m_links[int(j)];
-        link.m_rl = springs.restLength[j];
+        link.m_rl = springs.restLength()[j];
         link.m_c1 = link.m_rl * link.m_rl;
     }
     if (m_settings.kLST.has_value() == false && materials.size() == 1)

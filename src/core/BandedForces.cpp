@@ -39,16 +39,29 @@ struct BandState
     std::size_t stride = 0;
 };
 
+/// The stiffness and damping of a run of springs: per spring, or one pair for the whole run.
+struct RunCoefficients
+{
+    const Real* stiffness = nullptr;
+    const Real* damping = nullptr;
+    Real uniformStiffness = 0;
+    Real uniformDamping = 0;
+};
+
 /// The forces of `n` springs whose ends' components are read with `stride` (3: the masses' own arrays of Vec3; 1: a
 /// band's copy), into three component arrays. The arithmetic is springScalesBody's, term for term: Eigen's squaredNorm
-/// and dot of 3-vectors sum (x + y) + z.
-template <bool withRepulsion, std::size_t stride>
+/// and dot of 3-vectors sum (x + y) + z. With `uniform`, every spring takes the run's one stiffness and damping, which
+/// saves streaming two arrays from memory (the same values, so the same bits).
+template <bool withRepulsion, std::size_t stride, bool uniform>
 [[gnu::always_inline]] inline void
 springLoop(std::size_t n, const Real* __restrict xa, const Real* __restrict xb, std::size_t xComponent,
            const Real* __restrict va, const Real* __restrict vb, std::size_t vComponent, const Real* __restrict rest,
-           const Real* __restrict stiffness, const Real* __restrict damping, Real repulsion, Real* __restrict fx,
-           std::size_t fComponent)
+           const RunCoefficients& coefficients, Real repulsion, Real* __restrict fx, std::size_t fComponent)
 {
+    const Real* __restrict stiffness = coefficients.stiffness;
+    const Real* __restrict damping = coefficients.damping;
+    const Real uniformStiffness = coefficients.uniformStiffness;
+    const Real uniformDamping = coefficients.uniformDamping;
     // Nothing here aliases (spring forces go to the row scratch), but GCC cannot tell once this is inlined, and the
     // run-time alias checks it would need exceed its limit: without ivdep the loops stay scalar.
 #pragma GCC ivdep
@@ -64,7 +77,8 @@ springLoop(std::size_t n, const Real* __restrict xa, const Real* __restrict xb, 
         const Real speedTimesLength = (ux * dx + uy * dy) + uz * dz;
         const Real length = std::sqrt(lengthSquared);
         const Real inverse = Real(1) / length;
-        Real magnitude = hookeMagnitude(length, speedTimesLength * inverse, stiffness[j], damping[j], rest[j]);
+        Real magnitude = hookeMagnitude(length, speedTimesLength * inverse, uniform ? uniformStiffness : stiffness[j],
+                                        uniform ? uniformDamping : damping[j], rest[j]);
         if constexpr (withRepulsion)
         {
             magnitude += repulsionMagnitude(length, rest[j], repulsion);
@@ -76,19 +90,54 @@ springLoop(std::size_t n, const Real* __restrict xa, const Real* __restrict xb, 
     }
 }
 
+/// A run's coefficients: its class's pair when the set has one per class, else its springs' own.
+RunCoefficients runCoefficients(const SpringSet& springs, const SpringRowPlan::SpringRun& run)
+{
+    RunCoefficients c;
+    if (const UniformClassCoefficients* uniform = springs.uniformCoefficients())
+    {
+        c.uniformStiffness = uniform->stiffness[run.springClass];
+        c.uniformDamping = uniform->damping[run.springClass];
+    }
+    else
+    {
+        c.stiffness = springs.stiffness().data() + run.firstSpring;
+        c.damping = springs.damping().data() + run.firstSpring;
+    }
+    return c;
+}
+
+/// The forces of one run into its row's slots: from the masses' own arrays (stride 3) or a band's copy (stride 1).
+template <bool withRepulsion, std::size_t stride>
+[[gnu::always_inline]] inline void springRun(const SpringSet& springs, const SpringRowPlan::SpringRun& run,
+                                             const Real* xa, const Real* xb, std::size_t xComponent, const Real* va,
+                                             const Real* vb, std::size_t vComponent, Real repulsion,
+                                             const RowForces& out)
+{
+    const RunCoefficients coefficients = runCoefficients(springs, run);
+    const Real* rest = springs.restLength().data() + run.firstSpring;
+    if (coefficients.stiffness == nullptr)
+    {
+        springLoop<withRepulsion, stride, true>(run.count, xa, xb, xComponent, va, vb, vComponent, rest, coefficients,
+                                                repulsion, out.x + run.firstSlot, out.slots);
+    }
+    else
+    {
+        springLoop<withRepulsion, stride, false>(run.count, xa, xb, xComponent, va, vb, vComponent, rest, coefficients,
+                                                 repulsion, out.x + run.firstSlot, out.slots);
+    }
+}
+
 /// A spring row from the masses' own arrays (the rows between bands).
 template <bool withRepulsion>
 [[gnu::always_inline]] inline void springRowFromArrays(const SpringRowPlan& plan, const BandedForceArgs& args,
                                                        std::size_t row, const RowForces& out)
 {
-    const SpringSet& springs = *args.springs;
     for (Index k = plan.springRunStart[row]; k < plan.springRunStart[row + 1]; ++k)
     {
         const SpringRowPlan::SpringRun& run = plan.springRuns[k];
-        springLoop<withRepulsion, 3>(
-            run.count, args.x[run.a].data(), args.x[run.b].data(), 1, args.v[run.a].data(), args.v[run.b].data(), 1,
-            springs.restLength.data() + run.firstSpring, springs.stiffness.data() + run.firstSpring,
-            springs.damping.data() + run.firstSpring, args.repulsion, out.x + run.firstSlot, out.slots);
+        springRun<withRepulsion, 3>(*args.springs, run, args.x[run.a].data(), args.x[run.b].data(), 1,
+                                    args.v[run.a].data(), args.v[run.b].data(), 1, args.repulsion, out);
     }
 }
 
@@ -97,15 +146,12 @@ template <bool withRepulsion>
 [[gnu::always_inline]] inline void springRowFromBand(const SpringRowPlan& plan, const BandedForceArgs& args,
                                                      std::size_t row, const BandState& state, const RowForces& out)
 {
-    const SpringSet& springs = *args.springs;
     for (Index k = plan.springRunStart[row]; k < plan.springRunStart[row + 1]; ++k)
     {
         const SpringRowPlan::SpringRun& run = plan.springRuns[k];
-        springLoop<withRepulsion, 1>(
-            run.count, state.position + run.aLocal, state.position + run.bLocal, state.stride,
-            state.velocity + run.aLocal, state.velocity + run.bLocal, state.stride,
-            springs.restLength.data() + run.firstSpring, springs.stiffness.data() + run.firstSpring,
-            springs.damping.data() + run.firstSpring, args.repulsion, out.x + run.firstSlot, out.slots);
+        springRun<withRepulsion, 1>(*args.springs, run, state.position + run.aLocal, state.position + run.bLocal,
+                                    state.stride, state.velocity + run.aLocal, state.velocity + run.bLocal,
+                                    state.stride, args.repulsion, out);
     }
 }
 

@@ -148,8 +148,8 @@ Real mechanicalEnergy(const MassSpringSystem& system)
                        Real energy = 0;
                        for (std::size_t k = begin; k < end; ++k)
                        {
-                           const Real length = (p.position[s.ends[k].a] - p.position[s.ends[k].b]).norm();
-                           energy += springPotential(length, s.stiffness[k], s.restLength[k], repulsion);
+                           const Real length = (p.position[s.ends()[k].a] - p.position[s.ends()[k].b]).norm();
+                           energy += springPotential(length, s.stiffness()[k], s.restLength()[k], repulsion);
                        }
                        return energy;
                    });
@@ -240,12 +240,12 @@ Real linearisationGap(const MassSpringSystem& system, const std::vector<Vec3>& s
     Real gap = 0;
     for (std::size_t k = 0; k < s.size(); ++k)
     {
-        const Index a = s.ends[k].a;
-        const Index b = s.ends[k].b;
+        const Index a = s.ends()[k].a;
+        const Index b = s.ends()[k].b;
         const Vec3 d0 = start[a] - start[b];
         const Real l0 = d0.norm();
-        const Real L = s.restLength[k];
-        const Real stiffness = s.stiffness[k];
+        const Real L = s.restLength()[k];
+        const Real stiffness = s.stiffness()[k];
         if (!(l0 > degenerateLengthFraction * L))
         {
             continue;

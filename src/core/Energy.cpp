@@ -29,8 +29,8 @@ Energy computeEnergy(const MassSpringSystem& system)
     const SpringSet& s = system.springs;
     for (std::size_t k = 0; k < s.size(); ++k)
     {
-        const Real length = (p.position[s.ends[k].a] - p.position[s.ends[k].b]).norm();
-        e.springs += springPotential(length, s.stiffness[k], s.restLength[k], system.forces.repulsion);
+        const Real length = (p.position[s.ends()[k].a] - p.position[s.ends()[k].b]).norm();
+        e.springs += springPotential(length, s.stiffness()[k], s.restLength()[k], system.forces.repulsion);
     }
     for (const UserSpring& spring : system.userSprings.all())
     {

@@ -27,7 +27,7 @@ template <bool withRepulsion>
                                                     const Vec3* __restrict v, std::size_t begin, std::size_t end,
                                                     Real* __restrict scale)
 {
-    const SpringEnds* __restrict ends = springs.ends.data();
+    const SpringEnds* __restrict ends = springs.ends().data();
     Real lengthSquared[springBlock];
     Real speedTimesLength[springBlock]; // (v_a - v_b) . d
     for (std::size_t start = begin; start < end; start += springBlock)
@@ -42,9 +42,9 @@ template <bool withRepulsion>
             lengthSquared[j] = d.squaredNorm();
             speedTimesLength[j] = (v[a] - v[b]).dot(d);
         }
-        const Real* __restrict rest = springs.restLength.data() + start;
-        const Real* __restrict stiffness = springs.stiffness.data() + start;
-        const Real* __restrict damping = springs.damping.data() + start;
+        const Real* __restrict rest = springs.restLength().data() + start;
+        const Real* __restrict stiffness = springs.stiffness().data() + start;
+        const Real* __restrict damping = springs.damping().data() + start;
         Real* __restrict blockScale = scale + start;
         for (std::size_t j = 0; j < n; ++j)
         {
@@ -199,13 +199,6 @@ BandedForceArgs bandedArgs(const MassSpringSystem& system, const SpringRowPlan& 
     return args;
 }
 
-/// The plan of a system's springs, if it has a valid one.
-const SpringRowPlan* rowPlanOf(const SpringSet& springs, std::size_t massCount)
-{
-    const SpringRowPlan* plan = springs.rowPlan.get();
-    return plan && plan->springCount == springs.size() && plan->massCount == massCount ? plan : nullptr;
-}
-
 /// Pass 1 over every spring, in parallel chunks.
 void computeSpringScales(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,
                          const std::vector<Vec3>& v, std::vector<Real>& scale)
@@ -233,7 +226,7 @@ thread_local std::vector<Real> springScaleScratch;
 void accumulateSpringForces(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,
                             const std::vector<Vec3>& v, std::vector<Vec3>& force)
 {
-    if (const SpringRowPlan* plan = rowPlanOf(springs, x.size()))
+    if (const SpringRowPlan* plan = springs.rowPlan(x.size()))
     {
         BandedForceArgs args;
         args.plan = plan;
@@ -267,7 +260,7 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
     const Particles& p = system.particles;
     const std::size_t n = p.size();
     force.resize(n);
-    if (const SpringRowPlan* plan = rowPlanOf(system.springs, n))
+    if (const SpringRowPlan* plan = system.springs.rowPlan(n))
     {
         BandedForceArgs args = bandedArgs(system, *plan, x, v, force);
         runBandedForces(BandedPass::TotalForces, args);
@@ -304,7 +297,7 @@ bool symplecticSubstep(MassSpringSystem& system, Real h)
     Particles& p = system.particles;
     const std::size_t n = p.size();
     p.force.resize(n);
-    if (const SpringRowPlan* plan = rowPlanOf(system.springs, n))
+    if (const SpringRowPlan* plan = system.springs.rowPlan(n))
     {
         BandedForceArgs args = bandedArgs(system, *plan, p.position, p.velocity, p.force);
         args.h = h;

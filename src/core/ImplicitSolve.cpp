@@ -212,7 +212,7 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     {
         addBlock(i, i);
     }
-    for (const SpringEnds& e : springs.ends)
+    for (const SpringEnds& e : springs.ends())
     {
         addBlock(e.a, e.b);
         addBlock(e.b, e.a);
@@ -230,8 +230,8 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     m_baSlots.resize(springs.size());
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        m_abSlots[s] = findSlots(springs.ends[s].a, springs.ends[s].b);
-        m_baSlots[s] = findSlots(springs.ends[s].b, springs.ends[s].a);
+        m_abSlots[s] = findSlots(springs.ends()[s].a, springs.ends()[s].b);
+        m_baSlots[s] = findSlots(springs.ends()[s].b, springs.ends()[s].a);
     }
     m_rhs.setZero(size);
     m_deltaV.setZero(size);
@@ -408,8 +408,8 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     const SpringSet& springs = system.springs;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const Index ea = springs.ends[s].a;
-        const Index eb = springs.ends[s].b;
+        const Index ea = springs.ends()[s].a;
+        const Index eb = springs.ends()[s].b;
         if (m_constraintOf[ea] >= 0)
         {
             m_rowNeighbours.push_back({std::size_t(m_constraintOf[ea]), eb, readBlock(m_abSlots[s])});
@@ -428,8 +428,8 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     }
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const Index ea = springs.ends[s].a;
-        const Index eb = springs.ends[s].b;
+        const Index ea = springs.ends()[s].a;
+        const Index eb = springs.ends()[s].b;
         if (m_constraintOf[eb] >= 0)
         {
             m_rhs.segment<3>(Eigen::Index(3 * ea)) -= readBlock(m_abSlots[s]) * changeOf(eb);
@@ -442,8 +442,8 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     // Filter: rows and columns of constrained masses.
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const Mat3* filterA = filterOf(springs.ends[s].a);
-        const Mat3* filterB = filterOf(springs.ends[s].b);
+        const Mat3* filterA = filterOf(springs.ends()[s].a);
+        const Mat3* filterB = filterOf(springs.ends()[s].b);
         if (!filterA && !filterB)
         {
             continue;
@@ -490,18 +490,18 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
     const Real repulsion = system.forces.repulsion;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const Index ea = springs.ends[s].a;
-        const Index eb = springs.ends[s].b;
+        const Index ea = springs.ends()[s].a;
+        const Index eb = springs.ends()[s].b;
         const Vec3 d = p.position[ea] - p.position[eb];
         const Real length = d.norm();
-        const Real rest = springs.restLength[s];
+        const Real rest = springs.restLength()[s];
         if (length <= degenerateLengthFraction * rest)
         {
             continue;
         }
         const Vec3 dir = d / length;
         const Mat3 nn = dir * dir.transpose();
-        const Real k = springs.stiffness[s];
+        const Real k = springs.stiffness()[s];
         Real axial = k;
         if (repulsion > 0 && length < rest)
         {
@@ -510,7 +510,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
         const Real transverse = k * std::max(Real(0), Real(1) - rest / length);
         // -K_aa, the stiffness block of this spring.
         const Mat3 stiffnessBlock = axial * nn + transverse * (Mat3::Identity() - nn);
-        const Mat3 block = (a * springs.damping[s]) * nn + a2 * stiffnessBlock;
+        const Mat3 block = (a * springs.damping()[s]) * nn + a2 * stiffnessBlock;
         // a K (a v + d), this spring's part, at a (b gets the opposite).
         Vec3 move = a * (p.velocity[ea] - p.velocity[eb]);
         if (hasOffset)

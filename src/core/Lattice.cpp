@@ -122,7 +122,7 @@ std::vector<Index> Lattice::bottomCorners() const
 Real Lattice::minRestLength() const
 {
     Real shortest = std::numeric_limits<Real>::infinity();
-    for (Real length : springs.restLength)
+    for (Real length : springs.restLength())
     {
         shortest = std::min(shortest, length);
     }
@@ -147,8 +147,8 @@ Lattice buildLattice(const LatticeSpec& spec)
     {
         row[i] = lattice.coord[i].row;
     }
-    lattice.springs.rowPlan =
-        buildSpringRowPlan(lattice.springs.ends, lattice.springs.adjacency(lattice.massCount()), row);
+    lattice.springs.setRowPlan(buildSpringRowPlan(lattice.springs.ends(), lattice.springs.classes(),
+                                                  lattice.springs.adjacency(lattice.massCount()), row));
     return lattice;
 }
 } // namespace masse

@@ -49,13 +49,17 @@ void applySpringClasses(MassSpringSystem& system, const std::array<SpringClassPa
 {
     SpringSet& springs = system.springs;
     const std::vector<Real>& mass = system.particles.mass;
+    std::vector<Real>& stiffness = springs.mutableStiffness();
+    std::vector<Real>& damping = springs.mutableDamping();
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringClassParams& p = classes[std::size_t(springs.springClass[s])];
-        const SpringEnds e = springs.ends[s];
-        springs.stiffness[s] = p.stiffness;
-        springs.damping[s] = springDampingCoefficient(p.stiffness, p.dampingRatio, mass[e.a], mass[e.b]);
+        const SpringClassParams& p = classes[std::size_t(springs.classes()[s])];
+        const SpringEnds e = springs.ends()[s];
+        stiffness[s] = p.stiffness;
+        damping[s] = springDampingCoefficient(p.stiffness, p.dampingRatio, mass[e.a], mass[e.b]);
     }
+    // Equal masses give every spring of a class the same k_d: the force kernel then reads each class's pair.
+    springs.summariseUniformClasses();
     system.markChanged();
 }
 } // namespace masse

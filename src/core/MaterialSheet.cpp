@@ -33,13 +33,14 @@ MassSpringSystem makeMaterialSheet(const Lattice& lattice, const Material& mater
     }
     system.springs = lattice.springs;
     const Real modulus = modulusAt(material, temperature);
+    std::vector<Real>& stiffness = system.springs.mutableStiffness();
+    std::vector<Real>& damping = system.springs.mutableDamping();
     for (std::size_t s = 0; s < system.springs.size(); ++s)
     {
-        const SpringEnds e = system.springs.ends[s];
+        const SpringEnds e = system.springs.ends()[s];
         const Real k = perModulus[s] * modulus;
-        system.springs.stiffness[s] = k;
-        system.springs.damping[s] =
-            springDampingCoefficient(k, dampingRatio, system.particles.mass[e.a], system.particles.mass[e.b]);
+        stiffness[s] = k;
+        damping[s] = springDampingCoefficient(k, dampingRatio, system.particles.mass[e.a], system.particles.mass[e.b]);
     }
     system.markChanged();
     return system;

@@ -24,7 +24,7 @@ std::vector<Real> stiffnessPerModulus(const Lattice& lattice, Real thickness, Re
     std::vector<Real> perModulus(lattice.springCount());
     for (std::size_t s = 0; s < perModulus.size(); ++s)
     {
-        perModulus[s] = lattice.springs.springClass[s] == SpringClass::Planar ? planar : interLayerRatio * planar;
+        perModulus[s] = lattice.springs.classes()[s] == SpringClass::Planar ? planar : interLayerRatio * planar;
     }
     return perModulus;
 }

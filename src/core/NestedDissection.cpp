@@ -103,7 +103,7 @@ DissectionOrder nestedDissection(const std::vector<Vec3>& positions, const Sprin
     const std::size_t n = positions.size();
     Dissection d{positions, std::vector<std::size_t>(n + 1, 0), {}, std::vector<int>(n, 0), parallelDepth, {}};
     d.result.stages.resize(std::size_t(std::max(parallelDepth, 0)) + 1);
-    for (const SpringEnds& e : springs.ends)
+    for (const SpringEnds& e : springs.ends())
     {
         ++d.neighbourStart[e.a + 1];
         ++d.neighbourStart[e.b + 1];
@@ -114,7 +114,7 @@ DissectionOrder nestedDissection(const std::vector<Vec3>& positions, const Sprin
     }
     d.neighbours.resize(d.neighbourStart[n]);
     std::vector<std::size_t> fill(d.neighbourStart.begin(), d.neighbourStart.end() - 1);
-    for (const SpringEnds& e : springs.ends)
+    for (const SpringEnds& e : springs.ends())
     {
         d.neighbours[fill[e.a]++] = e.b;
         d.neighbours[fill[e.b]++] = e.a;

@@ -73,12 +73,12 @@ PressureLoad::PressureLoad(const Lattice& lattice, PressureSchedule schedule)
     }
     for (std::size_t s = 0; s < lattice.springCount(); ++s)
     {
-        if (lattice.springs.springClass[s] != SpringClass::InterLayer)
+        if (lattice.springs.classes()[s] != SpringClass::InterLayer)
         {
             continue;
         }
-        const Index a = lattice.springs.ends[s].a;
-        const Index b = lattice.springs.ends[s].b;
+        const Index a = lattice.springs.ends()[s].a;
+        const Index b = lattice.springs.ends()[s].b;
         if (layerOf[a] == layerOf[b] + 1)
         {
             m_below[a].push_back(b);

@@ -1,6 +1,6 @@
 #include "SpringAdjacency.h"
 
-#include "SpringSet.h"
+#include "SpringTopology.h"
 
 namespace masse
 {

@@ -1,6 +1,6 @@
 #include "SpringRowPlan.h"
 
-#include "SpringSet.h"
+#include "SpringTopology.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -15,11 +15,13 @@ constexpr std::size_t massesPerBand = 4096;
 } // namespace
 
 std::shared_ptr<const SpringRowPlan> buildSpringRowPlan(const std::vector<SpringEnds>& ends,
+                                                        const std::vector<SpringClass>& springClass,
                                                         const SpringAdjacency& adjacency,
                                                         const std::vector<int>& massRow)
 {
     const std::size_t massCount = massRow.size();
-    if (massCount == 0 || adjacency.massCount() != massCount || adjacency.springCount != ends.size())
+    if (massCount == 0 || adjacency.massCount() != massCount || adjacency.springCount != ends.size() ||
+        springClass.size() != ends.size())
     {
         return nullptr;
     }
@@ -60,13 +62,15 @@ std::shared_ptr<const SpringRowPlan> buildSpringRowPlan(const std::vector<Spring
             {
                 SpringRowPlan::SpringRun& run = plan->springRuns.back();
                 if (s == run.firstSpring + run.count && ends[s].a == run.a + run.count &&
-                    ends[s].b == run.b + run.count)
+                    ends[s].b == run.b + run.count && std::uint8_t(springClass[s]) == run.springClass)
                 {
                     ++run.count;
                     continue;
                 }
             }
-            plan->springRuns.push_back({s, ends[s].a, ends[s].b, 1, slot[s]});
+            SpringRowPlan::SpringRun run{s, ends[s].a, ends[s].b, 1, slot[s]};
+            run.springClass = std::uint8_t(springClass[s]);
+            plan->springRuns.push_back(run);
         }
         plan->springRunStart.push_back(Index(plan->springRuns.size()));
     }

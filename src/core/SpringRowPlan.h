@@ -25,6 +25,7 @@
 namespace masse
 {
 struct SpringEnds;
+enum class SpringClass : std::uint8_t;
 
 struct SpringRowPlan
 {
@@ -39,6 +40,7 @@ struct SpringRowPlan
         Index firstSlot;
         Index aLocal = 0; ///< a's place in its band's state copy (see MassRange); unused in the row before a band
         Index bLocal = 0;
+        std::uint8_t springClass = 0; ///< the SpringClass of every spring of the run
     };
     /// One spring of a mass run's pattern.
     struct Entry
@@ -92,9 +94,11 @@ struct SpringRowPlan
     std::size_t bandCount() const { return (rowCount + bandRows - 1) / bandRows; }
 };
 
-/// Builds the plan of `massCount` masses in rows `massRow` (0-based) joined by `ends`; nullptr when some spring joins
-/// rows more than one apart (no lattice sheet does; such a set keeps the plain per-mass gather).
+/// Builds the plan of the masses in rows `massRow` (0-based) joined by springs `ends` of classes `springClass`;
+/// nullptr when some spring joins rows more than one apart (no lattice sheet does; such a set keeps the plain
+/// per-mass gather).
 std::shared_ptr<const SpringRowPlan> buildSpringRowPlan(const std::vector<SpringEnds>& ends,
+                                                        const std::vector<SpringClass>& springClass,
                                                         const SpringAdjacency& adjacency,
                                                         const std::vector<int>& massRow);
 } // namespace masse

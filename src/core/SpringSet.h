@@ -1,36 +1,22 @@
 #pragma once
-/// The springs of a sheet: topology (which masses, rest length, class) apart from coefficients.
+/// The springs of a sheet: a shared, immutable topology (SpringTopology.h) and each spring's per-step state, its
+/// current rest length, stiffness k_s and damping k_d, which a material model may rewrite every substep.
 ///
-/// Topology (the ends) is append-only: springs are added while a lattice is built and never rewired, so the adjacency
-/// the force kernels gather through is built once, on first use, and shared by copies. Coefficients start from the
-/// spring's class (planar or inter-layer) and may later be rewritten per spring (heat changes stiffness), so the force
-/// kernel reads them per spring.
+/// The per-step values are read through const accessors and rewritten only through the mutable ones, so the set
+/// knows when every spring of a class still has its class's k_s and k_d (a sheet without a material): the banded force
+/// kernel then reads two numbers per class instead of two arrays, a third of the memory it streams per substep.
 
 #include "SpringAdjacency.h"
-#include "SpringRowPlan.h"
+#include "SpringTopology.h"
 #include "Types.h"
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace masse
 {
-/// Why a spring exists; each class has its own stiffness and damping (paper Table 1: planar 9.2 g/mm,
-/// inter-layer 6.2 g/mm).
-enum class SpringClass : std::uint8_t
-{
-    Planar = 0,     ///< joins two masses of one layer (grid edges and SLaMM braces)
-    InterLayer = 1, ///< joins a mass to the masses of the layer below it
-};
-inline constexpr int springClassCount = 2;
-
-struct SpringEnds
-{
-    Index a;
-    Index b;
-};
-
 /// Stiffness and damping of one class of springs.
 struct SpringClassParams
 {
@@ -38,44 +24,60 @@ struct SpringClassParams
     Real dampingRatio = 0; ///< fraction of critical damping of the two-mass spring, e.g. 0.06 for Table 1's 6%
 };
 
-struct SpringSet
+/// k_s and k_d shared by every spring of each class.
+struct UniformClassCoefficients
 {
-    // Topology
-    std::vector<SpringEnds> ends;
-    std::vector<Real> restLength; ///< m
-    std::vector<SpringClass> springClass;
+    std::array<Real, springClassCount> stiffness{}; ///< N/m
+    std::array<Real, springClassCount> damping{};   ///< N s/m
+};
 
-    // Coefficients, one per spring
-    std::vector<Real> stiffness; ///< k_s, N/m
-    std::vector<Real> damping;   ///< k_d, N s/m
+class SpringSet
+{
+public:
+    SpringSet();
+    /// The springs of a built topology at its rest lengths, with no stiffness or damping yet.
+    explicit SpringSet(SpringTopology topology);
 
-    std::size_t size() const { return ends.size(); }
+    /// Appends a spring at rest length `rest`, with no stiffness or damping yet (lattice builders, tests). A shared
+    /// topology is copied first, and the row plan, which no longer matches, is dropped.
+    void add(Index a, Index b, Real rest, SpringClass cls);
+    /// Gives the topology its row plan (buildLattice).
+    void setRowPlan(std::shared_ptr<const SpringRowPlan> plan);
 
+    std::size_t size() const { return m_topology->size(); }
+    const SpringTopology& topology() const { return *m_topology; }
+    std::shared_ptr<const SpringTopology> sharedTopology() const { return m_topology; }
+    const std::vector<SpringEnds>& ends() const { return m_topology->ends; }
+    const std::vector<SpringClass>& classes() const { return m_topology->springClass; }
     /// The springs at each of `massCount` masses; built on the first call (and again if springs were added since),
-    /// from one thread, before kernels run in parallel.
-    const SpringAdjacency& adjacency(std::size_t massCount) const
-    {
-        if (!m_adjacency || m_adjacency->springCount != ends.size() || m_adjacency->massCount() != massCount)
-        {
-            m_adjacency = std::make_shared<const SpringAdjacency>(buildSpringAdjacency(ends, massCount));
-        }
-        return *m_adjacency;
-    }
+    /// from one thread, before kernels run in parallel, and shared by copies.
+    const SpringAdjacency& adjacency(std::size_t massCount) const;
+    /// The row plan, if the topology has one that fits `massCount` masses.
+    const SpringRowPlan* rowPlan(std::size_t massCount) const;
 
-    void add(Index a, Index b, Real rest, SpringClass cls)
-    {
-        ends.push_back({a, b});
-        restLength.push_back(rest);
-        springClass.push_back(cls);
-        stiffness.push_back(0);
-        damping.push_back(0);
-    }
+    const std::vector<Real>& restLength() const { return m_restLength; } ///< m
+    const std::vector<Real>& stiffness() const { return m_stiffness; }   ///< k_s, N/m
+    const std::vector<Real>& damping() const { return m_damping; }       ///< k_d, N s/m
+    /// Per-spring values to rewrite. Taking the stiffness or the damping drops the per-class summary.
+    std::vector<Real>& mutableRestLength() { return m_restLength; }
+    std::vector<Real>& mutableStiffness();
+    std::vector<Real>& mutableDamping();
 
-    /// The springs and masses by lattice row, for the banded force kernel; set by the lattice builders, shared by
-    /// copies, and used only while it still matches the set (see SpringRowPlan.h).
-    std::shared_ptr<const SpringRowPlan> rowPlan;
+    /// Records that every spring of a class has its class's k_s and k_d, if they all do (bit for bit); otherwise
+    /// leaves no summary. Called after the coefficients are set from the classes.
+    void summariseUniformClasses();
+    /// Each class's k_s and k_d when every spring has its class's, else null.
+    const UniformClassCoefficients* uniformCoefficients() const { return m_uniform ? &*m_uniform : nullptr; }
 
 private:
+    /// Never changed in place while another set shares it: add() copies a shared topology first.
+    SpringTopology& ownTopology();
+
+    std::shared_ptr<SpringTopology> m_topology;
+    std::vector<Real> m_restLength;
+    std::vector<Real> m_stiffness;
+    std::vector<Real> m_damping;
+    std::optional<UniformClassCoefficients> m_uniform;
     mutable std::shared_ptr<const SpringAdjacency> m_adjacency;
 };
 } // namespace masse

@@ -81,14 +81,14 @@ Real powerFrequency(const MassSpringSystem& system)
                 {
                     for (std::size_t s = begin; s < end; ++s)
                     {
-                        const Vec3 d = p.position[springs.ends[s].a] - p.position[springs.ends[s].b];
+                        const Vec3 d = p.position[springs.ends()[s].a] - p.position[springs.ends()[s].b];
                         const Real length = d.norm();
-                        const Real k = springs.stiffness[s];
+                        const Real k = springs.stiffness()[s];
                         direction[s] = length > 0 ? Vec3(d / length) : Vec3::UnitX();
                         axial[s] = k;
                         // A spring at zero length has no direction; its geometric part is then bounded by k
                         // (isotropic).
-                        geometric[s] = length > 0 ? std::abs(k * (Real(1) - springs.restLength[s] / length)) : k;
+                        geometric[s] = length > 0 ? std::abs(k * (Real(1) - springs.restLength()[s] / length)) : k;
                     }
                 });
     std::vector<Real> userStiffness(n, Real(0));
@@ -144,8 +144,8 @@ Real powerFrequency(const MassSpringSystem& system)
                     {
                         for (std::size_t s = begin; s < end; ++s)
                         {
-                            const Index a = springs.ends[s].a;
-                            const Index b = springs.ends[s].b;
+                            const Index a = springs.ends()[s].a;
+                            const Index b = springs.ends()[s].b;
                             const Vec3 dz = scale * (sqrtW[a] * q[a] - sqrtW[b] * q[b]);
                             const Vec3& u = direction[s];
                             const Real along = u.dot(dz);
@@ -163,7 +163,7 @@ Real powerFrequency(const MassSpringSystem& system)
                             for (std::size_t k = adjacency.offsets[i]; k < adjacency.offsets[i + 1]; ++k)
                             {
                                 const SpringAdjacency::Entry e = adjacency.entries[k];
-                                if (springs.ends[e.spring].a == Index(i))
+                                if (springs.ends()[e.spring].a == Index(i))
                                 {
                                     f += springForce[e.spring];
                                 }
@@ -207,14 +207,14 @@ StabilityEstimate estimateStability(const MassSpringSystem& system, IntegratorKi
     const Real repulsion = system.forces.repulsion;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const Index a = springs.ends[s].a;
-        const Index b = springs.ends[s].b;
-        Real k = springs.stiffness[s];
+        const Index a = springs.ends()[s].a;
+        const Index b = springs.ends()[s].b;
+        Real k = springs.stiffness()[s];
         if (repulsion > 0)
         {
             // The repulsion stiffens a compressed spring by 2 k_r / l^3; count it at no less than half the rest
             // length, the range where contact and damping keep real sheets.
-            const Real rest = springs.restLength[s];
+            const Real rest = springs.restLength()[s];
             const Real length = std::max((p.position[a] - p.position[b]).norm(), Real(0.5) * rest);
             if (length < rest)
             {
@@ -228,7 +228,7 @@ StabilityEstimate estimateStability(const MassSpringSystem& system, IntegratorKi
         rowSum[b] += k * (wb + coupling);
         if (k > 0)
         {
-            const Real ratio = springs.damping[s] / k;
+            const Real ratio = springs.damping()[s] / k;
             minRatio = std::min(minRatio, ratio);
             maxRatio = std::max(maxRatio, ratio);
         }

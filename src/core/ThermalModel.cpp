@@ -94,8 +94,8 @@ ThermalModel::ThermalModel(const Lattice& lattice, const Material& material, Rea
     validate(m_material);
     validate(m_settings);
     const std::size_t n = lattice.massCount();
-    m_ends = lattice.springs.ends;
-    m_class = lattice.springs.springClass;
+    m_ends = lattice.springs.ends();
+    m_class = lattice.springs.classes();
     const int layers = lattice.spec.layers;
     m_capacity.resize(n);
     const Real perArea = material.density * material.specificHeat * thickness / Real(layers);

@@ -73,12 +73,12 @@ ViscoelasticSprings::ViscoelasticSprings(const MassSpringSystem& system, std::ve
                              "must be > 0 m (got " + formatNumber(m_perModulus[s]) + ")");
         }
     }
-    m_originalLength = springs.restLength;
+    m_originalLength = springs.restLength();
     m_reducedMass.resize(springs.size());
     const std::vector<Real>& mass = system.particles.mass;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringEnds e = springs.ends[s];
+        const SpringEnds e = springs.ends()[s];
         m_reducedMass[s] = mass[e.a] * mass[e.b] / (mass[e.a] + mass[e.b]);
     }
     m_params.resize(springs.size());
@@ -124,7 +124,7 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
     bool changed = false;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringEnds e = springs.ends[s];
+        const SpringEnds e = springs.ends()[s];
         const Real t = temperature.empty() ? m_uniformTemperature : Real(0.5) * (temperature[e.a] + temperature[e.b]);
         if (!(t > 0) || !std::isfinite(t))
         {
@@ -176,7 +176,7 @@ void ViscoelasticSprings::start(const MassSpringSystem& system, const StepContex
     const std::vector<Vec3>& x = system.particles.position;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringEnds e = springs.ends[s];
+        const SpringEnds e = springs.ends()[s];
         BurgersState& state = m_state[s];
         state.extension = (x[e.a] - x[e.b]).norm() - m_originalLength[s];
         state.force = m_params[s].maxwellStiffness * state.extension;
@@ -187,25 +187,26 @@ void ViscoelasticSprings::start(const MassSpringSystem& system, const StepContex
 
 void ViscoelasticSprings::rebuildSteps(MassSpringSystem& system, Real h)
 {
-    SpringSet& springs = system.springs;
+    std::vector<Real>& springStiffness = system.springs.mutableStiffness();
+    std::vector<Real>& springDamping = system.springs.mutableDamping();
     const bool elastic = m_settings.model == SpringModel::Elastic;
-    for (std::size_t s = 0; s < springs.size(); ++s)
+    for (std::size_t s = 0; s < springStiffness.size(); ++s)
     {
         m_step[s] = burgersStep(m_params[s], h);
         const Real stiffness = elastic ? m_params[s].maxwellStiffness : Real(1) / m_step[s].compliance;
-        springs.stiffness[s] = stiffness;
-        springs.damping[s] = Real(2) * m_settings.dampingRatio * std::sqrt(stiffness * m_reducedMass[s]);
+        springStiffness[s] = stiffness;
+        springDamping[s] = Real(2) * m_settings.dampingRatio * std::sqrt(stiffness * m_reducedMass[s]);
     }
     m_stepLength = h;
 }
 
 void ViscoelasticSprings::writeRestLengths(MassSpringSystem& system)
 {
-    SpringSet& springs = system.springs;
+    std::vector<Real>& restLength = system.springs.mutableRestLength();
     const bool elastic = m_settings.model == SpringModel::Elastic;
-    for (std::size_t s = 0; s < springs.size(); ++s)
+    for (std::size_t s = 0; s < restLength.size(); ++s)
     {
-        springs.restLength[s] =
+        restLength[s] =
             elastic ? m_originalLength[s] : m_originalLength[s] + burgersFreeExtension(m_step[s], m_state[s]);
     }
     // Rest lengths move every substep; the stability estimate and Verlet's cached force depend on them.
@@ -248,7 +249,7 @@ void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, StepContext& co
     Real sum = 0;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringEnds e = springs.ends[s];
+        const SpringEnds e = springs.ends()[s];
         const Real extension = (x[e.a] - x[e.b]).norm() - m_originalLength[s];
         BurgersState& state = m_state[s];
         if (elastic)

@@ -8,9 +8,9 @@
 /// solid with Poisson's ratio 1/2 has E = 3 G; so the dashpot c relates to eta as the spring k relates to E.
 ///
 /// The hook never touches the force kernel or the integrators: before every substep it writes each spring's
-/// k_eff = 1/X and effective rest length L0 + u_0 (see BurgersSpring.h) into springs.stiffness and
-/// springs.restLength, and after it reads the new lengths and advances the state (F, u, u_K). The spring's own
-/// dashpot, springs.damping, is kept at `dampingRatio` of critical for k_eff (the paper's sheet damping, 6%): a small
+/// k_eff = 1/X and effective rest length L0 + u_0 (see BurgersSpring.h) into springs.stiffness() and
+/// springs.restLength(), and after it reads the new lengths and advances the state (F, u, u_K). The spring's own
+/// dashpot, springs.damping(), is kept at `dampingRatio` of critical for k_eff (the paper's sheet damping, 6%): a small
 /// parallel damper that calms lattice vibrations and plays no part in the creep.
 ///
 /// The force F is the state, not the elastic strain: when a spring cools, k_M rises a thousandfold and eta goes to

@@ -31,8 +31,8 @@ std::vector<double> meanSpringStrain(const MassSpringSystem& system)
     std::vector<int> count(x.size(), 0);
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringEnds& e = springs.ends[s];
-        const Real rest = springs.restLength[s];
+        const SpringEnds& e = springs.ends()[s];
+        const Real rest = springs.restLength()[s];
         const Real stretch = ((x[e.a] - x[e.b]).norm() - rest) / rest;
         strain[e.a] += stretch;
         strain[e.b] += stretch;
@@ -113,7 +113,7 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
     out << "</PointData>\n";
 
     out << "<Lines>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
-    for (const SpringEnds& e : s.ends)
+    for (const SpringEnds& e : s.ends())
     {
         out << e.a << ' ' << e.b << '\n';
     }
@@ -157,7 +157,7 @@ std::string toObj(const MassSpringSystem& system, const std::vector<Triangle>& s
     }
     if (springs)
     {
-        for (const SpringEnds& e : system.springs.ends)
+        for (const SpringEnds& e : system.springs.ends())
         {
             out << "l " << e.a + 1 << ' ' << e.b + 1 << '\n';
         }

@@ -47,8 +47,8 @@ void meanSpringStrain(const MassSpringSystem& system, std::vector<float>& values
     std::vector<int> count(x.size(), 0);
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const SpringEnds& e = springs.ends[s];
-        const Real rest = springs.restLength[s];
+        const SpringEnds& e = springs.ends()[s];
+        const Real rest = springs.restLength()[s];
         const float strain = float(((x[e.a] - x[e.b]).norm() - rest) / rest);
         values[e.a] += strain;
         values[e.b] += strain;

@@ -14,7 +14,7 @@ std::shared_ptr<const SheetTopology> buildTopology(const scene::Scene& scene)
     auto topology = std::make_shared<SheetTopology>();
     const Lattice& lattice = scene.lattice();
     topology->springIndices.reserve(2 * lattice.springCount());
-    for (const SpringEnds& ends : scene.system().springs.ends)
+    for (const SpringEnds& ends : scene.system().springs.ends())
     {
         topology->springIndices.push_back(std::uint32_t(ends.a));
         topology->springIndices.push_back(std::uint32_t(ends.b));
