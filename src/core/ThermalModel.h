@@ -34,11 +34,11 @@
 #include "HeatSources.h"
 #include "Lattice.h"
 #include "Material.h"
+#include "SlotMatrix.h"
 #include "StepHook.h"
 #include "Thickness.h"
 
 #include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCore>
 
 #include <span>
 #include <vector>
@@ -113,9 +113,6 @@ public:
     const std::vector<Real>& conductance() const { return m_conductance; }
 
 private:
-    using SparseMatrix = Eigen::SparseMatrix<Real>;
-    using StorageIndex = SparseMatrix::StorageIndex;
-
     /// The air a mass at x exchanges heat with: a hot-air zone's, or the room's.
     struct AirAt
     {
@@ -162,10 +159,7 @@ private:
     std::vector<Real> m_contactCoefficient;
     std::vector<Real> m_contactSource;
 
-    SparseMatrix m_matrix;
-    std::vector<StorageIndex> m_diagonalSlot;
-    std::vector<StorageIndex> m_abSlot;
-    std::vector<StorageIndex> m_baSlot;
+    SlotMatrix<1> m_matrix; ///< C/dt + conductances + exchange coefficients, a scalar per mass and per spring end
     Eigen::VectorX<Real> m_rhs;
     Eigen::VectorX<Real> m_solution;
     Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> m_solver;
