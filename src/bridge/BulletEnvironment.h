@@ -67,7 +67,6 @@ public:
     void extendPath(int index, const std::vector<PoseKey>& keys);
     /// Index of the obstacle with that name, or -1.
     int findObstacle(const std::string& name) const;
-    btCollisionWorld& world() { return *m_world; }
 
     // ContactDetector
     int obstacleCount() const override { return int(m_obstacles.size()); }

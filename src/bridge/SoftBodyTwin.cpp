@@ -342,11 +342,6 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
 
 SoftBodyTwin::~SoftBodyTwin() = default;
 
-btSoftRigidDynamicsWorld& SoftBodyTwin::world()
-{
-    return m_bullet->world;
-}
-
 void SoftBodyTwin::buildObstacles(const BulletEnvironment& environment)
 {
     for (int i = 0; i < environment.obstacleCount(); ++i)
@@ -435,7 +430,6 @@ void SoftBodyTwin::step()
         ++m_substepCount;
     }
     m_lastWall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    m_totalWall += m_lastWall;
     checkFinite();
 }
 

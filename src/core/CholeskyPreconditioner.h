@@ -35,8 +35,6 @@ public:
     /// The masses filtered this step and their S (both outlive the solve); empty for none.
     void setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters);
     void apply(const Vector& r, Vector& z) const override;
-    /// Factorisations since construction.
-    int refreshCount() const { return m_refreshCount; }
 
 private:
     void solveWithFactor(const Vector& b, Vector& x) const;
@@ -66,6 +64,5 @@ private:
     mutable Vector m_filtered;
     mutable Vector m_permuted;
     bool m_ready = false;
-    int m_refreshCount = 0;
 };
 } // namespace masse

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <limits>
 
 namespace masse
 {
@@ -117,16 +116,6 @@ std::vector<Index> Lattice::bottomCorners() const
     const int lastRow = spec.countZ - 1;
     const int lastColumn = spec.countX - 1;
     return {index(0, 0, 0), index(0, 0, lastColumn), index(0, lastRow, 0), index(0, lastRow, lastColumn)};
-}
-
-Real Lattice::minRestLength() const
-{
-    Real shortest = std::numeric_limits<Real>::infinity();
-    for (Real length : springs.restLength())
-    {
-        shortest = std::min(shortest, length);
-    }
-    return shortest;
 }
 
 Lattice buildLattice(const LatticeSpec& spec)

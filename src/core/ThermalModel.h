@@ -107,8 +107,6 @@ public:
     /// Areas, normals and thicknesses as of the last step; ViscoelasticSprings can share it (setThickness).
     SheetThickness& sheetThickness() { return m_geometry; }
     const SheetThickness& sheetThickness() const { return m_geometry; }
-    /// Per spring, its cotangent weight w (planar springs; 0 for inter-layer ones).
-    const std::vector<Real>& conductanceWeight() const { return m_weight; }
     /// Per spring, its conductance G_s (W/K) in the last step.
     const std::vector<Real>& conductance() const { return m_conductance; }
 

@@ -97,15 +97,6 @@ void ViscoelasticSprings::setUniformTemperature(Real temperature)
     m_uniformTemperature = temperature;
 }
 
-Real ViscoelasticSprings::permanentSet(std::size_t spring) const
-{
-    if (m_settings.model == SpringModel::Elastic)
-    {
-        return 0;
-    }
-    return burgersPermanentSet(m_params[spring], m_state[spring]);
-}
-
 bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std::span<const Real> temperature,
                                             SheetThickness* thickness)
 {

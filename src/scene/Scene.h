@@ -58,10 +58,9 @@ public:
     SelfContact* selfContact() { return m_selfContact.get(); }
     const SelfContact* selfContact() const { return m_selfContact.get(); }
     const ScriptRunner& script() const { return *m_script; }
-    /// The heat model (nullptr without a "heat" section) and the material springs (nullptr without a "material").
+    /// The heat model (nullptr without a "heat" section).
     ThermalModel* thermal() { return m_thermal.get(); }
     const ThermalModel* thermal() const { return m_thermal.get(); }
-    const ViscoelasticSprings* materialSprings() const { return m_springs.get(); }
     /// The pressure across the sheet (nullptr without a "forming" section).
     const PressureLoad* pressure() const { return m_pressure.get(); }
     /// Local thickness of the sheet (nullptr without a material); current as of the last frame.
