@@ -130,10 +130,11 @@ TEST(ImplicitEuler, HangingChainSettlesIntoElasticCatenary)
 namespace
 {
 /// The Table 1 sheet hung from two corners, run for `duration` with the given preconditioner; final positions.
-std::vector<Vec3> hungSheetPositions(PreconditionerKind preconditioner, Real duration, SolverTally* tally = nullptr)
+std::vector<Vec3> hungSheetPositions(PreconditionerKind preconditioner, Real duration, SolverTally* tally = nullptr,
+                                     int size = 12)
 {
     Lattice lattice;
-    MassSpringSystem sheet = paperSheet(12, &lattice);
+    MassSpringSystem sheet = paperSheet(size, &lattice);
     sheet.particles.setPinned(lattice.bottomCorners()[0], true);
     sheet.particles.setPinned(lattice.bottomCorners()[1], true);
     SimulatorSettings settings;
@@ -174,6 +175,31 @@ TEST(ImplicitEuler, CholeskyPreconditionerAgreesWithDiagonal)
                 jacobi.largestIterations);
 }
 
+// The same for the multigrid preconditioner, on a sheet large enough for two levels (24x2x24, 1,105 masses): every
+// mass within 1e-4 m of the diagonal-preconditioned result after 3 s, at most 20 iterations a step (measured: mean
+// 9.9, largest 16, where the factor takes 7.5 and 9, the diagonal 106 and 136).
+TEST(ImplicitEuler, MultigridPreconditionerAgreesWithDiagonal)
+{
+    SolverTally multigrid;
+    SolverTally jacobi;
+    const std::vector<Vec3> withCycle = hungSheetPositions(PreconditionerKind::Multigrid, 3.0, &multigrid, 24);
+    const std::vector<Vec3> withDiagonal = hungSheetPositions(PreconditionerKind::Jacobi, 3.0, &jacobi, 24);
+    Real worst = 0;
+    for (std::size_t i = 0; i < withCycle.size(); ++i)
+    {
+        worst = std::max(worst, (withCycle[i] - withDiagonal[i]).norm());
+    }
+    EXPECT_LT(worst, 1e-4);
+    EXPECT_EQ(multigrid.capHits, 0u);
+    EXPECT_EQ(jacobi.capHits, 0u);
+    EXPECT_LE(multigrid.largestIterations, 20);
+    EXPECT_LT(multigrid.meanIterations(), 0.5 * jacobi.meanIterations());
+    std::printf("multigrid vs diagonal after 3 s: worst difference %.3g m; iterations mean %.2f (largest %d) vs %.2f "
+                "(largest %d)\n",
+                worst, multigrid.meanIterations(), multigrid.largestIterations, jacobi.meanIterations(),
+                jacobi.largestIterations);
+}
+
 // The catenary of the test above with the diagonal preconditioner: the same shape (every mass within 1e-5 m).
 TEST(ImplicitEuler, CatenaryIsTheSameWithEitherPreconditioner)
 {
@@ -190,8 +216,10 @@ TEST(ImplicitEuler, CatenaryIsTheSameWithEitherPreconditioner)
     };
     const std::vector<Vec3> a = settle(PreconditionerKind::Cholesky);
     const std::vector<Vec3> b = settle(PreconditionerKind::Jacobi);
+    const std::vector<Vec3> c = settle(PreconditionerKind::Multigrid);
     for (std::size_t i = 0; i < a.size(); ++i)
     {
         EXPECT_LT((a[i] - b[i]).norm(), 1e-5) << "mass " << i;
+        EXPECT_LT((c[i] - b[i]).norm(), 1e-5) << "mass " << i;
     }
 }

@@ -320,7 +320,7 @@ void addBenchCommand(CLI::App& app)
     command->add_option("--size", options->size, "NxLxN (default: the scene's, 256x2x256 in the bench scenes)");
     command->add_option("--integrator", options->integrator,
                         "euler, symplectic, verlet, implicit or bdf2 (default: the scene's)");
-    command->add_option("--preconditioner", options->preconditioner, "implicit solver: cholesky or jacobi");
+    command->add_option("--preconditioner", options->preconditioner, "implicit solver: multigrid, cholesky or jacobi");
     command->add_option(
         "--material", options->material,
         "Material file: a 2 mm elastic sheet of it (e.g. data/materials/pet.json) instead of Table 1's");

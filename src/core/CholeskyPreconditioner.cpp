@@ -45,6 +45,7 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
         copyColumnsForBackwardSolve();
         m_diagonal = m_factor.vectorD(); // vectorD() returns a copy: taken once here, not on every apply
     }
+    ++m_refreshCount;
     return m_ready;
 }
 

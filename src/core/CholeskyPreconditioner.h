@@ -9,8 +9,8 @@
 /// with S the per-mass projection onto the free directions. This is symmetric positive definite, and equals the
 /// exact inverse of the filtered matrix S A S + I - S when F was factored from that matrix with the same filter.
 
-#include "ConjugateGradient.h"
 #include "NestedDissection.h"
+#include "RefreshedPreconditioner.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -19,7 +19,7 @@
 
 namespace masse
 {
-class CholeskyPreconditioner final : public Preconditioner
+class CholeskyPreconditioner final : public RefreshedPreconditioner
 {
 public:
     /// How deep the dissection's independent parts go (2^4 = 16 parts at most in stage 0): enough parts to share
@@ -30,11 +30,13 @@ public:
     /// per topology. The matrix has three rows per mass.
     void analyse(const SparseMatrix& a, const DissectionOrder& dissection);
     /// Factors the matrix's current values (same pattern as analysed). Returns false if it is not positive definite.
-    bool refresh(const SparseMatrix& a);
-    bool ready() const { return m_ready; }
+    bool refresh(const SparseMatrix& a) override;
+    bool ready() const override { return m_ready; }
     /// The masses filtered this step and their S (both outlive the solve); empty for none.
-    void setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters);
+    void setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters) override;
     void apply(const Vector& r, Vector& z) const override;
+    /// Factorisations since construction.
+    int refreshCount() const override { return m_refreshCount; }
 
 private:
     void solveWithFactor(const Vector& b, Vector& x) const;
@@ -64,5 +66,6 @@ private:
     mutable Vector m_filtered;
     mutable Vector m_permuted;
     bool m_ready = false;
+    int m_refreshCount = 0;
 };
 } // namespace masse

@@ -32,6 +32,8 @@ public:
     void afterSubstep(const Particles& p, const StepContext& context, const StuckContacts& stuck, Real h, Real time,
                       ContactReport& report);
 
+    /// Whether any mass rests or arrives this frame (if not, resting() and arrived() are false for every mass).
+    bool any() const { return !m_restingMasses.empty() || !m_arrivingMasses.empty(); }
     bool resting(std::size_t i) const { return m_resting[i] != 0; }
     /// Whether mass i, not touching its surface at the frame's start, arrived there in the last substep's solve
     /// (restingPlane(i) is that surface's plane).

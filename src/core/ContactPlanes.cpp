@@ -1,10 +1,21 @@
 #include "ContactPlanes.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace masse
 {
-void ContactPlanes::index(std::size_t masses)
+namespace
+{
+/// Whether every bit of v is zero (+0 in each coordinate; -0 is not).
+bool allBitsZero(const Vec3& v)
+{
+    static constexpr Real zeros[3] = {0, 0, 0};
+    return std::memcmp(v.data(), zeros, sizeof(zeros)) == 0;
+}
+} // namespace
+
+void ContactPlanes::index()
 {
     // The Bullet detector appends planes in mass order already; a test detector need not, so sort stably (each
     // mass's planes keep their order, which is the order they are applied in).
@@ -13,14 +24,29 @@ void ContactPlanes::index(std::size_t masses)
     {
         std::stable_sort(m_planes.begin(), m_planes.end(), byMass);
     }
-    m_offsets.assign(masses + 1, 0);
-    for (const ContactPlane& plane : m_planes)
+    m_surfaces.resize(m_planes.size());
+    m_entries.clear();
+    m_stillRuns.clear();
+    bool still = true;
+    for (std::size_t k = 0; k < m_planes.size(); ++k)
     {
-        ++m_offsets[std::size_t(plane.mass) + 1];
+        const ContactPlane& plane = m_planes[k];
+        m_surfaces[k] = {plane.normal, plane.offset, plane.obstacle, plane.face};
+        if (m_entries.empty() || m_entries.back().mass != plane.mass)
+        {
+            if (!m_entries.empty() && m_entries.size() % runLength == 0)
+            {
+                m_stillRuns.push_back(still ? 1 : 0);
+                still = true;
+            }
+            m_entries.push_back({plane.mass, std::uint32_t(k)});
+        }
+        still = still && allBitsZero(plane.velocity);
     }
-    for (std::size_t i = 0; i < masses; ++i)
+    if (!m_entries.empty())
     {
-        m_offsets[i + 1] += m_offsets[i];
+        m_stillRuns.push_back(still ? 1 : 0);
     }
+    m_entries.push_back({0, std::uint32_t(m_planes.size())});
 }
 } // namespace masse

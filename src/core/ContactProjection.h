@@ -25,11 +25,19 @@ struct ContactProjection
     Real elapsed; ///< s since the frame began (kinematic surfaces have moved by their velocity times this)
     Real h;       ///< the substep just taken
 
-    /// Projects masses [begin, end); obstacles touched for the first time go to `firstTouches`; `madeStuck` is set if
-    /// a mass stuck.
+    /// Projects the masses of entries [begin, end) of planes' list of masses with planes (a range within one of its
+    /// runs of ContactPlanes::runLength); obstacles touched for the first time go to `firstTouches`; `madeStuck` is
+    /// set if a mass stuck.
     void run(std::size_t begin, std::size_t end, std::vector<int>& firstTouches, bool& madeStuck) const;
 
 private:
-    void projectMass(Index i, std::vector<int>& firstTouches, bool& madeStuck) const;
+    /// Entry j's mass through its planes, one at a time. Still: every plane's surface velocity is +0 (read as a
+    /// constant, the same bits). Constrained: some masses rest or arrive in the implicit solve this frame (else the
+    /// per-mass flags are all clear and go unread).
+    template <bool Still, bool Constrained>
+    [[gnu::always_inline]] inline void projectEntry(std::size_t j, std::vector<int>& firstTouches,
+                                                    bool& madeStuck) const;
+    template <bool Still, bool Constrained>
+    void projectRange(std::size_t begin, std::size_t end, std::vector<int>& firstTouches, bool& madeStuck) const;
 };
 } // namespace masse

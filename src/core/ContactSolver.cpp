@@ -99,7 +99,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
     m_planes.clear();
     m_detector.setTime(time);
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.list());
-    m_planes.index(n);
+    m_planes.index();
     // A stuck mass moves with the point of its obstacle it is stuck to, as that point moves during this frame.
     m_stuck.followSurfaces(m_detector, dt);
     m_detector.setTime(time + dt);
@@ -119,21 +119,21 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
     m_stuck.hold(p, h, m_settings.stickReleaseForce, m_report, now());
     m_constraints.afterSubstep(p, context, m_stuck, h, now(), m_report);
 
-    // Each mass's planes, over mass ranges: a chunk touches only its own masses. First touches of an obstacle are
-    // collected per chunk and recorded in chunk order, the order a serial loop would find them.
+    // The masses with planes, over ranges of their list: a chunk touches only its own masses. First touches of an
+    // obstacle are collected per chunk and recorded in chunk order, the order a serial loop would find them.
     // The per-chunk lists keep their capacity from substep to substep: no allocation once the sheet has settled.
-    const std::size_t masses = p.size();
-    m_chunkFirstTouches.resize(chunkCount(masses, massChunkSize));
+    const std::size_t masses = m_planes.massCount();
+    m_chunkFirstTouches.resize(chunkCount(masses, ContactPlanes::runLength));
     for (std::vector<int>& touches : m_chunkFirstTouches)
     {
         touches.clear();
     }
     m_chunkMadeStuck.assign(m_chunkFirstTouches.size(), 0);
     const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, h};
-    parallelFor(masses, massChunkSize,
+    parallelFor(masses, ContactPlanes::runLength,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    const std::size_t chunk = begin / massChunkSize;
+                    const std::size_t chunk = begin / ContactPlanes::runLength;
                     bool stuck = false;
                     projection.run(begin, end, m_chunkFirstTouches[chunk], stuck);
                     m_chunkMadeStuck[chunk] = stuck ? 1 : 0;

@@ -149,26 +149,40 @@ IntegratorStats ImplicitSolve::runSolver()
     }
     else
     {
-        // Factor only when the old factor has drifted: first try it for a few iterations, and refactor from the
-        // current matrix (then finish, in one or two more) only if that was not enough.
-        m_cholesky.setFilter(m_constrainedMasses, m_filters);
+        // Build the preconditioner only when the old one has drifted: first try it for a few iterations, and rebuild
+        // it from the current matrix (then finish) only if that was not enough.
+        RefreshedPreconditioner& recent = m_settings.preconditioner == PreconditionerKind::Multigrid
+                                              ? static_cast<RefreshedPreconditioner&>(m_multigrid)
+                                              : m_cholesky;
+        recent.setFilter(m_constrainedMasses, m_filters);
         bool fresh = false;
-        if (!m_cholesky.ready())
+        if (!recent.ready())
         {
-            fresh = m_cholesky.refresh(m_matrix.matrix());
+            fresh = recent.refresh(m_matrix.matrix());
         }
-        const int firstTry = fresh ? cap : std::min(cap, m_settings.refreshAfterIterations);
-        if (m_cholesky.ready())
+        // A factor fresh from the matrix solves in one or two iterations, a multigrid cycle takes several even
+        // then (ten on a cold material sheet at its tight tolerance): it has drifted only when it needs more than
+        // the allowance beyond what it took fresh.
+        const int allowance = m_settings.preconditioner == PreconditionerKind::Multigrid
+                                  ? m_freshIterations + m_settings.refreshAfterIterations / 2
+                                  : 0;
+        const int firstTry = fresh ? cap : std::min(cap, std::max(m_settings.refreshAfterIterations, allowance));
+        if (recent.ready())
         {
-            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_cholesky, m_tolerance, firstTry);
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry);
+            if (fresh)
+            {
+                m_freshIterations = result.iterations;
+            }
         }
-        if (!result.converged && result.iterations < cap && !fresh && m_cholesky.refresh(m_matrix.matrix()))
+        if (!result.converged && result.iterations < cap && !fresh && recent.refresh(m_matrix.matrix()))
         {
             const int used = result.iterations;
-            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_cholesky, m_tolerance, cap - used);
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, cap - used);
+            m_freshIterations = result.iterations;
             result.iterations += used;
         }
-        if (!m_cholesky.ready()) // not positive definite to the factorisation: fall back to the diagonal
+        if (!recent.ready()) // not positive definite to the factorisation: fall back to the diagonal
         {
             const int used = result.iterations;
             m_jacobi.refresh(m_matrix.matrix());
@@ -202,6 +216,10 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     {
         m_cholesky.analyse(m_matrix.matrix(),
                            nestedDissection(system.particles.position, springs, CholeskyPreconditioner::parallelDepth));
+    }
+    else if (m_settings.preconditioner == PreconditionerKind::Multigrid)
+    {
+        m_multigrid.analyse(m_matrix.matrix(), springs, n);
     }
     m_patternSystem = &system;
     m_patternMasses = n;

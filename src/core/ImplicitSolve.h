@@ -28,6 +28,7 @@
 #include "ConjugateGradient.h"
 #include "Integrator.h"
 #include "JacobiPreconditioner.h"
+#include "MultigridPreconditioner.h"
 #include "SlotMatrix.h"
 
 #include <array>
@@ -97,7 +98,9 @@ private:
     Vector m_deltaV;
     ConjugateGradient m_cg;
     CholeskyPreconditioner m_cholesky;
+    MultigridPreconditioner m_multigrid;
     JacobiPreconditioner m_jacobi;
+    int m_freshIterations = 0; ///< iterations of the first solve after the last refresh
 
     // Constraint filter of the current step; cleared, not freed, between steps.
     std::vector<int> m_constraintOf; ///< per mass: index into the arrays below, or -1

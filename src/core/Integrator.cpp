@@ -15,7 +15,22 @@ constexpr EnumName<IntegratorKind> integratorNames[] = {
     {IntegratorKind::ImplicitEuler, "implicit"},
     {IntegratorKind::Bdf2, "bdf2"},
 };
+constexpr EnumName<PreconditionerKind> preconditionerNames[] = {
+    {PreconditionerKind::Multigrid, "multigrid"},
+    {PreconditionerKind::Cholesky, "cholesky"},
+    {PreconditionerKind::Jacobi, "jacobi"},
+};
 } // namespace
+
+std::string_view preconditionerName(PreconditionerKind kind)
+{
+    return enumName(preconditionerNames, kind);
+}
+
+PreconditionerKind parsePreconditioner(std::string_view name)
+{
+    return parseEnum(preconditionerNames, name, "preconditioner", "preconditioner");
+}
 
 IntegratorKind parseIntegrator(std::string_view name)
 {

@@ -24,12 +24,18 @@ IntegratorKind parseIntegrator(std::string_view name);
 std::string_view integratorName(IntegratorKind kind);
 bool isExplicit(IntegratorKind kind);
 
-/// The implicit solver's preconditioner (see CholeskyPreconditioner.h for why the factor is the default).
+/// The implicit solver's preconditioner (see MultigridPreconditioner.h and README's Speed for the measurements).
 enum class PreconditionerKind
 {
-    Cholesky, ///< a sparse LDL^T factor of a recent matrix, refactored only when it has drifted
-    Jacobi,   ///< the diagonal: the old solver's; iterations grow with size and stiffness
+    Multigrid, ///< an aggregation multigrid V-cycle built from a recent matrix, rebuilt only when it has drifted
+    Cholesky,  ///< a sparse LDL^T factor of a recent matrix, refactored only when it has drifted
+    Jacobi,    ///< the diagonal: the old solver's; iterations grow with size and stiffness
 };
+
+/// "multigrid", "cholesky" or "jacobi".
+std::string_view preconditionerName(PreconditionerKind kind);
+/// Parses a preconditioner's name; throws InputError naming the allowed names.
+PreconditionerKind parsePreconditioner(std::string_view name);
 
 /// Settings of the implicit solver.
 struct ImplicitSettings

@@ -48,7 +48,7 @@ std::string stateHashText(const Scene& scene)
 nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings)
 {
     return {
-        {"preconditioner", settings.preconditioner == PreconditionerKind::Cholesky ? "cholesky" : "jacobi"},
+        {"preconditioner", std::string(preconditionerName(settings.preconditioner))},
         {"tolerance", settings.tolerance},
         {"max_iterations", settings.maxIterations},
         {"steps", tally.solves},

@@ -255,9 +255,11 @@ TimeSpec readTime(const JsonObject& o)
     time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
     time.implicit.tolerance = o.number("tolerance", time.implicit.tolerance, 1e-14, 0.1);
     time.implicit.maxIterations = o.integer("max_iterations", time.implicit.maxIterations, 1, 1000000);
-    time.implicit.preconditioner = o.choice("preconditioner", "cholesky", {"cholesky", "jacobi"}) == "jacobi"
-                                       ? PreconditionerKind::Jacobi
-                                       : PreconditionerKind::Cholesky;
+    time.implicit.preconditioner =
+        parsePreconditioner(o.choice("preconditioner", std::string(preconditionerName(time.implicit.preconditioner)),
+                                     {std::string(preconditionerName(PreconditionerKind::Multigrid)),
+                                      std::string(preconditionerName(PreconditionerKind::Cholesky)),
+                                      std::string(preconditionerName(PreconditionerKind::Jacobi))}));
     o.finish();
     return time;
 }
