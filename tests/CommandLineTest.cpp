@@ -40,10 +40,10 @@ TEST(CommandLine, BadFlagsExitWithTwoAndSayWhy)
 {
     const Outcome small = runMasse("lattice --size 1x2x1");
     EXPECT_EQ(small.exitCode, 2);
-    EXPECT_NE(small.output.find("size: expected NxLxN with N >= 2"), std::string::npos) << small.output;
+    EXPECT_NE(small.output.find("--size: expected NxLxN with N >= 2"), std::string::npos) << small.output;
     const Outcome structure = runMasse("lattice --structure cube");
     EXPECT_EQ(structure.exitCode, 2);
-    EXPECT_NE(structure.output.find("unknown structure 'cube'"), std::string::npos) << structure.output;
+    EXPECT_NE(structure.output.find("--structure: unknown structure 'cube'"), std::string::npos) << structure.output;
     EXPECT_EQ(runMasse("--bogus").exitCode, 2);
     EXPECT_EQ(runMasse("bench --steps 0").exitCode, 2);
     EXPECT_EQ(runMasse("bench --integrator rk4").exitCode, 2);

@@ -4,6 +4,7 @@
 #include "TestSystems.h"
 
 #include "bridge/BulletEnvironment.h"
+#include "scene/ObstacleSpec.h"
 
 #include "core/ContactSolver.h"
 #include "core/Damping.h"
@@ -31,23 +32,22 @@ struct ContactRig
     Particles& particles() { return simulator->system().particles; }
 };
 
-inline bridge::ObstacleSpec makeBox(const std::string& name, const Vec3& centre, const Vec3& half,
+inline bridge::ObstacleBody makeBox(const std::string& name, const Vec3& centre, const Vec3& half,
                                     const Vec3& rotationDegrees = Vec3::Zero())
 {
-    bridge::ObstacleSpec spec;
-    spec.name = name;
-    spec.kind = bridge::ObstacleKind::Box;
-    spec.position = centre;
-    spec.halfExtents = half;
-    spec.orientation = bridge::rotationFromDegrees(rotationDegrees);
-    return spec;
+    bridge::ObstacleBody box;
+    box.name = name;
+    box.shape.kind = bridge::ShapeKind::Box;
+    box.shape.halfExtents = half;
+    box.path.rest = {centre, scene::rotationFromDegrees(rotationDegrees)};
+    return box;
 }
 
 /// Exact signed distance from a point to a box (negative inside), independent of Bullet.
-inline Real boxDistance(const Vec3& p, const bridge::ObstacleSpec& box)
+inline Real boxDistance(const Vec3& p, const bridge::ObstacleBody& box)
 {
-    const Vec3 local = box.orientation.conjugate() * (p - box.position);
-    const Vec3 q = local.cwiseAbs() - box.halfExtents;
+    const Vec3 local = box.path.rest.orientation.conjugate() * (p - box.path.rest.position);
+    const Vec3 q = local.cwiseAbs() - box.shape.halfExtents;
     return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
 }
 

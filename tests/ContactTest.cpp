@@ -2,6 +2,7 @@
 
 #include "ContactRig.h"
 #include "TestSystems.h"
+#include "scene/Room.h"
 
 #include "core/Energy.h"
 
@@ -27,7 +28,7 @@ void startOnSlope(ContactRig& rig, Real angle, const ContactSettings& settings, 
     spec.minCorner = Vec3(-0.25, 0.0, -0.25);
     spec.maxCorner = Vec3(0.25, 0.05, 0.25);
     MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
-    const auto turn = bridge::rotationFromDegrees(Vec3(0, 0, -angle));
+    const auto turn = scene::rotationFromDegrees(Vec3(0, 0, -angle));
     for (Vec3& x : sheet.particles.position)
     {
         x = turn * x + turn * Vec3::UnitY() * (0.5 + settings.radius);
@@ -43,7 +44,7 @@ TEST(Contact, SheetDroppedOnBoxComesToRestOnIt)
     for (IntegratorKind kind : contactIntegrators)
     {
         ContactRig rig;
-        const bridge::ObstacleSpec box = makeBox("box", Vec3(0.3, -1.0, 0.3), Vec3(1.0, 0.5, 1.0));
+        const bridge::ObstacleBody box = makeBox("box", Vec3(0.3, -1.0, 0.3), Vec3(1.0, 0.5, 1.0));
         rig.environment.addObstacle(box);
         Lattice lattice;
         ContactSettings settings;
@@ -82,7 +83,7 @@ TEST(Contact, SheetSlidesDownSlopeAtCoulombAcceleration)
         ContactSettings settings;
         settings.friction = mu;
         startOnSlope(rig, angle, settings, kind);
-        const auto turn = bridge::rotationFromDegrees(Vec3(0, 0, -angle));
+        const auto turn = scene::rotationFromDegrees(Vec3(0, 0, -angle));
 
         auto along = [&]
         {
@@ -181,7 +182,7 @@ TEST(Contact, FastSheetDoesNotTunnelThroughThinPlate)
     for (IntegratorKind kind : contactIntegrators)
     {
         ContactRig rig;
-        const bridge::ObstacleSpec plate = makeBox("plate", Vec3(0.3, -1.0, 0.3), Vec3(2.0, 0.005, 2.0));
+        const bridge::ObstacleBody plate = makeBox("plate", Vec3(0.3, -1.0, 0.3), Vec3(2.0, 0.005, 2.0));
         rig.environment.addObstacle(plate);
         MassSpringSystem sheet = paperSheet(6);
         for (Vec3& v : sheet.particles.velocity)
@@ -210,7 +211,7 @@ TEST(Contact, SheetDoesNotFallThroughTheFloorAtPaperStep)
                                 IntegratorKind::VelocityVerlet, IntegratorKind::ImplicitEuler})
     {
         ContactRig rig;
-        rig.environment.addRoom(bridge::RoomSpec{});
+        scene::addRoom(rig.environment, scene::RoomSpec{});
         Lattice lattice;
         ContactSettings settings;
         rig.start(paperSheet(6, &lattice), kind, settings);
@@ -275,7 +276,7 @@ TEST(Contact, ImplicitLandingKeepsTheSheetsLayersApart)
 TEST(Contact, ReportsNameTheBoxAndItsTopFace)
 {
     ContactRig rig;
-    rig.environment.addRoom(bridge::RoomSpec{});
+    scene::addRoom(rig.environment, scene::RoomSpec{});
     const int box = rig.environment.addObstacle(makeBox("box", Vec3(0.3, -1.0, 0.3), Vec3(1.0, 0.5, 1.0)));
     rig.start(paperSheet(6), IntegratorKind::ImplicitEuler, ContactSettings{});
     simulate(*rig.simulator, 3.0, paperTimeStep, [](const Simulator&) {});

@@ -4,6 +4,8 @@
 
 #include "bridge/BulletEnvironment.h"
 #include "bridge/FacePlaneDistance.h"
+#include "bridge/StlFile.h"
+#include "scene/Room.h"
 
 #include "core/ClosestPointOnTriangle.h"
 #include "core/InputError.h"
@@ -19,26 +21,26 @@ using namespace masse::bridge;
 
 namespace
 {
-ObstacleSpec box(const std::string& name, const Vec3& position, const Vec3& half)
+ObstacleBody box(const std::string& name, const Vec3& position, const Vec3& half)
 {
-    ObstacleSpec spec;
-    spec.name = name;
-    spec.kind = ObstacleKind::Box;
-    spec.position = position;
-    spec.halfExtents = half;
-    return spec;
+    ObstacleBody body;
+    body.name = name;
+    body.shape.kind = ShapeKind::Box;
+    body.shape.halfExtents = half;
+    body.path.rest.position = position;
+    return body;
 }
 
-ObstacleSpec prism(const std::string& name, Real width, Real height, Real length, Real apex = 0)
+ObstacleBody prism(const std::string& name, Real width, Real height, Real length, Real apex = 0)
 {
-    ObstacleSpec spec;
-    spec.name = name;
-    spec.kind = ObstacleKind::Prism;
-    spec.prismWidth = width;
-    spec.prismHeight = height;
-    spec.prismLength = length;
-    spec.prismApex = apex;
-    return spec;
+    ObstacleBody body;
+    body.name = name;
+    body.shape.kind = ShapeKind::Prism;
+    body.shape.prismWidth = width;
+    body.shape.prismHeight = height;
+    body.shape.prismLength = length;
+    body.shape.prismApex = apex;
+    return body;
 }
 
 /// Exact signed distance from a point to an axis-aligned box (negative inside).
@@ -50,20 +52,20 @@ Real boxDistance(const Vec3& p, const Vec3& centre, const Vec3& half)
     return outside + inside;
 }
 
-std::string errorOf(const ObstacleSpec& spec)
+std::string errorOf(const ObstacleBody& body)
 {
     return masse::test::inputErrorOf(
         [&]
         {
             BulletEnvironment environment;
-            environment.addObstacle(spec);
+            environment.addObstacle(body);
         });
 }
 } // namespace
 
 TEST(ObstacleGeometry, BoxFacesFollowTheDocumentedOrder)
 {
-    const ObstacleGeometry g = makeObstacleGeometry(box("b", Vec3::Zero(), Vec3(1, 2, 3)));
+    const ObstacleGeometry g = makeObstacleGeometry(box("b", Vec3::Zero(), Vec3(1, 2, 3)).shape);
     ASSERT_EQ(g.faces.size(), 6u);
     const Vec3 normals[6] = {Vec3::UnitX(),  -Vec3::UnitX(), Vec3::UnitY(),
                              -Vec3::UnitY(), Vec3::UnitZ(),  -Vec3::UnitZ()};
@@ -79,9 +81,8 @@ TEST(ObstacleGeometry, BoxFacesFollowTheDocumentedOrder)
 
 TEST(ObstacleGeometry, HullOfCubeCornersHasSixFacesAndPrismFive)
 {
-    ObstacleSpec hull;
-    hull.name = "cube";
-    hull.kind = ObstacleKind::Hull;
+    ObstacleShape hull;
+    hull.kind = ShapeKind::Hull;
     for (int k = 0; k < 8; ++k)
     {
         hull.hullPoints.emplace_back(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
@@ -91,7 +92,7 @@ TEST(ObstacleGeometry, HullOfCubeCornersHasSixFacesAndPrismFive)
     EXPECT_EQ(cube.vertices.size(), 8u);
     EXPECT_EQ(cube.faces.size(), 6u);
 
-    const ObstacleGeometry wedge = makeObstacleGeometry(prism("prism", 2, 1, 3));
+    const ObstacleGeometry wedge = makeObstacleGeometry(prism("prism", 2, 1, 3).shape);
     ASSERT_EQ(wedge.faces.size(), 5u);
     EXPECT_NEAR((wedge.faces[0].normal + Vec3::UnitY()).norm(), 0.0, 1e-12);
     EXPECT_GT(wedge.faces[1].normal.x(), 0.0);
@@ -120,12 +121,12 @@ TEST(ObstacleGeometry, NearestSurfaceMatchesBoxDistance)
 
 TEST(ObstacleGeometry, MeshFromObjKeepsItsFaces)
 {
-    ObstacleSpec spec;
-    spec.name = "pyramid";
-    spec.kind = ObstacleKind::Mesh;
-    spec.meshPath = std::string(MASSE_SOURCE_DIR) + "/data/meshes/pyramid.obj";
+    ObstacleBody pyramid;
+    pyramid.name = "pyramid";
+    pyramid.shape.kind = ShapeKind::Mesh;
+    pyramid.shape.mesh = loadMeshFile(std::string(MASSE_SOURCE_DIR) + "/data/meshes/pyramid.obj", "pyramid");
     BulletEnvironment environment;
-    const int index = environment.addObstacle(spec);
+    const int index = environment.addObstacle(pyramid);
     const ObstacleGeometry& g = environment.obstacle(index).geometry;
     EXPECT_FALSE(g.convex);
     EXPECT_EQ(g.faces.size(), 5u);
@@ -138,29 +139,34 @@ TEST(ObstacleGeometry, MeshFromObjKeepsItsFaces)
 
 TEST(ObstacleGeometry, BadObstaclesAreRefusedByName)
 {
-    ObstacleSpec flat;
+    ObstacleBody flat;
     flat.name = "flat";
-    flat.kind = ObstacleKind::Hull;
-    flat.hullPoints = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1)};
+    flat.shape.kind = ShapeKind::Hull;
+    flat.shape.hullPoints = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1)};
     EXPECT_NE(errorOf(flat).find("obstacle 'flat': a hull needs at least 4 points not all in one plane"),
               std::string::npos)
         << errorOf(flat);
-    flat.hullPoints.resize(3);
+    flat.shape.hullPoints.resize(3);
     EXPECT_NE(errorOf(flat).find("got 3 points"), std::string::npos);
 
-    ObstacleSpec missing;
-    missing.name = "ghost";
-    missing.kind = ObstacleKind::Mesh;
-    missing.meshPath = "/no/such/file.obj";
-    EXPECT_NE(errorOf(missing).find("obstacle 'ghost': mesh file '/no/such/file.obj' does not exist"),
-              std::string::npos);
+    // Mesh files are read by name of the obstacle they are for.
+    auto loadError = [](const std::string& path, const std::string& owner)
+    { return masse::test::inputErrorOf([&] { loadMeshFile(path, owner); }); };
+    EXPECT_NE(
+        loadError("/no/such/file.obj", "ghost").find("obstacle 'ghost': mesh file '/no/such/file.obj' does not exist"),
+        std::string::npos);
+    const std::string broken = loadError(std::string(MASSE_SOURCE_DIR) + "/data/meshes/broken.obj", "broken");
+    EXPECT_NE(broken.find("obstacle 'broken'"), std::string::npos) << broken;
 
-    ObstacleSpec broken = missing;
-    broken.name = "broken";
-    broken.meshPath = std::string(MASSE_SOURCE_DIR) + "/data/meshes/broken.obj";
-    EXPECT_NE(errorOf(broken).find("obstacle 'broken'"), std::string::npos) << errorOf(broken);
-
-    EXPECT_NE(errorOf(box("thin", Vec3::Zero(), Vec3(1, 0, 1))).find("half_extents.y"), std::string::npos);
+    EXPECT_EQ(errorOf(box("thin", Vec3::Zero(), Vec3(1, 0, 1))),
+              "obstacle 'thin': halfExtents.y: must be a positive number of metres (got 0)");
+    ObstacleBody faceless;
+    faceless.name = "faceless";
+    faceless.shape.kind = ShapeKind::Mesh;
+    faceless.shape.mesh.vertices = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ()};
+    EXPECT_EQ(errorOf(faceless), "obstacle 'faceless': mesh: has no faces");
+    faceless.shape.mesh.faces = {{0, 1, 3}};
+    EXPECT_EQ(errorOf(faceless), "obstacle 'faceless': mesh: a face names vertex 3 of 3");
 
     BulletEnvironment environment;
     environment.addObstacle(box("twin", Vec3::Zero(), Vec3(1, 1, 1)));
@@ -174,7 +180,7 @@ TEST(ObstacleGeometry, BadObstaclesAreRefusedByName)
 TEST(ObstacleGeometry, RoomHasTablesFloorAndWalls)
 {
     BulletEnvironment environment;
-    environment.addRoom(RoomSpec{});
+    scene::addRoom(environment, scene::RoomSpec{});
     EXPECT_EQ(environment.obstacleCount(), 6);
     const int floor = environment.findObstacle("floor");
     ASSERT_GE(floor, 0);
@@ -190,7 +196,7 @@ TEST(ObstacleGeometry, RoomHasTablesFloorAndWalls)
 TEST(ObstacleGeometry, FacePlaneDistanceIsExactWhereItAnswers)
 {
     const Vec3 half(0.5, 0.25, 0.75);
-    const ObstacleGeometry g = makeObstacleGeometry(box("box", Vec3::Zero(), half));
+    const ObstacleGeometry g = makeObstacleGeometry(box("box", Vec3::Zero(), half).shape);
     int answered = 0;
     int left = 0;
     for (int i = -6; i <= 6; ++i)
@@ -225,7 +231,7 @@ TEST(ObstacleGeometry, FacePlaneDistanceIsExactWhereItAnswers)
 // it is the nearest point (no point of the solid lies in front of the answered face's plane); it is as far as stated.
 TEST(ObstacleGeometry, FacePlaneDistanceOnAPrismLiesOnItsSurface)
 {
-    const ObstacleGeometry g = makeObstacleGeometry(prism("wedge", 1.0, 1.6, 1.6, 0.5));
+    const ObstacleGeometry g = makeObstacleGeometry(prism("wedge", 1.0, 1.6, 1.6, 0.5).shape);
     int answered = 0;
     for (int i = -8; i <= 8; ++i)
     {
@@ -259,17 +265,18 @@ namespace
 /// A mesh obstacle of two rectangles 2 m long (along z) meeting along z at x = 0, y = `creaseHeight`, each falling
 /// (or rising) to y = 0 at x = -1 and x = +1: a roof (a convex ridge) for a positive height, a valley (a concave
 /// crease) for a negative one.
-ObstacleSpec twoSlopes(const std::string& name, Real creaseHeight)
+ObstacleBody twoSlopes(const std::string& name, Real creaseHeight)
 {
     const std::string path = ::testing::TempDir() + name + ".obj";
     std::ofstream obj(path);
     obj << "v -1 0 -1\nv 0 " << creaseHeight << " -1\nv 1 0 -1\nv -1 0 1\nv 0 " << creaseHeight << " 1\nv 1 0 1\n"
         << "f 1 5 2\nf 1 4 5\nf 2 6 3\nf 2 5 6\n";
-    ObstacleSpec spec;
-    spec.name = name;
-    spec.kind = ObstacleKind::Mesh;
-    spec.meshPath = path;
-    return spec;
+    obj.close();
+    ObstacleBody body;
+    body.name = name;
+    body.shape.kind = ShapeKind::Mesh;
+    body.shape.mesh = loadMeshFile(path, name);
+    return body;
 }
 
 /// The planes the detector gives one mass at `x` (radius 10 mm, at rest, dt 0.03 s).

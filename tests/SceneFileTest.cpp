@@ -2,6 +2,7 @@
 
 #include "TestSystems.h"
 
+#include "scene/FieldKeys.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
@@ -72,6 +73,83 @@ TEST(SceneFile, BadScenesAreRefusedWithTheKeyPath)
         EXPECT_NE(message.find(path + ": "), std::string::npos) << file << ": " << message;
         EXPECT_NE(message.find(expected), std::string::npos) << file << ": " << message;
     }
+}
+
+// The core names a bad value by its own field ("hotAirZones[0].maxCorner"); the scene names the key that gave it. One
+// case for each kind of core check a scene file reaches: the message starts with the origin and the key's full path.
+TEST(SceneFile, ValuesTheCoreRefusesAreNamedByTheirKey)
+{
+    const std::string hips = R"("material": {"file": ")" + source + R"(/data/materials/hips.json"})";
+    const std::string properties =
+        R"("name": "x", "density": 1000, "specific_heat": 1000, "glass_transition_c": 100, "upper_c": 200,
+           "glassy_modulus": 2e9, "rubbery_modulus": 1e6, "viscosity_at_transition": 1e14)";
+    const std::string window = R"("forming_window": {"set_c": 80, "lower_c": 120, "normal_c": 140, "upper_c": 160})";
+    const std::pair<std::string, std::string> cases[] = {
+        {R"({"sheet": {"size": "8x8"}})", "sheet.size: expected NxLxN, e.g. 8x2x8 (got '8x8')"},
+        {R"({"sheet": {"min": [0, 0, 0], "max": [-1, 1, 1]}})", "sheet.max: must exceed the min corner along x and z"},
+        {R"({"sheet": {"min": [0, 0, 0], "max": [1, 0, 1]}})",
+         "sheet.max: must exceed the min corner along y for a multi-layer sheet"},
+        {"{" + hips + R"(, "heat": {"heaters": [{"name": "a"}, {"name": "b", "power": -5}]}})",
+         "heat.heaters[1].power: must be >= 0 W (got -5)"},
+        {"{" + hips + R"(, "heat": {"heaters": [{"name": "a", "normal": [0, 1, 0], "width_axis": [0, 2, 0]}]}})",
+         "heat.heaters[0].width_axis: must be a direction not parallel to the normal"},
+        {"{" + hips + R"(, "heat": {"hot_air_zones": [{"min": [0, 0, 0], "max": [-1, 1, 1]}]}})",
+         "heat.hot_air_zones[0].max: must exceed the min corner on every axis"},
+        {"{" + hips + R"(, "heat": {"hot_air_zones": [{"heat_transfer": -1}]}})",
+         "heat.hot_air_zones[0].heat_transfer: must be >= 0 W/(m^2 K) (got -1)"},
+        {R"({"material": {"properties": {)" + properties + R"(, "conductivity": -0.2, )" + window + "}}}",
+         "material.properties.conductivity: must be a positive number of W/(m K) (got -0.2)"},
+        {R"({"material": {"properties": {)" + properties + R"(, "conductivity": 0.2, "transition_c": 90, )" + window +
+             "}}}",
+         "material.properties.transition_c: must be at or above the glass transition (got 90 C and 100 C)"},
+        {R"({"material": {"properties": {)" + properties + R"(, "conductivity": 0.2, "forming_window": {"set_c": 80,
+           "lower_c": 120, "normal_c": 170, "upper_c": 160}}}})",
+         "material.properties.forming_window.normal_c: must lie between the lower and the upper forming temperature"},
+        {"{" + hips + R"(, "forming": {"pressure": [{"time": 2, "pressure": 1}, {"time": 1, "pressure": 2}]}})",
+         "forming.pressure[1].time: the keys must be in increasing time (1 s follows 2 s)"},
+    };
+    for (const auto& [json, expected] : cases)
+    {
+        const std::string message = masse::test::inputErrorOf(
+            [&] { Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "inline")); });
+        EXPECT_EQ(message.rfind("inline: " + expected, 0), 0u) << json << "\n" << message;
+    }
+}
+
+// The obstacles' and the room's descriptions are the scene layer's own: their bad values are named by key when read,
+// before the bridge builds anything.
+TEST(SceneFile, ObstacleAndRoomValuesAreNamedByTheirKey)
+{
+    const std::pair<std::string, std::string> cases[] = {
+        {R"({"obstacles": [{"name": "b", "type": "box", "half_extents": [0, 1, 1]}]})",
+         "obstacles[0].half_extents: must be positive numbers of metres (got 0, 1, 1)"},
+        {R"({"obstacles": [{"name": "a", "half_extents": [1, 1, 1]},
+                           {"name": "p", "type": "prism", "width": 1, "height": -2, "length": 1}]})",
+         "obstacles[1].height: must be a positive number of metres (got -2)"},
+        {R"({"environment": {"room": {"min": [0, 0, 0], "max": [-1, 1, 1]}}})",
+         "environment.room.max: must exceed min on every axis"},
+        {R"({"environment": {"room": {"wall_thickness": 0}}})", "environment.room.wall_thickness: must be > 0"},
+    };
+    for (const auto& [json, expected] : cases)
+    {
+        const std::string message = masse::test::inputErrorOf(
+            [&] { Scene scene(parseScene(nlohmann::json::parse(json), source + "/data/scenes", "inline")); });
+        EXPECT_EQ(message.rfind("inline: " + expected, 0), 0u) << json << "\n" << message;
+    }
+}
+
+// The tables' lookup: indices are carried over in order, an entry for one element wins, an unknown field has no key.
+TEST(FieldKeys, KeyOfCarriesTheIndicesOver)
+{
+    EXPECT_EQ(keyOf(thermalKeys, "hotAirZones[12].maxCorner"), "hot_air_zones[12].max");
+    EXPECT_EQ(keyOf(thermalKeys, "airHeatTransfer"), "air_heat_transfer");
+    EXPECT_EQ(keyOf(sheetKeys, "springClasses[1].stiffness"), "stiffness.inter_layer");
+    EXPECT_EQ(keyOf(pressureKeys, "keys[3].pressure"), "pressure[3].pressure");
+    EXPECT_EQ(keyOf(thermalKeys, "nothing"), "");
+    EXPECT_EQ(messageUnder("heat", thermalKeys, InputError("absorptivity", "must be in [0, 1] (got 2)")),
+              "heat.absorptivity: must be in [0, 1] (got 2)");
+    EXPECT_EQ(messageUnder("heat", thermalKeys, InputError("unknownField", "is bad")), "heat: unknownField: is bad");
+    EXPECT_EQ(messageUnder("", materialKeys, InputError("a message of its own")), "a message of its own");
 }
 
 TEST(SceneFile, ExtendsMergesTheBaseScene)
@@ -169,4 +247,9 @@ TEST(SceneFile, BulletKeysSetTheTwinsSettings)
               "doc: bullet.sdf_cell_size: must be in [0.001, 1] (got 2)");
     EXPECT_EQ(errorOfDocument(R"({"bullet": {"calibrate": "yes"}})"),
               "doc: bullet.calibrate: expected true or false (got \"yes\")");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"collisions": "SDF_RDF"}})"),
+              "doc: bullet.collisions: SDF_RDF is not supported: it belongs to btDeformableMultiBodyDynamicsWorld, "
+              "not to the classic soft body the twin uses; use SDF_RS");
+    EXPECT_EQ(errorOfDocument(R"({"bullet": {"collisions": "VF_SS"}})"),
+              "doc: bullet.collisions: must be SDF_RS (got 'VF_SS')");
 }

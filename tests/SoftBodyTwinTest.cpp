@@ -5,6 +5,7 @@
 #include "TestSystems.h"
 
 #include "bridge/SoftBodyTwin.h"
+#include "bridge/StlFile.h"
 #include "scene/CompareMetrics.h"
 #include "scene/ObstacleProbe.h"
 
@@ -25,7 +26,7 @@ using namespace masse::test;
 namespace
 {
 /// The box of the contact tests: top face at y = -0.5, under the whole Table 1 sheet.
-ObstacleSpec tableBox()
+ObstacleBody tableBox()
 {
     return makeBox("box", Vec3(0.3, -1.0, 0.3), Vec3(1.0, 0.5, 1.0));
 }
@@ -277,16 +278,12 @@ TEST(SoftBodyTwin, NotesApproximationsAndRefusesWhatItCannotRepresent)
         }
         return std::string("(accepted)");
     };
-    SoftBodyTwinSettings clusters;
-    clusters.collisions = "CL_RS";
-    EXPECT_EQ(refusal(clusters, sheet), "bullet.collisions CL_RS is not supported: cluster collision needs the sheet "
-                                        "cut into clusters and reports contact per cluster, not per node; use SDF_RS");
     SoftBodyTwinSettings tooStiff;
     tooStiff.kLST = 1.5;
-    EXPECT_EQ(refusal(tooStiff, sheet), "bullet.kLST must be in (0, 1] (got 1.5)");
+    EXPECT_EQ(refusal(tooStiff, sheet), "kLST: must be in (0, 1] (got 1.5)");
     SoftBodyTwinSettings noPasses;
     noPasses.piterations = 0;
-    EXPECT_EQ(refusal(noPasses, sheet), "bullet.piterations must be an integer in [1, 1000] (got 0)");
+    EXPECT_EQ(refusal(noPasses, sheet), "piterations: must be a whole number in [1, 1000] (got 0)");
     MassSpringSystem looped = sheet;
     looped.springs.add(3, 3, 0.1, SpringClass::Planar);
     EXPECT_EQ(refusal({}, looped),
@@ -303,11 +300,11 @@ TEST(SoftBodyTwin, MeshObstacleIsNotedAndStopsNodesOffItsSurface)
         out << "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\nf 1 4 3 2\n";
     }
     BulletEnvironment environment;
-    ObstacleSpec floor;
+    ObstacleBody floor;
     floor.name = "floor_mesh";
-    floor.kind = ObstacleKind::Mesh;
-    floor.meshPath = obj.string();
-    floor.position = Vec3(0.3, -0.5, 0.3);
+    floor.shape.kind = ShapeKind::Mesh;
+    floor.shape.mesh = loadMeshFile(obj.string(), floor.name);
+    floor.path.rest.position = Vec3(0.3, -0.5, 0.3);
     environment.addObstacle(floor);
     SoftBodyTwinSettings settings;
     settings.substeps = 4;
@@ -349,9 +346,10 @@ TEST(SoftBodyTwin, IsDeterministic)
 TEST(SoftBodyTwin, KinematicObstacleFollowsItsPath)
 {
     BulletEnvironment environment;
-    ObstacleSpec lift = tableBox();
+    ObstacleBody lift = tableBox();
     const Eigen::Quaternion<Real> still = Eigen::Quaternion<Real>::Identity();
-    lift.path = {PathKey{0.3, lift.position, still}, PathKey{1.3, lift.position + Vec3(0, 0.2, 0), still}};
+    const Vec3 start = lift.path.rest.position;
+    lift.path.keys = {PoseKey{0.3, start, still}, PoseKey{1.3, start + Vec3(0, 0.2, 0), still}};
     environment.addObstacle(lift);
     Lattice lattice;
     MassSpringSystem sheet = paperSheet(6, &lattice);

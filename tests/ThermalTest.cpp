@@ -449,7 +449,8 @@ TEST(Thermal, ContactWithAColdObstacleCoolsOnlyTheTouchingMasses)
     // The column on obstacle 1 loses heat only by conduction to its cooled neighbours: slower by far.
     EXPECT_GT(model.temperature()[lattice.index(0, 4, 8)], expected + 0.5 * (hot - expected));
 
-    EXPECT_NE(inputErrorOf([&] { model.setObstacleTemperatures({-400}); }).find("temperature of obstacle 0"),
+    EXPECT_NE(inputErrorOf([&] { model.setObstacleTemperatures({-400}); })
+                  .find("obstacleTemperature[0]: must be above absolute zero"),
               std::string::npos);
 }
 
@@ -520,11 +521,11 @@ TEST(Thermal, BadSettingsAreRefusedWithTheFieldNamed)
     ThermalSettings inverted;
     inverted.hotAirZones.resize(1);
     inverted.hotAirZones[0].maxCorner = Vec3(-2, 1, 1);
-    EXPECT_EQ(inputErrorOf([&] { validate(inverted); }).rfind("hot_air_zones[0].max: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { validate(inverted); }).rfind("hotAirZones[0].maxCorner: ", 0), 0u);
 
     ThermalSettings convection;
     convection.airHeatTransfer = -1;
-    EXPECT_EQ(inputErrorOf([&] { validate(convection); }).rfind("air_heat_transfer: ", 0), 0u);
+    EXPECT_EQ(inputErrorOf([&] { validate(convection); }).rfind("airHeatTransfer: ", 0), 0u);
 
     Material leaky;
     leaky.conductivity = -0.2;

@@ -109,7 +109,7 @@ scene::SceneSpec benchScene(const BenchOptions& options)
         spec.material.thickness = 0.002;
         spec.material.springs.model = SpringModel::Elastic;
         spec.material.springs.initialTemperature = options.temperatureC + 273.15;
-        validate(spec.material.springs);
+        underFlag("--temperature", [&] { validate(spec.material.springs); });
         spec.sheet.lattice.maxCorner.y() = spec.sheet.lattice.minCorner.y() + spec.material.thickness;
     }
     // The run's own length and rest do not apply: the bench takes its steps.

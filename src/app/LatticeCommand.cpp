@@ -1,6 +1,7 @@
 /// `masse lattice`: the counts of a sheet lattice, for checking a structure and size before running it.
 
 #include "Commands.h"
+#include "SceneOptions.h"
 
 #include "core/Lattice.h"
 
@@ -25,8 +26,13 @@ struct LatticeOptions
 void runLattice(const LatticeOptions& options)
 {
     LatticeSpec spec;
-    spec.structure = parseStructure(options.structure);
-    parseSize(options.size, spec);
+    underFlag("--structure", [&] { spec.structure = parseStructure(options.structure); });
+    underFlag("--size",
+              [&]
+              {
+                  parseSize(options.size, spec);
+                  validate(spec);
+              });
     const Lattice lattice = buildLattice(spec);
 
     std::size_t planar = 0;

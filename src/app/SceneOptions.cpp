@@ -74,14 +74,7 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
 {
     if (!overrides.integrator.empty())
     {
-        try
-        {
-            spec.time.integrator = parseIntegrator(overrides.integrator);
-        }
-        catch (const InputError& e)
-        {
-            throw InputError(std::string("--") + e.what());
-        }
+        underFlag("--integrator", [&] { spec.time.integrator = parseIntegrator(overrides.integrator); });
     }
     if (!overrides.dt.empty())
     {
@@ -98,15 +91,12 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
     }
     if (!overrides.size.empty())
     {
-        try
-        {
-            parseSize(overrides.size, spec.sheet.lattice);
-            validate(spec.sheet.lattice);
-        }
-        catch (const InputError& e)
-        {
-            throw InputError(std::string("--") + e.what());
-        }
+        underFlag("--size",
+                  [&]
+                  {
+                      parseSize(overrides.size, spec.sheet.lattice);
+                      validate(spec.sheet.lattice);
+                  });
     }
 }
 
@@ -116,7 +106,9 @@ void addThreadsOption(CLI::App& command)
     command.add_option("--threads", *threads,
                        "Threads for the engine's kernels (default: $MASSE_THREADS, else every "
                        "core); results are the same bits at any count");
-    command.parse_complete_callback([threads] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); });
+    command.parse_complete_callback(
+        [threads]
+        { underFlag("--threads", [&] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); }); });
 }
 
 std::string dataDirectory()

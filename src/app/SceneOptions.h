@@ -4,6 +4,8 @@
 #include "scene/SceneOverrides.h"
 #include "scene/SceneSpec.h"
 
+#include "core/InputError.h"
+
 #include <string>
 #include <vector>
 
@@ -36,6 +38,23 @@ void addSetOption(CLI::App& command, std::vector<std::string>& settings);
 std::vector<scene::KeyOverride> parseSettings(const std::vector<std::string>& settings);
 /// Reads the scene at `path` with the --set keys changed, then applies the other overrides.
 scene::SceneSpec loadSceneWithOverrides(const std::string& path, const SceneOverrides& overrides);
+/// Runs `check`; an InputError about one field of the core's (the value the flag gave) is re-thrown under the flag:
+/// "--size: expected NxLxN, e.g. 8x2x8 (got '8x8')". One that names no field already says where it comes from.
+template <typename Check> void underFlag(const std::string& flag, Check&& check)
+{
+    try
+    {
+        check();
+    }
+    catch (const InputError& e)
+    {
+        if (e.field().empty())
+        {
+            throw;
+        }
+        throw InputError(flag + ": " + e.problem());
+    }
+}
 /// Where the repository's data folder is (scenes, meshes, materials): $MASSE_DATA or the source tree's data/.
 std::string dataDirectory();
 } // namespace masse::app

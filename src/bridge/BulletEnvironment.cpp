@@ -169,7 +169,7 @@ int BulletEnvironment::findObstacle(const std::string& name) const
 {
     for (std::size_t i = 0; i < m_obstacles.size(); ++i)
     {
-        if (m_obstacles[i]->spec.name == name)
+        if (m_obstacles[i]->name == name)
         {
             return int(i);
         }
@@ -177,49 +177,57 @@ int BulletEnvironment::findObstacle(const std::string& name) const
     return -1;
 }
 
-int BulletEnvironment::addObstacle(const ObstacleSpec& spec, bool partOfRoom)
+int BulletEnvironment::addObstacle(const ObstacleBody& body, bool partOfRoom)
 {
-    if (spec.name.empty())
+    const std::string named = "obstacle '" + body.name + "'";
+    if (body.name.empty())
     {
         throw InputError("obstacle: every obstacle needs a name");
     }
-    if (findObstacle(spec.name) >= 0)
+    if (findObstacle(body.name) >= 0)
     {
-        throw InputError("obstacle '" + spec.name + "': the name is already used by another obstacle");
+        throw InputError(named + ": the name is already used by another obstacle");
     }
-    for (std::size_t k = 0; k < spec.path.size(); ++k)
+    const std::vector<PoseKey>& keys = body.path.keys;
+    for (std::size_t k = 0; k < keys.size(); ++k)
     {
-        if (!std::isfinite(spec.path[k].time) || (k > 0 && !(spec.path[k].time > spec.path[k - 1].time)))
+        if (!std::isfinite(keys[k].time) || (k > 0 && !(keys[k].time > keys[k - 1].time)))
         {
-            throw InputError("obstacle '" + spec.name + "': path key " + std::to_string(k) +
-                             " must come strictly after the one before it");
+            throw InputError(named + ": path key " + std::to_string(k) + " must come strictly after the one before it");
         }
-        if (!spec.path[k].position.allFinite())
+        if (!keys[k].position.allFinite())
         {
-            throw InputError("obstacle '" + spec.name + "': path key " + std::to_string(k) +
-                             " has a non-finite position");
+            throw InputError(named + ": path key " + std::to_string(k) + " has a non-finite position");
         }
     }
-    if (!spec.position.allFinite())
+    if (!body.path.rest.position.allFinite())
     {
-        throw InputError("obstacle '" + spec.name + "': position must be finite");
+        throw InputError(named + ": position must be finite");
     }
     auto obstacle = std::make_unique<Obstacle>();
-    obstacle->spec = spec;
-    obstacle->geometry = makeObstacleGeometry(spec);
+    obstacle->name = body.name;
+    obstacle->path = body.path;
+    try
+    {
+        obstacle->geometry = makeObstacleGeometry(body.shape);
+    }
+    catch (const InputError& e)
+    {
+        throw InputError(named + ": " + e.what());
+    }
     obstacle->partOfRoom = partOfRoom;
     for (const Vec3& v : obstacle->geometry.vertices)
     {
         obstacle->boundingRadius = std::max(obstacle->boundingRadius, v.norm());
     }
-    obstacle->pose = poseAt(spec, m_time);
-    obstacle->motion = motionAt(spec, m_time);
+    obstacle->pose = poseAt(obstacle->path, m_time);
+    obstacle->motion = motionAt(obstacle->path, m_time);
 
     obstacle->object = std::make_unique<btCollisionObject>();
     obstacle->object->setCollisionShape(obstacle->geometry.shape.get());
     obstacle->object->setWorldTransform(toBullet(obstacle->pose.position, obstacle->pose.orientation));
     obstacle->object->setUserIndex(int(m_obstacles.size()));
-    if (spec.isKinematic())
+    if (obstacle->path.isKinematic())
     {
         obstacle->object->setCollisionFlags(obstacle->object->getCollisionFlags() |
                                             btCollisionObject::CF_KINEMATIC_OBJECT);
@@ -244,29 +252,16 @@ void BulletEnvironment::recordBroadphaseBox(Obstacle& obstacle)
     obstacle.broadphaseMax = toVec3(proxy->m_aabbMax);
 }
 
-void BulletEnvironment::addRoom(const RoomSpec& room)
-{
-    if (!room.enabled)
-    {
-        return;
-    }
-    for (const ObstacleSpec& wall : roomObstacles(room))
-    {
-        addObstacle(wall, true);
-    }
-}
-
-void BulletEnvironment::extendPath(int index, const std::vector<PathKey>& keys)
+void BulletEnvironment::extendPath(int index, const std::vector<PoseKey>& keys)
 {
     Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-    for (const PathKey& key : keys)
+    for (const PoseKey& key : keys)
     {
-        if (!obstacle.spec.path.empty() && !(key.time > obstacle.spec.path.back().time))
+        if (!obstacle.path.keys.empty() && !(key.time > obstacle.path.keys.back().time))
         {
-            throw InputError("obstacle '" + obstacle.spec.name +
-                             "': a move's keys must come after its path's last key");
+            throw InputError("obstacle '" + obstacle.name + "': a move's keys must come after its path's last key");
         }
-        obstacle.spec.path.push_back(key);
+        obstacle.path.keys.push_back(key);
     }
     setTime(m_time);
 }
@@ -277,12 +272,12 @@ void BulletEnvironment::setTime(Real time)
     m_fastestKinematic = 0;
     for (auto& obstacle : m_obstacles)
     {
-        if (!obstacle->spec.isKinematic())
+        if (!obstacle->path.isKinematic())
         {
             continue;
         }
-        obstacle->pose = poseAt(obstacle->spec, time);
-        obstacle->motion = motionAt(obstacle->spec, time);
+        obstacle->pose = poseAt(obstacle->path, time);
+        obstacle->motion = motionAt(obstacle->path, time);
         obstacle->object->setWorldTransform(toBullet(obstacle->pose.position, obstacle->pose.orientation));
         m_world->updateSingleAabb(obstacle->object.get());
         recordBroadphaseBox(*obstacle);
@@ -397,10 +392,10 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     m_frameMotion.assign(m_obstacles.size(), Motion{});
     for (std::size_t index = 0; index < m_obstacles.size(); ++index)
     {
-        const ObstacleSpec& spec = m_obstacles[index]->spec;
-        if (spec.isKinematic() && dt > 0)
+        const KinematicPath& path = m_obstacles[index]->path;
+        if (path.isKinematic() && dt > 0)
         {
-            m_frameMotion[index] = averageMotion(spec, m_time, m_time + dt);
+            m_frameMotion[index] = averageMotion(path, m_time, m_time + dt);
         }
     }
     // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk, GJK and
@@ -520,11 +515,11 @@ Vec3 BulletEnvironment::pointVelocity(int index, const Vec3& point, Real dt)
         return Vec3::Zero();
     }
     const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-    if (!obstacle.spec.isKinematic())
+    if (!obstacle.path.isKinematic())
     {
         return Vec3::Zero();
     }
-    return averageMotion(obstacle.spec, m_time, m_time + dt).at(point, obstacle.pose.position);
+    return averageMotion(obstacle.path, m_time, m_time + dt).at(point, obstacle.pose.position);
 }
 
 SurfaceDistance BulletEnvironment::nearestSurface(const Vec3& x, Real maxDistance)

@@ -9,7 +9,6 @@
 
 #include "KinematicPath.h"
 #include "ObstacleGeometry.h"
-#include "Room.h"
 
 #include "core/Contact.h"
 
@@ -29,10 +28,19 @@ namespace masse::bridge
 /// small chunks let the threads share that part evenly.
 inline constexpr std::size_t detectionChunkSize = 512;
 
+/// An obstacle as the environment takes it: a named solid and where it is over time.
+struct ObstacleBody
+{
+    std::string name;
+    ObstacleShape shape;
+    KinematicPath path;
+};
+
 struct Obstacle
 {
-    ObstacleSpec spec;
+    std::string name;
     ObstacleGeometry geometry;
+    KinematicPath path;
     std::unique_ptr<btCollisionObject> object;
     bool partOfRoom = false;
     Pose pose;
@@ -50,17 +58,15 @@ public:
     BulletEnvironment(const BulletEnvironment&) = delete;
     BulletEnvironment& operator=(const BulletEnvironment&) = delete;
 
-    /// Adds an obstacle and returns its index; throws InputError naming it for bad geometry or a name already used.
-    int addObstacle(const ObstacleSpec& spec, bool partOfRoom = false);
-    /// Adds the room's floor, ceiling and walls.
-    void addRoom(const RoomSpec& room);
+    /// Adds an obstacle and returns its index; throws InputError naming it for bad geometry, a bad path or a name
+    /// already used. `partOfRoom` marks the room's floor, ceiling and walls (outputs leave most of them out).
+    int addObstacle(const ObstacleBody& body, bool partOfRoom = false);
 
     const Obstacle& obstacle(int index) const { return *m_obstacles[std::size_t(index)]; }
     /// Appends keys to a kinematic obstacle's path (a scripted move); keys must come after its last one.
-    void extendPath(int index, const std::vector<PathKey>& keys);
+    void extendPath(int index, const std::vector<PoseKey>& keys);
     /// Index of the obstacle with that name, or -1.
     int findObstacle(const std::string& name) const;
-    btCollisionWorld& world() { return *m_world; }
 
     // ContactDetector
     int obstacleCount() const override { return int(m_obstacles.size()); }

@@ -7,7 +7,7 @@ namespace masse::bridge
 namespace
 {
 /// Index k of the segment [key k, key k + 1] containing t, or -1 outside the path.
-int segmentAt(const std::vector<PathKey>& path, Real t)
+int segmentAt(const std::vector<PoseKey>& path, Real t)
 {
     for (std::size_t k = 0; k + 1 < path.size(); ++k)
     {
@@ -20,12 +20,12 @@ int segmentAt(const std::vector<PathKey>& path, Real t)
 }
 } // namespace
 
-Pose poseAt(const ObstacleSpec& spec, Real t)
+Pose poseAt(const KinematicPath& kinematic, Real t)
 {
-    const std::vector<PathKey>& path = spec.path;
+    const std::vector<PoseKey>& path = kinematic.keys;
     if (path.empty())
     {
-        return {spec.position, spec.orientation};
+        return kinematic.rest;
     }
     if (t <= path.front().time)
     {
@@ -36,17 +36,17 @@ Pose poseAt(const ObstacleSpec& spec, Real t)
     {
         return {path.back().position, path.back().orientation};
     }
-    const PathKey& a = path[std::size_t(k)];
-    const PathKey& b = path[std::size_t(k) + 1];
+    const PoseKey& a = path[std::size_t(k)];
+    const PoseKey& b = path[std::size_t(k) + 1];
     const Real s = (t - a.time) / (b.time - a.time);
     return {a.position + s * (b.position - a.position), a.orientation.slerp(s, b.orientation)};
 }
 
-Motion averageMotion(const ObstacleSpec& spec, Real t0, Real t1)
+Motion averageMotion(const KinematicPath& path, Real t0, Real t1)
 {
     Motion motion;
-    const Pose a = poseAt(spec, t0);
-    const Pose b = poseAt(spec, t1);
+    const Pose a = poseAt(path, t0);
+    const Pose b = poseAt(path, t1);
     motion.linear = (b.position - a.position) / (t1 - t0);
     const Eigen::AngleAxis<Real> turn(b.orientation * a.orientation.inverse());
     motion.angular = turn.axis() * (turn.angle() / (t1 - t0));
@@ -57,16 +57,16 @@ Motion averageMotion(const ObstacleSpec& spec, Real t0, Real t1)
     return motion;
 }
 
-Motion motionAt(const ObstacleSpec& spec, Real t)
+Motion motionAt(const KinematicPath& path, Real t)
 {
     Motion motion;
-    const int k = segmentAt(spec.path, t);
+    const int k = segmentAt(path.keys, t);
     if (k < 0)
     {
         return motion;
     }
-    const PathKey& a = spec.path[std::size_t(k)];
-    const PathKey& b = spec.path[std::size_t(k) + 1];
+    const PoseKey& a = path.keys[std::size_t(k)];
+    const PoseKey& b = path.keys[std::size_t(k) + 1];
     const Real duration = b.time - a.time;
     motion.linear = (b.position - a.position) / duration;
     const Eigen::AngleAxis<Real> turn(b.orientation * a.orientation.inverse());

@@ -1,8 +1,8 @@
 #include "ObstacleGeometry.h"
 
 #include "BulletMath.h"
-#include "StlFile.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 
 #include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
@@ -21,27 +21,13 @@ ObstacleGeometry::~ObstacleGeometry() = default;
 ObstacleGeometry::ObstacleGeometry(ObstacleGeometry&&) noexcept = default;
 ObstacleGeometry& ObstacleGeometry::operator=(ObstacleGeometry&&) noexcept = default;
 
-Eigen::Quaternion<Real> rotationFromDegrees(const Vec3& degrees)
-{
-    const Vec3 radians = degrees * (M_PI / 180.0);
-    return Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(radians.z(), Vec3::UnitZ()) *
-                                   Eigen::AngleAxis<Real>(radians.y(), Vec3::UnitY()) *
-                                   Eigen::AngleAxis<Real>(radians.x(), Vec3::UnitX()));
-}
-
 namespace
 {
-std::string named(const ObstacleSpec& spec)
-{
-    return "obstacle '" + spec.name + "'";
-}
-
-void requirePositive(const ObstacleSpec& spec, const char* what, Real value)
+void requirePositive(const char* field, Real value)
 {
     if (!(value > 0) || !std::isfinite(value))
     {
-        throw InputError(named(spec) + ": " + what + " must be a positive number of metres (got " +
-                         std::to_string(value) + ")");
+        throw InputError(field, "must be a positive number of metres (got " + formatNumber(value) + ")");
     }
 }
 
@@ -87,12 +73,12 @@ Vec3 centroid(const std::vector<Vec3>& points)
     return sum / Real(points.size());
 }
 
-void makeBox(const ObstacleSpec& spec, ObstacleGeometry& g)
+void makeBox(const ObstacleShape& shape, ObstacleGeometry& g)
 {
-    requirePositive(spec, "half_extents.x", spec.halfExtents.x());
-    requirePositive(spec, "half_extents.y", spec.halfExtents.y());
-    requirePositive(spec, "half_extents.z", spec.halfExtents.z());
-    const Vec3 h = spec.halfExtents;
+    requirePositive("halfExtents.x", shape.halfExtents.x());
+    requirePositive("halfExtents.y", shape.halfExtents.y());
+    requirePositive("halfExtents.z", shape.halfExtents.z());
+    const Vec3 h = shape.halfExtents;
     // Vertex k has x sign from bit 0, y from bit 1, z from bit 2.
     for (int k = 0; k < 8; ++k)
     {
@@ -107,19 +93,19 @@ void makeBox(const ObstacleSpec& spec, ObstacleGeometry& g)
     addFace(g, {0, 2, 3, 1}, inside); // -z
 }
 
-void makePrism(const ObstacleSpec& spec, ObstacleGeometry& g)
+void makePrism(const ObstacleShape& shape, ObstacleGeometry& g)
 {
-    requirePositive(spec, "width", spec.prismWidth);
-    requirePositive(spec, "height", spec.prismHeight);
-    requirePositive(spec, "length", spec.prismLength);
-    if (!std::isfinite(spec.prismApex))
+    requirePositive("prismWidth", shape.prismWidth);
+    requirePositive("prismHeight", shape.prismHeight);
+    requirePositive("prismLength", shape.prismLength);
+    if (!std::isfinite(shape.prismApex))
     {
-        throw InputError(named(spec) + ": apex must be a finite number of metres");
+        throw InputError("prismApex", "must be a finite number of metres");
     }
-    const Real w = spec.prismWidth / 2;
-    const Real h = spec.prismHeight / 2;
-    const Real l = spec.prismLength / 2;
-    const Vec3 triangle[3] = {Vec3(-w, -h, 0), Vec3(w, -h, 0), Vec3(spec.prismApex, h, 0)};
+    const Real w = shape.prismWidth / 2;
+    const Real h = shape.prismHeight / 2;
+    const Real l = shape.prismLength / 2;
+    const Vec3 triangle[3] = {Vec3(-w, -h, 0), Vec3(w, -h, 0), Vec3(shape.prismApex, h, 0)};
     for (Real z : {l, -l})
     {
         for (const Vec3& corner : triangle)
@@ -136,10 +122,10 @@ void makePrism(const ObstacleSpec& spec, ObstacleGeometry& g)
 }
 
 /// Throws unless the points span three dimensions.
-void requireSolid(const ObstacleSpec& spec, const std::vector<Vec3>& points)
+void requireSolid(const std::vector<Vec3>& points)
 {
-    const std::string message = named(spec) + ": a hull needs at least 4 points not all in one plane (got " +
-                                std::to_string(points.size()) + " points";
+    const std::string message =
+        "a hull needs at least 4 points not all in one plane (got " + std::to_string(points.size()) + " points";
     if (points.size() < 4)
     {
         throw InputError(message + ")");
@@ -149,7 +135,7 @@ void requireSolid(const ObstacleSpec& spec, const std::vector<Vec3>& points)
     {
         if (!p.allFinite())
         {
-            throw InputError(named(spec) + ": hull point is not a finite number");
+            throw InputError("hullPoints", "must be finite numbers");
         }
         scale = std::max(scale, (p - points[0]).norm());
     }
@@ -188,11 +174,11 @@ void requireSolid(const ObstacleSpec& spec, const std::vector<Vec3>& points)
     }
 }
 
-void makeHull(const ObstacleSpec& spec, ObstacleGeometry& g)
+void makeHull(const ObstacleShape& shape, ObstacleGeometry& g)
 {
-    requireSolid(spec, spec.hullPoints);
+    requireSolid(shape.hullPoints);
     std::vector<btVector3> points;
-    for (const Vec3& p : spec.hullPoints)
+    for (const Vec3& p : shape.hullPoints)
     {
         points.push_back(toBullet(p));
     }
@@ -217,14 +203,44 @@ void makeHull(const ObstacleSpec& spec, ObstacleGeometry& g)
     }
 }
 
-void makeMesh(const ObstacleSpec& spec, ObstacleGeometry& g)
+void makeMesh(const ObstacleShape& shape, ObstacleGeometry& g)
 {
-    requirePositive(spec, "scale", spec.meshScale);
-    PolygonMesh mesh = loadMeshFile(spec.meshPath, spec.name);
+    // A mesh read from a file has passed these checks already (MeshFile.h); one built in code may not have.
+    const PolygonMesh& mesh = shape.mesh;
+    if (mesh.faces.empty())
+    {
+        throw InputError("mesh", "has no faces");
+    }
+    std::size_t triangles = 0;
+    for (const std::vector<int>& face : mesh.faces)
+    {
+        if (face.size() < 3)
+        {
+            throw InputError("mesh", "a face has fewer than three vertices");
+        }
+        triangles += face.size() - 2;
+        for (int v : face)
+        {
+            if (v < 0 || std::size_t(v) >= mesh.vertices.size())
+            {
+                throw InputError("mesh", "a face names vertex " + std::to_string(v) + " of " +
+                                             std::to_string(mesh.vertices.size()));
+            }
+        }
+    }
+    if (triangles > maxMeshTriangles)
+    {
+        throw InputError("mesh", "has " + std::to_string(triangles) + " triangles, more than Bullet's " +
+                                     std::to_string(maxMeshTriangles));
+    }
     for (const Vec3& v : mesh.vertices)
     {
-        g.vertices.push_back(spec.meshScale * v);
+        if (!v.allFinite())
+        {
+            throw InputError("mesh", "a vertex is not a finite number");
+        }
     }
+    g.vertices = mesh.vertices;
     g.convex = false;
     g.triangles = std::make_unique<btTriangleMesh>(true, false);
     for (std::size_t f = 0; f < mesh.faces.size(); ++f)
@@ -252,9 +268,9 @@ void makeMesh(const ObstacleSpec& spec, ObstacleGeometry& g)
         }
         g.faces.push_back(std::move(face));
     }
-    auto shape = std::make_unique<btBvhTriangleMeshShape>(g.triangles.get(), true);
-    shape->setMargin(0);
-    g.shape = std::move(shape);
+    auto bvh = std::make_unique<btBvhTriangleMeshShape>(g.triangles.get(), true);
+    bvh->setMargin(0);
+    g.shape = std::move(bvh);
 }
 } // namespace
 
@@ -282,22 +298,22 @@ int ObstacleGeometry::faceAt(const Vec3& localPoint, const Vec3& localNormal) co
     return best >= 0 ? best : fallback;
 }
 
-ObstacleGeometry makeObstacleGeometry(const ObstacleSpec& spec)
+ObstacleGeometry makeObstacleGeometry(const ObstacleShape& shape)
 {
     ObstacleGeometry g;
-    switch (spec.kind)
+    switch (shape.kind)
     {
-    case ObstacleKind::Box:
-        makeBox(spec, g);
+    case ShapeKind::Box:
+        makeBox(shape, g);
         break;
-    case ObstacleKind::Prism:
-        makePrism(spec, g);
+    case ShapeKind::Prism:
+        makePrism(shape, g);
         break;
-    case ObstacleKind::Hull:
-        makeHull(spec, g);
+    case ShapeKind::Hull:
+        makeHull(shape, g);
         break;
-    case ObstacleKind::Mesh:
-        makeMesh(spec, g);
+    case ShapeKind::Mesh:
+        makeMesh(shape, g);
         break;
     }
     g.localMin = g.vertices.front();

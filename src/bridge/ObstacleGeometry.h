@@ -9,7 +9,7 @@
 /// corner to the apex, 2 side from the apex to the -x base corner, 3 end +z, 4 end -z; hull as Bullet's convex-hull
 /// computer finds them; mesh in the OBJ file's face order.
 
-#include "ObstacleSpec.h"
+#include "ObstacleShape.h"
 
 #include <memory>
 #include <vector>
@@ -47,7 +47,8 @@ struct ObstacleGeometry
     int faceAt(const Vec3& localPoint, const Vec3& localNormal) const;
 };
 
-/// Builds the geometry of a spec; throws InputError naming the obstacle for a non-positive size, a degenerate hull
-/// (fewer than 4 points not all in one plane) or an OBJ file that is missing, unreadable or empty.
-ObstacleGeometry makeObstacleGeometry(const ObstacleSpec& spec);
+/// Builds the geometry of a shape; throws InputError naming the field for a non-positive size ("halfExtents.x"), a
+/// degenerate hull (fewer than 4 points not all in one plane) or a mesh without faces or with a face that names a
+/// vertex it does not have.
+ObstacleGeometry makeObstacleGeometry(const ObstacleShape& shape);
 } // namespace masse::bridge

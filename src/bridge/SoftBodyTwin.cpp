@@ -27,7 +27,7 @@ namespace masse::bridge
 /// One obstacle of the environment, as a mass-0 rigid body sharing the environment's collision shape.
 struct SoftBodyTwin::Obstacle
 {
-    ObstacleSpec spec;
+    KinematicPath path;
     std::unique_ptr<btRigidBody> body;
 };
 
@@ -166,7 +166,7 @@ std::vector<TwinNote> describeDifferences(const MassSpringSystem& sheet, const B
         const bridge::Obstacle& obstacle = environment.obstacle(i);
         if (!obstacle.geometry.convex)
         {
-            notes.push_back({"obstacles." + obstacle.spec.name,
+            notes.push_back({"obstacles." + obstacle.name,
                              "Bullet meets a triangle mesh one triangle at a time, each as a convex slab extruded "
                              "0.06 m to both sides of the triangle (BT_SOFTBODY_TRIANGLE_EXTRUSION in "
                              "btSoftBodyConcaveCollisionAlgorithm.cpp): nodes stop the margin plus 0.06 m from the "
@@ -342,26 +342,21 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
 
 SoftBodyTwin::~SoftBodyTwin() = default;
 
-btSoftRigidDynamicsWorld& SoftBodyTwin::world()
-{
-    return m_bullet->world;
-}
-
 void SoftBodyTwin::buildObstacles(const BulletEnvironment& environment)
 {
     for (int i = 0; i < environment.obstacleCount(); ++i)
     {
         const bridge::Obstacle& source = environment.obstacle(i);
         auto obstacle = std::make_unique<Obstacle>();
-        obstacle->spec = source.spec;
+        obstacle->path = source.path;
         btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, source.geometry.shape.get());
-        const Pose pose = poseAt(source.spec, 0);
+        const Pose pose = poseAt(source.path, 0);
         info.m_startWorldTransform = toBullet(pose.position, pose.orientation);
         // Friction 1 so that kDF alone is the coefficient (Bullet multiplies the two).
         info.m_friction = 1;
         obstacle->body = std::make_unique<btRigidBody>(info);
         obstacle->body->setUserIndex(i);
-        if (source.spec.isKinematic())
+        if (source.path.isKinematic())
         {
             obstacle->body->setCollisionFlags(obstacle->body->getCollisionFlags() |
                                               btCollisionObject::CF_KINEMATIC_OBJECT);
@@ -378,9 +373,9 @@ void SoftBodyTwin::poseKinematic(Real time)
 {
     for (auto& obstacle : m_bullet->obstacles)
     {
-        if (obstacle->spec.isKinematic())
+        if (obstacle->path.isKinematic())
         {
-            const Pose pose = poseAt(obstacle->spec, time);
+            const Pose pose = poseAt(obstacle->path, time);
             obstacle->body->setWorldTransform(toBullet(pose.position, pose.orientation));
         }
     }
@@ -435,7 +430,6 @@ void SoftBodyTwin::step()
         ++m_substepCount;
     }
     m_lastWall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    m_totalWall += m_lastWall;
     checkFinite();
 }
 
@@ -487,12 +481,12 @@ bool SoftBodyTwin::pinned(Index node) const
     return !(m_body->m_nodes[int(node)].m_im > 0);
 }
 
-void SoftBodyTwin::setObstaclePath(int obstacle, const std::vector<PathKey>& path)
+void SoftBodyTwin::setObstaclePath(int obstacle, const std::vector<PoseKey>& keys)
 {
     Obstacle& o = *m_bullet->obstacles.at(std::size_t(obstacle));
-    const bool wasKinematic = o.spec.isKinematic();
-    o.spec.path = path;
-    if (!wasKinematic && o.spec.isKinematic())
+    const bool wasKinematic = o.path.isKinematic();
+    o.path.keys = keys;
+    if (!wasKinematic && o.path.isKinematic())
     {
         o.body->setCollisionFlags(o.body->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
         o.body->setActivationState(DISABLE_DEACTIVATION);

@@ -11,7 +11,7 @@
 /// What Bullet cannot say the same way is listed by notes(): each note names the scene key it concerns and what the
 /// twin does instead. Options it cannot represent at all throw InputError from the constructor.
 
-#include "ObstacleSpec.h"
+#include "KinematicPath.h"
 #include "SoftBodyTwinSettings.h"
 
 #include "core/Contact.h"
@@ -23,7 +23,6 @@
 #include <vector>
 
 class btSoftBody;
-class btSoftRigidDynamicsWorld;
 
 namespace masse::bridge
 {
@@ -78,16 +77,13 @@ public:
     std::size_t touchingCount() const;
     /// J, of the free nodes.
     Real kineticEnergy() const;
-    /// Wall-clock seconds the last step took inside Bullet, and all steps so far.
+    /// Wall-clock seconds the last step took inside Bullet.
     double lastStepWallSeconds() const { return m_lastWall; }
-    double totalWallSeconds() const { return m_totalWall; }
 
-    /// The sheet's dynamic springs, applied to the nodes as forces at the start of every substep; change them
-    /// between steps as MaSSE's are changed. A target moves on at its targetVelocity from the time it was aimed
-    /// (setUserSprings' aimedAt; the twin's start otherwise), so a target aimed once per frame is where a script
-    /// aiming it every substep would put it.
-    UserSprings& userSprings() { return m_userSprings; }
-    /// Replaces the dynamic springs by `springs`, whose targets are where they are at simulated time `aimedAt` (s).
+    /// Replaces the sheet's dynamic springs by `springs`, whose targets are where they are at simulated time
+    /// `aimedAt` (s); call it between steps as MaSSE's are changed. They act on the nodes as forces at the start of
+    /// every substep, and a target moves on at its targetVelocity from the time it was aimed, so a target aimed once
+    /// per frame is where a script aiming it every substep would put it.
     void setUserSprings(const UserSprings& springs, Real aimedAt);
 
     /// Changes between steps that a scene's script makes (see scene/Comparison.h): gravity (m/s^2, for the world and
@@ -98,10 +94,7 @@ public:
     Vec3 gravity() const;
     void setPinned(Index node, bool pinned);
     bool pinned(Index node) const;
-    void setObstaclePath(int obstacle, const std::vector<PathKey>& path);
-
-    btSoftBody& softBody() { return *m_body; }
-    btSoftRigidDynamicsWorld& world();
+    void setObstaclePath(int obstacle, const std::vector<PoseKey>& keys);
 
 private:
     struct Bullet;
@@ -125,6 +118,5 @@ private:
     std::vector<int> m_touchObstacle;
     std::uint64_t m_substepCount = 0;
     double m_lastWall = 0;
-    double m_totalWall = 0;
 };
 } // namespace masse::bridge

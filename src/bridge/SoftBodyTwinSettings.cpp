@@ -17,8 +17,8 @@ void requireRange(const char* field, Real value, Real lo, bool loOpen, Real hi, 
     const bool belowHi = hiOpen ? value < hi : value <= hi;
     if (!(aboveLo && belowHi))
     {
-        throw InputError(std::string("bullet.") + field + " must be in " + (loOpen ? "(" : "[") + formatNumber(lo) +
-                         ", " + formatNumber(hi) + (hiOpen ? ")" : "]") + " (got " + formatNumber(value) + ")");
+        throw InputError(field, std::string("must be in ") + (loOpen ? "(" : "[") + formatNumber(lo) + ", " +
+                                    formatNumber(hi) + (hiOpen ? ")" : "]") + " (got " + formatNumber(value) + ")");
     }
 }
 
@@ -26,8 +26,8 @@ void requireCount(const char* field, int value, int lo, int hi)
 {
     if (value < lo || value > hi)
     {
-        throw InputError(std::string("bullet.") + field + " must be an integer in [" + std::to_string(lo) + ", " +
-                         std::to_string(hi) + "] (got " + std::to_string(value) + ")");
+        throw InputError(field, "must be a whole number in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                    "] (got " + std::to_string(value) + ")");
     }
 }
 } // namespace
@@ -55,20 +55,5 @@ void validate(const SoftBodyTwinSettings& settings)
     requireCount("piterations", settings.piterations, 1, 1000);
     requireCount("substeps", settings.substeps, 1, 10000);
     requireRange("sdfCellSize", settings.sdfCellSize, 0.001, false, 1, false);
-    if (settings.collisions == "CL_RS")
-    {
-        throw InputError("bullet.collisions CL_RS is not supported: cluster collision needs the sheet cut into "
-                         "clusters and reports contact per cluster, not per node; use SDF_RS");
-    }
-    if (settings.collisions.rfind("SDF_RD", 0) == 0)
-    {
-        throw InputError("bullet.collisions " + settings.collisions +
-                         " is not supported: it belongs to btDeformableMultiBodyDynamicsWorld, not to the classic "
-                         "soft body the twin uses; use SDF_RS");
-    }
-    if (settings.collisions != "SDF_RS")
-    {
-        throw InputError("bullet.collisions must be SDF_RS (got '" + settings.collisions + "')");
-    }
 }
 } // namespace masse::bridge

@@ -5,12 +5,12 @@
 /// in v), finds node contacts, then runs `piterations` passes of contact and link projection, and sets
 /// v = (x - x_old) / h * (1 - kDP). Its coefficients are therefore dimensionless fractions per pass or per substep,
 /// not N/m or 1/s. Fields left unset (std::nullopt) are derived from the MaSSE sheet so the two engines describe the
-/// same material; every field can be overridden (scene keys "bullet.<field>", e.g. "bullet.kLST").
+/// same material. Nodes meet obstacles through the signed distance field of each shape (Bullet's SDF_RS), the one
+/// mode that reports contact per node with the classic soft body.
 
 #include "core/Types.h"
 
 #include <optional>
-#include <string>
 
 namespace masse::bridge
 {
@@ -48,12 +48,8 @@ struct SoftBodyTwinSettings
     /// distances are interpolated trilinearly between cell corners: exact next to a flat face, rounded near edges and
     /// corners by up to about a cell.
     Real sdfCellSize = 0.25;
-    /// Node-versus-obstacle collision mode, Bullet's fCollision name. Only "SDF_RS" (nodes against the signed
-    /// distance field of each shape) is accepted: "CL_RS" needs clusters, which turn contact into cluster impulses the
-    /// twin cannot report per node, and the "SDF_RD*" modes belong to btDeformableMultiBodyDynamicsWorld.
-    std::string collisions = "SDF_RS";
 };
 
-/// Throws InputError naming the first field out of its range, as "bullet.<field> must be ... (got ...)".
+/// Throws InputError naming the first field out of its range (field "kLST", "must be in (0, 1] (got 1.5)").
 void validate(const SoftBodyTwinSettings& settings);
 } // namespace masse::bridge

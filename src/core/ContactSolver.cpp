@@ -23,7 +23,7 @@ constexpr EnumName<ContactResponse> responseNames[] = {
 
 ContactResponse parseContactResponse(std::string_view name)
 {
-    return parseEnum(responseNames, name, "contact.response", "response");
+    return parseEnum(responseNames, name, "response", "response");
 }
 
 std::string_view contactResponseName(ContactResponse response)
@@ -35,17 +35,15 @@ void validate(const ContactSettings& settings)
 {
     if (!(settings.radius > 0) || !std::isfinite(settings.radius))
     {
-        throw InputError("contact.radius: must be a positive number of metres (got " + formatNumber(settings.radius) +
-                         ")");
+        throw InputError("radius", "must be a positive number of metres (got " + formatNumber(settings.radius) + ")");
     }
     if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
     {
-        throw InputError("contact.friction: must be >= 0 (got " + formatNumber(settings.friction) + ")");
+        throw InputError("friction", "must be >= 0 (got " + formatNumber(settings.friction) + ")");
     }
     if (!(settings.stickReleaseForce >= 0) || !std::isfinite(settings.stickReleaseForce))
     {
-        throw InputError("contact.release_force: must be >= 0 N (got " + formatNumber(settings.stickReleaseForce) +
-                         ")");
+        throw InputError("stickReleaseForce", "must be >= 0 N (got " + formatNumber(settings.stickReleaseForce) + ")");
     }
 }
 

@@ -32,51 +32,51 @@ PanelFrame frameOf(const RadiantHeater& heater)
 }
 } // namespace
 
-void validate(const RadiantHeater& heater, const std::string& path)
+void validate(const RadiantHeater& heater)
 {
     if (!(heater.power >= 0) || !std::isfinite(heater.power))
     {
-        throw InputError(path + ".power: must be >= 0 W (got " + formatNumber(heater.power) + ")");
+        throw InputError("power", "must be >= 0 W (got " + formatNumber(heater.power) + ")");
     }
     if (!(heater.width > 0) || !std::isfinite(heater.width))
     {
-        throw InputError(path + ".width: must be a positive number of m (got " + formatNumber(heater.width) + ")");
+        throw InputError("width", "must be a positive number of m (got " + formatNumber(heater.width) + ")");
     }
     if (!(heater.length > 0) || !std::isfinite(heater.length))
     {
-        throw InputError(path + ".length: must be a positive number of m (got " + formatNumber(heater.length) + ")");
+        throw InputError("length", "must be a positive number of m (got " + formatNumber(heater.length) + ")");
     }
     if (!heater.centre.allFinite())
     {
-        throw InputError(path + ".centre: must be finite");
+        throw InputError("centre", "must be finite");
     }
     if (!heater.normal.allFinite() || !(heater.normal.norm() > 0))
     {
-        throw InputError(path + ".normal: must be a non-zero direction");
+        throw InputError("normal", "must be a non-zero direction");
     }
     const Vec3 n = heater.normal.normalized();
     if (!heater.widthAxis.allFinite() ||
         !((heater.widthAxis - heater.widthAxis.dot(n) * n).norm() > 1e-6 * heater.widthAxis.norm()))
     {
-        throw InputError(path + ".width_axis: must be a direction not parallel to the normal");
+        throw InputError("widthAxis", "must be a direction not parallel to the normal");
     }
 }
 
-void validate(const HotAirZone& zone, const std::string& path)
+void validate(const HotAirZone& zone)
 {
     if (!zone.minCorner.allFinite() || !zone.maxCorner.allFinite() ||
         !(zone.maxCorner.array() > zone.minCorner.array()).all())
     {
-        throw InputError(path + ".max: must exceed min on every axis");
+        throw InputError("maxCorner", "must exceed the min corner on every axis");
     }
     if (!(zone.temperature > 0) || !std::isfinite(zone.temperature))
     {
-        throw InputError(path + ".temperature_c: must be above absolute zero (got " +
-                         formatNumber(zone.temperature - 273.15) + " C)");
+        throw InputError("temperature", "must be above absolute zero (got " + formatNumber(zone.temperature) + " K, " +
+                                            formatNumber(zone.temperature - 273.15) + " C)");
     }
     if (!(zone.heatTransfer >= 0) || !std::isfinite(zone.heatTransfer))
     {
-        throw InputError(path + ".heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(zone.heatTransfer) + ")");
+        throw InputError("heatTransfer", "must be >= 0 W/(m^2 K) (got " + formatNumber(zone.heatTransfer) + ")");
     }
 }
 

@@ -39,9 +39,9 @@ struct HotAirZone
     Real heatTransfer = 50;           ///< W/(m^2 K), >= 0; forced air in an oven is some 20-100
 };
 
-/// Throw InputError naming the field under `path` (e.g. "heaters[0].power: must be >= 0 W (got -5)").
-void validate(const RadiantHeater& heater, const std::string& path = "heater");
-void validate(const HotAirZone& zone, const std::string& path = "hot_air_zone");
+/// Throw InputError naming the bad field (e.g. "power", "must be >= 0 W (got -5)").
+void validate(const RadiantHeater& heater);
+void validate(const HotAirZone& zone);
 
 /// The panel's corners, counter-clockwise seen from in front of it.
 std::array<Vec3, 4> heaterCorners(const RadiantHeater& heater);

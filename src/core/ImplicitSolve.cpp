@@ -144,8 +144,8 @@ IntegratorStats ImplicitSolve::runSolver()
     SolveResult result;
     if (m_settings.preconditioner == PreconditionerKind::Jacobi)
     {
-        m_jacobi.refresh(m_matrix);
-        result = m_cg.solve(m_matrix, m_rhs, m_deltaV, m_jacobi, m_tolerance, cap);
+        m_jacobi.refresh(m_matrix.matrix());
+        result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_jacobi, m_tolerance, cap);
     }
     else
     {
@@ -158,7 +158,7 @@ IntegratorStats ImplicitSolve::runSolver()
         bool fresh = false;
         if (!recent.ready())
         {
-            fresh = recent.refresh(m_matrix);
+            fresh = recent.refresh(m_matrix.matrix());
         }
         // A factor fresh from the matrix solves in one or two iterations, a multigrid cycle takes several even
         // then (ten on a cold material sheet at its tight tolerance): it has drifted only when it needs more than
@@ -169,24 +169,24 @@ IntegratorStats ImplicitSolve::runSolver()
         const int firstTry = fresh ? cap : std::min(cap, std::max(m_settings.refreshAfterIterations, allowance));
         if (recent.ready())
         {
-            result = m_cg.solve(m_matrix, m_rhs, m_deltaV, recent, m_tolerance, firstTry);
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry);
             if (fresh)
             {
                 m_freshIterations = result.iterations;
             }
         }
-        if (!result.converged && result.iterations < cap && !fresh && recent.refresh(m_matrix))
+        if (!result.converged && result.iterations < cap && !fresh && recent.refresh(m_matrix.matrix()))
         {
             const int used = result.iterations;
-            result = m_cg.solve(m_matrix, m_rhs, m_deltaV, recent, m_tolerance, cap - used);
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, cap - used);
             m_freshIterations = result.iterations;
             result.iterations += used;
         }
         if (!recent.ready()) // not positive definite to the factorisation: fall back to the diagonal
         {
             const int used = result.iterations;
-            m_jacobi.refresh(m_matrix);
-            result = m_cg.solve(m_matrix, m_rhs, m_deltaV, m_jacobi, m_tolerance, cap - used);
+            m_jacobi.refresh(m_matrix.matrix());
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_jacobi, m_tolerance, cap - used);
             result.iterations += used;
         }
     }
@@ -201,79 +201,29 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
 {
     const std::size_t n = system.massCount();
     const SpringSet& springs = system.springs;
-    const Eigen::Index size = Eigen::Index(3 * n);
-    if (size > Eigen::Index(std::numeric_limits<StorageIndex>::max() / 4))
+    if (n > SlotMatrix<3>::maxMasses())
     {
-        throw InputError("integrator: the sheet is too large for the implicit solver's sparse matrix");
+        throw InputError("the sheet's " + std::to_string(n) +
+                         " masses are too many for the implicit solver's sparse matrix (at most " +
+                         std::to_string(SlotMatrix<3>::maxMasses()) + "); use an explicit integrator");
     }
-    std::vector<Eigen::Triplet<Real, StorageIndex>> triplets;
-    triplets.reserve(9 * (n + 2 * springs.size()));
-    auto addBlock = [&](std::size_t row, std::size_t column)
-    {
-        for (int c = 0; c < 3; ++c)
-        {
-            for (int r = 0; r < 3; ++r)
-            {
-                triplets.emplace_back(StorageIndex(3 * row) + r, StorageIndex(3 * column) + c, Real(0));
-            }
-        }
-    };
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        addBlock(i, i);
-    }
-    for (const SpringEnds& e : springs.ends())
-    {
-        addBlock(e.a, e.b);
-        addBlock(e.b, e.a);
-    }
-    m_matrix.resize(size, size);
-    m_matrix.setFromTriplets(triplets.begin(), triplets.end());
-    m_matrix.makeCompressed();
-
-    m_diagonalSlots.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        m_diagonalSlots[i] = findSlots(i, i);
-    }
-    m_abSlots.resize(springs.size());
-    m_baSlots.resize(springs.size());
-    for (std::size_t s = 0; s < springs.size(); ++s)
-    {
-        m_abSlots[s] = findSlots(springs.ends()[s].a, springs.ends()[s].b);
-        m_baSlots[s] = findSlots(springs.ends()[s].b, springs.ends()[s].a);
-    }
+    m_matrix.build(n, springs.ends());
+    const Eigen::Index size = m_matrix.matrix().rows();
     m_rhs.setZero(size);
     m_deltaV.setZero(size);
     m_constraintOf.assign(n, -1);
     if (m_settings.preconditioner == PreconditionerKind::Cholesky)
     {
-        m_cholesky.analyse(m_matrix,
+        m_cholesky.analyse(m_matrix.matrix(),
                            nestedDissection(system.particles.position, springs, CholeskyPreconditioner::parallelDepth));
     }
     else if (m_settings.preconditioner == PreconditionerKind::Multigrid)
     {
-        m_multigrid.analyse(m_matrix, springs, n);
+        m_multigrid.analyse(m_matrix.matrix(), springs, n);
     }
     m_patternSystem = &system;
     m_patternMasses = n;
     m_patternSprings = springs.size();
-}
-
-ImplicitSolve::BlockSlots ImplicitSolve::findSlots(std::size_t row, std::size_t column) const
-{
-    BlockSlots slots{};
-    const StorageIndex* outer = m_matrix.outerIndexPtr();
-    const StorageIndex* inner = m_matrix.innerIndexPtr();
-    for (int c = 0; c < 3; ++c)
-    {
-        const std::size_t col = 3 * column + std::size_t(c);
-        const StorageIndex* begin = inner + outer[col];
-        const StorageIndex* end = inner + outer[col + 1];
-        const StorageIndex* found = std::lower_bound(begin, end, StorageIndex(3 * row));
-        slots[std::size_t(c)] = StorageIndex(found - inner);
-    }
-    return slots;
 }
 
 /// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.
@@ -293,44 +243,6 @@ void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
         c.reaction = c.honoured() && c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
                          ? m_reaction[std::size_t(m_constraintOf[c.mass])]
                          : Vec3::Zero();
-    }
-}
-
-Mat3 ImplicitSolve::readBlock(const BlockSlots& slots) const
-{
-    const Real* values = m_matrix.valuePtr();
-    Mat3 block;
-    for (int c = 0; c < 3; ++c)
-    {
-        const Real* column = values + slots[std::size_t(c)];
-        block(0, c) = column[0];
-        block(1, c) = column[1];
-        block(2, c) = column[2];
-    }
-    return block;
-}
-
-void ImplicitSolve::writeBlock(const BlockSlots& slots, const Mat3& block)
-{
-    Real* values = m_matrix.valuePtr();
-    for (int c = 0; c < 3; ++c)
-    {
-        Real* column = values + slots[std::size_t(c)];
-        column[0] = block(0, c);
-        column[1] = block(1, c);
-        column[2] = block(2, c);
-    }
-}
-
-void ImplicitSolve::addToBlock(const BlockSlots& slots, const Mat3& block)
-{
-    Real* values = m_matrix.valuePtr();
-    for (int c = 0; c < 3; ++c)
-    {
-        Real* column = values + slots[std::size_t(c)];
-        column[0] += block(0, c);
-        column[1] += block(1, c);
-        column[2] += block(2, c);
     }
 }
 
@@ -393,7 +305,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
             continue;
         }
         const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
-        addToBlock(m_diagonalSlots[c.mass], (a * c.tangentialDamping) * tangential);
+        m_matrix.add(m_matrix.diagonal(c.mass), (a * c.tangentialDamping) * tangential);
         m_rhs.segment<3>(Eigen::Index(3 * c.mass)) -=
             (a * c.tangentialDamping) * (tangential * (p.velocity[c.mass] - c.velocity));
     }
@@ -416,7 +328,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
     {
         const Index i = m_constrainedMasses[k];
-        m_rowDiagonal[k] = readBlock(m_diagonalSlots[i]);
+        m_rowDiagonal[k] = m_matrix.read(m_matrix.diagonal(i));
         m_rowRhs[k] = m_rhs.segment<3>(Eigen::Index(3 * i));
     }
     const SpringSet& springs = system.springs;
@@ -426,11 +338,11 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         const Index eb = springs.ends()[s].b;
         if (m_constraintOf[ea] >= 0)
         {
-            m_rowNeighbours.push_back({std::size_t(m_constraintOf[ea]), eb, readBlock(m_abSlots[s])});
+            m_rowNeighbours.push_back({std::size_t(m_constraintOf[ea]), eb, m_matrix.read(m_matrix.ab(s))});
         }
         if (m_constraintOf[eb] >= 0)
         {
-            m_rowNeighbours.push_back({std::size_t(m_constraintOf[eb]), ea, readBlock(m_baSlots[s])});
+            m_rowNeighbours.push_back({std::size_t(m_constraintOf[eb]), ea, m_matrix.read(m_matrix.ba(s))});
         }
     }
 
@@ -438,7 +350,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
     {
         const Index i = m_constrainedMasses[k];
-        m_rhs.segment<3>(Eigen::Index(3 * i)) -= readBlock(m_diagonalSlots[i]) * m_prescribed[k];
+        m_rhs.segment<3>(Eigen::Index(3 * i)) -= m_matrix.read(m_matrix.diagonal(i)) * m_prescribed[k];
     }
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
@@ -446,11 +358,11 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         const Index eb = springs.ends()[s].b;
         if (m_constraintOf[eb] >= 0)
         {
-            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= readBlock(m_abSlots[s]) * changeOf(eb);
+            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= m_matrix.read(m_matrix.ab(s)) * changeOf(eb);
         }
         if (m_constraintOf[ea] >= 0)
         {
-            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= readBlock(m_baSlots[s]) * changeOf(ea);
+            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= m_matrix.read(m_matrix.ba(s)) * changeOf(ea);
         }
     }
     // Filter: rows and columns of constrained masses.
@@ -464,14 +376,15 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         }
         const Mat3 sa = filterA ? *filterA : Mat3::Identity();
         const Mat3 sb = filterB ? *filterB : Mat3::Identity();
-        writeBlock(m_abSlots[s], sa * readBlock(m_abSlots[s]) * sb);
-        writeBlock(m_baSlots[s], sb * readBlock(m_baSlots[s]) * sa);
+        m_matrix.write(m_matrix.ab(s), sa * m_matrix.read(m_matrix.ab(s)) * sb);
+        m_matrix.write(m_matrix.ba(s), sb * m_matrix.read(m_matrix.ba(s)) * sa);
     }
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
     {
         const Index i = m_constrainedMasses[k];
         const Mat3& filter = m_filters[k];
-        writeBlock(m_diagonalSlots[i], filter * readBlock(m_diagonalSlots[i]) * filter + (Mat3::Identity() - filter));
+        m_matrix.write(m_matrix.diagonal(i),
+                       filter * m_matrix.read(m_matrix.diagonal(i)) * filter + (Mat3::Identity() - filter));
         m_rhs.segment<3>(Eigen::Index(3 * i)) = filter * m_rhs.segment<3>(Eigen::Index(3 * i));
     }
     return true;
@@ -485,7 +398,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
     const std::size_t n = p.size();
     const Real a2 = a * a;
     const bool hasOffset = !offset.empty();
-    std::fill(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros(), Real(0));
+    m_matrix.setZero();
 
     for (std::size_t i = 0; i < n; ++i)
     {
@@ -497,7 +410,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
         if (!p.pinned[i])
         {
             const Real diagonal = p.mass[i] * (Real(1) + a * system.forces.airDamping);
-            addToBlock(m_diagonalSlots[i], diagonal * Mat3::Identity());
+            m_matrix.add(m_matrix.diagonal(i), diagonal * Mat3::Identity());
         }
     }
 
@@ -537,18 +450,18 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
         const bool freeB = !p.pinned[eb];
         if (freeA)
         {
-            addToBlock(m_diagonalSlots[ea], block);
+            m_matrix.add(m_matrix.diagonal(ea), block);
             m_rhs.segment<3>(Eigen::Index(3 * ea)) -= kv;
         }
         if (freeB)
         {
-            addToBlock(m_diagonalSlots[eb], block);
+            m_matrix.add(m_matrix.diagonal(eb), block);
             m_rhs.segment<3>(Eigen::Index(3 * eb)) += kv;
         }
         if (freeA && freeB)
         {
-            addToBlock(m_abSlots[s], -block);
-            addToBlock(m_baSlots[s], -block);
+            m_matrix.add(m_matrix.ab(s), -block);
+            m_matrix.add(m_matrix.ba(s), -block);
         }
     }
 
@@ -562,7 +475,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
         const UserSpringForce f = evaluateUserSpring(spring, p.position[i], p.velocity[i]);
         const Real scale = spring.stiffness > 0 ? f.effectiveStiffness / spring.stiffness : Real(1);
         const Real diagonal = a * spring.damping * scale + a2 * f.effectiveStiffness;
-        addToBlock(m_diagonalSlots[i], diagonal * Mat3::Identity());
+        m_matrix.add(m_matrix.diagonal(i), diagonal * Mat3::Identity());
         Vec3 move = a * (p.velocity[i] - spring.targetVelocity);
         if (hasOffset)
         {
@@ -575,7 +488,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
     {
         if (p.pinned[i])
         {
-            addToBlock(m_diagonalSlots[i], Mat3::Identity());
+            m_matrix.add(m_matrix.diagonal(i), Mat3::Identity());
             m_rhs.segment<3>(Eigen::Index(3 * i)).setZero();
         }
     }

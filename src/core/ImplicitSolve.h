@@ -21,15 +21,15 @@
 /// changes at most twice, and a frame without arrivals takes one solve. After maxSpeculativeRounds solves the last is
 /// kept, and the contact's projection deals with what is left. Backward Euler engages them; BDF2 does not (Bdf2.cpp).
 ///
-/// The sparsity pattern is built once per topology; each step only rewrites values, through slots recorded per
-/// spring (the index of each 3x3 block's columns in Eigen's value array), and every work array keeps its capacity,
-/// so a step allocates nothing once the first has run.
+/// The matrix is a SlotMatrix of 3x3 blocks, its pattern built once per topology; each step only rewrites values
+/// through its slots, and every work array keeps its capacity, so a step allocates nothing once the first has run.
 
 #include "CholeskyPreconditioner.h"
 #include "ConjugateGradient.h"
 #include "Integrator.h"
 #include "JacobiPreconditioner.h"
 #include "MultigridPreconditioner.h"
+#include "SlotMatrix.h"
 
 #include <array>
 #include <vector>
@@ -68,12 +68,7 @@ public:
     bool constrained() const { return !m_constrainedMasses.empty(); }
 
 private:
-    using StorageIndex = SparseMatrix::StorageIndex;
-    /// For a 3x3 block: the value-array index of its top entry in each of its three columns (the rows below follow).
-    using BlockSlots = std::array<StorageIndex, 3>;
-
     void buildPattern(const MassSpringSystem& system);
-    BlockSlots findSlots(std::size_t row, std::size_t column) const;
     void assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
                   const std::vector<Vec3>& momentum);
     bool applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints, Real a);
@@ -92,19 +87,13 @@ private:
     /// slip was expected to be small (at rest, say) is held by friction of any strength once the rest of the sheet
     /// pulls it: the damping is a regularised Coulomb law only at the slip it was sized for.
     bool capFriction(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a);
-    Mat3 readBlock(const BlockSlots& slots) const;
-    void writeBlock(const BlockSlots& slots, const Mat3& block);
-    void addToBlock(const BlockSlots& slots, const Mat3& block);
 
     ImplicitSettings m_settings;
     bool m_speculative;
     bool m_coulombCap;
 
     Real m_tolerance = 0; ///< of the current solve
-    SparseMatrix m_matrix;
-    std::vector<BlockSlots> m_diagonalSlots;
-    std::vector<BlockSlots> m_abSlots;
-    std::vector<BlockSlots> m_baSlots;
+    SlotMatrix<3> m_matrix;
     Vector m_rhs;
     Vector m_deltaV;
     ConjugateGradient m_cg;

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
-#include <limits>
 
 namespace masse
 {
@@ -45,7 +44,7 @@ void parseSize(std::string_view text, LatticeSpec& spec)
         {
             if (pos >= text.size() || (text[pos] != 'x' && text[pos] != 'X'))
             {
-                throw InputError("size: expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
+                throw InputError("size", "expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
             }
             ++pos;
         }
@@ -54,13 +53,13 @@ void parseSize(std::string_view text, LatticeSpec& spec)
         auto [end, error] = std::from_chars(first, last, values[part]);
         if (error != std::errc() || end == first)
         {
-            throw InputError("size: expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
+            throw InputError("size", "expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
         }
         pos = std::size_t(end - text.data());
     }
     if (pos != text.size())
     {
-        throw InputError("size: expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
+        throw InputError("size", "expected NxLxN, e.g. 8x2x8 (got '" + std::string(text) + "')");
     }
     spec.countX = values[0];
     spec.layers = values[1];
@@ -75,39 +74,40 @@ void validate(const LatticeSpec& spec)
     {
         if (spec.layers != 1)
         {
-            throw InputError("size: square2d has exactly 1 layer (got " + sizeText + ", use Nx1xN)");
+            throw InputError("size", "square2d has exactly 1 layer (got " + sizeText + ", use Nx1xN)");
         }
     }
     else if (spec.layers < 2 || spec.layers > maxLayers)
     {
-        throw InputError("size: " + std::string(structureName(spec.structure)) + " needs 2 to " +
-                         std::to_string(maxLayers) + " layers (got " + sizeText + ")");
+        throw InputError("size", std::string(structureName(spec.structure)) + " needs 2 to " +
+                                     std::to_string(maxLayers) + " layers (got " + sizeText + ")");
     }
     // Layer l has N - l masses per side: the top layer (l = L - 1) needs at least one, the bottom at least two.
     const int minCount = std::max(2, spec.layers);
     if (spec.countX < minCount || spec.countZ < minCount)
     {
-        throw InputError("size: expected NxLxN with N >= " + std::to_string(minCount) + " for " +
-                         std::to_string(spec.layers) + " layer(s) (got " + sizeText + ")");
+        throw InputError("size", "expected NxLxN with N >= " + std::to_string(minCount) + " for " +
+                                     std::to_string(spec.layers) + " layer(s) (got " + sizeText + ")");
     }
     if (spec.countX > maxCount || spec.countZ > maxCount)
     {
-        throw InputError("size: N must be <= " + std::to_string(maxCount) + " (got " + sizeText + ")");
+        throw InputError("size", "N must be <= " + std::to_string(maxCount) + " (got " + sizeText + ")");
     }
     for (int axis = 0; axis < 3; ++axis)
     {
         if (!std::isfinite(spec.minCorner[axis]) || !std::isfinite(spec.maxCorner[axis]))
         {
-            throw InputError("extents: corners must be finite numbers");
+            throw InputError(std::isfinite(spec.minCorner[axis]) ? "maxCorner" : "minCorner", "must be finite numbers");
         }
     }
     if (!(spec.maxCorner.x() > spec.minCorner.x()) || !(spec.maxCorner.z() > spec.minCorner.z()))
     {
-        throw InputError("extents: max must exceed min along x and z");
+        throw InputError("maxCorner", "must exceed the min corner along x and z");
     }
     if (spec.layers > 1 && !(spec.maxCorner.y() > spec.minCorner.y()))
     {
-        throw InputError("extents: a multi-layer sheet needs max.y > min.y (the layers are stacked along y)");
+        throw InputError("maxCorner", "must exceed the min corner along y for a multi-layer sheet (the layers are "
+                                      "stacked along y)");
     }
 }
 
@@ -116,16 +116,6 @@ std::vector<Index> Lattice::bottomCorners() const
     const int lastRow = spec.countZ - 1;
     const int lastColumn = spec.countX - 1;
     return {index(0, 0, 0), index(0, 0, lastColumn), index(0, lastRow, 0), index(0, lastRow, lastColumn)};
-}
-
-Real Lattice::minRestLength() const
-{
-    Real shortest = std::numeric_limits<Real>::infinity();
-    for (Real length : springs.restLength())
-    {
-        shortest = std::min(shortest, length);
-    }
-    return shortest;
 }
 
 Lattice buildLattice(const LatticeSpec& spec)

@@ -74,8 +74,6 @@ struct Lattice
     }
     /// The four corner masses of the bottom layer: (row 0, col 0), (0, last), (last, 0), (last, last).
     std::vector<Index> bottomCorners() const;
-    /// Smallest rest length of any spring: the length scale for contact tolerances and stability.
-    Real minRestLength() const;
 };
 
 /// Builds the lattice for a valid spec (calls validate first).

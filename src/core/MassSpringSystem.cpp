@@ -9,32 +9,25 @@
 
 namespace masse
 {
-namespace
-{
-const char* springClassKey(int cls)
-{
-    return cls == int(SpringClass::Planar) ? "planar" : "inter_layer";
-}
-} // namespace
-
 void validate(const SheetParams& params)
 {
     if (!(params.massPerMass > 0) || !std::isfinite(params.massPerMass))
     {
-        throw InputError("mass: must be a positive number of kg (got " + formatNumber(params.massPerMass) + ")");
+        throw InputError("massPerMass",
+                         "must be a positive number of kg (got " + formatNumber(params.massPerMass) + ")");
     }
     for (int cls = 0; cls < springClassCount; ++cls)
     {
         const SpringClassParams& p = params.springClasses[std::size_t(cls)];
+        const std::string field = "springClasses[" + std::to_string(cls) + "]";
         if (!(p.stiffness > 0) || !std::isfinite(p.stiffness))
         {
-            throw InputError(std::string("stiffness.") + springClassKey(cls) +
-                             ": must be a positive number of N/m (got " + formatNumber(p.stiffness) + ")");
+            throw InputError(field + ".stiffness",
+                             "must be a positive number of N/m (got " + formatNumber(p.stiffness) + ")");
         }
         if (!(p.dampingRatio >= 0) || !std::isfinite(p.dampingRatio))
         {
-            throw InputError(std::string("damping.") + springClassKey(cls) + ": damping ratio must be >= 0 (got " +
-                             formatNumber(p.dampingRatio) + ")");
+            throw InputError(field + ".dampingRatio", "must be >= 0 (got " + formatNumber(p.dampingRatio) + ")");
         }
     }
 }

@@ -11,32 +11,37 @@ namespace masse
 {
 namespace
 {
-void requirePositive(Real value, const char* key, const char* unit)
+void requirePositive(Real value, const char* field, const char* unit)
 {
     if (!(value > 0) || !std::isfinite(value))
     {
-        throw InputError(std::string(key) + ": must be a positive number" + (*unit ? std::string(" of ") + unit : "") +
-                         " (got " + formatNumber(value) + ")");
+        throw InputError(field, std::string("must be a positive number") + (*unit ? std::string(" of ") + unit : "") +
+                                    " (got " + formatNumber(value) + ")");
     }
 }
 
-/// Temperatures are named by their material-file keys, which are in celsius.
-void requireTemperature(Real kelvin, const char* key)
+/// Temperatures are shown in celsius as well as kelvin: materials are described in celsius.
+std::string temperatureText(Real kelvin)
+{
+    return formatNumber(kelvinToCelsius(kelvin)) + " C";
+}
+
+void requireTemperature(Real kelvin, const char* field)
 {
     if (!(kelvin > 0) || !std::isfinite(kelvin))
     {
-        throw InputError(std::string(key) + ": must be a finite temperature above absolute zero (got " +
-                         formatNumber(kelvinToCelsius(kelvin)) + " C)");
+        throw InputError(field,
+                         "must be a finite temperature above absolute zero (got " + temperatureText(kelvin) + ")");
     }
 }
 
-void requireBelow(Real lowKelvin, const char* lowKey, Real highKelvin, const char* highKey, const char* why)
+/// `high` names the other temperature in words, for a reader who knows the material but not this struct.
+void requireBelow(Real lowKelvin, const char* lowField, Real highKelvin, const char* high, const char* why)
 {
     if (!(lowKelvin < highKelvin))
     {
-        throw InputError(std::string(lowKey) + ": must be below " + highKey + " (" + why + "; got " +
-                         formatNumber(kelvinToCelsius(lowKelvin)) + " C and " +
-                         formatNumber(kelvinToCelsius(highKelvin)) + " C)");
+        throw InputError(lowField, std::string("must be below the ") + high + " (" + why + "; got " +
+                                       temperatureText(lowKelvin) + " and " + temperatureText(highKelvin) + ")");
     }
 }
 } // namespace
@@ -44,52 +49,52 @@ void requireBelow(Real lowKelvin, const char* lowKey, Real highKelvin, const cha
 void validate(const Material& m)
 {
     requirePositive(m.density, "density", "kg/m^3");
-    requirePositive(m.specificHeat, "specific_heat", "J/(kg K)");
+    requirePositive(m.specificHeat, "specificHeat", "J/(kg K)");
     requirePositive(m.conductivity, "conductivity", "W/(m K)");
-    requireTemperature(m.glassTransition, "glass_transition_c");
-    requireTemperature(m.transitionTemperature, "transition_c");
-    requireTemperature(m.upperTemperature, "upper_c");
-    requireBelow(m.glassTransition, "glass_transition_c", m.upperTemperature, "upper_c",
+    requireTemperature(m.glassTransition, "glassTransition");
+    requireTemperature(m.transitionTemperature, "transitionTemperature");
+    requireTemperature(m.upperTemperature, "upperTemperature");
+    requireBelow(m.glassTransition, "glassTransition", m.upperTemperature, "upper temperature",
                  "the glass transition must lie inside the model's range");
     if (m.transitionTemperature < m.glassTransition)
     {
-        throw InputError("transition_c: must be at or above glass_transition_c (got " +
-                         formatNumber(kelvinToCelsius(m.transitionTemperature)) + " C and " +
-                         formatNumber(kelvinToCelsius(m.glassTransition)) + " C)");
+        throw InputError("transitionTemperature", "must be at or above the glass transition (got " +
+                                                      temperatureText(m.transitionTemperature) + " and " +
+                                                      temperatureText(m.glassTransition) + ")");
     }
-    requireBelow(m.transitionTemperature, "transition_c", m.upperTemperature, "upper_c",
+    requireBelow(m.transitionTemperature, "transitionTemperature", m.upperTemperature, "upper temperature",
                  "flow must start inside the model's range");
-    requirePositive(m.rubberyModulus, "rubbery_modulus", "Pa");
-    requirePositive(m.glassyModulus, "glassy_modulus", "Pa");
+    requirePositive(m.rubberyModulus, "rubberyModulus", "Pa");
+    requirePositive(m.glassyModulus, "glassyModulus", "Pa");
     if (!(m.glassyModulus > m.rubberyModulus))
     {
-        throw InputError("glassy_modulus: must exceed rubbery_modulus (got " + formatNumber(m.glassyModulus) +
-                         " Pa and " + formatNumber(m.rubberyModulus) + " Pa)");
+        throw InputError("glassyModulus", "must exceed the rubbery modulus (got " + formatNumber(m.glassyModulus) +
+                                              " Pa and " + formatNumber(m.rubberyModulus) + " Pa)");
     }
-    requirePositive(m.transitionWidth, "transition_width", "K");
-    requirePositive(m.wlfC1, "wlf_c1", "");
-    requirePositive(m.wlfC2, "wlf_c2", "K");
-    requirePositive(m.viscosityAtTransition, "viscosity_at_transition", "Pa s");
+    requirePositive(m.transitionWidth, "transitionWidth", "K");
+    requirePositive(m.wlfC1, "wlfC1", "");
+    requirePositive(m.wlfC2, "wlfC2", "K");
+    requirePositive(m.viscosityAtTransition, "viscosityAtTransition", "Pa s");
     if (!(m.solidActivationEnergy >= 0) || !std::isfinite(m.solidActivationEnergy))
     {
-        throw InputError("solid_activation_energy: must be >= 0 J/mol (got " + formatNumber(m.solidActivationEnergy) +
-                         ")");
+        throw InputError("solidActivationEnergy",
+                         "must be >= 0 J/mol (got " + formatNumber(m.solidActivationEnergy) + ")");
     }
-    requirePositive(m.kelvinModulusRatio, "kelvin_modulus_ratio", "");
-    requirePositive(m.kelvinViscosityRatio, "kelvin_viscosity_ratio", "");
+    requirePositive(m.kelvinModulusRatio, "kelvinModulusRatio", "");
+    requirePositive(m.kelvinViscosityRatio, "kelvinViscosityRatio", "");
 
     const FormingWindow& f = m.forming;
-    requireTemperature(f.set, "forming_window.set_c");
-    requireTemperature(f.lower, "forming_window.lower_c");
-    requireTemperature(f.normal, "forming_window.normal_c");
-    requireTemperature(f.upper, "forming_window.upper_c");
-    requireBelow(f.set, "forming_window.set_c", f.lower, "forming_window.lower_c",
+    requireTemperature(f.set, "forming.set");
+    requireTemperature(f.lower, "forming.lower");
+    requireTemperature(f.normal, "forming.normal");
+    requireTemperature(f.upper, "forming.upper");
+    requireBelow(f.set, "forming.set", f.lower, "lower forming temperature",
                  "a part must set below the forming temperatures");
     if (!(f.lower <= f.normal && f.normal <= f.upper))
     {
-        throw InputError("forming_window.normal_c: must lie between lower_c and upper_c (got " +
-                         formatNumber(kelvinToCelsius(f.lower)) + ", " + formatNumber(kelvinToCelsius(f.normal)) +
-                         ", " + formatNumber(kelvinToCelsius(f.upper)) + " C)");
+        throw InputError("forming.normal", "must lie between the lower and the upper forming temperature (got " +
+                                               temperatureText(f.lower) + ", " + temperatureText(f.normal) + ", " +
+                                               temperatureText(f.upper) + ")");
     }
 }
 

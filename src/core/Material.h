@@ -85,8 +85,8 @@ Real activationEnergyBelowTransition(const Material& material);
 /// Largest |log10 a_T| the shift reaches: a viscosity of 1e30 times eta(Tt) is solid for any simulated time.
 inline constexpr Real maxLog10Shift = 30;
 
-/// Throws InputError naming the first bad field by its material-file key (e.g. "conductivity: must be > 0 W/(m K)
-/// (got -0.1)", "glass_transition_c: must be below upper_c ...").
+/// Throws InputError naming the first bad field as this struct names it (e.g. "conductivity: must be a positive
+/// number of W/(m K) (got -0.1)", "glassTransition: must be below the upper temperature ...", "forming.lower: ...").
 void validate(const Material& material);
 
 /// Young's modulus E(T) in Pa.

@@ -1,6 +1,7 @@
 #include "MaterialSheet.h"
 
 #include "Damping.h"
+#include "Format.h"
 #include "InputError.h"
 #include "Thickness.h"
 
@@ -15,11 +16,11 @@ MassSpringSystem makeMaterialSheet(const Lattice& lattice, const Material& mater
     validate(material);
     if (!(temperature > 0) || !std::isfinite(temperature))
     {
-        throw InputError("temperature: must be above absolute zero (got " + std::to_string(temperature) + " K)");
+        throw InputError("temperature", "must be above absolute zero (got " + formatNumber(temperature) + " K)");
     }
     if (!(dampingRatio >= 0 && dampingRatio <= 1))
     {
-        throw InputError("damping_ratio: must be in [0, 1] (got " + std::to_string(dampingRatio) + ")");
+        throw InputError("dampingRatio", "must be in [0, 1] (got " + formatNumber(dampingRatio) + ")");
     }
     const SheetThickness geometry(lattice, thickness);
     const std::vector<Real> perModulus = stiffnessPerModulus(lattice, thickness, interLayerRatio);

@@ -1,5 +1,6 @@
 #include "MembraneStiffness.h"
 
+#include "Format.h"
 #include "InputError.h"
 
 #include <cmath>
@@ -11,11 +12,11 @@ std::vector<Real> stiffnessPerModulus(const Lattice& lattice, Real thickness, Re
 {
     if (!(thickness > 0) || !std::isfinite(thickness))
     {
-        throw InputError("thickness: must be a positive number of m (got " + std::to_string(thickness) + ")");
+        throw InputError("thickness", "must be a positive number of m (got " + formatNumber(thickness) + ")");
     }
     if (!(interLayerRatio > 0) || !std::isfinite(interLayerRatio))
     {
-        throw InputError("inter_layer_ratio: must be a positive number (got " + std::to_string(interLayerRatio) + ")");
+        throw InputError("interLayerRatio", "must be a positive number (got " + formatNumber(interLayerRatio) + ")");
     }
     const Real layerThickness = thickness / Real(lattice.spec.layers);
     const Real shape = lattice.spec.structure == Structure::TRiMM ? std::sqrt(Real(3)) / Real(2) : Real(1);

@@ -17,9 +17,10 @@ template <typename Enum> struct EnumName
     std::string_view name;
 };
 
-/// The value named `name` (any case); throws InputError "<key>: unknown <what> '<name>' (expected one of a, b, c)".
+/// The value named `name` (any case); throws InputError for `field` (the setting the name is for, in the caller's
+/// terms): "<field>: unknown <what> '<name>' (expected one of a, b, c)".
 template <typename Enum, std::size_t N>
-Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view key, std::string_view what)
+Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view field, std::string_view what)
 {
     std::string lower(name);
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -32,8 +33,8 @@ Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::str
         }
         list += (list.empty() ? "" : ", ") + std::string(entry.name);
     }
-    throw InputError(std::string(key) + ": unknown " + std::string(what) + " '" + std::string(name) +
-                     "' (expected one of " + list + ")");
+    throw InputError(std::string(field),
+                     "unknown " + std::string(what) + " '" + std::string(name) + "' (expected one of " + list + ")");
 }
 
 template <typename Enum, std::size_t N> std::string_view enumName(const EnumName<Enum> (&names)[N], Enum value)

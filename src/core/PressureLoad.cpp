@@ -1,5 +1,6 @@
 #include "PressureLoad.h"
 
+#include "Format.h"
 #include "InputError.h"
 
 #include <cmath>
@@ -11,19 +12,19 @@ PressureSchedule::PressureSchedule(std::vector<PressureKey> keys) : m_keys(std::
 {
     for (std::size_t k = 0; k < m_keys.size(); ++k)
     {
-        const std::string where = "[" + std::to_string(k) + "]";
+        const std::string key = "keys[" + std::to_string(k) + "]";
         if (!std::isfinite(m_keys[k].time) || m_keys[k].time < 0)
         {
-            throw InputError(where + ".time: must be a finite number of seconds >= 0");
+            throw InputError(key + ".time", "must be a finite number of seconds >= 0");
         }
         if (!std::isfinite(m_keys[k].pressure))
         {
-            throw InputError(where + ".pressure: must be a finite number of Pa");
+            throw InputError(key + ".pressure", "must be a finite number of Pa");
         }
         if (k > 0 && !(m_keys[k].time > m_keys[k - 1].time))
         {
-            throw InputError(where + ".time: the keys must be in increasing time (" + std::to_string(m_keys[k].time) +
-                             " s follows " + std::to_string(m_keys[k - 1].time) + " s)");
+            throw InputError(key + ".time", "the keys must be in increasing time (" + formatNumber(m_keys[k].time) +
+                                                " s follows " + formatNumber(m_keys[k - 1].time) + " s)");
         }
     }
 }

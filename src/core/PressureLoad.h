@@ -44,7 +44,7 @@ class PressureSchedule
 {
 public:
     PressureSchedule() = default;
-    /// Throws InputError naming the key ("[2].time") when times do not increase or a value is not finite.
+    /// Throws InputError naming the key's field ("keys[2].time") when times do not increase or a value is not finite.
     explicit PressureSchedule(std::vector<PressureKey> keys);
     Real at(Real time) const;
     const std::vector<PressureKey>& keys() const { return m_keys; }

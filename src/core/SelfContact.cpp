@@ -21,12 +21,11 @@ void validate(const SelfContactSettings& settings)
 {
     if (!(settings.radius > 0) || !std::isfinite(settings.radius))
     {
-        throw InputError("contact.radius: must be a positive number of metres (got " + formatNumber(settings.radius) +
-                         ")");
+        throw InputError("radius", "must be a positive number of metres (got " + formatNumber(settings.radius) + ")");
     }
     if (!(settings.friction >= 0) || !std::isfinite(settings.friction))
     {
-        throw InputError("contact.self_friction: must be >= 0 (got " + formatNumber(settings.friction) + ")");
+        throw InputError("friction", "must be >= 0 (got " + formatNumber(settings.friction) + ")");
     }
 }
 

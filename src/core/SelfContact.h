@@ -42,7 +42,7 @@ struct SelfContactSettings
     Real friction = 0.3; ///< Coulomb coefficient mu between sheet and sheet
 };
 
-/// Throws InputError naming contact.radius or contact.self_friction when a value is out of range.
+/// Throws InputError naming the field (radius, friction) when a value is out of range.
 void validate(const SelfContactSettings& settings);
 
 /// What the self-contact did.

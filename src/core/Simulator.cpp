@@ -38,7 +38,7 @@ int Simulator::substepsFor(Real dt) const
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("dt: must be a positive number of seconds (got " + formatNumber(dt) + ")");
+        throw InputError("dt", "must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     const StabilityEstimate& estimate = stability();
     if (!std::isfinite(estimate.stableStep))
@@ -49,10 +49,11 @@ int Simulator::substepsFor(Real dt) const
     if (needed > Real(m_settings.maxSubsteps))
     {
         // formatNumber, not llround or std::to_string: a count past 2^63 or a step below 1e-6 s stays readable.
-        throw InputError("dt: the " + std::string(integratorName(m_settings.integrator)) + " integrator needs " +
-                         formatNumber(needed) + " substeps of at most " + formatNumber(estimate.stableStep) +
-                         " s for dt = " + formatNumber(dt) + " s, over the limit of " +
-                         std::to_string(m_settings.maxSubsteps) + "; use the implicit integrator or softer springs");
+        throw InputError("dt", "the " + std::string(integratorName(m_settings.integrator)) + " integrator needs " +
+                                   formatNumber(needed) + " substeps of at most " + formatNumber(estimate.stableStep) +
+                                   " s for dt = " + formatNumber(dt) + " s, over the limit of " +
+                                   std::to_string(m_settings.maxSubsteps) +
+                                   "; use the implicit integrator or softer springs");
     }
     return std::max(1, int(needed));
 }

@@ -54,7 +54,6 @@ public:
     void setIntegrator(IntegratorKind kind);
     /// Contact with obstacles, applied after every substep; nullptr for none. The solver must outlive its use here.
     void setContactSolver(ContactSolver* contact) { m_contact = contact; }
-    ContactSolver* contactSolver() { return m_contact; }
     /// Models advanced with the mechanics, in the order added (see StepHook.h). Each must outlive its use here.
     void addHook(StepHook* hook) { m_hooks.push_back(hook); }
     Real time() const { return m_time; }

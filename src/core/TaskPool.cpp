@@ -224,8 +224,8 @@ void setThreadCount(int threads)
 {
     if (threads < 1 || threads > 1024)
     {
-        throw InputError("--threads: must be a whole number of threads from 1 to 1024 (got " + std::to_string(threads) +
-                         ")");
+        throw InputError("threads",
+                         "must be a whole number of threads from 1 to 1024 (got " + std::to_string(threads) + ")");
     }
     const std::lock_guard lock(sharedPoolMutex());
     std::unique_ptr<TaskPool>& pool = sharedPoolSlot();

@@ -62,7 +62,8 @@ private:
 
 /// Threads the kernels use: set by `--threads`, else $MASSE_THREADS, else every core.
 int threadCount();
-/// Replaces the shared pool by one of `threads` threads (>= 1). Call between steps, never from inside a kernel.
+/// Replaces the shared pool by one of `threads` threads (>= 1; throws InputError for field "threads" otherwise). Call
+/// between steps, never from inside a kernel.
 void setThreadCount(int threads);
 /// $MASSE_THREADS if set (throws InputError naming it when it is not a positive integer), else the core count.
 int defaultThreadCount();

@@ -34,44 +34,56 @@ Real cotangent(const Vec3& o, const Vec3& a, const Vec3& b)
 
 void validate(const ThermalSettings& s)
 {
-    auto temperature = [](Real kelvin, const char* key)
+    auto temperature = [](Real kelvin, const char* field)
     {
         if (!(kelvin > 0) || !std::isfinite(kelvin))
         {
-            throw InputError(std::string(key) + ": must be above absolute zero (got " + formatNumber(kelvin - 273.15) +
-                             " C)");
+            throw InputError(field, "must be above absolute zero (got " + formatNumber(kelvin) + " K, " +
+                                        formatNumber(kelvin - 273.15) + " C)");
         }
     };
-    temperature(s.initialTemperature, "initial_temperature_c");
-    temperature(s.airTemperature, "air_temperature_c");
+    temperature(s.initialTemperature, "initialTemperature");
+    temperature(s.airTemperature, "airTemperature");
     if (!(s.airHeatTransfer >= 0) || !std::isfinite(s.airHeatTransfer))
     {
-        throw InputError("air_heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(s.airHeatTransfer) + ")");
+        throw InputError("airHeatTransfer", "must be >= 0 W/(m^2 K) (got " + formatNumber(s.airHeatTransfer) + ")");
     }
     if (!(s.absorptivity >= 0 && s.absorptivity <= 1))
     {
-        throw InputError("absorptivity: must be in [0, 1] (got " + formatNumber(s.absorptivity) + ")");
+        throw InputError("absorptivity", "must be in [0, 1] (got " + formatNumber(s.absorptivity) + ")");
     }
     if (!(s.contactHeatTransfer >= 0) || !std::isfinite(s.contactHeatTransfer))
     {
-        throw InputError("contact_heat_transfer: must be >= 0 W/(m^2 K) (got " + formatNumber(s.contactHeatTransfer) +
-                         ")");
+        throw InputError("contactHeatTransfer",
+                         "must be >= 0 W/(m^2 K) (got " + formatNumber(s.contactHeatTransfer) + ")");
     }
     if (!(s.solverTolerance > 0 && s.solverTolerance <= 1e-3))
     {
-        throw InputError("solver_tolerance: must be in (0, 1e-3] (got " + formatNumber(s.solverTolerance) + ")");
+        throw InputError("solverTolerance", "must be in (0, 1e-3] (got " + formatNumber(s.solverTolerance) + ")");
     }
     if (s.maxIterations < 1)
     {
-        throw InputError("max_iterations: must be >= 1 (got " + std::to_string(s.maxIterations) + ")");
+        throw InputError("maxIterations", "must be >= 1 (got " + std::to_string(s.maxIterations) + ")");
     }
+    // A heater's or zone's own field, under its place in the list: "heaters[1].power".
+    auto element = [](const char* list, std::size_t k, auto&& check)
+    {
+        try
+        {
+            check();
+        }
+        catch (const InputError& e)
+        {
+            throw InputError(std::string(list) + "[" + std::to_string(k) + "]." + e.field(), e.problem());
+        }
+    };
     for (std::size_t k = 0; k < s.heaters.size(); ++k)
     {
-        validate(s.heaters[k], "heaters[" + std::to_string(k) + "]");
+        element("heaters", k, [&] { validate(s.heaters[k]); });
     }
     for (std::size_t k = 0; k < s.hotAirZones.size(); ++k)
     {
-        validate(s.hotAirZones[k], "hot_air_zones[" + std::to_string(k) + "]");
+        element("hotAirZones", k, [&] { validate(s.hotAirZones[k]); });
     }
 }
 
@@ -172,40 +184,7 @@ void ThermalModel::computeWeights(const Lattice& lattice)
 void ThermalModel::buildPattern()
 {
     const std::size_t n = m_temperature.size();
-    std::vector<Eigen::Triplet<Real, StorageIndex>> triplets;
-    triplets.reserve(n + 2 * m_ends.size());
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        triplets.emplace_back(StorageIndex(i), StorageIndex(i), Real(0));
-    }
-    for (const SpringEnds& e : m_ends)
-    {
-        triplets.emplace_back(StorageIndex(e.a), StorageIndex(e.b), Real(0));
-        triplets.emplace_back(StorageIndex(e.b), StorageIndex(e.a), Real(0));
-    }
-    m_matrix.resize(Eigen::Index(n), Eigen::Index(n));
-    m_matrix.setFromTriplets(triplets.begin(), triplets.end());
-    m_matrix.makeCompressed();
-    auto slot = [&](Index row, Index column)
-    {
-        const StorageIndex* outer = m_matrix.outerIndexPtr();
-        const StorageIndex* inner = m_matrix.innerIndexPtr();
-        const StorageIndex* begin = inner + outer[column];
-        const StorageIndex* end = inner + outer[column + 1];
-        return StorageIndex(std::lower_bound(begin, end, StorageIndex(row)) - inner);
-    };
-    m_diagonalSlot.resize(n);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        m_diagonalSlot[i] = slot(Index(i), Index(i));
-    }
-    m_abSlot.resize(m_ends.size());
-    m_baSlot.resize(m_ends.size());
-    for (std::size_t s = 0; s < m_ends.size(); ++s)
-    {
-        m_abSlot[s] = slot(m_ends[s].a, m_ends[s].b);
-        m_baSlot[s] = slot(m_ends[s].b, m_ends[s].a);
-    }
+    m_matrix.build(n, m_ends);
     m_rhs.setZero(Eigen::Index(n));
     m_solution.setZero(Eigen::Index(n));
     m_conductance.assign(m_ends.size(), Real(0));
@@ -227,8 +206,8 @@ void ThermalModel::setObstacleTemperatures(std::vector<Real> obstacleTemperature
         }
         if (!(obstacleTemperature[k] > 0) || !std::isfinite(obstacleTemperature[k]))
         {
-            throw InputError("temperature of obstacle " + std::to_string(k) + ": must be above absolute zero (got " +
-                             formatNumber(obstacleTemperature[k] - 273.15) + " C)");
+            throw InputError("obstacleTemperature[" + std::to_string(k) + "]",
+                             "must be above absolute zero (got " + formatNumber(obstacleTemperature[k]) + " K)");
         }
     }
     m_obstacleTemperature = std::move(obstacleTemperature);
@@ -238,7 +217,7 @@ void ThermalModel::holdTemperature(Index mass, Real temperature)
 {
     if (!(temperature > 0) || !std::isfinite(temperature))
     {
-        throw InputError("held temperature: must be above absolute zero (got " + formatNumber(temperature) + " K)");
+        throw InputError("temperature", "must be above absolute zero (got " + formatNumber(temperature) + " K)");
     }
     m_held.at(mass) = 1;
     m_temperature[mass] = temperature;
@@ -288,14 +267,13 @@ void ThermalModel::advance(const MassSpringSystem& system, Real dt, std::span<co
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
-        throw InputError("thermal step: must be a positive number of seconds (got " + formatNumber(dt) + ")");
+        throw InputError("dt", "must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
     requireSizes(system, touchingObstacle);
     const std::vector<Vec3>& x = system.particles.position;
     m_geometry.update(x);
     computeConductances();
-    Real* values = m_matrix.valuePtr();
-    std::fill(values, values + m_matrix.nonZeros(), Real(0));
+    m_matrix.setZero();
     m_report = ThermalReport{};
     assembleExchanges(x, touchingObstacle, dt);
     assembleConduction();
@@ -357,7 +335,6 @@ void ThermalModel::assembleExchanges(const std::vector<Vec3>& x, std::span<const
     const std::size_t n = m_temperature.size();
     const std::vector<Real>& area = m_geometry.area();
     const std::vector<Vec3>& normal = m_geometry.normal();
-    Real* values = m_matrix.valuePtr();
     m_airCoefficient.assign(n, Real(0));
     m_airSource.assign(n, Real(0));
     m_contactCoefficient.assign(n, Real(0));
@@ -365,7 +342,7 @@ void ThermalModel::assembleExchanges(const std::vector<Vec3>& x, std::span<const
     for (std::size_t i = 0; i < n; ++i)
     {
         const Real diagonal = m_capacity[i] / dt;
-        values[m_diagonalSlot[i]] += diagonal;
+        m_matrix.value(m_matrix.diagonal(i)) += diagonal;
         m_rhs[Eigen::Index(i)] = diagonal * m_temperature[i];
         const int faceCount = ((m_faces[i] & bottomFace) ? 1 : 0) + ((m_faces[i] & topFace) ? 1 : 0);
         if (faceCount > 0)
@@ -391,21 +368,20 @@ void ThermalModel::assembleExchanges(const std::vector<Vec3>& x, std::span<const
                 m_contactSource[i] = m_contactCoefficient[i] * surface;
             }
         }
-        values[m_diagonalSlot[i]] += m_airCoefficient[i] + m_contactCoefficient[i];
+        m_matrix.value(m_matrix.diagonal(i)) += m_airCoefficient[i] + m_contactCoefficient[i];
         m_rhs[Eigen::Index(i)] += m_airSource[i] + m_contactSource[i];
     }
 }
 
 void ThermalModel::assembleConduction()
 {
-    Real* values = m_matrix.valuePtr();
     for (std::size_t s = 0; s < m_ends.size(); ++s)
     {
         const Index a = m_ends[s].a;
         const Index b = m_ends[s].b;
         const Real g = m_conductance[s];
-        values[m_diagonalSlot[a]] += g;
-        values[m_diagonalSlot[b]] += g;
+        m_matrix.value(m_matrix.diagonal(a)) += g;
+        m_matrix.value(m_matrix.diagonal(b)) += g;
         // A held neighbour is a known temperature: its coupling moves to the right-hand side, keeping the matrix
         // symmetric.
         if (m_held[a] || m_held[b])
@@ -420,19 +396,18 @@ void ThermalModel::assembleConduction()
             }
             continue;
         }
-        values[m_abSlot[s]] -= g;
-        values[m_baSlot[s]] -= g;
+        m_matrix.value(m_matrix.ab(s)) -= g;
+        m_matrix.value(m_matrix.ba(s)) -= g;
     }
 }
 
 void ThermalModel::fixHeldTemperatures()
 {
-    Real* values = m_matrix.valuePtr();
     for (std::size_t i = 0; i < m_temperature.size(); ++i)
     {
         if (m_held[i])
         {
-            values[m_diagonalSlot[i]] = 1;
+            m_matrix.value(m_matrix.diagonal(i)) = 1;
             m_rhs[Eigen::Index(i)] = m_temperature[i];
         }
         m_solution[Eigen::Index(i)] = m_temperature[i]; // the solve's first guess
@@ -443,7 +418,7 @@ void ThermalModel::solve(Real dt)
 {
     m_solver.setTolerance(m_settings.solverTolerance);
     m_solver.setMaxIterations(m_settings.maxIterations);
-    m_solver.compute(m_matrix);
+    m_solver.compute(m_matrix.matrix());
     m_solution = m_solver.solveWithGuess(m_rhs, m_solution);
     m_report.solverIterations = int(m_solver.iterations());
     m_report.solverResidual = m_solver.error();

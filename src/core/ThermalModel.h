@@ -34,11 +34,11 @@
 #include "HeatSources.h"
 #include "Lattice.h"
 #include "Material.h"
+#include "SlotMatrix.h"
 #include "StepHook.h"
 #include "Thickness.h"
 
 #include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCore>
 
 #include <span>
 #include <vector>
@@ -60,7 +60,7 @@ struct ThermalSettings
     int maxIterations = 1000;            ///< per frame, >= 1
 };
 
-/// Throws InputError naming the bad field, heaters and zones included (e.g. "heaters[1].power: must be >= 0 W").
+/// Throws InputError naming the bad field, heaters and zones included (e.g. "heaters[1].power", "must be >= 0 W").
 void validate(const ThermalSettings& settings);
 
 /// Heat flows of the last frame (W, into the sheet positive), and how the solve went.
@@ -107,15 +107,10 @@ public:
     /// Areas, normals and thicknesses as of the last step; ViscoelasticSprings can share it (setThickness).
     SheetThickness& sheetThickness() { return m_geometry; }
     const SheetThickness& sheetThickness() const { return m_geometry; }
-    /// Per spring, its cotangent weight w (planar springs; 0 for inter-layer ones).
-    const std::vector<Real>& conductanceWeight() const { return m_weight; }
     /// Per spring, its conductance G_s (W/K) in the last step.
     const std::vector<Real>& conductance() const { return m_conductance; }
 
 private:
-    using SparseMatrix = Eigen::SparseMatrix<Real>;
-    using StorageIndex = SparseMatrix::StorageIndex;
-
     /// The air a mass at x exchanges heat with: a hot-air zone's, or the room's.
     struct AirAt
     {
@@ -162,10 +157,7 @@ private:
     std::vector<Real> m_contactCoefficient;
     std::vector<Real> m_contactSource;
 
-    SparseMatrix m_matrix;
-    std::vector<StorageIndex> m_diagonalSlot;
-    std::vector<StorageIndex> m_abSlot;
-    std::vector<StorageIndex> m_baSlot;
+    SlotMatrix<1> m_matrix; ///< C/dt + conductances + exchange coefficients, a scalar per mass and per spring end
     Eigen::VectorX<Real> m_rhs;
     Eigen::VectorX<Real> m_solution;
     Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> m_solver;

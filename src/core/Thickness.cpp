@@ -1,5 +1,6 @@
 #include "Thickness.h"
 
+#include "Format.h"
 #include "InputError.h"
 
 #include <Eigen/Geometry>
@@ -19,7 +20,7 @@ constexpr Real collapsedAreaFraction = 1e-12;
 
 /// The triangles of TRiMM layer `layer`, as in TriangularLattice.cpp: between rows r and r + 1, an "up" triangle
 /// with two corners on row r (the one an upper mass sits over) and a "down" one with two corners on row r + 1.
-void appendTriangles(const Lattice& lattice, int layer, std::vector<Index>& cells, std::vector<int>& cellLayer)
+void appendTriangles(const Lattice& lattice, int layer, std::vector<Index>& cells)
 {
     const int nx = lattice.layerCountX(layer);
     const int nz = lattice.layerCountZ(layer);
@@ -36,13 +37,11 @@ void appendTriangles(const Lattice& lattice, int layer, std::vector<Index>& cell
             const std::array<Index, 6> both =
                 nextShiftedRight ? std::array<Index, 6>{a, b, c, c, d, b} : std::array<Index, 6>{a, b, d, c, d, a};
             cells.insert(cells.end(), both.begin(), both.end());
-            cellLayer.push_back(layer);
-            cellLayer.push_back(layer);
         }
     }
 }
 
-void appendSquares(const Lattice& lattice, int layer, std::vector<Index>& cells, std::vector<int>& cellLayer)
+void appendSquares(const Lattice& lattice, int layer, std::vector<Index>& cells)
 {
     const int nx = lattice.layerCountX(layer);
     const int nz = lattice.layerCountZ(layer);
@@ -54,7 +53,6 @@ void appendSquares(const Lattice& lattice, int layer, std::vector<Index>& cells,
             cells.push_back(lattice.index(layer, row, column + 1));
             cells.push_back(lattice.index(layer, row + 1, column + 1));
             cells.push_back(lattice.index(layer, row + 1, column));
-            cellLayer.push_back(layer);
         }
     }
 }
@@ -70,7 +68,7 @@ SheetThickness::SheetThickness(const Lattice& lattice, Real thickness) : m_initi
 {
     if (!(thickness > 0) || !std::isfinite(thickness))
     {
-        throw InputError("thickness: must be a positive number of m (got " + std::to_string(thickness) + ")");
+        throw InputError("thickness", "must be a positive number of m (got " + formatNumber(thickness) + ")");
     }
     const bool triangular = lattice.spec.structure == Structure::TRiMM;
     m_cornersPerCell = triangular ? 3 : 4;
@@ -79,11 +77,11 @@ SheetThickness::SheetThickness(const Lattice& lattice, Real thickness) : m_initi
     {
         if (triangular)
         {
-            appendTriangles(lattice, layer, m_cells, m_cellLayer);
+            appendTriangles(lattice, layer, m_cells);
         }
         else
         {
-            appendSquares(lattice, layer, m_cells, m_cellLayer);
+            appendSquares(lattice, layer, m_cells);
         }
     }
     // Orient every cell counter-clockwise seen from +y, so that normals point to the sheet's top side.

@@ -45,8 +45,6 @@ public:
     /// The cells: cornersPerCell() consecutive mass indices each, counter-clockwise seen from the top side.
     const std::vector<Index>& cells() const { return m_cells; }
     int cornersPerCell() const { return m_cornersPerCell; }
-    /// Layer of each cell.
-    const std::vector<int>& cellLayer() const { return m_cellLayer; }
 
     // Bottom layer, from the last update.
     Real minimumThickness() const { return m_minimumThickness; }
@@ -65,7 +63,6 @@ private:
     int m_cornersPerCell = 3;
     int m_layerCount = 1;
     std::vector<Index> m_cells;
-    std::vector<int> m_cellLayer;
     std::vector<int> m_layer;
     std::vector<std::uint8_t> m_cellless; ///< masses of no cell
     std::vector<Real> m_restArea;

@@ -30,7 +30,7 @@ constexpr Real troutonRatio = 3;
 
 SpringModel parseSpringModel(std::string_view name)
 {
-    return parseEnum(springModelNames, name, "spring_model", "model");
+    return parseEnum(springModelNames, name, "model", "spring model");
 }
 
 std::string_view springModelName(SpringModel model)
@@ -42,12 +42,13 @@ void validate(const SpringModelSettings& settings)
 {
     if (!(settings.dampingRatio >= 0 && settings.dampingRatio <= 1))
     {
-        throw InputError("damping_ratio: must be in [0, 1] (got " + formatNumber(settings.dampingRatio) + ")");
+        throw InputError("dampingRatio", "must be in [0, 1] (got " + formatNumber(settings.dampingRatio) + ")");
     }
     if (!(settings.initialTemperature > 0) || !std::isfinite(settings.initialTemperature))
     {
-        throw InputError("initial_temperature_c: must be above absolute zero (got " +
-                         std::to_string(kelvinToCelsius(settings.initialTemperature)) + " C)");
+        throw InputError("initialTemperature", "must be above absolute zero (got " +
+                                                   formatNumber(settings.initialTemperature) + " K, " +
+                                                   formatNumber(kelvinToCelsius(settings.initialTemperature)) + " C)");
     }
 }
 
@@ -68,8 +69,8 @@ ViscoelasticSprings::ViscoelasticSprings(const MassSpringSystem& system, std::ve
     {
         if (!(m_perModulus[s] > 0) || !std::isfinite(m_perModulus[s]))
         {
-            throw InputError("stiffness per modulus of spring " + std::to_string(s) + ": must be > 0 m (got " +
-                             std::to_string(m_perModulus[s]) + ")");
+            throw InputError("stiffnessPerModulus[" + std::to_string(s) + "]",
+                             "must be > 0 m (got " + formatNumber(m_perModulus[s]) + ")");
         }
     }
     m_originalLength = springs.restLength();
@@ -91,18 +92,9 @@ void ViscoelasticSprings::setUniformTemperature(Real temperature)
 {
     if (!(temperature > 0) || !std::isfinite(temperature))
     {
-        throw InputError("temperature: must be above absolute zero (got " + std::to_string(temperature) + " K)");
+        throw InputError("temperature", "must be above absolute zero (got " + formatNumber(temperature) + " K)");
     }
     m_uniformTemperature = temperature;
-}
-
-Real ViscoelasticSprings::permanentSet(std::size_t spring) const
-{
-    if (m_settings.model == SpringModel::Elastic)
-    {
-        return 0;
-    }
-    return burgersPermanentSet(m_params[spring], m_state[spring]);
 }
 
 bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std::span<const Real> temperature,

@@ -16,7 +16,7 @@
 /// The force F is the state, not the elastic strain: when a spring cools, k_M rises a thousandfold and eta goes to
 /// effectively infinite, but F is unchanged at unchanged length, so the shape a hot sheet took stays when it
 /// cools (the rubbery strain is frozen in, as in a real sheet cooled under load) and only the small glassy strain
-/// F/k_M springs back when the load goes. The permanent set u_D = u - u_K - F/k_M reported by permanentSet() grows by
+/// F/k_M springs back when the load goes. The permanent set u_D = u - u_K - F/k_M (burgersPermanentSet) grows by
 /// that frozen strain on cooling.
 ///
 /// Temperatures and thicknesses are read at the start of every frame (begin of Simulator::step); the substep h used to
@@ -71,7 +71,7 @@ struct SpringModelSettings
     Real initialTemperature = 293.15; ///< K, used while the step context carries no temperatures; > 0
 };
 
-/// Throws InputError naming the bad field (damping_ratio outside [0, 1], a non-positive temperature).
+/// Throws InputError naming the bad field (dampingRatio outside [0, 1], a non-positive initialTemperature).
 void validate(const SpringModelSettings& settings);
 
 class ViscoelasticSprings final : public StepHook
@@ -95,12 +95,6 @@ public:
     const SpringModelSettings& settings() const { return m_settings; }
     /// Per spring, as of the end of the last substep.
     const std::vector<BurgersState>& states() const { return m_state; }
-    /// Per spring, the coefficients in force for the current frame.
-    const std::vector<BurgersParams>& parameters() const { return m_params; }
-    /// Per spring, the temperature (K) the coefficients were computed for.
-    const std::vector<Real>& springTemperature() const { return m_springTemperature; }
-    /// The dashpot's extension u_D of one spring (m): what stays when its force is removed.
-    Real permanentSet(std::size_t spring) const;
 
 private:
     void start(const MassSpringSystem& system, const StepContext& context);

@@ -155,7 +155,7 @@ void Comparison::buildTwins(const CompareOptions& options, const std::function<v
         twin.pinned = sheet.particles.pinned;
         for (int o = 0; o < environment.obstacleCount(); ++o)
         {
-            twin.pathKeys.push_back(environment.obstacle(o).spec.path.size());
+            twin.pathKeys.push_back(environment.obstacle(o).path.keys.size());
         }
         twin.touched.assign(std::size_t(environment.obstacleCount()), 0);
         twin.rest = RestTracker(m_scene->spec().run.restKineticEnergy, m_scene->spec().run.restHold);
@@ -186,7 +186,7 @@ void Comparison::buildTwins(const CompareOptions& options, const std::function<v
             {"substeps", used.substeps},
             {"substep", t.substep()},
             {"sdf_cell_size", used.sdfCellSize},
-            {"collisions", used.collisions},
+            {"collisions", s.bullet.collisions},
         };
         if (twin.calibration)
         {
@@ -289,7 +289,7 @@ void Comparison::mirrorScript(Twin& twin)
     const bridge::BulletEnvironment& environment = m_scene->environment();
     for (int o = 0; o < environment.obstacleCount(); ++o)
     {
-        const std::vector<bridge::PathKey>& path = environment.obstacle(o).spec.path;
+        const std::vector<bridge::PoseKey>& path = environment.obstacle(o).path.keys;
         if (path.size() != twin.pathKeys[std::size_t(o)])
         {
             twin.twin->setObstaclePath(o, path);
@@ -307,7 +307,7 @@ void Comparison::updateTwinEvents(Twin& twin, EngineResult& result)
         if (obstacle >= 0 && !twin.touched[std::size_t(obstacle)])
         {
             twin.touched[std::size_t(obstacle)] = 1;
-            result.events.push_back({"contact", environment.obstacle(obstacle).spec.name, t.time()});
+            result.events.push_back({"contact", environment.obstacle(obstacle).name, t.time()});
         }
     }
     // The scene's rest rule, on the twin's contacts and energy; the script is the scene's, played on both engines.

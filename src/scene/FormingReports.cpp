@@ -195,7 +195,7 @@ std::string massesCsv(Scene& scene)
         const int obstacle = i < touching.size() ? touching[i] : -1;
         if (obstacle >= 0)
         {
-            out << '"' << scene.environment().obstacle(obstacle).spec.name << '"';
+            out << '"' << scene.environment().obstacle(obstacle).name << '"';
         }
         out << '\n';
     }

@@ -1,5 +1,6 @@
 #include "FormingSpec.h"
 
+#include "FieldKeys.h"
 #include "JsonObject.h"
 
 #include "core/InputError.h"
@@ -31,14 +32,7 @@ FormingSpec readForming(const JsonObject& o)
     {
         o.fail("pressure", "expected a pressure in Pa or a list of {\"time\": s, \"pressure\": Pa} keys");
     }
-    try
-    {
-        PressureSchedule check(forming.pressure); // keys in increasing time, finite values
-    }
-    catch (const InputError& e)
-    {
-        throw InputError(o.pathOf("pressure") + e.what());
-    }
+    checkUnder(o.path(), pressureKeys, [&] { PressureSchedule check(forming.pressure); }); // increasing, finite
     forming.seal = o.boolean("seal", true);
     forming.mould = o.string("mould", "");
     o.finish();

@@ -67,20 +67,20 @@ FrameOutput::FrameOutput(Scene& scene, const std::string& outDir) : m_outDir(out
     for (int i = 0; i < environment.obstacleCount(); ++i)
     {
         const bridge::Obstacle& obstacle = environment.obstacle(i);
-        m_obstacleNames.push_back(obstacle.spec.name);
+        m_obstacleNames.push_back(obstacle.name);
         // The room's walls and ceiling would hide the scene in ParaView; its floor is what the sheet lands on.
-        if (obstacle.partOfRoom && obstacle.spec.name != "floor")
+        if (obstacle.partOfRoom && obstacle.name != "floor")
         {
             continue;
         }
-        const std::string stem = "frames/obstacle_" + std::to_string(i) + "_" + fileSafe(obstacle.spec.name);
-        const bool moving = obstacle.spec.isKinematic();
-        m_obstacles.push_back({i, obstacle.spec.name, moving ? stem : stem + ".vtp", moving});
+        const std::string stem = "frames/obstacle_" + std::to_string(i) + "_" + fileSafe(obstacle.name);
+        const bool moving = obstacle.path.isKinematic();
+        m_obstacles.push_back({i, obstacle.name, moving ? stem : stem + ".vtp", moving});
         if (m_vtp && !moving)
         {
             writeFileAtomically(m_outDir + "/" + m_obstacles.back().file,
-                                obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.spec, scene.time()),
-                                              obstacle.spec.name, i, std::nullopt));
+                                obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.path, scene.time()),
+                                              obstacle.name, i, std::nullopt));
         }
     }
     write(scene);
@@ -125,7 +125,7 @@ void FrameOutput::write(Scene& scene)
                 const bridge::Obstacle& obstacle = scene.environment().obstacle(o.index);
                 writeFileAtomically(
                     m_outDir + "/" + file,
-                    obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.spec, time), o.name, o.index, time));
+                    obstacleToVtp(obstacle.geometry, bridge::poseAt(obstacle.path, time), o.name, o.index, time));
             }
             m_collection.add(time, part++, o.name, file);
         }

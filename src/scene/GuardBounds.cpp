@@ -8,15 +8,15 @@ namespace masse::scene
 namespace
 {
 /// m, how far a point of the obstacle can be from its own origin (turning about it moves the surface this fast).
-Real reach(const bridge::ObstacleSpec& o)
+Real reach(const ObstacleSpec& o)
 {
     switch (o.kind)
     {
-    case bridge::ObstacleKind::Box:
+    case ObstacleKind::Box:
         return o.halfExtents.norm();
-    case bridge::ObstacleKind::Prism:
+    case ObstacleKind::Prism:
         return 0.5 * Vec3(o.prismWidth + 2 * std::abs(o.prismApex), o.prismHeight, o.prismLength).norm();
-    case bridge::ObstacleKind::Hull:
+    case ObstacleKind::Hull:
     {
         Real r = 0;
         for (const Vec3& p : o.hullPoints)
@@ -25,13 +25,13 @@ Real reach(const bridge::ObstacleSpec& o)
         }
         return r;
     }
-    case bridge::ObstacleKind::Mesh:
+    case ObstacleKind::Mesh:
         return 10 * o.meshScale; // the file is not read here: a generous size
     }
     return 1;
 }
 
-Real pathSpeed(const std::vector<bridge::PathKey>& path, Real radius)
+Real pathSpeed(const std::vector<bridge::PoseKey>& path, Real radius)
 {
     Real fastest = 0;
     for (std::size_t k = 0; k + 1 < path.size(); ++k)
@@ -47,9 +47,9 @@ Real pathSpeed(const std::vector<bridge::PathKey>& path, Real radius)
 Real fastestObstacleSpeed(const SceneSpec& spec)
 {
     Real fastest = 0;
-    for (const bridge::ObstacleSpec& o : spec.obstacles)
+    for (const ObstacleSpec& o : spec.obstacles)
     {
-        std::vector<bridge::PathKey> path = o.path;
+        std::vector<bridge::PoseKey> path = o.path;
         for (const ScriptAction& a : spec.script)
         {
             if (a.kind == ScriptAction::Kind::Move && a.obstacle == o.name)
@@ -81,7 +81,7 @@ Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
     }
     if (spec.environment.room.enabled)
     {
-        const bridge::RoomSpec& room = spec.environment.room;
+        const RoomSpec& room = spec.environment.room;
         fall = std::min(fall, std::sqrt(2 * gravity * (room.maxCorner - room.minCorner).norm()));
     }
     // Grabs: their targets' speed, and the pull of a capped spring over the sheet's size and the path's reach.

@@ -22,6 +22,8 @@ public:
     JsonObject(const nlohmann::json& value, std::string path);
 
     bool has(const std::string& key) const;
+    /// This object's path, as given ("" for the file's top level).
+    const std::string& path() const { return m_path; }
     /// The key's full path, e.g. "sheet.size".
     std::string pathOf(const std::string& key) const;
 

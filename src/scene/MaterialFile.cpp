@@ -1,5 +1,7 @@
 #include "MaterialFile.h"
 
+#include "FieldKeys.h"
+
 #include "core/InputError.h"
 
 namespace masse::scene
@@ -43,15 +45,7 @@ Material parseMaterial(const JsonObject& object)
     m.forming.upper = celsius(*window, "upper_c");
     window->finish();
     object.finish();
-    try
-    {
-        validate(m);
-    }
-    catch (const InputError& e)
-    {
-        // validate names the field by its key; give it this object's path.
-        throw InputError(object.pathOf(e.what()));
-    }
+    checkUnder(object.path(), materialKeys, [&] { validate(m); });
     return m;
 }
 

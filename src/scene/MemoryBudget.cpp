@@ -70,10 +70,11 @@ void checkMemory(const LatticeSpec& spec, IntegratorKind integrator)
     if (needed > available)
     {
         constexpr double gib = 1024.0 * 1024 * 1024;
-        throw InputError("size: a " + std::to_string(spec.countX) + "x" + std::to_string(spec.layers) + "x" +
-                         std::to_string(spec.countZ) + " sheet has " + std::to_string(massCountOf(spec)) +
-                         " masses and needs about " + formatNumber("%.3g", needed / gib) +
-                         " GiB of memory, more than the " + formatNumber("%.3g", available / gib) + " GiB available");
+        throw InputError("size", "a " + std::to_string(spec.countX) + "x" + std::to_string(spec.layers) + "x" +
+                                     std::to_string(spec.countZ) + " sheet has " + std::to_string(massCountOf(spec)) +
+                                     " masses and needs about " + formatNumber("%.3g", needed / gib) +
+                                     " GiB of memory, more than the " + formatNumber("%.3g", available / gib) +
+                                     " GiB available");
     }
 }
 } // namespace masse::scene

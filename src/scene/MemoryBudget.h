@@ -17,6 +17,7 @@ double estimatedBytes(const LatticeSpec& spec, IntegratorKind integrator);
 /// Bytes this process may still allocate: the smaller of the memory the system says is available and the address
 /// space limit, if any.
 double availableBytes();
-/// Throws InputError naming the sheet's size, the estimate and what is available when the one exceeds the other.
+/// Throws InputError for the LatticeSpec's field "size", with the estimate and what is available, when the one
+/// exceeds the other.
 void checkMemory(const LatticeSpec& spec, IntegratorKind integrator);
 } // namespace masse::scene

@@ -1,5 +1,6 @@
 #include "Scene.h"
 
+#include "FieldKeys.h"
 #include "GuardBounds.h"
 #include "MemoryBudget.h"
 #include "Pins.h"
@@ -24,19 +25,6 @@ namespace
 {
 /// Substeps per step above which a run says, before it starts, that it will be slow.
 constexpr int warnedSubsteps = 1000;
-
-/// Re-throws a core validation error ("dt: ...") under the section it belongs to ("integrator.dt: ...").
-template <typename Check> void withinSection(const std::string& section, Check&& check)
-{
-    try
-    {
-        check();
-    }
-    catch (const InputError& e)
-    {
-        throw InputError(section + "." + e.what());
-    }
-}
 } // namespace
 
 Scene::Scene(SceneSpec spec) : m_spec(std::move(spec))
@@ -57,35 +45,19 @@ void Scene::build()
     try
     {
         // A sheet that cannot fit in memory is refused before anything is allocated for it.
-        withinSection("sheet", [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
+        checkUnder("sheet", latticeKeys, [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
         m_lattice = buildSheetLattice();
-        const MaterialSpec& material = m_spec.material;
         const Real startTemperature =
-            m_spec.heat.enabled ? m_spec.heat.settings.initialTemperature : material.springs.initialTemperature;
-        if (m_spec.heat.enabled)
-        {
-            m_thermal =
-                std::make_unique<ThermalModel>(m_lattice, material.material, material.thickness, m_spec.heat.settings);
-            m_heaterOn = m_spec.heat.heaterOn;
-        }
+            m_spec.heat.enabled ? m_spec.heat.settings.initialTemperature : m_spec.material.springs.initialTemperature;
+        buildHeat();
         MassSpringSystem sheet = buildSheet(startTemperature);
         buildContact();
-        if (material.enabled)
-        {
-            SpringModelSettings springSettings = material.springs;
-            springSettings.initialTemperature = startTemperature;
-            m_springs = std::make_unique<ViscoelasticSprings>(sheet, stiffnessPerModulus(m_lattice, material.thickness),
-                                                              material.material, springSettings);
-            if (!m_thermal)
-            {
-                m_thickness = std::make_unique<SheetThickness>(m_lattice, material.thickness);
-            }
-        }
+        buildMaterialSprings(sheet, startTemperature);
         buildSimulator(std::move(sheet));
         addHooks();
         // A step the integrator cannot take is bad input: found here, before any output is written, not at the first
         // step.
-        withinSection("integrator", [&] { m_simulator->substepsFor(m_spec.time.dt); });
+        checkUnder("integrator", integratorKeys, [&] { m_simulator->substepsFor(m_spec.time.dt); });
     }
     catch (const InputError& e)
     {
@@ -123,11 +95,12 @@ void Scene::tearDown()
 
 Lattice Scene::buildSheetLattice() const
 {
-    Lattice lattice = buildLattice(m_spec.sheet.lattice);
+    Lattice lattice;
+    checkUnder("sheet", latticeKeys, [&] { lattice = buildLattice(m_spec.sheet.lattice); });
     if (m_spec.sheet.rotationDegrees != Vec3::Zero())
     {
         const Vec3 centre = 0.5 * (m_spec.sheet.lattice.minCorner + m_spec.sheet.lattice.maxCorner);
-        const auto turn = bridge::rotationFromDegrees(m_spec.sheet.rotationDegrees);
+        const auto turn = rotationFromDegrees(m_spec.sheet.rotationDegrees);
         for (Vec3& x : lattice.position)
         {
             x = centre + turn * (x - centre);
@@ -136,12 +109,39 @@ Lattice Scene::buildSheetLattice() const
     return lattice;
 }
 
+void Scene::buildHeat()
+{
+    if (!m_spec.heat.enabled)
+    {
+        return;
+    }
+    const MaterialSpec& material = m_spec.material;
+    checkUnder("heat", thermalKeys,
+               [&]
+               {
+                   m_thermal = std::make_unique<ThermalModel>(m_lattice, material.material, material.thickness,
+                                                              m_spec.heat.settings);
+               });
+    m_heaterOn = m_spec.heat.heaterOn;
+}
+
 MassSpringSystem Scene::buildSheet(Real startTemperature) const
 {
     const MaterialSpec& material = m_spec.material;
-    MassSpringSystem sheet = material.enabled ? makeMaterialSheet(m_lattice, material.material, material.thickness,
-                                                                  startTemperature, material.springs.dampingRatio)
-                                              : makeSheet(m_lattice, m_spec.sheet.params);
+    MassSpringSystem sheet;
+    if (material.enabled)
+    {
+        checkUnder("material", materialSheetKeys,
+                   [&]
+                   {
+                       sheet = makeMaterialSheet(m_lattice, material.material, material.thickness, startTemperature,
+                                                 material.springs.dampingRatio);
+                   });
+    }
+    else
+    {
+        checkUnder("sheet", sheetKeys, [&] { sheet = makeSheet(m_lattice, m_spec.sheet.params); });
+    }
     sheet.forces.gravity = m_spec.environment.gravity;
     sheet.forces.airDamping = m_spec.environment.airDampingRate;
     sheet.forces.repulsion = m_spec.sheet.repulsion;
@@ -152,13 +152,34 @@ MassSpringSystem Scene::buildSheet(Real startTemperature) const
     return sheet;
 }
 
+void Scene::buildMaterialSprings(const MassSpringSystem& sheet, Real startTemperature)
+{
+    const MaterialSpec& material = m_spec.material;
+    if (!material.enabled)
+    {
+        return;
+    }
+    SpringModelSettings springSettings = material.springs;
+    springSettings.initialTemperature = startTemperature;
+    checkUnder("material", materialSheetKeys,
+               [&]
+               {
+                   m_springs = std::make_unique<ViscoelasticSprings>(
+                       sheet, stiffnessPerModulus(m_lattice, material.thickness), material.material, springSettings);
+                   if (!m_thermal)
+                   {
+                       m_thickness = std::make_unique<SheetThickness>(m_lattice, material.thickness);
+                   }
+               });
+}
+
 void Scene::buildContact()
 {
     m_environment = std::make_unique<bridge::BulletEnvironment>();
-    m_environment->addRoom(m_spec.environment.room);
-    for (const bridge::ObstacleSpec& obstacle : m_spec.obstacles)
+    addRoom(*m_environment, m_spec.environment.room);
+    for (const ObstacleSpec& obstacle : m_spec.obstacles)
     {
-        m_environment->addObstacle(obstacle);
+        m_environment->addObstacle(obstacleBody(obstacle));
     }
     ContactSettings contact = m_spec.contact;
     contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
@@ -167,7 +188,7 @@ void Scene::buildContact()
         contact.perObstacle[std::size_t(m_environment->findObstacle(m_spec.obstacles[k].name))] =
             m_spec.obstacleContact[k];
     }
-    m_contact = std::make_unique<ContactSolver>(*m_environment, contact);
+    checkUnder("contact", contactKeys, [&] { m_contact = std::make_unique<ContactSolver>(*m_environment, contact); });
 }
 
 void Scene::buildSimulator(MassSpringSystem sheet)
@@ -212,7 +233,8 @@ void Scene::addHooks()
         self.radius = m_spec.contact.radius;
         self.friction = m_spec.selfFriction;
         m_selfContactPairs = std::make_unique<bridge::SelfContactTree>();
-        m_selfContact = std::make_unique<SelfContact>(m_lattice, *m_selfContactPairs, self);
+        checkUnder("contact", selfContactKeys,
+                   [&] { m_selfContact = std::make_unique<SelfContact>(m_lattice, *m_selfContactPairs, self); });
         m_simulator->addHook(m_selfContact.get());
     }
     if (m_spec.edgeCollision)
@@ -244,7 +266,9 @@ void Scene::addHooks()
     if (m_spec.forming.enabled)
     {
         requireSealedMould();
-        m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure));
+        checkUnder(
+            "forming", pressureKeys,
+            [&] { m_pressure = std::make_unique<PressureLoad>(m_lattice, PressureSchedule(m_spec.forming.pressure)); });
         m_pressure->setSealing(m_spec.forming.seal);
         m_simulator->addHook(m_pressure.get());
     }
@@ -253,7 +277,7 @@ void Scene::addHooks()
 Real Scene::scriptedMotionEnd(const SceneSpec& spec)
 {
     Real end = 0;
-    for (const bridge::ObstacleSpec& obstacle : spec.obstacles)
+    for (const ObstacleSpec& obstacle : spec.obstacles)
     {
         if (!obstacle.path.empty())
         {
@@ -293,7 +317,9 @@ void Scene::requireSealedMould() const
     }
     if (const auto open = bridge::findOpenEdge(faces))
     {
-        throw InputError("forming.mould: obstacle '" + mould.spec.name + "' (" + mould.spec.meshPath +
+        const auto spec = std::find_if(m_spec.obstacles.begin(), m_spec.obstacles.end(),
+                                       [&](const ObstacleSpec& o) { return o.name == mould.name; });
+        throw InputError("forming.mould: obstacle '" + mould.name + "' (" + spec->meshPath +
                          ") is not a closed surface: the edge between vertices " + std::to_string(open->a + 1) +
                          " and " + std::to_string(open->b + 1) + " belongs to " + std::to_string(open->faces) +
                          " face(s) instead of 2, so the sheet cannot seal the cavity over its rim");
@@ -376,7 +402,7 @@ StepReport Scene::step()
     for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)
     {
         const ContactEvent& c = contacts[m_contactsSeen];
-        record("contact", m_environment->obstacle(c.obstacle).spec.name, c.time);
+        record("contact", m_environment->obstacle(c.obstacle).name, c.time);
     }
     updateRest();
     return report;

@@ -63,10 +63,9 @@ public:
     EdgeContact* edgeContact() { return m_edgeContact.get(); }
     const EdgeContact* edgeContact() const { return m_edgeContact.get(); }
     const ScriptRunner& script() const { return *m_script; }
-    /// The heat model (nullptr without a "heat" section) and the material springs (nullptr without a "material").
+    /// The heat model (nullptr without a "heat" section).
     ThermalModel* thermal() { return m_thermal.get(); }
     const ThermalModel* thermal() const { return m_thermal.get(); }
-    const ViscoelasticSprings* materialSprings() const { return m_springs.get(); }
     /// The pressure across the sheet (nullptr without a "forming" section).
     const PressureLoad* pressure() const { return m_pressure.get(); }
     /// Local thickness of the sheet (nullptr without a material); current as of the last frame.
@@ -99,12 +98,17 @@ public:
 
 private:
     void build();
-    // The stages of build(), in order.
+    // The stages of build(), in order. The spec's values were checked as the scene was read; what the core still
+    // refuses is named by its key all the same (FieldKeys.h).
     void tearDown();
     Lattice buildSheetLattice() const;
+    /// The heat model, if the scene has a "heat" section.
+    void buildHeat();
     MassSpringSystem buildSheet(Real startTemperature) const;
     /// The Bullet environment (room and obstacles) and the contact solver over it.
     void buildContact();
+    /// The material's springs (and the sheet's thickness, when no heat model keeps it), if the scene has a material.
+    void buildMaterialSprings(const MassSpringSystem& sheet, Real startTemperature);
     void buildSimulator(MassSpringSystem sheet);
     void addHooks();
     /// The time after which nothing scripted moves: the last action, grab-path key or obstacle-path key.

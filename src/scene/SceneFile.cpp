@@ -1,5 +1,6 @@
 #include "SceneFile.h"
 
+#include "FieldKeys.h"
 #include "JsonObject.h"
 #include "MaterialFile.h"
 #include "MemoryBudget.h"
@@ -18,19 +19,6 @@ namespace masse::scene
 {
 namespace
 {
-/// Re-throws a core validation error ("size: ...") under the section it belongs to ("sheet.size: ...").
-template <typename Check> void within(const std::string& section, Check&& check)
-{
-    try
-    {
-        check();
-    }
-    catch (const InputError& e)
-    {
-        throw InputError(section + "." + e.what());
-    }
-}
-
 /// A spring stiffness in (0, limits::maxStiffness] N/m.
 Real stiffnessValue(const JsonObject& o, const std::string& key, Real fallback)
 {
@@ -90,10 +78,10 @@ SheetSpec readSheet(const JsonObject& o)
     LatticeSpec& lattice = sheet.lattice;
     const std::string structure = o.choice("structure", "trimm", {"square2d", "samm", "slamm", "trimm"});
     lattice.structure = parseStructure(structure);
-    within("sheet", [&] { parseSize(o.string("size", "8x2x8"), lattice); });
+    checkUnder("sheet", latticeKeys, [&] { parseSize(o.string("size", "8x2x8"), lattice); });
     lattice.minCorner = o.vec3("min", lattice.minCorner);
     lattice.maxCorner = o.vec3("max", lattice.maxCorner);
-    within("sheet", [&] { validate(lattice); });
+    checkUnder("sheet", latticeKeys, [&] { validate(lattice); });
 
     SheetParams& params = sheet.params;
     params.massPerMass = o.number("mass", params.massPerMass, limits::minMass, limits::maxMass);
@@ -138,27 +126,27 @@ EnvironmentSpec readEnvironment(const JsonObject& o)
     environment.airDampingRate = o.number("air_damping_rate", environment.airDampingRate, 0.0);
     if (auto room = o.object("room"))
     {
-        bridge::RoomSpec& r = environment.room;
+        RoomSpec& r = environment.room;
         r.enabled = room->boolean("enabled", r.enabled);
         r.minCorner = room->vec3("min", r.minCorner);
         r.maxCorner = room->vec3("max", r.maxCorner);
         r.wallThickness = room->positive("wall_thickness", r.wallThickness);
         room->finish();
-        within("environment", [&] { bridge::validate(r); });
+        validate(r);
     }
     o.finish();
     return environment;
 }
 
-std::vector<bridge::PathKey> readPath(const JsonObject& owner, const std::string& key)
+std::vector<bridge::PoseKey> readPath(const JsonObject& owner, const std::string& key)
 {
-    std::vector<bridge::PathKey> path;
+    std::vector<bridge::PoseKey> path;
     for (const JsonObject& k : owner.objects(key))
     {
-        bridge::PathKey pathKey;
+        bridge::PoseKey pathKey;
         pathKey.time = k.number("time", 0.0, 0.0);
         pathKey.position = k.vec3("position");
-        pathKey.orientation = bridge::rotationFromDegrees(k.vec3("rotation_deg", Vec3::Zero()));
+        pathKey.orientation = rotationFromDegrees(k.vec3("rotation_deg", Vec3::Zero()));
         k.finish();
         if (!path.empty() && !(pathKey.time > path.back().time))
         {
@@ -171,8 +159,19 @@ std::vector<bridge::PathKey> readPath(const JsonObject& owner, const std::string
 
 constexpr Real kelvinAtZeroCelsius = 273.15;
 
-bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature,
-                                  ObstacleContact& contact)
+/// A length that must be > 0 (the key is required).
+Real length(const JsonObject& o, const std::string& key)
+{
+    const Real value = o.number(key);
+    if (!(value > 0))
+    {
+        o.fail(key, "must be a positive number of metres (got " + formatNumber(value) + ")");
+    }
+    return value;
+}
+
+ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature,
+                          ObstacleContact& contact)
 {
     if (auto own = o.object("contact"))
     {
@@ -183,7 +182,7 @@ bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDi
         contact.friction = own->number("friction", 0.3, 0.0);
         own->finish();
     }
-    bridge::ObstacleSpec spec;
+    ObstacleSpec spec;
     temperature = std::numeric_limits<Real>::quiet_NaN();
     if (o.has("temperature_c"))
     {
@@ -192,28 +191,34 @@ bridge::ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDi
     spec.name = o.string("name");
     const std::string type = o.choice("type", "box", {"box", "prism", "hull", "mesh"});
     spec.position = o.vec3("position", Vec3::Zero());
-    spec.orientation = bridge::rotationFromDegrees(o.vec3("rotation_deg", Vec3::Zero()));
+    spec.orientation = rotationFromDegrees(o.vec3("rotation_deg", Vec3::Zero()));
     if (type == "box")
     {
-        spec.kind = bridge::ObstacleKind::Box;
+        spec.kind = ObstacleKind::Box;
         spec.halfExtents = o.vec3("half_extents");
+        if (!(spec.halfExtents.array() > 0).all())
+        {
+            o.fail("half_extents", "must be positive numbers of metres (got " + formatNumber(spec.halfExtents.x()) +
+                                       ", " + formatNumber(spec.halfExtents.y()) + ", " +
+                                       formatNumber(spec.halfExtents.z()) + ")");
+        }
     }
     else if (type == "prism")
     {
-        spec.kind = bridge::ObstacleKind::Prism;
-        spec.prismWidth = o.number("width");
-        spec.prismHeight = o.number("height");
-        spec.prismLength = o.number("length");
+        spec.kind = ObstacleKind::Prism;
+        spec.prismWidth = length(o, "width");
+        spec.prismHeight = length(o, "height");
+        spec.prismLength = length(o, "length");
         spec.prismApex = o.number("apex", 0.0);
     }
     else if (type == "hull")
     {
-        spec.kind = bridge::ObstacleKind::Hull;
+        spec.kind = ObstacleKind::Hull;
         spec.hullPoints = o.vec3List("points");
     }
     else
     {
-        spec.kind = bridge::ObstacleKind::Mesh;
+        spec.kind = ObstacleKind::Mesh;
         const std::filesystem::path file = o.string("file");
         spec.meshPath = file.is_absolute() ? file.string() : (std::filesystem::path(baseDirectory) / file).string();
         spec.meshScale = o.positive("scale", 1.0);
@@ -519,7 +524,7 @@ HeatSpec readHeat(const JsonObject& o)
     {
         check.heaters[i].power = heat.heaterPower[i];
     }
-    within("heat", [&] { validate(check); });
+    checkUnder("heat", thermalKeys, [&] { validate(check); });
     return heat;
 }
 
@@ -573,23 +578,29 @@ BulletSpec readBullet(const JsonObject& o)
     s.piterations = o.integer("piterations", s.piterations, 1, 1000);
     s.substeps = o.integer("substeps", s.substeps, 1, 10000);
     s.sdfCellSize = fraction(o, "sdf_cell_size", s.sdfCellSize, 0.001, false, 1, false);
-    s.collisions = o.string("collisions", s.collisions);
+    bullet.collisions = o.string("collisions", bullet.collisions);
     bullet.calibrate = o.boolean("calibrate", false);
     if (bullet.calibrate && s.kLST)
     {
         o.fail("calibrate", "give either kLST or calibrate: true, not both");
     }
-    try
+    // The twin's node-versus-obstacle collision is Bullet's SDF_RS; the other modes are refused with the reason.
+    if (bullet.collisions == "CL_RS")
     {
-        bridge::validate(s); // the collision modes it refuses, with the reason
+        o.fail("collisions", "CL_RS is not supported: cluster collision needs the sheet cut into clusters and reports "
+                             "contact per cluster, not per node; use SDF_RS");
     }
-    catch (const InputError& e)
+    if (bullet.collisions.rfind("SDF_RD", 0) == 0)
     {
-        // "bullet.collisions CL_RS is not supported: ..." -> "bullet.collisions: CL_RS is not supported: ..."
-        const std::string message = e.what();
-        const std::string prefix = "bullet.collisions ";
-        o.fail("collisions", message.rfind(prefix, 0) == 0 ? message.substr(prefix.size()) : message);
+        o.fail("collisions", bullet.collisions +
+                                 " is not supported: it belongs to btDeformableMultiBodyDynamicsWorld, not to the "
+                                 "classic soft body the twin uses; use SDF_RS");
     }
+    if (bullet.collisions != "SDF_RS")
+    {
+        o.fail("collisions", "must be SDF_RS (got '" + bullet.collisions + "')");
+    }
+    checkUnder(o.path(), bulletKeys, [&] { bridge::validate(s); }); // what the ranges above did not catch
     o.finish();
     return bullet;
 }
@@ -619,12 +630,12 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
     std::vector<std::string> names;
     if (scene.environment.room.enabled)
     {
-        for (const bridge::ObstacleSpec& wall : bridge::roomObstacles(scene.environment.room))
+        for (const ObstacleSpec& wall : roomObstacles(scene.environment.room))
         {
             names.push_back(wall.name);
         }
     }
-    for (const bridge::ObstacleSpec& o : scene.obstacles)
+    for (const ObstacleSpec& o : scene.obstacles)
     {
         names.push_back(o.name);
     }
@@ -674,7 +685,7 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
             {
                 top.fail(key + ".obstacle", "no obstacle is named '" + a.obstacle + "'");
             }
-            for (const bridge::ObstacleSpec& o : scene.obstacles)
+            for (const ObstacleSpec& o : scene.obstacles)
             {
                 if (o.name == a.obstacle && !o.isKinematic())
                 {

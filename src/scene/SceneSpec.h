@@ -4,9 +4,9 @@
 /// benchmarks. Keys, units, defaults and ranges: data/scenes/README.md.
 
 #include "FormingSpec.h"
+#include "ObstacleSpec.h"
+#include "Room.h"
 
-#include "bridge/ObstacleSpec.h"
-#include "bridge/Room.h"
 #include "bridge/SoftBodyTwinSettings.h"
 
 #include "core/Contact.h"
@@ -77,7 +77,7 @@ struct EnvironmentSpec
 {
     Vec3 gravity = Vec3(0, -standardGravity, 0); ///< m/s^2
     Real airDampingRate = 0;                     ///< 1/s (drag f = -c m v)
-    bridge::RoomSpec room;
+    RoomSpec room;
 };
 
 struct TimeSpec
@@ -130,7 +130,7 @@ struct ScriptAction
     Vec3 vector = Vec3::Zero();
     // Move
     std::string obstacle;
-    std::vector<bridge::PathKey> obstaclePath;
+    std::vector<bridge::PoseKey> obstaclePath;
     // Heater, Ambient
     std::string heater;
     bool on = true;
@@ -147,7 +147,8 @@ struct OutputSpec
 
 /// The scene's Bullet soft-body twin, for `masse compare` (the top-level "bullet" object). Every key is optional;
 /// what is left out is derived from the sheet so that both engines describe the same material (see
-/// bridge/SoftBodyTwinSettings.h for the derivations). Keys, units, defaults and ranges:
+/// bridge/SoftBodyTwinSettings.h for the derivations, which takes every key but "collisions" and "calibrate"). Keys,
+/// units, defaults and ranges:
 ///   "kLST"          dimensionless, (0, 1]; default: per link, from its spring's k_s by the one-link formula
 ///   "kDP"           dimensionless, [0, 1); default: 1 - exp(-c h), MaSSE's air drag c over one substep h
 ///   "kDF"           dimensionless, [0, 1]; default: contact.friction (clamped to 1), 1 sticky, 0 frictionless
@@ -165,6 +166,7 @@ struct OutputSpec
 struct BulletSpec
 {
     bridge::SoftBodyTwinSettings settings;
+    std::string collisions = "SDF_RS"; ///< Bullet's fCollision name; the twin supports this one only
     bool calibrate = false;
 };
 
@@ -175,7 +177,7 @@ struct SceneSpec
     std::string path; ///< the file it was read from ("" if built in code)
     SheetSpec sheet;
     EnvironmentSpec environment;
-    std::vector<bridge::ObstacleSpec> obstacles;
+    std::vector<ObstacleSpec> obstacles;
     /// K per obstacle, for heat exchange on contact (NaN: at the air's temperature, as the room's walls are).
     std::vector<Real> obstacleTemperature;
     /// Per obstacle, its own contact response ("contact" in the obstacle; `own` false: the scene's).

@@ -36,9 +36,6 @@ public:
     /// shows in the frame after the click whatever the simulation is doing.
     void draw(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick,
               const OrbitCamera& camera, const Viewport& viewport, const DrawSettings& settings);
-
-    /// The range the last frame mapped onto the colour map; nothing when the sheet was not coloured by a scalar.
-    const std::optional<ScalarRange>& scalarRange() const { return m_sheet.scalarRange; }
     /// Whether the last frame drew the springs (in masses mode they are left out while they lie closer together
     /// on screen than a few pixels).
     bool springsShown() const { return m_springsShown; }

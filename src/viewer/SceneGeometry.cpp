@@ -413,7 +413,7 @@ Rgb heaterColour(bool on)
 EnvironmentGeometry buildEnvironment(const SceneSnapshot& snapshot, bool showRoom)
 {
     EnvironmentGeometry out;
-    const bridge::RoomSpec& room = snapshot.spec->environment.room;
+    const scene::RoomSpec& room = snapshot.spec->environment.room;
     const Vec3 roomCentre = (room.minCorner + room.maxCorner) / 2;
     std::vector<Vec3> corners;
     int polyhedron = 0;

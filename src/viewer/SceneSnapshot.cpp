@@ -39,7 +39,7 @@ void captureObstacles(scene::Scene& scene, std::vector<ObstacleShape>& out)
     {
         const bridge::Obstacle& obstacle = environment.obstacle(i);
         ObstacleShape& shape = out[std::size_t(i)];
-        shape.name = obstacle.spec.name;
+        shape.name = obstacle.name;
         shape.partOfRoom = obstacle.partOfRoom;
         shape.position = obstacle.pose.position;
         shape.vertices = obstacleVertices(obstacle);

@@ -75,7 +75,7 @@ nlohmann::json screenRegions(scene::Scene& scene, const OrbitCamera& camera, con
         }
         const bool wasTouched =
             std::any_of(touched.begin(), touched.end(), [i](const auto& f) { return f.first == i; });
-        obstacles.push_back({{"name", obstacle.spec.name},
+        obstacles.push_back({{"name", obstacle.name},
                              {"box", toJson(screenBox(camera, viewport, obstacleVertices(obstacle)))},
                              {"touched", wasTouched}});
     }

@@ -1,10 +1,11 @@
 #include "Room.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 
 #include <cmath>
 
-namespace masse::bridge
+namespace masse::scene
 {
 void validate(const RoomSpec& room)
 {
@@ -13,12 +14,13 @@ void validate(const RoomSpec& room)
         if (!std::isfinite(room.minCorner[axis]) || !std::isfinite(room.maxCorner[axis]) ||
             !(room.maxCorner[axis] > room.minCorner[axis]))
         {
-            throw InputError("environment.room: max must exceed min on every axis");
+            throw InputError("environment.room.max: must exceed min on every axis");
         }
     }
     if (!(room.wallThickness > 0))
     {
-        throw InputError("environment.room.wall_thickness: must be > 0 m");
+        throw InputError("environment.room.wall_thickness: must be > 0 m (got " + formatNumber(room.wallThickness) +
+                         ")");
     }
 }
 
@@ -44,4 +46,16 @@ std::vector<ObstacleSpec> roomObstacles(const RoomSpec& room)
     return {wall("floor", 1, false),     wall("ceiling", 1, true),    wall("wall_left", 0, false),
             wall("wall_right", 0, true), wall("wall_back", 2, false), wall("wall_front", 2, true)};
 }
-} // namespace masse::bridge
+
+void addRoom(bridge::BulletEnvironment& environment, const RoomSpec& room)
+{
+    if (!room.enabled)
+    {
+        return;
+    }
+    for (const ObstacleSpec& wall : roomObstacles(room))
+    {
+        environment.addObstacle(obstacleBody(wall), true);
+    }
+}
+} // namespace masse::scene
