@@ -247,9 +247,8 @@ TEST(EdgeContact, AnApexUnderATrianglePushesItOutInelastically)
 // outward normals, each corner with its three faces').
 TEST(EdgeContact, BoxesAndPrismsHaveEverySharpEdgeAndCorner)
 {
-    bridge::ObstacleSpec box;
-    box.name = "box";
-    box.kind = bridge::ObstacleKind::Box;
+    bridge::ObstacleShape box;
+    box.kind = bridge::ShapeKind::Box;
     box.halfExtents = Vec3(0.5, 0.2, 0.3);
     const bridge::ObstacleGeometry boxGeometry = bridge::makeObstacleGeometry(box);
     const bridge::SharpFeatures boxFeatures = bridge::sharpFeatures(boxGeometry);
@@ -269,9 +268,8 @@ TEST(EdgeContact, BoxesAndPrismsHaveEverySharpEdgeAndCorner)
         EXPECT_EQ(corner.normalCount, 3u);
     }
 
-    bridge::ObstacleSpec prism;
-    prism.name = "knife";
-    prism.kind = bridge::ObstacleKind::Prism;
+    bridge::ObstacleShape prism;
+    prism.kind = bridge::ShapeKind::Prism;
     prism.prismWidth = 0.2;
     prism.prismHeight = 0.6;
     prism.prismLength = 1;

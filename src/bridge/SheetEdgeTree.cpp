@@ -223,9 +223,9 @@ void SheetEdgeTree::placeFeatures(Real time, Real dt, EdgeContactCandidates& out
             continue;
         }
         const Obstacle& obstacle = m_environment.obstacle(index);
-        const Pose pose = poseAt(obstacle.spec, time);
+        const Pose pose = poseAt(obstacle.path, time);
         const Motion motion =
-            obstacle.spec.isKinematic() && dt > 0 ? averageMotion(obstacle.spec, time, time + dt) : Motion{};
+            obstacle.path.isKinematic() && dt > 0 ? averageMotion(obstacle.path, time, time + dt) : Motion{};
         const auto place = [&](int vertex)
         { return Vec3(pose.orientation * obstacle.geometry.vertices[std::size_t(vertex)] + pose.position); };
         for (const SharpEdge& local : features.edges)

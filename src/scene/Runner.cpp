@@ -177,7 +177,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
             {"pair_lists", r.lists},
             {"first_time", touched ? nlohmann::json(r.firstTime) : nlohmann::json(nullptr)},
             {"first_obstacle", touched && r.firstObstacle >= 0
-                                   ? nlohmann::json(scene.environment().obstacle(r.firstObstacle).spec.name)
+                                   ? nlohmann::json(scene.environment().obstacle(r.firstObstacle).name)
                                    : nlohmann::json(nullptr)},
             {"first_position", touched ? nlohmann::json({r.firstPosition.x(), r.firstPosition.y(), r.firstPosition.z()})
                                        : nlohmann::json(nullptr)},
