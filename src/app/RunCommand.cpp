@@ -106,6 +106,14 @@ void runRun(const RunOptions& options)
             std::fprintf(stderr, "%s\n", warning.c_str());
         }
     }
+    if (s.contains("webbing"))
+    {
+        // Where the sheet lies on itself: the defect a forming engineer looks for first.
+        const nlohmann::json& webbing = s["webbing"];
+        std::printf("webbing: %zu place(s), %zu masses within %.3g m of another part of the sheet%s\n",
+                    webbing["places"].get<std::size_t>(), webbing["masses"].get<std::size_t>(),
+                    webbing["distance_m"].get<double>(), options.out.empty() ? "" : " (webbing.csv)");
+    }
     if (!options.out.empty())
     {
         std::printf("wrote %s/summary.json and events.csv\n", options.out.c_str());

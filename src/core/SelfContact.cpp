@@ -163,6 +163,26 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
     ++m_report.queries;
 }
 
+void SelfContact::pairsWithin(const std::vector<Vec3>& x, Real distance, std::vector<SelfContactPair>& out)
+{
+    // A vertex's box is its point (no reach) and a triangle's is grown by the distance: every pair closer than the
+    // distance is among the broadphase's, and the closest point sorts them out.
+    const std::vector<Real> noReach(x.size(), 0);
+    m_broadphase.findPairs(x, noReach, distance, m_vertices, m_found);
+    out.clear();
+    const Real distanceSquared = distance * distance;
+    for (const SelfContactPair& pair : m_found)
+    {
+        const Triangle& t = m_triangles[pair.triangle];
+        if (!excluded(pair.vertex, pair.triangle) &&
+            (x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+                distanceSquared)
+        {
+            out.push_back(pair);
+        }
+    }
+}
+
 bool SelfContact::outgrewPairs(const std::vector<Vec3>& x) const
 {
     // The list holds every pair within the radius plus the two skins when it was made; it stays complete while each

@@ -69,6 +69,10 @@ public:
     const SelfContactReport& report() const { return m_report; }
     const SelfContactSettings& settings() const { return m_settings; }
     const std::vector<Triangle>& triangles() const { return m_triangles; }
+    /// Replaces `out` by the (vertex, triangle) pairs of the surface at positions x that are closer than `distance` and
+    /// that the contact would test (not adjacent, not near at rest), in the broadphase's order. It asks the broadphase
+    /// afresh, so a run's own SelfContact would list its frame's pairs again afterwards: ask one kept for this.
+    void pairsWithin(const std::vector<Vec3>& x, Real distance, std::vector<SelfContactPair>& out);
     /// Told when the broadphase and each substep's solve begin and end (nullptr: nobody).
     void setStageObserver(StageObserver* observer) { m_observer = observer; }
 

@@ -7,6 +7,7 @@
 #include "Plot.h"
 #include "Progress.h"
 #include "SheetReports.h"
+#include "WebbingReport.h"
 
 #include "core/Format.h"
 #include "core/SimdPath.h"
@@ -291,6 +292,13 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
         result.summary["final"]["sag"] = sag->series().back().second; // so an expect block can bound it
     }
+    std::vector<WebbingPlace> webbing;
+    if (reportsWebbing(scene.spec()))
+    {
+        webbing = webbingPlaces(scene);
+        result.summary["webbing"] = webbingSummary(webbing, webbingDistance(scene.spec()));
+        result.summary["final"]["webbing_masses"] = result.summary["webbing"]["masses"]; // for an expect block
+    }
     requireFiniteState(scene);
     requireFiniteJson(result.summary, "summary.json:");
     if (frames)
@@ -313,6 +321,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
                     options.outDir + "/thickness_section.png");
         }
         writeFormingReports(scene, options.outDir);
+        if (reportsWebbing(scene.spec()))
+        {
+            writeFileAtomically(options.outDir + "/webbing.csv", webbingCsv(webbing));
+        }
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
     }

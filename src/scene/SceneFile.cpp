@@ -553,6 +553,10 @@ ReportSpec readReport(const JsonObject& o, FormingReportSpec& forming)
             s.finish();
         }
     }
+    if (o.has("webbing"))
+    {
+        report.webbing = o.boolean("webbing", false);
+    }
     o.finish();
     return report;
 }

@@ -17,6 +17,7 @@
 #include "core/ThermalModel.h"
 #include "core/ViscoelasticSprings.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,9 @@ struct ReportSpec
     /// Sag against time: how far a mass (the bottom-layer centre by default) has dropped below its start.
     bool sag = false;
     int sagMass = -1; ///< -1: the bottom-layer mass nearest the sheet's centre
+    /// Where the sheet lies on itself at the end ("report.webbing"; WebbingReport.h): unset, forming and material
+    /// scenes and scenes with self-collision report it.
+    std::optional<bool> webbing;
 };
 
 struct EnvironmentSpec
