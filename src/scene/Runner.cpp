@@ -292,14 +292,14 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
         result.summary["final"]["sag"] = sag->series().back().second; // so an expect block can bound it
     }
-    std::vector<WebbingPlace> webbing;
+    requireFiniteState(scene);
+    std::vector<WebbingPlace> webbing; // from finite positions only: the broadphase's boxes need them
     if (reportsWebbing(scene.spec()))
     {
         webbing = webbingPlaces(scene);
         result.summary["webbing"] = webbingSummary(webbing, webbingDistance(scene.spec()));
         result.summary["final"]["webbing_masses"] = result.summary["webbing"]["masses"]; // for an expect block
     }
-    requireFiniteState(scene);
     requireFiniteJson(result.summary, "summary.json:");
     if (frames)
     {
