@@ -5,7 +5,9 @@
 #include "viewer/SceneSnapshot.h"
 #include "viewer/ViewerSession.h"
 
+#include "bridge/SelfContactTree.h"
 #include "core/HeatSources.h"
+#include "core/SelfContact.h"
 #include "scene/SceneFile.h"
 
 #include <gtest/gtest.h>
@@ -150,6 +152,74 @@ TEST(SheetArrays, AScalarTheSceneLacksIsGreyWithoutARangeAndOneItHasIsMappedOver
     EXPECT_TRUE(arrays.normals.empty());
     EXPECT_EQ(arrays.colours[0], palette::mass.r);
     EXPECT_EQ(arrays.colours[1], palette::mass.g);
+}
+
+// With contact.self_collision, the masses of every pair touching at the last substep are drawn magenta (over the
+// obstacle contact's green): none while the fold over the rod is still open, and once its halves have met, exactly the
+// masses of the pairs within the radius (the response leaves a touching pair at the radius; a separate self-contact of
+// the same lattice measures them), and only in the fold's scene.
+TEST(SheetArrays, MassesTouchingTheSheetItselfAreMagenta)
+{
+    ViewerSession session(shippedScene("fold-over-rod.json"));
+    const MassScalarRegistry scalars = standardMassScalars();
+    SceneSnapshot snapshot;
+    DrawSettings settings;
+    settings.mode = DrawMode::MassesAndSprings;
+    SheetArrays arrays;
+    const auto magenta = [&]
+    {
+        buildSheetArrays(snapshot, settings, arrays);
+        std::vector<Index> masses;
+        for (std::size_t i = 0; i < snapshot.positions.size(); ++i)
+        {
+            const float* c = &arrays.colours[3 * i];
+            if (c[0] == palette::massInSelfContact.r && c[1] == palette::massInSelfContact.g &&
+                c[2] == palette::massInSelfContact.b)
+            {
+                masses.push_back(Index(i));
+            }
+        }
+        return masses;
+    };
+    session.advanceSteps(5); // 0.15 s: falling, the halves far apart
+    captureSnapshot(session, scalars, "", nullptr, snapshot);
+    EXPECT_TRUE(magenta().empty());
+    EXPECT_EQ(snapshot.selfTouchingCount, 0u);
+
+    session.advanceSteps(20); // 0.75 s: the halves met at 0.41 s
+    captureSnapshot(session, scalars, "", &snapshot, snapshot);
+    const std::vector<Index> touching = magenta();
+    ASSERT_GT(session.scene().selfContact()->report().lastSubstep, 0u) << "the halves have not met";
+    EXPECT_FALSE(touching.empty());
+    EXPECT_EQ(touching.size(), snapshot.selfTouchingCount);
+
+    scene::Scene& scene = session.scene();
+    bridge::SelfContactTree tree;
+    SelfContactSettings measure;
+    measure.radius = scene.spec().contact.radius;
+    SelfContact surface(scene.lattice(), tree, measure);
+    std::vector<SelfContactPair> pairs;
+    surface.pairsWithin(scene.system().particles.position, 1.001 * measure.radius, pairs);
+    std::vector<Index> expected;
+    for (const SelfContactPair& pair : pairs)
+    {
+        expected.push_back(pair.vertex);
+        for (const Index i : surface.triangles()[pair.triangle])
+        {
+            expected.push_back(i);
+        }
+    }
+    std::sort(expected.begin(), expected.end());
+    expected.erase(std::unique(expected.begin(), expected.end()), expected.end());
+    for (const Index i : touching)
+    {
+        EXPECT_TRUE(std::binary_search(expected.begin(), expected.end(), i)) << "mass " << i << " is not touching";
+    }
+
+    ViewerSession drop(shippedScene("paper-drop.json"));
+    drop.advanceSteps(25);
+    captureSnapshot(drop, scalars, "", nullptr, snapshot);
+    EXPECT_TRUE(magenta().empty()) << "no self-contact in a scene without it";
 }
 
 // The drape-forming scene's panel: drawn where the scene puts it, glowing while on, dark once switched off.

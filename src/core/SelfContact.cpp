@@ -157,6 +157,7 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
     }
     for (std::vector<Touch>& touches : m_touches)
     {
+        touches.clear(); // they name pairs of the old list
         touches.reserve(selfPairChunkSize);
     }
     m_report.pairs = m_pairs.size();
@@ -179,6 +180,23 @@ void SelfContact::pairsWithin(const std::vector<Vec3>& x, Real distance, std::ve
                 distanceSquared)
         {
             out.push_back(pair);
+        }
+    }
+}
+
+void SelfContact::markTouchingMasses(std::vector<std::uint8_t>& flags) const
+{
+    const std::size_t ranges = chunkCount(m_pairs.size(), selfPairChunkSize);
+    for (std::size_t range = 0; range < ranges && range < m_touches.size(); ++range)
+    {
+        for (const Touch& touch : m_touches[range])
+        {
+            const SelfContactPair& pair = m_pairs[touch.pair];
+            flags[pair.vertex] = 1;
+            for (const Index i : m_triangles[pair.triangle])
+            {
+                flags[i] = 1;
+            }
         }
     }
 }

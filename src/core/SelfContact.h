@@ -73,6 +73,9 @@ public:
     /// that the contact would test (not adjacent, not near at rest), in the broadphase's order. It asks the broadphase
     /// afresh, so a run's own SelfContact would list its frame's pairs again afterwards: ask one kept for this.
     void pairsWithin(const std::vector<Vec3>& x, Real distance, std::vector<SelfContactPair>& out);
+    /// Sets flags[i] to 1 for every mass of a pair (its vertex and its triangle's three masses) that touched at the
+    /// last substep, leaving the others as they are; `flags` holds one entry per mass. For the viewer's colour.
+    void markTouchingMasses(std::vector<std::uint8_t>& flags) const;
     /// Told when the broadphase and each substep's solve begin and end (nullptr: nobody).
     void setStageObserver(StageObserver* observer) { m_observer = observer; }
 

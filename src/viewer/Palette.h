@@ -19,6 +19,7 @@ namespace palette
 {
 inline constexpr Rgb mass{1, 0, 0};
 inline constexpr Rgb massInContact{0, 1, 0};
+inline constexpr Rgb massInSelfContact{1, 0.3f, 1}; ///< touching another part of the sheet: magenta
 inline constexpr Rgb touchedFace{0, 0, 0};
 inline constexpr Rgb pinnedMass{0.25f, 0.45f, 1};
 inline constexpr Rgb spring{0.80f, 0.80f, 0.86f};

@@ -381,6 +381,10 @@ void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, cons
     ImGui::Text("t = %.3f s%s", snapshot.time, snapshot.paused ? "  (paused)" : "");
     ImGui::Text("%zu masses, %zu springs, %zu in contact", snapshot.positions.size(), snapshot.springCount,
                 snapshot.touchingCount);
+    if (spec.selfCollision)
+    {
+        ImGui::Text("%zu touching the sheet itself (magenta)", snapshot.selfTouchingCount);
+    }
     if (snapshot.ghost)
     {
         // The ghost: Bullet's twin, with the figures that set the two apart.

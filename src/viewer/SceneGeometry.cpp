@@ -390,9 +390,10 @@ void buildSheetArrays(const SceneSnapshot& snapshot, const DrawSettings& setting
         for (std::size_t i = 0; i < n; ++i)
         {
             const std::uint8_t flag = i < snapshot.flags.size() ? snapshot.flags[i] : std::uint8_t(massFree);
-            const Rgb& colour = flag == massPinned      ? palette::pinnedMass
-                                : flag == massInContact ? palette::massInContact
-                                                        : palette::mass;
+            const Rgb& colour = flag == massPinned          ? palette::pinnedMass
+                                : flag == massInSelfContact ? palette::massInSelfContact
+                                : flag == massInContact     ? palette::massInContact
+                                                            : palette::mass;
             put(&out.colours[3 * i], colour);
         }
     }

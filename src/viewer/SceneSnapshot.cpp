@@ -116,6 +116,21 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
         out.flags[i] =
             particles.pinned[i] ? massPinned : (i < touching.size() && touching[i] >= 0 ? massInContact : massFree);
     }
+    out.selfTouchingCount = 0;
+    if (const SelfContact* self = scene.selfContact())
+    {
+        // Touching the sheet itself shows over touching an obstacle: the rarer news, where a fold has closed.
+        std::vector<std::uint8_t> marks(n, 0);
+        self->markTouchingMasses(marks);
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            if (marks[i] && !particles.pinned[i])
+            {
+                out.flags[i] = massInSelfContact;
+                ++out.selfTouchingCount;
+            }
+        }
+    }
     out.missingScalars.clear();
     for (const MassScalar& registered : scalars.all())
     {

@@ -68,6 +68,7 @@ enum MassFlag : std::uint8_t
     massFree = 0,
     massInContact = 1,
     massPinned = 2,
+    massInSelfContact = 3, ///< touching another part of the sheet at the last substep (contact.self_collision)
 };
 
 struct SceneSnapshot
@@ -86,6 +87,7 @@ struct SceneSnapshot
     std::string notice;
     std::size_t springCount = 0;
     std::size_t touchingCount = 0;
+    std::size_t selfTouchingCount = 0; ///< masses touching another part of the sheet (contact.self_collision)
     std::vector<scene::SceneEvent> events;
 
     std::vector<Vec3> positions;
