@@ -6,9 +6,8 @@
 include(${CMAKE_CURRENT_LIST_DIR}/PackageTestSteps.cmake)
 
 file(REMOVE_RECURSE ${WORK})
-# A unity build, as in ConsumerTest.cmake: on a cold machine each of the two tests spent 100-110 s building the core.
 masse_step("configure the parent" ${CMAKE_COMMAND} -S ${CMAKE_CURRENT_LIST_DIR}/parent -B ${WORK}
-           -DMASSE_SOURCE=${SOURCE} -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER} -DCMAKE_UNITY_BUILD=ON)
+           -DMASSE_SOURCE=${SOURCE} -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER})
 file(STRINGS ${WORK}/CMakeCache.txt build_type REGEX "^CMAKE_BUILD_TYPE:")
 if(NOT build_type MATCHES "^CMAKE_BUILD_TYPE:STRING=$")
     message(FATAL_ERROR "the parent's cached build type changed: ${build_type}")

@@ -13,12 +13,9 @@ set(no_other_packages -DCMAKE_DISABLE_FIND_PACKAGE_PkgConfig=ON -DCMAKE_DISABLE_
     -DCMAKE_DISABLE_FIND_PACKAGE_nlohmann_json=ON -DCMAKE_DISABLE_FIND_PACKAGE_CLI11=ON
     -DCMAKE_DISABLE_FIND_PACKAGE_GTest=ON -DCMAKE_DISABLE_FIND_PACKAGE_OpenGL=ON -DCMAKE_DISABLE_FIND_PACKAGE_GLUT=ON)
 
-# A unity build (the core's files compiled a batch at a time): the test is about the package, not the compiler, and
-# this build of the core was one of the suite's two longest tests (see AddSubdirectoryTest.cmake).
 masse_step("configure the core alone" ${CMAKE_COMMAND} -S ${SOURCE} -B ${WORK}/masse-build -DCMAKE_BUILD_TYPE=Release
-           -DCMAKE_UNITY_BUILD=ON -DCMAKE_INSTALL_PREFIX=${prefix} -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER}
-           -DMASSE_BUILD_SCENE=OFF -DMASSE_BUILD_APP=OFF -DMASSE_BUILD_VIEWER=OFF -DMASSE_BUILD_TESTS=OFF
-           ${no_other_packages})
+           -DCMAKE_INSTALL_PREFIX=${prefix} -DCMAKE_CXX_COMPILER_LAUNCHER=${LAUNCHER} -DMASSE_BUILD_SCENE=OFF
+           -DMASSE_BUILD_APP=OFF -DMASSE_BUILD_VIEWER=OFF -DMASSE_BUILD_TESTS=OFF ${no_other_packages})
 masse_step("build the core" ${CMAKE_COMMAND} --build ${WORK}/masse-build -j2)
 masse_step("install the core" ${CMAKE_COMMAND} --install ${WORK}/masse-build)
 
