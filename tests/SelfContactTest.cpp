@@ -298,7 +298,7 @@ namespace
 struct WrapOutcome
 {
     Real smallestGap = std::numeric_limits<Real>::infinity(); ///< m, between the two flaps, over every frame
-    std::size_t under = 0;   ///< masses of the right flap under the box at the end
+    std::size_t under = 0;                                    ///< masses of the right flap under the box at the end
     std::size_t crossed = 0; ///< of those, the ones above the nearest mass of the left flap
     std::uint64_t touches = 0;
 };

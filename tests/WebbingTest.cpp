@@ -40,10 +40,11 @@ void runToEnd(Scene& scene)
 }
 } // namespace
 
-// The sheet, twice as wide as the trough's opening, slides in whole and folds on itself in the narrow bottom of the V. The largest place must be that fold: every one of its masses inside the trough (within the walls' V, grown by
-// the contact radius, between apex and rims), and made of both halves of the sheet (masses from more than a lattice
-// spacing either side of the middle at rest: the legs). With self-collision the legs are still a contact radius apart
-// (no pair closer than the radius minus 1%), so the place is found by the report's own distance (1.5 radii).
+// The sheet, twice as wide as the trough's opening, slides in whole and folds on itself in the narrow bottom of the V.
+// The largest place must be that fold: every one of its masses inside the trough (within the walls' V, grown by the
+// contact radius, between apex and rims), and made of both halves of the sheet (masses from more than a lattice spacing
+// either side of the middle at rest: the legs). With self-collision the legs are still a contact radius apart (no pair
+// closer than the radius minus 1%), so the place is found by the report's own distance (1.5 radii).
 TEST(Webbing, FoldInANarrowVTroughIsNamedWhereItLies)
 {
     const SceneSpec spec = loadScene(source + "/data/scenes/v-trough.json");
@@ -121,8 +122,8 @@ TEST(Webbing, RunWritesTheReportUnlessTurnedOff)
     EXPECT_EQ(first.rfind("1," + std::to_string(summary["webbing"]["largest"][0]["masses"].get<int>()) + ",", 0), 0u)
         << first;
 
-    const Outcome off =
-        runMasse("run " + scene + " --quiet --duration 0.3 --set report.webbing=false --out " + (folder / "off").string());
+    const Outcome off = runMasse("run " + scene + " --quiet --duration 0.3 --set report.webbing=false --out " +
+                                 (folder / "off").string());
     ASSERT_EQ(off.exitCode, 0) << off.output;
     EXPECT_FALSE(std::filesystem::exists(folder / "off" / "webbing.csv"));
     std::ifstream offSummary(folder / "off" / "summary.json");

@@ -70,7 +70,7 @@ springLoop(std::size_t n, const Real* __restrict xa, const Real* __restrict xb, 
     const Real uniformDamping = coefficients.uniformDamping;
     // Nothing here aliases (spring forces go to the row scratch), but GCC cannot tell once this is inlined, and the
     // run-time alias checks it would need exceed its limit: without ivdep the loops stay scalar.
-MASSE_IVDEP
+    MASSE_IVDEP
     for (std::size_t j = 0; j < n; ++j)
     {
         const Real dx = xa[stride * j] - xb[stride * j];
@@ -165,7 +165,7 @@ template <bool withRepulsion>
 [[gnu::always_inline]] inline void splitComponents(std::size_t n, const Real* __restrict from, Real* __restrict to,
                                                    std::size_t stride)
 {
-MASSE_IVDEP
+    MASSE_IVDEP
     for (std::size_t j = 0; j < n; ++j)
     {
         to[j] = from[3 * j];
@@ -255,7 +255,7 @@ template <BandedPass pass, int entryCount>
     }
     const std::size_t first = run.firstMass;
     const std::size_t local = run.local;
-MASSE_IVDEP
+    MASSE_IVDEP
     for (std::size_t j = 0; j < run.count; ++j)
     {
         Real fx;
