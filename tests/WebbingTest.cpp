@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -30,6 +31,23 @@ const std::string source = MASSE_SOURCE_DIR;
 constexpr Real apexY = -0.8;
 const Real halfAngle = 20 * std::acos(Real(-1)) / 180;
 const Real rimY = apexY + 0.75 * std::cos(halfAngle);
+
+/// The values of the Int32 point array `name` in a VTP frame, empty when the frame has none.
+std::vector<int> vtpIntArray(const std::filesystem::path& file, const std::string& name)
+{
+    std::ifstream in(file);
+    EXPECT_TRUE(in) << file;
+    std::string line;
+    while (std::getline(in, line) && line.find("Name=\"" + name + "\"") == std::string::npos)
+    {
+    }
+    std::vector<int> values;
+    while (std::getline(in, line) && line.rfind("</DataArray>", 0) != 0)
+    {
+        values.push_back(std::stoi(line));
+    }
+    return values;
+}
 
 void runToEnd(Scene& scene)
 {
@@ -105,7 +123,7 @@ TEST(Webbing, RunWritesTheReportUnlessTurnedOff)
     const std::filesystem::path folder = std::filesystem::temp_directory_path() / "masse-webbing-test";
     std::filesystem::remove_all(folder);
     const std::string scene = source + "/data/scenes/v-trough.json";
-    const Outcome on = runMasse("run " + scene + " --quiet --out " + (folder / "on").string());
+    const Outcome on = runMasse("run " + scene + " --quiet --frames-every 1000 --out " + (folder / "on").string());
     ASSERT_EQ(on.exitCode, 0) << on.output;
     EXPECT_NE(on.output.find("webbing: "), std::string::npos) << on.output;
     std::ifstream summaryFile(folder / "on" / "summary.json");
@@ -122,9 +140,20 @@ TEST(Webbing, RunWritesTheReportUnlessTurnedOff)
     EXPECT_EQ(first.rfind("1," + std::to_string(summary["webbing"]["largest"][0]["masses"].get<int>()) + ",", 0), 0u)
         << first;
 
-    const Outcome off = runMasse("run " + scene + " --quiet --duration 0.3 --set report.webbing=false --out " +
+    // The final frame marks the fold's masses in self_contact (issue 12's "self-contacts in the VTP frames").
+    const std::vector<int> selfContact = vtpIntArray(folder / "on" / "frames" / "frame_000100.vtp", "self_contact");
+    ASSERT_EQ(selfContact.size(), summary["masses"].get<std::size_t>());
+    const long touching = std::count(selfContact.begin(), selfContact.end(), 1);
+    EXPECT_GE(touching, 4) << "a closed fold touches at least one vertex-triangle pair";
+    EXPECT_EQ(touching + std::count(selfContact.begin(), selfContact.end(), 0), long(selfContact.size()));
+
+    const Outcome off = runMasse("run " + scene +
+                                 " --quiet --duration 0.3 --frames-every 1000 --set report.webbing=false "
+                                 "--set contact.self_collision=false --out " +
                                  (folder / "off").string());
     ASSERT_EQ(off.exitCode, 0) << off.output;
+    EXPECT_TRUE(vtpIntArray(folder / "off" / "frames" / "frame_000010.vtp", "self_contact").empty())
+        << "no self_contact array without self-collision";
     EXPECT_FALSE(std::filesystem::exists(folder / "off" / "webbing.csv"));
     std::ifstream offSummary(folder / "off" / "summary.json");
     EXPECT_FALSE(nlohmann::json::parse(offSummary).contains("webbing"));

@@ -6,6 +6,8 @@
 #include "FrameWriter.h"
 #include "ObstacleVtp.h"
 
+#include "core/SelfContact.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -103,6 +105,11 @@ void FrameOutput::write(Scene& scene)
             // Before the first step the contact solver has not looked yet: nothing touches.
             fields.contactObstacle.resize(scene.system().massCount(), -1);
             fields.obstacleNames = m_obstacleNames;
+            if (const SelfContact* self = scene.selfContact())
+            {
+                fields.selfContact.assign(scene.system().massCount(), 0);
+                self->markTouchingMasses(fields.selfContact);
+            }
             fields.scalars = materialScalars(scene);
             writeFileAtomically(path, toVtp(scene.system(), m_surface, fields));
         }

@@ -103,6 +103,15 @@ std::string toVtp(const MassSpringSystem& system, const std::vector<Triangle>& s
         }
         out << "</DataArray>\n";
     }
+    if (fields.selfContact.size() == p.size())
+    {
+        out << "<DataArray type=\"Int32\" Name=\"self_contact\" format=\"ascii\">\n";
+        for (std::uint8_t touching : fields.selfContact)
+        {
+            out << int(touching) << '\n';
+        }
+        out << "</DataArray>\n";
+    }
     for (const auto& [name, values] : fields.scalars)
     {
         if (values.size() == p.size())
