@@ -7,6 +7,7 @@
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 namespace masse::bridge
@@ -17,21 +18,48 @@ namespace
 /// threads share that part evenly.
 constexpr std::size_t selfQueryChunkSize = 512;
 
-/// Collects the triangles (leaf data) whose boxes a vertex's box overlaps.
-struct SurfaceTriangleCollector final : btDbvt::ICollide
+/// Vertices whose boxes are merged into one walk of the tree: consecutive surface vertices are neighbours along a
+/// lattice row, so the group's box is little larger than one vertex's, and the tree is walked once for the group
+/// instead of once per vertex. Each vertex then scans the group's leaves.
+constexpr std::size_t selfQueryGroupSize = 4;
+
+/// Marks the triangles one vertex is never paired with, so each leaf the vertex meets is tested by one load instead
+/// of a binary search of its list (a query meets a few hundred leaves, most of them its excluded neighbourhood). A
+/// mark is the number of the vertex's turn, so nothing is cleared between vertices. One per thread, kept between
+/// lists: the queries' ranges run on any thread, and what a range finds does not depend on which.
+struct ExclusionMarks
 {
-    std::vector<SelfContactPair>* out = nullptr;
-    Index vertex = 0;
-    void Process(const btDbvtNode* leaf) override
+    std::vector<std::uint32_t> turnOf; ///< per triangle, the turn that last marked it
+    std::uint32_t turn = 0;
+
+    void mark(const SelfContactExclusions& excluded, Index vertex, std::size_t triangleCount)
     {
-        out->push_back({vertex, Index(reinterpret_cast<std::uintptr_t>(leaf->data))});
+        if (turnOf.size() != triangleCount || ++turn == 0)
+        {
+            turnOf.assign(triangleCount, 0);
+            turn = 1;
+        }
+        for (std::size_t k = excluded.start[vertex]; k < excluded.start[vertex + 1]; ++k)
+        {
+            turnOf[excluded.triangles[k]] = turn;
+        }
     }
+    bool marked(Index triangle) const { return turnOf[triangle] == turn; }
 };
 
 btDbvtVolume selfContactBox(const Vec3& low, const Vec3& high, Real margin)
 {
     const Vec3 grow = Vec3::Constant(margin);
     return btDbvtVolume::FromMM(toBullet(low - grow), toBullet(high + grow));
+}
+
+/// btDbvt's own overlap test (Intersect), on a flattened node's box.
+bool overlaps(const SelfContactTree::FlatNode& node, const btDbvtVolume& box)
+{
+    const btVector3& low = box.Mins();
+    const btVector3& high = box.Maxs();
+    return node.low[0] <= high.x() && node.high[0] >= low.x() && node.low[1] <= high.y() &&
+           node.high[1] >= low.y() && node.low[2] <= high.z() && node.high[2] >= low.z();
 }
 } // namespace
 
@@ -75,30 +103,122 @@ void SelfContactTree::refit(const std::vector<Vec3>& x, const std::vector<Real>&
     }
 }
 
+void SelfContactTree::flatten()
+{
+    // Preorder, the second child first: the order in which btDbvt::collideTV's stack visits the nodes, so a walk of
+    // the copy meets the leaves in the order Bullet's own query would.
+    m_flat.clear();
+    m_walk.clear();
+    if (m_tree->m_root)
+    {
+        m_walk.push_back(m_tree->m_root);
+    }
+    std::vector<std::size_t> open; // flattened internal nodes whose subtree is still being copied
+    std::vector<std::size_t> remaining; // per open node, its children not yet copied
+    while (!m_walk.empty())
+    {
+        const btDbvtNode* node = m_walk.back();
+        m_walk.pop_back();
+        FlatNode flat;
+        const btVector3& low = node->volume.Mins();
+        const btVector3& high = node->volume.Maxs();
+        flat.low = {low.x(), low.y(), low.z()};
+        flat.high = {high.x(), high.y(), high.z()};
+        if (node->isleaf())
+        {
+            flat.triangle = std::int32_t(reinterpret_cast<std::uintptr_t>(node->data));
+        }
+        else
+        {
+            m_walk.push_back(node->childs[0]);
+            m_walk.push_back(node->childs[1]);
+        }
+        m_flat.push_back(flat);
+        if (!node->isleaf())
+        {
+            open.push_back(m_flat.size() - 1);
+            remaining.push_back(2);
+            continue;
+        }
+        // A leaf closes every subtree it completes: their walks skip to the next node copied.
+        m_flat.back().skip = std::uint32_t(m_flat.size());
+        while (!open.empty() && --remaining.back() == 0)
+        {
+            m_flat[open.back()].skip = std::uint32_t(m_flat.size());
+            open.pop_back();
+            remaining.pop_back();
+        }
+    }
+}
+
 void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
-                                const std::vector<Index>& vertices, std::vector<SelfContactPair>& out)
+                                const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                                std::vector<SelfContactPair>& out)
 {
     refit(x, reach, radius);
+    // The walks run on the flattened copy: btDbvt's nodes are scattered in memory, each a likely cache miss, where
+    // the copy is read front to back.
+    flatten();
     const std::size_t ranges = chunkCount(vertices.size(), selfQueryChunkSize);
     if (m_rangePairs.size() < ranges)
     {
         m_rangePairs.resize(ranges);
     }
-    const btDbvt& tree = *m_tree;
+    const std::size_t triangleCount = m_triangles.size();
+    static_assert(selfQueryChunkSize % selfQueryGroupSize == 0, "a group never straddles two ranges");
     parallelFor(vertices.size(), selfQueryChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     std::vector<SelfContactPair>& pairs = m_rangePairs[begin / selfQueryChunkSize];
                     pairs.clear();
-                    SurfaceTriangleCollector collector;
-                    collector.out = &pairs;
-                    for (std::size_t i = begin; i < end; ++i)
+                    thread_local ExclusionMarks marks;
+                    std::vector<std::uint32_t> leaves; // into m_flat
+                    std::array<btDbvtVolume, selfQueryGroupSize> boxes;
+                    for (std::size_t first = begin; first < end; first += selfQueryGroupSize)
                     {
-                        const Index v = vertices[i];
-                        collector.vertex = v;
-                        tree.collideTV(tree.m_root, selfContactBox(x[v], x[v], reach[v]), collector);
-                        // In the tree's order, not sorted: the tree is built and refitted on one thread from
-                        // the same boxes in the same order, so its order is the same at any thread count.
+                        const std::size_t count = std::min(selfQueryGroupSize, end - first);
+                        for (std::size_t g = 0; g < count; ++g)
+                        {
+                            const Index v = vertices[first + g];
+                            boxes[g] = selfContactBox(x[v], x[v], reach[v]);
+                        }
+                        btDbvtVolume group = boxes[0];
+                        for (std::size_t g = 1; g < count; ++g)
+                        {
+                            Merge(group, boxes[g], group);
+                        }
+                        leaves.clear();
+                        for (std::uint32_t k = 0; k < m_flat.size();)
+                        {
+                            const FlatNode& node = m_flat[k];
+                            if (!overlaps(node, group))
+                            {
+                                k = node.skip;
+                                continue;
+                            }
+                            if (node.triangle >= 0)
+                            {
+                                leaves.push_back(k);
+                            }
+                            ++k;
+                        }
+                        // The group's leaves come in the walk's fixed order and hold every leaf of each vertex's own
+                        // query, so each vertex's pairs are exactly, and in the order, that query would give. The
+                        // tree is built and refitted on one thread from the same boxes in the same order, so the
+                        // order is the same at any thread count.
+                        for (std::size_t g = 0; g < count; ++g)
+                        {
+                            const Index v = vertices[first + g];
+                            marks.mark(excluded, v, triangleCount);
+                            for (const std::uint32_t k : leaves)
+                            {
+                                const Index triangle = Index(m_flat[k].triangle);
+                                if (overlaps(m_flat[k], boxes[g]) && !marks.marked(triangle))
+                                {
+                                    pairs.push_back({v, triangle});
+                                }
+                            }
+                        }
                     }
                 });
     out.clear();

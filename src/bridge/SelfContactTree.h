@@ -7,6 +7,8 @@
 
 #include "core/SelfContactBroadphase.h"
 
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -25,14 +27,28 @@ public:
 
     void setTriangles(const std::vector<Triangle>& triangles) override;
     void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
-                   const std::vector<Index>& vertices, std::vector<SelfContactPair>& out) override;
+                   const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                   std::vector<SelfContactPair>& out) override;
+
+    /// A node of the tree copied into one array in the order a walk visits it.
+    struct FlatNode
+    {
+        std::array<Real, 3> low{};
+        std::array<Real, 3> high{};
+        std::uint32_t skip = 0;     ///< where a walk goes when the node's box misses: past its subtree
+        std::int32_t triangle = -1; ///< a leaf's triangle; -1 for an inner node
+    };
 
 private:
+    /// Copies the tree into m_flat.
+    void flatten();
     void refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius);
 
     std::unique_ptr<btDbvt> m_tree;
     std::vector<Triangle> m_triangles;
     std::vector<btDbvtNode*> m_leaves;                      ///< per triangle
+    std::vector<FlatNode> m_flat;                           ///< the tree, flattened at every list
+    std::vector<const btDbvtNode*> m_walk;                  ///< flatten's stack
     std::vector<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
 };
 } // namespace masse::bridge

@@ -40,7 +40,6 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     // Spring neighbours of every mass, for the adjacency test: a copy of the lattice's own adjacency, so the hook
     // holds nothing of the lattice it was built from.
     const std::size_t n = lattice.massCount();
-    m_springsAt = lattice.springs.adjacency(n);
     m_skin.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
     m_restPosition = lattice.position;
@@ -48,58 +47,63 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_broadphase.setTriangles(m_triangles);
-    listNearAtRest();
+    listExclusions(lattice.springs.adjacency(n));
 }
 
-void SelfContact::listNearAtRest()
+void SelfContact::listExclusions(const SpringAdjacency& springsAt)
 {
-    // Every pair within twice the radius at rest is among the broadphase's pairs for the rest positions with a skin
-    // of one radius (their boxes are then within three radii); the exact test sorts them out once, instead of at
-    // every list.
     const std::size_t n = m_restPosition.size();
+    std::vector<std::vector<Index>> excluded(n);
+    std::vector<std::uint8_t> onSurface(n, 0);
+    for (const Index v : m_vertices)
+    {
+        onSurface[v] = 1;
+    }
+    // A triangle holding the vertex, or one of its spring neighbours: the springs hold those apart. The adjacency is
+    // symmetric, so the triangle is listed for its masses and each of their neighbours.
+    for (std::size_t k = 0; k < m_triangles.size(); ++k)
+    {
+        for (const Index m : m_triangles[k])
+        {
+            excluded[m].push_back(Index(k));
+            for (std::size_t e = springsAt.offsets[m]; e < springsAt.offsets[m + 1]; ++e)
+            {
+                if (onSurface[springsAt.entries[e].other])
+                {
+                    excluded[springsAt.entries[e].other].push_back(Index(k));
+                }
+            }
+        }
+    }
+    // Near at rest: with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one),
+    // the flat sheet itself would be in contact with itself everywhere. Every pair within twice the radius at rest is
+    // among the broadphase's pairs for the rest positions with a skin of one radius (their boxes are then within
+    // three radii); the exact test sorts them out once, instead of at every list.
+    m_excluded.start.assign(n + 1, 0); // nothing excluded while they are sought
+    m_excluded.triangles.clear();
     std::fill(m_skin.begin(), m_skin.end(), m_settings.radius);
-    m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, m_vertices, m_found);
-    std::vector<std::vector<Index>> near(n);
+    m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
     const Real limitSquared = 4 * m_settings.radius * m_settings.radius;
-    for (const SelfContactPair& pair : m_found)
+    for (const SelfContactPair& pair : m_pairs)
     {
         const Triangle& t = m_triangles[pair.triangle];
         const std::vector<Vec3>& x = m_restPosition;
         if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
             limitSquared)
         {
-            near[pair.vertex].push_back(pair.triangle);
+            excluded[pair.vertex].push_back(pair.triangle);
         }
     }
-    m_nearStart.assign(n + 1, 0);
+    m_pairs.clear();
     for (std::size_t i = 0; i < n; ++i)
     {
-        std::sort(near[i].begin(), near[i].end());
-        m_nearStart[i + 1] = m_nearStart[i] + near[i].size();
-        m_nearTriangles.insert(m_nearTriangles.end(), near[i].begin(), near[i].end());
+        std::vector<Index>& list = excluded[i];
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        m_excluded.start[i + 1] = m_excluded.start[i] + list.size();
+        m_excluded.triangles.insert(m_excluded.triangles.end(), list.begin(), list.end());
+        std::vector<Index>().swap(list);
     }
-}
-
-bool SelfContact::excluded(Index vertex, Index triangleIndex) const
-{
-    const Triangle& triangle = m_triangles[triangleIndex];
-    if (std::find(triangle.begin(), triangle.end(), vertex) != triangle.end())
-    {
-        return true;
-    }
-    const SpringAdjacency& springs = m_springsAt;
-    for (std::size_t k = springs.offsets[vertex]; k < springs.offsets[vertex + 1]; ++k)
-    {
-        if (std::find(triangle.begin(), triangle.end(), springs.entries[k].other) != triangle.end())
-        {
-            return true;
-        }
-    }
-    // Near at rest: with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one),
-    // the flat sheet itself would be in contact with itself everywhere.
-    const auto nearFirst = m_nearTriangles.begin() + std::ptrdiff_t(m_nearStart[vertex]);
-    const auto nearLast = m_nearTriangles.begin() + std::ptrdiff_t(m_nearStart[vertex + 1]);
-    return std::binary_search(nearFirst, nearLast, triangleIndex);
 }
 
 void SelfContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/, Real /*time*/, Real dt)
@@ -136,13 +140,32 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/,
 
 void SelfContact::listPairs(const std::vector<Vec3>& x)
 {
-    m_broadphase.findPairs(x, m_skin, m_settings.radius, m_vertices, m_found);
+    m_broadphase.findPairs(x, m_skin, m_settings.radius, m_vertices, m_excluded, m_found);
+    // The boxes are loose (box metric, fat boxes): most pairs found are farther apart than the radius plus their two
+    // skins, which they cannot close while the list stands (the closest point of the triangle moves less than the
+    // farthest of its masses, relative to the surface's mean motion). Dropping them here, once a list, spares every
+    // substep's detection; the touches it finds are the same.
+    m_keep.resize(m_found.size());
+    parallelFor(m_found.size(), selfPairChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const SelfContactPair& pair = m_found[k];
+                        const Triangle& t = m_triangles[pair.triangle];
+                        const Real reach = m_settings.radius + m_skin[pair.vertex] +
+                                           std::max({m_skin[t[0]], m_skin[t[1]], m_skin[t[2]]});
+                        const Vec3& v = x[pair.vertex];
+                        m_keep[k] = (v - closestPointOnTriangle(v, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+                                    reach * reach;
+                    }
+                });
     m_pairs.clear();
-    for (const SelfContactPair& pair : m_found)
+    for (std::size_t k = 0; k < m_found.size(); ++k)
     {
-        if (!excluded(pair.vertex, pair.triangle))
+        if (m_keep[k])
         {
-            m_pairs.push_back(pair);
+            m_pairs.push_back(m_found[k]);
         }
     }
     for (const Index i : m_vertices)
@@ -169,15 +192,14 @@ void SelfContact::pairsWithin(const std::vector<Vec3>& x, Real distance, std::ve
     // A vertex's box is its point (no reach) and a triangle's is grown by the distance: every pair closer than the
     // distance is among the broadphase's, and the closest point sorts them out.
     const std::vector<Real> noReach(x.size(), 0);
-    m_broadphase.findPairs(x, noReach, distance, m_vertices, m_found);
+    m_broadphase.findPairs(x, noReach, distance, m_vertices, m_excluded, m_found);
     out.clear();
     const Real distanceSquared = distance * distance;
     for (const SelfContactPair& pair : m_found)
     {
         const Triangle& t = m_triangles[pair.triangle];
-        if (!excluded(pair.vertex, pair.triangle) &&
-            (x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
-                distanceSquared)
+        if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+            distanceSquared)
         {
             out.push_back(pair);
         }

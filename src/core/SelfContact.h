@@ -86,11 +86,9 @@ private:
         std::uint32_t pair; ///< into m_pairs
         Vec3 weights;       ///< barycentric weights of the triangle's closest point
     };
-    /// A vertex and a triangle never tested: the triangle holds the vertex or a spring neighbour of it, or the two
-    /// are within twice the radius at rest.
-    bool excluded(Index vertex, Index triangle) const;
-    /// Lists, once, the triangles within twice the radius of each vertex at rest.
-    void listNearAtRest();
+    /// Lists, once, the triangles each vertex is never tested against: those holding it or a spring neighbour of it,
+    /// and those within twice the radius of it at rest.
+    void listExclusions(const SpringAdjacency& springsAt);
     /// Asks the broadphase for the pairs within reach of the masses' skins now.
     void listPairs(const std::vector<Vec3>& x);
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
@@ -103,17 +101,15 @@ private:
     SelfContactSettings m_settings;
     std::vector<Triangle> m_triangles;
     std::vector<Index> m_vertices; ///< the surface's masses, increasing
-    SpringAdjacency m_springsAt;   ///< the lattice's springs at each mass
-    std::vector<std::size_t>
-        m_nearStart;                    ///< per mass, its triangles near at rest: m_nearTriangles[start[i], start[i+1])
-    std::vector<Index> m_nearTriangles; ///< sorted within each mass
+    SelfContactExclusions m_excluded; ///< per mass, the triangles it is never tested against
     std::vector<Real> m_skin;           ///< per mass, m: how far it may move before the pairs are listed again
     std::vector<Vec3> m_listedAt;       ///< per mass, where it was when the pairs were listed
     std::vector<Vec3> m_restPosition;   ///< the lattice's
     std::vector<Vec3> m_triangleLow;    ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;          ///< per mass, its velocity at the last frame's start
-    std::vector<SelfContactPair> m_found;      ///< the broadphase's pairs, before the adjacent ones are dropped
+    std::vector<SelfContactPair> m_found;      ///< the broadphase's pairs, before the distance test
+    std::vector<std::uint8_t> m_keep;          ///< per found pair, whether it is near enough to be listed
     std::vector<SelfContactPair> m_pairs;      ///< this frame's pairs
     std::vector<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
     SelfContactReport m_report;

@@ -7,6 +7,7 @@
 #include "LatticeSurface.h"
 #include "Types.h"
 
+#include <algorithm>
 #include <vector>
 
 namespace masse
@@ -18,17 +19,34 @@ struct SelfContactPair
     Index triangle = 0; ///< into the triangles given to setTriangles
 };
 
+/// The triangles each mass is never paired with (SelfContact.h says which): a table over every mass, built once.
+struct SelfContactExclusions
+{
+    std::vector<std::size_t> start; ///< mass i's are triangles[start[i], start[i + 1])
+    std::vector<Index> triangles;   ///< increasing within each mass
+
+    bool excludes(Index vertex, Index triangle) const
+    {
+        const auto first = triangles.begin() + std::ptrdiff_t(start[vertex]);
+        const auto last = triangles.begin() + std::ptrdiff_t(start[vertex + 1]);
+        return std::binary_search(first, last, triangle);
+    }
+};
+
 class SelfContactBroadphase
 {
 public:
     virtual ~SelfContactBroadphase() = default;
     /// The surface, once (its topology never changes).
     virtual void setTriangles(const std::vector<Triangle>& triangles) = 0;
-    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle whose boxes overlap: the vertex's box
-    /// is x[v] grown by reach[v]; a triangle's is its vertices' box grown by their largest reach plus `radius`.
-    /// Pairs are listed by vertex in the order of `vertices`, each vertex's triangles in an order that depends only on
-    /// the calls made so far, so the list is the same whatever the thread count.
+    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle whose boxes overlap, except the pairs
+    /// `excluded` names: the vertex's box is x[v] grown by reach[v]; a triangle's is its vertices' box grown by their
+    /// largest reach plus `radius`. Pairs are listed by vertex in the order of `vertices`, each vertex's triangles in
+    /// an order that depends only on the calls made so far, so the list is the same whatever the thread count. The
+    /// exclusions are tested where the pairs are found (on every thread), so the excluded ones, most of a flat
+    /// sheet's neighbourhood, are never stored.
     virtual void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
-                           const std::vector<Index>& vertices, std::vector<SelfContactPair>& out) = 0;
+                           const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                           std::vector<SelfContactPair>& out) = 0;
 };
 } // namespace masse
