@@ -145,6 +145,8 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
     // skins, which they cannot close while the list stands (the closest point of the triangle moves less than the
     // farthest of its masses, relative to the surface's mean motion). Dropping them here, once a list, spares every
     // substep's detection; the touches it finds are the same.
+    // The distance to the triangle's box, a bound from below, turns most of them away before the closest point.
+    measureTriangleBoxes(x);
     m_keep.resize(m_found.size());
     parallelFor(m_found.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
@@ -156,8 +158,12 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
                         const Real reach = m_settings.radius + m_skin[pair.vertex] +
                                            std::max({m_skin[t[0]], m_skin[t[1]], m_skin[t[2]]});
                         const Vec3& v = x[pair.vertex];
-                        m_keep[k] = (v - closestPointOnTriangle(v, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
-                                    reach * reach;
+                        const Vec3 outside = (m_triangleLow[pair.triangle] - v)
+                                                 .cwiseMax(v - m_triangleHigh[pair.triangle])
+                                                 .cwiseMax(Vec3::Zero());
+                        m_keep[k] = outside.squaredNorm() < reach * reach &&
+                                    (v - closestPointOnTriangle(v, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+                                        reach * reach;
                     }
                 });
     m_pairs.clear();
@@ -341,16 +347,8 @@ void SelfContact::respond(Particles& p, const Touch& touch, Real h) const
     apply(p.position, h * frictionImpulse);
 }
 
-void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
+void SelfContact::measureTriangleBoxes(const std::vector<Vec3>& x)
 {
-    Particles& p = system.particles;
-    if (outgrewPairs(p.position))
-    {
-        const StageScope stage(m_observer, Stage::SelfContactPairs);
-        listPairs(p.position);
-    }
-    const StageScope stage(m_observer, Stage::SelfContactSolve);
-    const std::vector<Vec3>& x = p.position;
     parallelFor(m_triangles.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
@@ -361,6 +359,19 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*
                         m_triangleHigh[k] = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
                     }
                 });
+}
+
+void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
+{
+    Particles& p = system.particles;
+    if (outgrewPairs(p.position))
+    {
+        const StageScope stage(m_observer, Stage::SelfContactPairs);
+        listPairs(p.position);
+    }
+    const StageScope stage(m_observer, Stage::SelfContactSolve);
+    const std::vector<Vec3>& x = p.position;
+    measureTriangleBoxes(x);
     parallelFor(m_pairs.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {

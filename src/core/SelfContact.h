@@ -94,6 +94,8 @@ private:
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
     /// pairs were listed (the list may then miss a pair).
     bool outgrewPairs(const std::vector<Vec3>& x) const;
+    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh.
+    void measureTriangleBoxes(const std::vector<Vec3>& x);
     void detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const;
     void respond(Particles& p, const Touch& touch, Real h) const;
 
