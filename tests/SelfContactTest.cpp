@@ -1,8 +1,8 @@
 // The sheet against itself (issue 12): the response of one vertex-triangle touch against its analytic outcome, and
 // the fold-over-rod and wrap-box scenes with and without self-collision.
 
-#include "bridge/SelfContactTree.h"
 #include "core/SelfContact.h"
+#include "bridge/SelfContactTree.h"
 #include "core/ClosestPointOnTriangle.h"
 #include "core/Energy.h"
 #include "core/InputError.h"
@@ -235,8 +235,8 @@ TEST(SelfContact, BroadphaseListsEveryOverlappingPairOnce)
         {
             listed.emplace_back(pair.vertex, pair.triangle);
         }
-        ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end(), [](const auto& a, const auto& b)
-                                   { return a.first < b.first; }))
+        ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end(),
+                                   [](const auto& a, const auto& b) { return a.first < b.first; }))
             << "pairs come by vertex, in the vertices' order";
         std::sort(listed.begin(), listed.end());
         EXPECT_EQ(std::adjacent_find(listed.begin(), listed.end()), listed.end()) << "a pair listed twice";

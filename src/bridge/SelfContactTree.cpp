@@ -58,8 +58,8 @@ bool overlaps(const SelfContactTree::FlatNode& node, const btDbvtVolume& box)
 {
     const btVector3& low = box.Mins();
     const btVector3& high = box.Maxs();
-    return node.low[0] <= high.x() && node.high[0] >= low.x() && node.low[1] <= high.y() &&
-           node.high[1] >= low.y() && node.low[2] <= high.z() && node.high[2] >= low.z();
+    return node.low[0] <= high.x() && node.high[0] >= low.x() && node.low[1] <= high.y() && node.high[1] >= low.y() &&
+           node.low[2] <= high.z() && node.high[2] >= low.z();
 }
 } // namespace
 
@@ -113,7 +113,7 @@ void SelfContactTree::flatten()
     {
         m_walk.push_back(m_tree->m_root);
     }
-    std::vector<std::size_t> open; // flattened internal nodes whose subtree is still being copied
+    std::vector<std::size_t> open;      // flattened internal nodes whose subtree is still being copied
     std::vector<std::size_t> remaining; // per open node, its children not yet copied
     while (!m_walk.empty())
     {

@@ -161,9 +161,9 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
                         const Vec3 outside = (m_triangleLow[pair.triangle] - v)
                                                  .cwiseMax(v - m_triangleHigh[pair.triangle])
                                                  .cwiseMax(Vec3::Zero());
-                        m_keep[k] = outside.squaredNorm() < reach * reach &&
-                                    (v - closestPointOnTriangle(v, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
-                                        reach * reach;
+                        m_keep[k] =
+                            outside.squaredNorm() < reach * reach &&
+                            (v - closestPointOnTriangle(v, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() < reach * reach;
                     }
                 });
     m_pairs.clear();

@@ -102,12 +102,12 @@ private:
     SelfContactBroadphase& m_broadphase;
     SelfContactSettings m_settings;
     std::vector<Triangle> m_triangles;
-    std::vector<Index> m_vertices; ///< the surface's masses, increasing
+    std::vector<Index> m_vertices;    ///< the surface's masses, increasing
     SelfContactExclusions m_excluded; ///< per mass, the triangles it is never tested against
-    std::vector<Real> m_skin;           ///< per mass, m: how far it may move before the pairs are listed again
-    std::vector<Vec3> m_listedAt;       ///< per mass, where it was when the pairs were listed
-    std::vector<Vec3> m_restPosition;   ///< the lattice's
-    std::vector<Vec3> m_triangleLow;    ///< per triangle, its box at this substep
+    std::vector<Real> m_skin;         ///< per mass, m: how far it may move before the pairs are listed again
+    std::vector<Vec3> m_listedAt;     ///< per mass, where it was when the pairs were listed
+    std::vector<Vec3> m_restPosition; ///< the lattice's
+    std::vector<Vec3> m_triangleLow;  ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;          ///< per mass, its velocity at the last frame's start
     std::vector<SelfContactPair> m_found;      ///< the broadphase's pairs, before the distance test

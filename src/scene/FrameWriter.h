@@ -4,8 +4,8 @@
 /// Every point array's name ends in its unit, so ParaView's colour legend says what it shows: velocity_m_s,
 /// speed_m_s, strain (dimensionless), temperature_C, thickness_m; pinned is 0 or 1; contact_obstacle is the index
 /// of the obstacle a mass touches (-1 none) into the field-data table obstacle_names; self_contact (scenes with
-/// contact.self_collision) is 1 for a mass in a pair of the sheet touching itself at the last substep, else 0. The field
-/// TimeValue carries the simulated time (s), which ParaView and VTK readers take as the dataset's time.
+/// contact.self_collision) is 1 for a mass in a pair of the sheet touching itself at the last substep, else 0. The
+/// field TimeValue carries the simulated time (s), which ParaView and VTK readers take as the dataset's time.
 
 #include "core/LatticeSurface.h"
 #include "core/MassSpringSystem.h"
@@ -19,10 +19,10 @@ namespace masse::scene
 /// Per-mass values and the frame's context (each per-mass array one value per mass; empty arrays are skipped).
 struct FrameFields
 {
-    Real time = 0;                                                    ///< s, simulated
-    std::vector<int> contactObstacle;                                 ///< the obstacle each mass touches, -1 none
-    std::vector<std::string> obstacleNames;                           ///< name of obstacle i, for contactObstacle
-    std::vector<std::uint8_t> selfContact; ///< 1 where the sheet touches itself (empty: no self-collision)
+    Real time = 0;                          ///< s, simulated
+    std::vector<int> contactObstacle;       ///< the obstacle each mass touches, -1 none
+    std::vector<std::string> obstacleNames; ///< name of obstacle i, for contactObstacle
+    std::vector<std::uint8_t> selfContact;  ///< 1 where the sheet touches itself (empty: no self-collision)
     std::vector<std::pair<std::string, std::vector<double>>> scalars; ///< more per-mass scalars, by name and unit
 };
 
