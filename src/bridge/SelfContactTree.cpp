@@ -2,6 +2,7 @@
 
 #include "BulletMath.h"
 
+#include "core/ClosestPointOnTriangle.h"
 #include "core/TaskPool.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
@@ -72,6 +73,8 @@ void SelfContactTree::setTriangles(const std::vector<Triangle>& triangles)
     m_tree->clear();
     m_triangles = triangles;
     m_leaves.assign(triangles.size(), nullptr);
+    m_low.assign(triangles.size(), Vec3::Zero());
+    m_high.assign(triangles.size(), Vec3::Zero());
 }
 
 void SelfContactTree::refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius)
@@ -85,6 +88,8 @@ void SelfContactTree::refit(const std::vector<Vec3>& x, const std::vector<Real>&
         const Triangle& t = m_triangles[k];
         const Vec3 low = x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]);
         const Vec3 high = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
+        m_low[k] = low;
+        m_high[k] = high;
         const Real margin = std::max({reach[t[0]], reach[t[1]], reach[t[2]]}) + radius;
         const btDbvtVolume needed = selfContactBox(low, high, margin);
         if (!m_leaves[k])
@@ -101,6 +106,19 @@ void SelfContactTree::refit(const std::vector<Vec3>& x, const std::vector<Real>&
             m_tree->update(m_leaves[k], fat);
         }
     }
+}
+
+bool SelfContactTree::withinReach(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Index v,
+                                  Index triangle) const
+{
+    // Most pairs whose boxes overlap are farther apart (box metric, fat boxes). The distance to the triangle's box, a
+    // bound from below, turns most of them away before the closest point is sought.
+    const Triangle& t = m_triangles[triangle];
+    const Real limit = radius + reach[v] + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
+    const Vec3& p = x[v];
+    const Vec3 outside = (m_low[triangle] - p).cwiseMax(p - m_high[triangle]).cwiseMax(Vec3::Zero());
+    return outside.squaredNorm() < limit * limit &&
+           (p - closestPointOnTriangle(p, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() < limit * limit;
 }
 
 void SelfContactTree::flatten()
@@ -213,7 +231,8 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
                             for (const std::uint32_t k : leaves)
                             {
                                 const Index triangle = Index(m_flat[k].triangle);
-                                if (overlaps(m_flat[k], boxes[g]) && !marks.marked(triangle))
+                                if (overlaps(m_flat[k], boxes[g]) && !marks.marked(triangle) &&
+                                    withinReach(x, reach, radius, v, triangle))
                                 {
                                     pairs.push_back({v, triangle});
                                 }

@@ -42,11 +42,16 @@ public:
 private:
     /// Copies the tree into m_flat.
     void flatten();
+    /// Whether vertex v is closer to the triangle than the radius plus v's reach plus its masses' largest.
+    bool withinReach(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Index v,
+                     Index triangle) const;
     void refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius);
 
     std::unique_ptr<btDbvt> m_tree;
     std::vector<Triangle> m_triangles;
-    std::vector<btDbvtNode*> m_leaves;                      ///< per triangle
+    std::vector<btDbvtNode*> m_leaves; ///< per triangle
+    std::vector<Vec3> m_low;           ///< per triangle, its vertices' box at the last refit
+    std::vector<Vec3> m_high;
     std::vector<FlatNode> m_flat;                           ///< the tree, flattened at every list
     std::vector<const btDbvtNode*> m_walk;                  ///< flatten's stack
     std::vector<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame

@@ -140,40 +140,10 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/,
 
 void SelfContact::listPairs(const std::vector<Vec3>& x)
 {
-    m_broadphase.findPairs(x, m_skin, m_settings.radius, m_vertices, m_excluded, m_found);
-    // The boxes are loose (box metric, fat boxes): most pairs found are farther apart than the radius plus their two
-    // skins, which they cannot close while the list stands (the closest point of the triangle moves less than the
-    // farthest of its masses, relative to the surface's mean motion). Dropping them here, once a list, spares every
-    // substep's detection; the touches it finds are the same.
-    // The distance to the triangle's box, a bound from below, turns most of them away before the closest point.
-    measureTriangleBoxes(x);
-    m_keep.resize(m_found.size());
-    parallelFor(m_found.size(), selfPairChunkSize,
-                [&](std::size_t begin, std::size_t end)
-                {
-                    for (std::size_t k = begin; k < end; ++k)
-                    {
-                        const SelfContactPair& pair = m_found[k];
-                        const Triangle& t = m_triangles[pair.triangle];
-                        const Real reach = m_settings.radius + m_skin[pair.vertex] +
-                                           std::max({m_skin[t[0]], m_skin[t[1]], m_skin[t[2]]});
-                        const Vec3& v = x[pair.vertex];
-                        const Vec3 outside = (m_triangleLow[pair.triangle] - v)
-                                                 .cwiseMax(v - m_triangleHigh[pair.triangle])
-                                                 .cwiseMax(Vec3::Zero());
-                        m_keep[k] =
-                            outside.squaredNorm() < reach * reach &&
-                            (v - closestPointOnTriangle(v, x[t[0]], x[t[1]], x[t[2]])).squaredNorm() < reach * reach;
-                    }
-                });
-    m_pairs.clear();
-    for (std::size_t k = 0; k < m_found.size(); ++k)
-    {
-        if (m_keep[k])
-        {
-            m_pairs.push_back(m_found[k]);
-        }
-    }
+    // The broadphase keeps only the pairs within the radius plus their two skins: one farther apart cannot touch
+    // while the list stands (the closest point of the triangle moves less than the farthest of its masses, relative
+    // to the surface's mean motion), so no substep's detection tests it.
+    m_broadphase.findPairs(x, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
     for (const Index i : m_vertices)
     {
         m_listedAt[i] = x[i];

@@ -39,12 +39,13 @@ public:
     virtual ~SelfContactBroadphase() = default;
     /// The surface, once (its topology never changes).
     virtual void setTriangles(const std::vector<Triangle>& triangles) = 0;
-    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle whose boxes overlap, except the pairs
-    /// `excluded` names: the vertex's box is x[v] grown by reach[v]; a triangle's is its vertices' box grown by their
-    /// largest reach plus `radius`. Pairs are listed by vertex in the order of `vertices`, each vertex's triangles in
-    /// an order that depends only on the calls made so far, so the list is the same whatever the thread count. The
-    /// exclusions are tested where the pairs are found (on every thread), so the excluded ones, most of a flat
-    /// sheet's neighbourhood, are never stored.
+    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle closer than `radius` plus reach[v] plus
+    /// the largest reach of the triangle's masses, except the pairs `excluded` names (an implementation finds them
+    /// by boxes: the vertex's is x[v] grown by reach[v], a triangle's is its vertices' box grown by their largest
+    /// reach plus `radius`; then measures the distance). Pairs are listed by vertex in the order of `vertices`, each
+    /// vertex's triangles in an order that depends only on the calls made so far, so the list is the same whatever the
+    /// thread count. The exclusions are tested where the pairs are found (on every thread), so the excluded ones, most
+    /// of a flat sheet's neighbourhood, are never stored.
     virtual void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                            const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                            std::vector<SelfContactPair>& out) = 0;
