@@ -37,8 +37,6 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangles = std::move(surface.triangles);
     m_vertices = std::move(surface.vertices);
 
-    // Spring neighbours of every mass, for the adjacency test: a copy of the lattice's own adjacency, so the hook
-    // holds nothing of the lattice it was built from.
     const std::size_t n = lattice.massCount();
     m_skin.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
@@ -47,7 +45,7 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_broadphase.setTriangles(m_triangles);
-    listExclusions(lattice.springs.adjacency(n));
+    listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
 }
 
 void SelfContact::listExclusions(const SpringAdjacency& springsAt)
@@ -165,21 +163,9 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
 
 void SelfContact::pairsWithin(const std::vector<Vec3>& x, Real distance, std::vector<SelfContactPair>& out)
 {
-    // A vertex's box is its point (no reach) and a triangle's is grown by the distance: every pair closer than the
-    // distance is among the broadphase's, and the closest point sorts them out.
+    // No reach: the broadphase lists exactly the pairs closer than the distance.
     const std::vector<Real> noReach(x.size(), 0);
-    m_broadphase.findPairs(x, noReach, distance, m_vertices, m_excluded, m_found);
-    out.clear();
-    const Real distanceSquared = distance * distance;
-    for (const SelfContactPair& pair : m_found)
-    {
-        const Triangle& t = m_triangles[pair.triangle];
-        if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
-            distanceSquared)
-        {
-            out.push_back(pair);
-        }
-    }
+    m_broadphase.findPairs(x, noReach, distance, m_vertices, m_excluded, out);
 }
 
 void SelfContact::markTouchingMasses(std::vector<std::uint8_t>& flags) const

@@ -110,7 +110,6 @@ private:
     std::vector<Vec3> m_triangleLow;  ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;          ///< per mass, its velocity at the last frame's start
-    std::vector<SelfContactPair> m_found;      ///< pairsWithin's broadphase pairs
     std::vector<SelfContactPair> m_pairs;      ///< this frame's pairs
     std::vector<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
     SelfContactReport m_report;
