@@ -1,5 +1,7 @@
 // The task system and the engine's promise: the same scene gives the same bits at any thread count.
 
+#include "TestSystems.h"
+
 #include "core/Forces.h"
 #include "core/InputError.h"
 #include "core/Lattice.h"
@@ -23,6 +25,7 @@
 #include <vector>
 
 using namespace masse;
+using masse::test::sameBits;
 using namespace masse::scene;
 
 namespace
@@ -306,13 +309,6 @@ MassSpringSystem shakenSheet(Structure structure, const std::string& size, Real 
         system.particles.externalForce[i] = 1e-3 * Vec3(jitter(random), jitter(random), jitter(random));
     }
     return system;
-}
-
-bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
-{
-    return a.size() == b.size() &&
-           std::equal(a.begin(), a.end(), b.begin(),
-                      [](const Vec3& p, const Vec3& q) { return std::memcmp(p.data(), q.data(), sizeof(Vec3)) == 0; });
 }
 } // namespace
 

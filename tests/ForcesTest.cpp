@@ -166,3 +166,86 @@ TEST(Forces, BadSheetParametersAreRefused)
             << e.what();
     }
 }
+
+// Only bits that are +0 count as no external force: adding -0 to a -0 sum keeps it -0, adding +0 makes it +0, so the
+// symplectic pass may skip the array only when every component is +0.
+TEST(Forces, NoExternalForcesMeansEveryBitZero)
+{
+    MassSpringSystem system = paperSheet(4);
+    EXPECT_TRUE(noExternalForces(system.particles));
+    system.particles.externalForce[7].y() = -0.0;
+    EXPECT_FALSE(noExternalForces(system.particles));
+    system.particles.externalForce[7].y() = 0.0;
+    system.particles.externalForce.back().z() = 1e-300;
+    EXPECT_FALSE(noExternalForces(system.particles));
+}
+
+// The symplectic pass that skips the external forces gives the bits of the one that adds them when they are all +0,
+// on a lattice sheet (its banded kernel): forces, velocities and positions after five substeps, with gravity and with
+// a gravity of -0 (a mass at rest then has an own force of -0 before its springs' are added).
+TEST(Forces, SymplecticSubstepWithoutExternalForcesHasTheSameBits)
+{
+    for (const Vec3& gravity : {Vec3(0, -standardGravity, 0), Vec3(-0.0, -0.0, -0.0)})
+    {
+        MassSpringSystem sheet = paperSheet(12);
+        sheet.forces.gravity = gravity;
+        ASSERT_NE(sheet.springs.rowPlan(sheet.massCount()), nullptr);
+        for (std::size_t i = 0; i < sheet.massCount(); i += 3)
+        {
+            sheet.particles.velocity[i] = Vec3(0.01 * Real(i % 7), -0.02, i % 2 ? -0.0 : 0.0);
+        }
+        MassSpringSystem reading = sheet;
+        MassSpringSystem skipping = sheet;
+        for (int substep = 0; substep < 5; ++substep)
+        {
+            ASSERT_TRUE(symplecticSubstep(reading, 1e-3, true));
+            ASSERT_TRUE(symplecticSubstep(skipping, 1e-3, false));
+        }
+        EXPECT_TRUE(sameBits(skipping.particles.position, reading.particles.position));
+        EXPECT_TRUE(sameBits(skipping.particles.velocity, reading.particles.velocity));
+        EXPECT_TRUE(sameBits(skipping.particles.force, reading.particles.force));
+    }
+}
+
+namespace
+{
+/// Pushes mass 0 along x from the end of the frame's first substep on.
+class PushAfterFirstSubstep final : public StepHook
+{
+public:
+    void afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real /*h*/, Real /*time*/) override
+    {
+        system.particles.externalForce[0] = Vec3(1e-3, 0, 0);
+    }
+    bool writesExternalForcesMidFrame() const override { return true; }
+};
+} // namespace
+
+// A hook that applies an external force after a substep, and says so, is felt from the next substep on, though the
+// frame began with none (the Simulator looks again after such hooks): the frame has the bits of substeps by hand.
+TEST(Forces, ExternalForceAHookAppliesMidFrameIsFelt)
+{
+    MassSpringSystem sheet = paperSheet(8);
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    Simulator simulator(sheet, settings);
+    PushAfterFirstSubstep push;
+    simulator.addHook(&push);
+    const StepReport report = simulator.step(paperTimeStep);
+    ASSERT_GE(report.substeps, 2);
+
+    MassSpringSystem byHand = sheet;
+    for (int substep = 0; substep < report.substeps; ++substep)
+    {
+        ASSERT_TRUE(symplecticSubstep(byHand, report.substep, true));
+        byHand.particles.externalForce[0] = Vec3(1e-3, 0, 0);
+    }
+    EXPECT_TRUE(sameBits(simulator.system().particles.position, byHand.particles.position));
+    // And the push moved the sheet: without it, the same substeps give other bits.
+    MassSpringSystem unpushed = sheet;
+    for (int substep = 0; substep < report.substeps; ++substep)
+    {
+        ASSERT_TRUE(symplecticSubstep(unpushed, report.substep, true));
+    }
+    EXPECT_FALSE(sameBits(simulator.system().particles.position, unpushed.particles.position));
+}

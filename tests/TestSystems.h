@@ -6,7 +6,9 @@
 #include "core/MassSpringSystem.h"
 #include "core/Simulator.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <string>
 
@@ -111,4 +113,11 @@ private:
     Real m_previousTime = 0;
     bool m_hasPrevious = false;
 };
+/// Whether two vectors of points hold the same bits (a -0 differs from a +0).
+inline bool sameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+{
+    return a.size() == b.size() &&
+           std::equal(a.begin(), a.end(), b.begin(),
+                      [](const Vec3& p, const Vec3& q) { return std::memcmp(p.data(), q.data(), sizeof(Vec3)) == 0; });
+}
 } // namespace masse::test

@@ -30,6 +30,11 @@ namespace masse
 {
 namespace
 {
+constexpr bool isSymplectic(BandedPass pass)
+{
+    return pass == BandedPass::SymplecticSubstep || pass == BandedPass::SymplecticSubstepWithoutExternalForces;
+}
+
 /// The spring forces of one spring row: x, y and z components of slot s at x[s], x[slots + s], x[2 * slots + s].
 struct RowForces
 {
@@ -204,12 +209,16 @@ template <BandedPass pass>
     }
     else
     {
-        // m (g - drag v) + external, as Eigen evaluates it component by component in the plain gather.
+        // m (g - drag v) + external, as Eigen evaluates it component by component in the plain gather. Without
+        // external forces the sum still adds +0: the same bits as adding an external force of +0 (a -0 would stay -0).
         const Real m = args.mass[mass];
-        fx = m * (args.gravity.x() - args.drag * state.velocity[local]) + args.externalForce[mass].x();
-        fy = m * (args.gravity.y() - args.drag * state.velocity[state.stride + local]) + args.externalForce[mass].y();
+        constexpr bool external = pass != BandedPass::SymplecticSubstepWithoutExternalForces;
+        fx = m * (args.gravity.x() - args.drag * state.velocity[local]) +
+             (external ? args.externalForce[mass].x() : Real(0));
+        fy = m * (args.gravity.y() - args.drag * state.velocity[state.stride + local]) +
+             (external ? args.externalForce[mass].y() : Real(0));
         fz = m * (args.gravity.z() - args.drag * state.velocity[2 * state.stride + local]) +
-             args.externalForce[mass].z();
+             (external ? args.externalForce[mass].z() : Real(0));
     }
 }
 
@@ -222,7 +231,7 @@ template <BandedPass pass>
     force[0] = fx;
     force[1] = fy;
     force[2] = fz;
-    if constexpr (pass == BandedPass::SymplecticSubstep)
+    if constexpr (isSymplectic(pass))
     {
         const Real kick = args.h * args.inverseMass[mass];
         const std::size_t s = state.stride;
@@ -497,6 +506,8 @@ void runBandedForces(BandedPass pass, const BandedForceArgs& args)
         return runBands<BandedPass::TotalForces>(args);
     case BandedPass::SymplecticSubstep:
         return runBands<BandedPass::SymplecticSubstep>(args);
+    case BandedPass::SymplecticSubstepWithoutExternalForces:
+        return runBands<BandedPass::SymplecticSubstepWithoutExternalForces>(args);
     }
 }
 } // namespace masse

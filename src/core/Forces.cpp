@@ -6,7 +6,9 @@
 #include "TaskPool.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace masse
 {
@@ -288,7 +290,23 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
     }
 }
 
-bool symplecticSubstep(MassSpringSystem& system, Real h)
+bool noExternalForces(const Particles& particles)
+{
+    // Bit patterns, not values: -0 == 0, but adding -0 keeps a -0 sum where adding +0 makes it +0.
+    static_assert(sizeof(Real) == sizeof(std::uint64_t));
+    const Real* components = particles.externalForce.empty() ? nullptr : particles.externalForce[0].data();
+    const std::size_t count = 3 * particles.externalForce.size();
+    for (std::size_t k = 0; k < count; ++k)
+    {
+        if (std::bit_cast<std::uint64_t>(components[k]) != 0)
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces)
 {
     if (!system.userSprings.all().empty())
     {
@@ -304,7 +322,8 @@ bool symplecticSubstep(MassSpringSystem& system, Real h)
         args.inverseMass = p.inverseMass.data();
         args.position = p.position.data();
         args.velocity = p.velocity.data();
-        runBandedForces(BandedPass::SymplecticSubstep, args);
+        runBandedForces(
+            externalForces ? BandedPass::SymplecticSubstep : BandedPass::SymplecticSubstepWithoutExternalForces, args);
         return true;
     }
     std::vector<Real>& scale = springScaleScratch;

@@ -15,8 +15,12 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
 /// v += (h / m) f and x += h v. A lattice sheet (a SpringRowPlan) does all three in one pass over its bands of rows;
 /// other spring sets in a gather pass and a drift pass. The same bits either way as evaluateForces followed by the two
 /// updates. Returns false, doing nothing, when the system has user springs (their forces are added after the gather):
-/// use evaluateForces then.
-bool symplecticSubstep(MassSpringSystem& system, Real h);
+/// use evaluateForces then. With `externalForces` false the caller vouches that every external force is +0 in every
+/// bit (noExternalForces), and a lattice sheet's pass does not read them: the same bits, less memory to stream.
+bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces = true);
+
+/// Whether every component of every external force is +0 in every bit (a -0 would not add as +0 does).
+bool noExternalForces(const Particles& particles);
 
 /// Adds the sheet springs' forces only (the hot loop; exposed for benchmarks).
 void accumulateSpringForces(const SpringSet& springs, Real repulsion, const std::vector<Vec3>& x,

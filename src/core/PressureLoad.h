@@ -66,6 +66,7 @@ public:
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
     void endFrame(MassSpringSystem& system, StepContext& context, Real time) override;
+    bool writesExternalForcesMidFrame() const override { return true; }
 
     /// Writes the load for positions x and pressure p into `force` (one per mass), leaving out the triangles sealed
     /// as of the last frame.

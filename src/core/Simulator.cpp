@@ -1,5 +1,6 @@
 #include "Simulator.h"
 
+#include "Forces.h"
 #include "Format.h"
 #include "InputError.h"
 #include "NumericalError.h"
@@ -80,6 +81,14 @@ StepReport Simulator::step(Real dt)
         publishContact();
     }
     runHooks([&](StepHook& hook) { hook.beginFrame(m_system, m_context, m_time, dt); });
+    // Only the symplectic pass skips zero external forces; the hooks may write them (a pressure load does).
+    const bool watchExternalForces = m_settings.integrator == IntegratorKind::SymplecticEuler;
+    const auto lookForExternalForces = [&]
+    { m_context.externalForces = !watchExternalForces || !noExternalForces(m_system.particles); };
+    lookForExternalForces();
+    const bool hooksWriteExternalForces =
+        watchExternalForces && std::any_of(m_hooks.begin(), m_hooks.end(),
+                                           [](const StepHook* hook) { return hook->writesExternalForcesMidFrame(); });
     for (int i = 0; i < report.substeps; ++i)
     {
         m_guard.beforeSubstep(m_system, m_settings.integrator);
@@ -100,6 +109,10 @@ StepReport Simulator::step(Real dt)
         }
         const Real substepEnd = m_time + Real(i + 1) * report.substep;
         runHooks([&](StepHook& hook) { hook.afterSubstep(m_system, m_context, report.substep, substepEnd); });
+        if (hooksWriteExternalForces)
+        {
+            lookForExternalForces();
+        }
     }
     m_substepCount += std::uint64_t(report.substeps);
     m_time += dt;

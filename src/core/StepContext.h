@@ -33,5 +33,10 @@ struct StepContext
     std::span<const Real> temperature;
     /// The sheet's local thickness, updated from the positions by the springs that follow it; null: none.
     SheetThickness* thickness = nullptr;
+    /// False when every external force is +0 (noExternalForces in Forces.h): the symplectic pass then need not read
+    /// them. The Simulator looks once a frame, after the hooks that start it, and again after every substep's hooks
+    /// when a hook says it writes them then (StepHook::writesExternalForcesMidFrame; a pressure load does); nothing
+    /// else in a step writes them.
+    bool externalForces = true;
 };
 } // namespace masse

@@ -22,5 +22,9 @@ public:
     virtual void afterSubstep(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*h*/, Real /*time*/) {}
     /// After the last substep (and after contact's end of frame), with the time at the end of the frame.
     virtual void endFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/) {}
+    /// Whether afterSubstep may write particles.externalForce. The Simulator then looks at them again after every
+    /// substep's hooks, not only at a frame's start (see StepContext::externalForces); a hook that writes them
+    /// without saying so may go unfelt until the next frame.
+    virtual bool writesExternalForcesMidFrame() const { return false; }
 };
 } // namespace masse
