@@ -22,6 +22,18 @@ namespace
 {
 const std::string source = MASSE_SOURCE_DIR;
 
+/// A square SLaMM sheet of count x count masses a layer, from the origin to (side, thickness, side).
+Lattice slammSheet(int count, Real side, Real thickness)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::SLaMM;
+    spec.countX = count;
+    spec.countZ = count;
+    spec.minCorner = Vec3(0, 0, 0);
+    spec.maxCorner = Vec3(side, thickness, side);
+    return buildLattice(spec);
+}
+
 /// Every (vertex, triangle) pair but the core's exclusions: the broadphase with nothing else left out, so a test sees
 /// the core's own filtering.
 class EveryPair final : public SelfContactBroadphase
@@ -162,13 +174,7 @@ TEST(SelfContact, FrictionTakesMuTimesTheNormalImpulseAndNeverReversesTheSlip)
 // neighbouring triangles are all within a spacing, gets no touch even with a radius of half the spacing.
 TEST(SelfContact, NeighbouringTrianglesAreNeverTested)
 {
-    LatticeSpec spec;
-    spec.structure = Structure::SLaMM;
-    spec.countX = 6;
-    spec.countZ = 6;
-    spec.minCorner = Vec3(0, 0, 0);
-    spec.maxCorner = Vec3(0.5, 0.02, 0.5);
-    const Lattice lattice = buildLattice(spec);
+    const Lattice lattice = slammSheet(6, 0.5, 0.02);
     MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
     EveryPair pairs;
     SelfContactSettings settings;
@@ -190,13 +196,7 @@ TEST(SelfContact, NeighbouringTrianglesAreNeverTested)
 // vertices, would lose pairs.
 TEST(SelfContact, BroadphaseListsEveryPairWithinReachOnce)
 {
-    LatticeSpec spec;
-    spec.structure = Structure::SLaMM;
-    spec.countX = 12;
-    spec.countZ = 12;
-    spec.minCorner = Vec3(0, 0, 0);
-    spec.maxCorner = Vec3(0.55, 0.03, 0.55); // 5 cm spacing
-    const Lattice lattice = buildLattice(spec);
+    const Lattice lattice = slammSheet(12, 0.55, 0.03); // 5 cm spacing
     const std::vector<Triangle> triangles = sheetSurface(lattice).triangles;
     const std::vector<Index> vertices = sheetSurface(lattice).vertices;
     const std::size_t n = lattice.massCount();
