@@ -143,6 +143,52 @@ TEST(SelfContact, ATouchIsInelasticKeepsMomentumAndAddsNoEnergy)
     EXPECT_NEAR(p.velocity[7].y(), -p.mass[7] / (p.mass[7] + triangleMass), 1e-12);
 }
 
+// A vertex that jumps through a triangle within one substep (4 cm at 40 m/s in 1 ms, from twice the radius above to
+// twice below) is never within the radius at a substep's end, so the closest-point test alone lets it through. The
+// swept test finds where it crossed the triangle's plane (inside the triangle) and sends it back to the side it came
+// from: it ends the radius above the triangle's point under its crossing, their approach stopped (inelastic, to
+// 1e-12), the momentum kept (1e-15 kg m/s) and no kinetic energy added. A vertex that crosses the plane beside the
+// triangle, past the sheet's border though within the radius of it, is left alone (it fails without the swept test,
+// and the second part without its inside rule).
+TEST(SelfContact, AVertexPassingThroughATriangleInOneSubstepIsSentBack)
+{
+    OneTouch touch(Vec3(0, -40, 0));
+    Particles& p = touch.sheet.particles;
+    EveryPair pairs;
+    SelfContactSettings settings;
+    settings.radius = touch.radius;
+    settings.friction = 0;
+    SelfContact self(touch.lattice, pairs, settings);
+    StepContext context;
+    p.position[7] = Vec3(0.7, 2 * touch.radius, 0.3);
+    self.beginFrame(touch.sheet, context, 0, 0.01);
+    p.position[7].y() = -2 * touch.radius; // the integrator's substep of 1 ms at 40 m/s
+    const Vec3 momentumBefore = momentum(p);
+    const Real energyBefore = kineticEnergy(p);
+    // It crosses the plane y = 0 at (0.7, 0, 0.3): the weights of that point on the triangle as it is then.
+    const Vec3 w = closestPointWeights(Vec3(0.7, 0, 0.3), p.position[0], p.position[1], p.position[9]);
+    self.afterSubstep(touch.sheet, context, 0.001, 0.001);
+
+    ASSERT_EQ(self.report().lastSubstep, 1u);
+    const Vec3 under = w[0] * p.position[0] + w[1] * p.position[1] + w[2] * p.position[9];
+    EXPECT_NEAR(p.position[7].y() - under.y(), touch.radius, 1e-12);
+    const Vec3 relative = p.velocity[7] - (w[0] * p.velocity[0] + w[1] * p.velocity[1] + w[2] * p.velocity[9]);
+    EXPECT_NEAR(relative.y(), 0, 1e-12);
+    EXPECT_LT((momentum(p) - momentumBefore).norm(), 1e-15);
+    EXPECT_LE(kineticEnergy(p), energyBefore);
+
+    // Beside the triangle: z = -0.005 is past its edge from (0, 0, 0) to (1, 0, 0), the sheet's border, by half the
+    // radius: it grazes the border, within the radius of the triangle but not through it.
+    OneTouch beside(Vec3(0, -40, 0));
+    SelfContact besideSelf(beside.lattice, pairs, settings);
+    beside.sheet.particles.position[7] = Vec3(0.7, 2 * beside.radius, -0.005);
+    besideSelf.beginFrame(beside.sheet, context, 0, 0.01);
+    beside.sheet.particles.position[7].y() = -2 * beside.radius;
+    besideSelf.afterSubstep(beside.sheet, context, 0.001, 0.001);
+    EXPECT_EQ(besideSelf.report().lastSubstep, 0u);
+    EXPECT_EQ(beside.sheet.particles.position[7], Vec3(0.7, -2 * beside.radius, -0.005));
+}
+
 // Sheet-on-sheet Coulomb friction: a vertex arriving at 1 m/s down and 3 m/s along the triangle with mu = 0.5 loses
 // mu times the normal relative speed it lost (1 m/s) of its relative sliding speed (3 m/s -> 2.5 m/s), to 1e-12;
 // with mu = 5 it stops sliding on the triangle altogether (the impulse never exceeds what stops it).

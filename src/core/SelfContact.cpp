@@ -43,6 +43,7 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_restPosition = lattice.position;
     m_triangleLow.resize(m_triangles.size());
     m_triangleHigh.resize(m_triangles.size());
+    m_triangleMoved.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_broadphase.setTriangles(m_triangles);
     listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
@@ -133,6 +134,7 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/,
         m_lastVelocity[i] = p.velocity[i];
     }
     listPairs(p.position);
+    m_substepStart = p.position;
     m_report.lastFrame = 0;
 }
 
@@ -217,9 +219,20 @@ void SelfContact::detect(const std::vector<Vec3>& x, std::size_t begin, std::siz
         // comparisons before the closest point is sought.
         const Vec3& low = m_triangleLow[pair.triangle];
         const Vec3& high = m_triangleHigh[pair.triangle];
+        Touch touch{std::uint32_t(k), Vec3::Zero()};
         if (v.x() < low.x() - radius || v.y() < low.y() - radius || v.z() < low.z() - radius ||
             v.x() > high.x() + radius || v.y() > high.y() + radius || v.z() > high.z() + radius)
         {
+            // Passing through needs the vertex within the radius of the triangle at some moment of the substep, so
+            // now within the radius plus how far each moved (along any axis) of the triangle's box: most are not.
+            const Real vertexMoved = (v - m_substepStart[pair.vertex]).cwiseAbs().maxCoeff();
+            const Real reach = radius + vertexMoved + m_triangleMoved[pair.triangle];
+            if (!(v.x() < low.x() - reach || v.y() < low.y() - reach || v.z() < low.z() - reach ||
+                  v.x() > high.x() + reach || v.y() > high.y() + reach || v.z() > high.z() + reach) &&
+                crossed(x, k, touch))
+            {
+                out.push_back(touch);
+            }
             continue;
         }
         const Triangle& t = m_triangles[pair.triangle];
@@ -227,9 +240,52 @@ void SelfContact::detect(const std::vector<Vec3>& x, std::size_t begin, std::siz
         const Vec3 closest = weights[0] * x[t[0]] + weights[1] * x[t[1]] + weights[2] * x[t[2]];
         if ((v - closest).squaredNorm() < radiusSquared)
         {
-            out.push_back({std::uint32_t(k), weights});
+            touch.weights = weights;
+            out.push_back(touch);
+        }
+        else if (crossed(x, k, touch))
+        {
+            out.push_back(touch);
         }
     }
+}
+
+bool SelfContact::crossed(const std::vector<Vec3>& x, std::size_t k, Touch& touch) const
+{
+    const SelfContactPair& pair = m_pairs[k];
+    const Triangle& t = m_triangles[pair.triangle];
+    const std::vector<Vec3>& x0 = m_substepStart;
+    // The vertex's height over the triangle's plane (times twice its area) at the substep's start and end: a
+    // crossing changes its sign.
+    const Vec3 normalBefore = (x0[t[1]] - x0[t[0]]).cross(x0[t[2]] - x0[t[0]]);
+    const Vec3 normalAfter = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+    const Real before = normalBefore.dot(x0[pair.vertex] - x0[t[0]]);
+    const Real after = normalAfter.dot(x[pair.vertex] - x[t[0]]);
+    if (!(before > 0 && after < 0) && !(before < 0 && after > 0))
+    {
+        return false;
+    }
+    // Where the height passed zero, all four masses taken along straight lines (exact for a triangle that only
+    // translates; near enough over one substep otherwise): the crossing counts if it was through the triangle, its
+    // closest point there strictly inside (not on an edge) and within the radius. A vertex that only grazes the
+    // plane beside an edge, as one of a fold's crease does, has not passed through; where it crossed next to the
+    // edge inside the sheet, the triangle across that edge has it inside.
+    const Real s = before / (before - after);
+    const auto at = [&](Index i) { return Vec3(x0[i] + s * (x[i] - x0[i])); };
+    const Vec3 vertex = at(pair.vertex);
+    const Vec3 a = at(t[0]);
+    const Vec3 b = at(t[1]);
+    const Vec3 c = at(t[2]);
+    const Vec3 weights = closestPointWeights(vertex, a, b, c);
+    const Vec3 closest = weights[0] * a + weights[1] * b + weights[2] * c;
+    if (!(weights[0] > 0 && weights[1] > 0 && weights[2] > 0) ||
+        !((vertex - closest).squaredNorm() < m_settings.radius * m_settings.radius))
+    {
+        return false;
+    }
+    touch.weights = weights;
+    touch.side = before > 0 ? Real(1) : Real(-1);
+    return true;
 }
 
 void SelfContact::respond(Particles& p, const Touch& touch, Real h) const
@@ -249,12 +305,29 @@ void SelfContact::respond(Particles& p, const Touch& touch, Real h) const
     // Measured again here: an earlier response in this pass may have moved these masses.
     const Vec3 closest = w[0] * p.position[t[0]] + w[1] * p.position[t[1]] + w[2] * p.position[t[2]];
     Vec3 normal = p.position[v] - closest;
-    const Real distance = normal.norm();
-    if (distance >= m_settings.radius)
+    Real distance = normal.norm();
+    if (touch.side != 0)
+    {
+        // Passed through: back to the side it came from, along the face normal; its height over the triangle on
+        // that side is negative (or below the radius, if an earlier response has already moved it).
+        normal = touch.side * (p.position[t[1]] - p.position[t[0]]).cross(p.position[t[2]] - p.position[t[0]]);
+        const Real length = normal.norm();
+        if (!(length > 0))
+        {
+            return;
+        }
+        normal /= length;
+        distance = normal.dot(p.position[v] - closest);
+        if (distance >= m_settings.radius)
+        {
+            return;
+        }
+    }
+    else if (distance >= m_settings.radius)
     {
         return;
     }
-    if (distance > Real(1e-9) * m_settings.radius)
+    else if (distance > Real(1e-9) * m_settings.radius)
     {
         normal /= distance;
     }
@@ -313,6 +386,12 @@ void SelfContact::measureTriangleBoxes(const std::vector<Vec3>& x)
                         const Triangle& t = m_triangles[k];
                         m_triangleLow[k] = x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]);
                         m_triangleHigh[k] = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
+                        Real moved = 0;
+                        for (const Index i : t)
+                        {
+                            moved = std::max(moved, (x[i] - m_substepStart[i]).cwiseAbs().maxCoeff());
+                        }
+                        m_triangleMoved[k] = moved;
                     }
                 });
 }
@@ -355,5 +434,6 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*
     m_report.lastSubstep = count;
     m_report.lastFrame += count;
     m_report.total += count;
+    m_substepStart = x;
 }
 } // namespace masse

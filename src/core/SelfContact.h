@@ -9,10 +9,13 @@
 /// mass stays within its skin of where it was listed, relative to the mean displacement; a substep that finds one
 /// beyond lists the pairs again (rare: the skin is twice the expected motion). After every substep each listed pair
 /// is measured (the closest point of the triangle, ClosestPointOnTriangle.h) and a pair closer than the radius gets
-/// the response: positions pushed apart to the radius and the approaching normal relative velocity removed
-/// (inelastic), with Coulomb friction between sheet and sheet, both shared among the four masses by their barycentric
-/// weights and inverse masses so the sheet's momentum is kept. The impulse never exceeds the one that stops the
-/// relative motion, so the response takes kinetic energy away and never adds any.
+/// the response; so does a pair whose vertex passed through the triangle during the substep (a swept test: the
+/// vertex crossed the triangle's plane inside the triangle, all four masses moving in straight lines), which a fold
+/// fast enough to jump the sheet's thickness in one substep would otherwise leave crossed, and which is pushed back to
+/// the side it came from. The response: positions pushed apart to the radius and the approaching normal relative
+/// velocity removed (inelastic), with Coulomb friction between sheet and sheet, both shared among the four masses by
+/// their barycentric weights and inverse masses so the sheet's momentum is kept. The impulse never exceeds the one that
+/// stops the relative motion, so the response takes kinetic energy away and never adds any.
 ///
 /// Pairs are never formed between a vertex and a triangle that contains it or one of whose masses is joined to it by
 /// a spring (the springs hold those apart), nor between a vertex and a triangle within twice the radius of it at rest:
@@ -85,6 +88,10 @@ private:
     {
         std::uint32_t pair; ///< into m_pairs
         Vec3 weights;       ///< barycentric weights of the triangle's closest point
+        /// 0: the vertex is within the radius now, pushed out along the line from the closest point. +1 or -1: it
+        /// passed through the triangle during the substep, from the side its face normal (b - a) x (c - a) points to
+        /// (+1) or the other (-1), and goes back to that side.
+        Real side = 0;
     };
     /// Lists, once, the triangles each vertex is never tested against: those holding it or a spring neighbour of it,
     /// and those within twice the radius of it at rest.
@@ -94,9 +101,13 @@ private:
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
     /// pairs were listed (the list may then miss a pair).
     bool outgrewPairs(const std::vector<Vec3>& x) const;
-    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh.
+    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh, and how far its masses moved along
+    /// an axis since m_substepStart, into m_triangleMoved.
     void measureTriangleBoxes(const std::vector<Vec3>& x);
     void detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const;
+    /// The swept test of pair k over the substep from m_substepStart to x: whether the vertex crossed the triangle's
+    /// plane inside the triangle, as all four masses moved in straight lines.
+    bool crossed(const std::vector<Vec3>& x, std::size_t k, Touch& touch) const;
     void respond(Particles& p, const Touch& touch, Real h) const;
 
     SelfContactBroadphase& m_broadphase;
@@ -109,8 +120,10 @@ private:
     std::vector<Vec3> m_restPosition; ///< the lattice's
     std::vector<Vec3> m_triangleLow;  ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
-    std::vector<Vec3> m_lastVelocity;          ///< per mass, its velocity at the last frame's start
-    std::vector<SelfContactPair> m_pairs;      ///< this frame's pairs
+    std::vector<Vec3> m_lastVelocity;     ///< per mass, its velocity at the last frame's start
+    std::vector<Vec3> m_substepStart;     ///< per mass, its position when the current substep began
+    std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
+    std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
     std::vector<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
     SelfContactReport m_report;
     StageObserver* m_observer = nullptr;
