@@ -399,6 +399,10 @@ void SelfContact::measureTriangleBoxes(const std::vector<Vec3>& x)
 void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
 {
     Particles& p = system.particles;
+    if (m_substepStart.size() != p.size())
+    {
+        m_substepStart = p.position; // no frame has begun (a caller taking substeps alone): nothing to sweep from
+    }
     if (outgrewPairs(p.position))
     {
         const StageScope stage(m_observer, Stage::SelfContactPairs);
