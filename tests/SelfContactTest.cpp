@@ -108,6 +108,15 @@ struct OneTouch
         p.velocity[7] = velocity;
         sheet.forces.gravity.setZero();
     }
+
+    /// The self-contact's settings for this touch: its radius and a friction of mu.
+    SelfContactSettings settings(Real mu) const
+    {
+        SelfContactSettings s;
+        s.radius = radius;
+        s.friction = mu;
+        return s;
+    }
 };
 } // namespace
 
@@ -120,9 +129,7 @@ TEST(SelfContact, ATouchIsInelasticKeepsMomentumAndAddsNoEnergy)
     OneTouch touch(Vec3(0, -1, 0));
     Particles& p = touch.sheet.particles;
     EveryPair pairs;
-    SelfContactSettings settings;
-    settings.radius = touch.radius;
-    settings.friction = 0;
+    const SelfContactSettings settings = touch.settings(0);
     SelfContact self(touch.lattice, pairs, settings);
     StepContext context;
     const Vec3 momentumBefore = momentum(p);
@@ -155,9 +162,7 @@ TEST(SelfContact, AVertexPassingThroughATriangleInOneSubstepIsSentBack)
     OneTouch touch(Vec3(0, -40, 0));
     Particles& p = touch.sheet.particles;
     EveryPair pairs;
-    SelfContactSettings settings;
-    settings.radius = touch.radius;
-    settings.friction = 0;
+    const SelfContactSettings settings = touch.settings(0);
     SelfContact self(touch.lattice, pairs, settings);
     StepContext context;
     p.position[7] = Vec3(0.7, 2 * touch.radius, 0.3);
@@ -199,9 +204,7 @@ TEST(SelfContact, FrictionTakesMuTimesTheNormalImpulseAndNeverReversesTheSlip)
         OneTouch touch(Vec3(3, -1, 0));
         Particles& p = touch.sheet.particles;
         EveryPair pairs;
-        SelfContactSettings settings;
-        settings.radius = touch.radius;
-        settings.friction = mu;
+        const SelfContactSettings settings = touch.settings(mu);
         SelfContact self(touch.lattice, pairs, settings);
         StepContext context;
         const Real energyBefore = kineticEnergy(p);
