@@ -219,17 +219,19 @@ void SelfContact::detect(const std::vector<Vec3>& x, std::size_t begin, std::siz
         // comparisons before the closest point is sought.
         const Vec3& low = m_triangleLow[pair.triangle];
         const Vec3& high = m_triangleHigh[pair.triangle];
+        const auto outsideBox = [&](Real margin)
+        {
+            return v.x() < low.x() - margin || v.y() < low.y() - margin || v.z() < low.z() - margin ||
+                   v.x() > high.x() + margin || v.y() > high.y() + margin || v.z() > high.z() + margin;
+        };
         Touch touch{std::uint32_t(k), Vec3::Zero()};
-        if (v.x() < low.x() - radius || v.y() < low.y() - radius || v.z() < low.z() - radius ||
-            v.x() > high.x() + radius || v.y() > high.y() + radius || v.z() > high.z() + radius)
+        if (outsideBox(radius))
         {
             // Passing through needs the vertex within the radius of the triangle at some moment of the substep, so
             // now within the radius plus how far each moved (along any axis) of the triangle's box: most are not.
             const Real vertexMoved = (v - m_substepStart[pair.vertex]).cwiseAbs().maxCoeff();
             const Real reach = radius + vertexMoved + m_triangleMoved[pair.triangle];
-            if (!(v.x() < low.x() - reach || v.y() < low.y() - reach || v.z() < low.z() - reach ||
-                  v.x() > high.x() + reach || v.y() > high.y() + reach || v.z() > high.z() + reach) &&
-                crossed(x, k, touch))
+            if (!outsideBox(reach) && crossed(x, k, touch))
             {
                 out.push_back(touch);
             }
