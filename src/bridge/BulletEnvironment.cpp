@@ -403,7 +403,7 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     // chunk order, the planes come out in mass order whatever the thread count.
     const Real obstacleTravel = m_fastestKinematic * dt;
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
-    m_chunkPlanes.resize(std::max(m_chunkPlanes.size(), chunks));
+    m_chunkPlanes.reserveChunks(chunks);
     parallelFor(x.size(), detectionChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {

@@ -11,6 +11,7 @@
 #include "ObstacleGeometry.h"
 
 #include "core/Contact.h"
+#include "core/PerChunk.h"
 
 #include <memory>
 #include <string>
@@ -102,6 +103,6 @@ private:
     Real m_time = 0;
     Real m_fastestKinematic = 0;       ///< m/s, the fastest any kinematic obstacle's point moves now
     std::vector<Motion> m_frameMotion; ///< per obstacle, its mean motion over the frame being detected
-    std::vector<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
+    PerChunk<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
 };
 } // namespace masse::bridge

@@ -178,10 +178,7 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
     // the copy is read front to back.
     flatten();
     const std::size_t ranges = chunkCount(vertices.size(), selfQueryChunkSize);
-    if (m_rangePairs.size() < ranges)
-    {
-        m_rangePairs.resize(ranges);
-    }
+    m_rangePairs.reserveChunks(ranges);
     const std::size_t triangleCount = m_triangles.size();
     static_assert(selfQueryChunkSize % selfQueryGroupSize == 0, "a group never straddles two ranges");
     parallelFor(vertices.size(), selfQueryChunkSize,

@@ -5,6 +5,7 @@
 /// skin (SelfContact.h). Not every substep: a query per vertex per substep cost 4.2 times the step; the core tests
 /// the listed pairs after every substep.
 
+#include "core/PerChunk.h"
 #include "core/SelfContactBroadphase.h"
 
 #include <array>
@@ -54,6 +55,6 @@ private:
     std::vector<Vec3> m_high;
     std::vector<FlatNode> m_flat;                           ///< the tree, flattened at every list
     std::vector<const btDbvtNode*> m_walk;                  ///< flatten's stack
-    std::vector<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
+    PerChunk<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
 };
 } // namespace masse::bridge

@@ -278,10 +278,7 @@ void SheetEdgeTree::findCandidates(const std::vector<Vec3>& x, const std::vector
     }
     refit(x, reach, radius);
     const std::size_t chunks = chunkCount(features, featureChunkSize);
-    if (m_chunks.size() < chunks)
-    {
-        m_chunks.resize(chunks);
-    }
+    m_chunks.reserveChunks(chunks);
     const Real span = std::max(dt, Real(0));
     parallelFor(features, featureChunkSize,
                 [&](std::size_t begin, std::size_t end)

@@ -124,9 +124,9 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
     // The per-chunk lists keep their capacity from substep to substep: no allocation once the sheet has settled.
     const std::size_t masses = m_planes.massCount();
     m_chunkFirstTouches.resize(chunkCount(masses, ContactPlanes::runLength));
-    for (std::vector<int>& touches : m_chunkFirstTouches)
+    for (std::size_t chunk = 0; chunk < m_chunkFirstTouches.size(); ++chunk)
     {
-        touches.clear();
+        m_chunkFirstTouches[chunk].clear();
     }
     m_chunkMadeStuck.assign(m_chunkFirstTouches.size(), 0);
     const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, h};

@@ -58,13 +58,10 @@ void EdgeContact::listPairs(const std::vector<Vec3>& x, Real time, Real dt)
     // Each range's list can hold every pair of its range, so the substeps never allocate.
     const std::size_t pairs = m_candidates.edgePairs.size() + m_candidates.cornerPairs.size();
     const std::size_t ranges = chunkCount(pairs, edgePairChunkSize);
-    if (m_touches.size() < ranges)
+    m_touches.reserveChunks(ranges);
+    for (std::size_t range = 0; range < m_touches.size(); ++range)
     {
-        m_touches.resize(ranges);
-    }
-    for (std::vector<std::uint32_t>& touches : m_touches)
-    {
-        touches.reserve(edgePairChunkSize);
+        m_touches[range].reserve(edgePairChunkSize);
     }
     m_report.edgePairs = m_candidates.edgePairs.size();
     m_report.cornerPairs = m_candidates.cornerPairs.size();

@@ -27,6 +27,7 @@
 #include "EdgeContactDetector.h"
 #include "Lattice.h"
 #include "LatticeSurface.h"
+#include "PerChunk.h"
 #include "StageObserver.h"
 #include "StepHook.h"
 
@@ -94,7 +95,7 @@ private:
     std::vector<Vec3> m_listedAt;                      ///< per mass, where it was when the pairs were listed
     std::vector<std::uint32_t> m_massTouches;          ///< per mass, touches over the last frame
     std::vector<std::uint8_t> m_chunkOutgrew;          ///< per range of surface masses
-    std::vector<std::vector<std::uint32_t>> m_touches; ///< per range of pairs, the touching ones
+    PerChunk<std::vector<std::uint32_t>> m_touches; ///< per range of pairs, the touching ones
     Real m_listTime = 0;
     Real m_frameEnd = 0;
     EdgeContactReport m_report;

@@ -150,14 +150,11 @@ void SelfContact::listPairs(const std::vector<Vec3>& x)
     }
     // Each range's list can hold every pair of its range, so the substeps never allocate.
     const std::size_t ranges = chunkCount(m_pairs.size(), selfPairChunkSize);
-    if (m_touches.size() < ranges)
+    m_touches.reserveChunks(ranges);
+    for (std::size_t range = 0; range < m_touches.size(); ++range)
     {
-        m_touches.resize(ranges);
-    }
-    for (std::vector<Touch>& touches : m_touches)
-    {
-        touches.clear(); // they name pairs of the old list
-        touches.reserve(selfPairChunkSize);
+        m_touches[range].clear(); // they name pairs of the old list
+        m_touches[range].reserve(selfPairChunkSize);
     }
     m_report.pairs = m_pairs.size();
     ++m_report.queries;

@@ -30,6 +30,7 @@
 
 #include "Lattice.h"
 #include "LatticeSurface.h"
+#include "PerChunk.h"
 #include "SelfContactBroadphase.h"
 #include "StageObserver.h"
 #include "StepHook.h"
@@ -124,7 +125,7 @@ private:
     std::vector<Vec3> m_substepStart;     ///< per mass, its position when the current substep began
     std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
     std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
-    std::vector<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
+    PerChunk<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
     SelfContactReport m_report;
     StageObserver* m_observer = nullptr;
 };
