@@ -43,6 +43,7 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     if (m_ready)
     {
         copyColumnsForBackwardSolve();
+        copyRowsForForwardSolve();
         m_diagonal = m_factor.vectorD(); // vectorD() returns a copy: taken once here, not on every apply
     }
     ++m_refreshCount;
@@ -104,19 +105,88 @@ void CholeskyPreconditioner::copyColumnsForBackwardSolve()
     m_backwardStart[std::size_t(n)] = next;
 }
 
+void CholeskyPreconditioner::copyRowsForForwardSolve()
+{
+    const SparseMatrix& lower = m_factor.matrixL().nestedExpression();
+    const auto* outer = lower.outerIndexPtr();
+    const auto* inner = lower.innerIndexPtr();
+    const Real* values = lower.valuePtr();
+    const Eigen::Index n = lower.cols();
+    // A counting sort by row; walking the columns in increasing order leaves each row's entries in increasing column.
+    m_forwardStart.assign(std::size_t(n) + 1, 0);
+    for (Eigen::Index column = 0; column < n; ++column)
+    {
+        for (auto k = outer[column]; k < outer[column + 1]; ++k)
+        {
+            if (inner[k] > column)
+            {
+                ++m_forwardStart[std::size_t(inner[k]) + 1];
+            }
+        }
+    }
+    for (std::size_t row = 0; row < std::size_t(n); ++row)
+    {
+        m_forwardStart[row + 1] += m_forwardStart[row];
+    }
+    m_forwardColumns.resize(std::size_t(m_forwardStart[std::size_t(n)]));
+    m_forwardValues.resize(m_forwardColumns.size());
+    std::vector<SparseMatrix::StorageIndex> next(m_forwardStart.begin(), m_forwardStart.end() - 1);
+    for (Eigen::Index column = 0; column < n; ++column)
+    {
+        for (auto k = outer[column]; k < outer[column + 1]; ++k)
+        {
+            if (inner[k] > column)
+            {
+                const auto slot = std::size_t(next[std::size_t(inner[k])]++);
+                m_forwardColumns[slot] = SparseMatrix::StorageIndex(column);
+                m_forwardValues[slot] = values[k];
+            }
+        }
+    }
+}
+
+void CholeskyPreconditioner::forwardRows(Eigen::Index begin, Eigen::Index end) const
+{
+    // y_i = b_i - sum over L's row i of L_ij y_j (columns j < i, ascending): Eigen's forward solve subtracts the same
+    // products from y_i in the same order as it reaches each column j, and skips a column whose y_j is zero (which,
+    // subtracting a zero, would only change a -0 sum into +0): the same bits.
+    const auto* start = m_forwardStart.data();
+    const auto* columns = m_forwardColumns.data();
+    const Real* values = m_forwardValues.data();
+    Real* y = m_permuted.data();
+    for (Eigen::Index i = begin; i < end; ++i)
+    {
+        Real sum = y[i];
+        for (auto k = start[i]; k < start[i + 1]; ++k)
+        {
+            const Real yj = y[columns[k]];
+            if (yj != Real(0))
+            {
+                sum -= yj * values[k];
+            }
+        }
+        y[i] = sum;
+    }
+}
+
 void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
 {
     // P^T L D L^T P x = b, spelled out rather than through SimplicialLDLT::solve, whose in-place permutation
-    // allocates a mask on every call. The forward solve is Eigen's; the backward one runs the ranges of each stage
-    // (see DissectionOrder) on the pool, every entry computed by one gather in a fixed order whoever runs it: the
-    // same operations in the same order as Eigen's own backward solve, so the bits do not depend on the thread count.
+    // allocates a mask on every call. Both triangular solves run the ranges of each stage (see DissectionOrder) on the
+    // pool, the forward one from the first stage, the backward one from the last, every entry computed by one gather
+    // in a fixed order whoever runs it: the same operations in the same order as Eigen's own solves, so the bits do
+    // not depend on the thread count.
     const auto& permutation = m_permutation.indices();
     const Eigen::Index n = b.size();
     for (Eigen::Index i = 0; i < n; ++i)
     {
         m_permuted[permutation[i]] = b[i];
     }
-    m_factor.matrixL().solveInPlace(m_permuted);
+    for (const std::vector<OrderRange>& ranges : m_stages)
+    {
+        sharedPool().run(ranges.size(), [&](std::size_t k)
+                         { forwardRows(Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
+    }
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
         const std::vector<OrderRange>& ranges = *stage;

@@ -42,6 +42,10 @@ private:
     void solveWithFactor(const Vector& b, Vector& x) const;
     /// Copies L's columns, last first, into m_backward*.
     void copyColumnsForBackwardSolve();
+    /// Copies L's rows (its entries below the diagonal, by row, each row's in increasing column) into m_forward*.
+    void copyRowsForForwardSolve();
+    /// L y = b in place on m_permuted over factor rows [begin, end), from the first row up.
+    void forwardRows(Eigen::Index begin, Eigen::Index end) const;
     /// D L^T x = y in place on m_permuted over factor rows [begin, end), from the last row down.
     void backwardRows(Eigen::Index begin, Eigen::Index end) const;
 
@@ -56,6 +60,12 @@ private:
     std::vector<SparseMatrix::StorageIndex> m_backwardStart; ///< entries of column n-1-q: [start[q], start[q+1])
     std::vector<SparseMatrix::StorageIndex> m_backwardRows;
     std::vector<Real> m_backwardValues;
+    /// L by rows, copied at each refresh, so that the forward solve gathers each row's entries as the backward solve
+    /// gathers each column's, and runs a stage's ranges on the pool: Eigen's forward solve scatters column by column
+    /// into later rows, which two ranges' columns share (their separators), so it runs on one core.
+    std::vector<SparseMatrix::StorageIndex> m_forwardStart; ///< entries of row i: [start[i], start[i+1])
+    std::vector<SparseMatrix::StorageIndex> m_forwardColumns;
+    std::vector<Real> m_forwardValues;
     Vector m_diagonal; ///< D of the factor
     /// Factor rows of each stage's ranges (see DissectionOrder::stages).
     std::vector<std::vector<OrderRange>> m_stages;
