@@ -113,8 +113,9 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
     EXPECT_EQ(violations, 0);
 }
 
-// The preconditioner's staged solve gives what Eigen's own triangular solves give on the same factor, bit for bit (the
-// same operations in the same order, as the solve did before it was staged), at 1, 2 and 3 threads.
+// The preconditioner's staged solve gives what Eigen's own triangular solves give on the same factor, to rounding (it
+// sums each row's products in four running sums, Eigen in one: relative differences of a few ulps times the row's
+// length are expected; 1e-12 of the largest component is the bound), and the same bits at 1, 2 and 3 threads.
 TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
 {
     const MassSpringSystem sheet = paperSheet(24);
@@ -153,14 +154,22 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     const Vector expected = permutation.transpose() * permutedR;
 
     const int threadsBefore = threadCount();
-    for (const int threads : {1, 2, 3})
+    setThreadCount(1);
+    Vector oneThread(a.rows());
+    preconditioner.apply(r, oneThread);
+    const Real bound = 1e-12 * expected.cwiseAbs().maxCoeff();
+    for (Eigen::Index i = 0; i < oneThread.size(); ++i)
+    {
+        ASSERT_NEAR(oneThread[i], expected[i], bound) << "row " << i;
+    }
+    for (const int threads : {2, 3})
     {
         setThreadCount(threads);
         Vector z(a.rows());
         preconditioner.apply(r, z);
         for (Eigen::Index i = 0; i < z.size(); ++i)
         {
-            ASSERT_EQ(z[i], expected[i]) << "row " << i << " at " << threads << " threads";
+            ASSERT_EQ(z[i], oneThread[i]) << "row " << i << " at " << threads << " threads";
         }
     }
     setThreadCount(threadsBefore);

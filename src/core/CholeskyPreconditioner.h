@@ -56,7 +56,7 @@ private:
     /// L's columns from the last to the first, copied at each refresh: the backward solve walks the columns from the
     /// last down, gathering each one's entries, and in Eigen's storage that walk jumps back a column at every column,
     /// which the memory prefetcher does not follow (Eigen's own backward solve, the same walk, took 3x its forward
-    /// solve at 128x2x128: 57 against 18 ms). In this order it streams: 23 ms, the same operations in the same order.
+    /// solve at 128x2x128: 57 against 18 ms). In this order it streams: 23 ms.
     std::vector<SparseMatrix::StorageIndex> m_backwardStart; ///< entries of column n-1-q: [start[q], start[q+1])
     std::vector<SparseMatrix::StorageIndex> m_backwardRows;
     std::vector<Real> m_backwardValues;
