@@ -101,8 +101,8 @@ private:
     std::unique_ptr<btCollisionWorld> m_world;
     std::vector<std::unique_ptr<Obstacle>> m_obstacles;
     Real m_time = 0;
-    Real m_fastestKinematic = 0;       ///< m/s, the fastest any kinematic obstacle's point moves now
-    std::vector<Motion> m_frameMotion; ///< per obstacle, its mean motion over the frame being detected
+    Real m_fastestKinematic = 0;                       ///< m/s, the fastest any kinematic obstacle's point moves now
+    std::vector<Motion> m_frameMotion;                 ///< per obstacle, its mean motion over the frame being detected
     PerChunk<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
 };
 } // namespace masse::bridge

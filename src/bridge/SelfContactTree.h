@@ -53,8 +53,8 @@ private:
     std::vector<btDbvtNode*> m_leaves; ///< per triangle
     std::vector<Vec3> m_low;           ///< per triangle, its vertices' box at the last refit
     std::vector<Vec3> m_high;
-    std::vector<FlatNode> m_flat;                           ///< the tree, flattened at every list
-    std::vector<const btDbvtNode*> m_walk;                  ///< flatten's stack
+    std::vector<FlatNode> m_flat;                        ///< the tree, flattened at every list
+    std::vector<const btDbvtNode*> m_walk;               ///< flatten's stack
     PerChunk<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
 };
 } // namespace masse::bridge

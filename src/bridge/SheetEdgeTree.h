@@ -77,7 +77,7 @@ private:
     std::vector<btDbvtNode*> m_leaves;         ///< per patch of the surface
     std::vector<btDbvtNode*> m_internalNodes;  ///< children before their parent
     std::vector<Vec3> m_low, m_high;           ///< per patch, its box grown by its masses' reach and the radius
-    PerChunk<ChunkPairs> m_chunks;          ///< per range of features
+    PerChunk<ChunkPairs> m_chunks;             ///< per range of features
     std::vector<Vec3> m_chunkLow, m_chunkHigh; ///< per range of surface masses, their box
 };
 } // namespace masse::bridge

@@ -227,8 +227,8 @@ void CholeskyPreconditioner::backwardRows(Eigen::Index begin, Eigen::Index end) 
     for (Eigen::Index q = n - end; q < n - begin; ++q)
     {
         const Eigen::Index column = n - 1 - q;
-        x[column] = x[column] / d[column] - rowSum(values + start[q], rows + start[q],
-                                                   std::size_t(start[q + 1] - start[q]), x);
+        x[column] =
+            x[column] / d[column] - rowSum(values + start[q], rows + start[q], std::size_t(start[q + 1] - start[q]), x);
     }
 }
 } // namespace masse

@@ -68,10 +68,10 @@ private:
     StuckContacts m_stuck;
     ContactConstraints m_constraints;
     ContactReport m_report;
-    std::vector<Vec3> m_frameStart;                    ///< each mass's position at the frame's start (for the sweep)
-    std::vector<Real> m_reach;                         ///< m, how far each mass may get this frame
+    std::vector<Vec3> m_frameStart;                 ///< each mass's position at the frame's start (for the sweep)
+    std::vector<Real> m_reach;                      ///< m, how far each mass may get this frame
     PerChunk<std::vector<int>> m_chunkFirstTouches; ///< per mass chunk, the obstacles first touched this substep
-    std::vector<std::uint8_t> m_chunkMadeStuck;        ///< per mass chunk, whether a mass stuck this substep
+    std::vector<std::uint8_t> m_chunkMadeStuck;     ///< per mass chunk, whether a mass stuck this substep
     Real m_frameTime = 0;
     Real m_frameDt = 0;
     Real m_elapsed = 0;

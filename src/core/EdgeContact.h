@@ -91,10 +91,10 @@ private:
     ContactSettings m_settings;
     SheetSurface m_surface;
     EdgeContactCandidates m_candidates;
-    std::vector<Real> m_reach;                         ///< per mass, m (surface masses only)
-    std::vector<Vec3> m_listedAt;                      ///< per mass, where it was when the pairs were listed
-    std::vector<std::uint32_t> m_massTouches;          ///< per mass, touches over the last frame
-    std::vector<std::uint8_t> m_chunkOutgrew;          ///< per range of surface masses
+    std::vector<Real> m_reach;                      ///< per mass, m (surface masses only)
+    std::vector<Vec3> m_listedAt;                   ///< per mass, where it was when the pairs were listed
+    std::vector<std::uint32_t> m_massTouches;       ///< per mass, touches over the last frame
+    std::vector<std::uint8_t> m_chunkOutgrew;       ///< per range of surface masses
     PerChunk<std::vector<std::uint32_t>> m_touches; ///< per range of pairs, the touching ones
     Real m_listTime = 0;
     Real m_frameEnd = 0;
