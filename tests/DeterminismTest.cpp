@@ -26,6 +26,7 @@
 
 using namespace masse;
 using masse::test::sameBits;
+using masse::test::ThreadCountGuard;
 using namespace masse::scene;
 
 namespace
@@ -49,17 +50,6 @@ constexpr bool sanitizingThreads = false;
 constexpr Real stickySeconds = 0.9;
 constexpr Real bdf2DropSeconds = 0.6;
 #endif
-
-/// Restores the process's thread count when a test ends, whatever it set.
-class ThreadCountGuard
-{
-public:
-    ThreadCountGuard() : m_threads(threadCount()) {}
-    ~ThreadCountGuard() { setThreadCount(m_threads); }
-
-private:
-    int m_threads;
-};
 
 /// What a run ends with: the state hash and every event, so a difference in contact order shows too.
 struct RunOutcome

@@ -131,7 +131,7 @@ TEST(MultigridPreconditioner, CycleIsSymmetricPositiveAndTheSameAtAnyThreadCount
     preconditioner.setFilter(held, filters);
     ASSERT_TRUE(preconditioner.refresh(a));
 
-    const int threadsBefore = threadCount();
+    const ThreadCountGuard guard;
     setThreadCount(1);
     const Vector u = patternVector(a.rows(), 1);
     const Vector v = patternVector(a.rows(), 2);
@@ -154,7 +154,6 @@ TEST(MultigridPreconditioner, CycleIsSymmetricPositiveAndTheSameAtAnyThreadCount
             ASSERT_EQ(z[i], mv[i]) << "row " << i << " at " << threads << " threads";
         }
     }
-    setThreadCount(threadsBefore);
 }
 
 // Iterations nearly independent of size: the Table 1 sheet's matrix (h^2 k / m = 81, stiffness varied by up to 40%

@@ -153,7 +153,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     factor.matrixU().solveInPlace(permutedR);
     const Vector expected = permutation.transpose() * permutedR;
 
-    const int threadsBefore = threadCount();
+    const ThreadCountGuard guard;
     setThreadCount(1);
     Vector oneThread(a.rows());
     preconditioner.apply(r, oneThread);
@@ -172,5 +172,4 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
             ASSERT_EQ(z[i], oneThread[i]) << "row " << i << " at " << threads << " threads";
         }
     }
-    setThreadCount(threadsBefore);
 }

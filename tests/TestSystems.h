@@ -5,6 +5,7 @@
 #include "core/InputError.h"
 #include "core/MassSpringSystem.h"
 #include "core/Simulator.h"
+#include "core/TaskPool.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,6 +15,19 @@
 
 namespace masse::test
 {
+/// Restores the process's thread count when a test ends, whatever it set (also when an assertion ends it early).
+class ThreadCountGuard
+{
+public:
+    ThreadCountGuard() : m_threads(threadCount()) {}
+    ~ThreadCountGuard() { setThreadCount(m_threads); }
+    ThreadCountGuard(const ThreadCountGuard&) = delete;
+    ThreadCountGuard& operator=(const ThreadCountGuard&) = delete;
+
+private:
+    int m_threads;
+};
+
 /// A straight chain along x: `count` masses of `mass` joined by springs of stiffness k and rest length `spacing`,
 /// no damping, no gravity. The chain starts at rest at its rest length.
 inline MassSpringSystem makeChain(int count, Real mass, Real stiffness, Real spacing, Real dampingCoefficient = 0)

@@ -8,7 +8,6 @@
 /// threads with shared lines, 6.4 ms with lines of their own.
 
 #include <cstddef>
-#include <new>
 #include <vector>
 
 namespace masse
