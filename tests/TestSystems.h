@@ -4,6 +4,7 @@
 #include "core/Damping.h"
 #include "core/InputError.h"
 #include "core/MassSpringSystem.h"
+#include "core/SimdPath.h"
 #include "core/Simulator.h"
 #include "core/TaskPool.h"
 
@@ -26,6 +27,19 @@ public:
 
 private:
     int m_threads;
+};
+
+/// Restores the SIMD path in use when it goes out of scope, however the test ends.
+class SimdPathGuard
+{
+public:
+    SimdPathGuard() : m_path(activeSimdPath()) {}
+    ~SimdPathGuard() { setSimdPath(m_path); }
+    SimdPathGuard(const SimdPathGuard&) = delete;
+    SimdPathGuard& operator=(const SimdPathGuard&) = delete;
+
+private:
+    SimdPath m_path;
 };
 
 /// A straight chain along x: `count` masses of `mass` joined by springs of stiffness k and rest length `spacing`,

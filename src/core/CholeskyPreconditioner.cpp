@@ -1,5 +1,6 @@
 #include "CholeskyPreconditioner.h"
 
+#include "SimdPath.h"
 #include "TaskPool.h"
 
 #include <algorithm>
@@ -8,29 +9,66 @@ namespace masse
 {
 namespace
 {
-/// sum over k of values[k] x[index[k]], in four running sums (k mod 4) added as (s0 + s1) + (s2 + s3): a fixed order,
-/// the same at any thread count and vector width. One running sum, as a plain loop has, made each product wait for
-/// the addition before it: the solves took four additions' latency per entry of the factor, most of the implicit
-/// step at 128x2x128.
-Real rowSum(const Real* values, const SparseMatrix::StorageIndex* index, std::size_t count, const Real* x)
+// One copy of each triangular solve per SIMD path: only the instruction set differs (see SimdPath.h for why the bits
+// do not).
+#define MASSE_TRIANGULAR_KERNELS(suffix, targetAttribute)                                                              \
+    /* L y = b in place on y over factor rows [begin, end), from the first row up: y_i -= sum over L's row i. */      \
+    targetAttribute void forwardRows##suffix(const RunLengthRows::View& rows, Real* y, Eigen::Index begin,             \
+                                             Eigen::Index end)                                                         \
+    {                                                                                                                  \
+        for (Eigen::Index i = begin; i < end; ++i)                                                                     \
+        {                                                                                                              \
+            y[i] -= rowDot(rows, i, y);                                                                                \
+        }                                                                                                              \
+    }                                                                                                                  \
+    /* D L^T x = y in place on x over factor rows [begin, end), from the last row down: x_j = y_j / d_j - sum over    \
+       L's column j of L_ij x_i, column j being row n-1-j of `columns`. */                                             \
+    targetAttribute void backwardRows##suffix(const RunLengthRows::View& columns, const Real* d, Real* x,              \
+                                              Eigen::Index n, Eigen::Index begin, Eigen::Index end)                    \
+    {                                                                                                                  \
+        for (Eigen::Index q = n - end; q < n - begin; ++q)                                                             \
+        {                                                                                                              \
+            const Eigen::Index column = n - 1 - q;                                                                     \
+            x[column] = x[column] / d[column] - rowDot(columns, q, x);                                                 \
+        }                                                                                                              \
+    }
+
+MASSE_TRIANGULAR_KERNELS(Default, )
+#if defined(__x86_64__) && defined(__GNUC__)
+MASSE_TRIANGULAR_KERNELS(Avx2, __attribute__((target("avx2"))))
+MASSE_TRIANGULAR_KERNELS(Avx512, __attribute__((target("avx512f"))))
+#endif
+#undef MASSE_TRIANGULAR_KERNELS
+
+void forwardRowsOn(SimdPath path, const RunLengthRows::View& rows, Real* y, Eigen::Index begin, Eigen::Index end)
 {
-    Real s0 = 0;
-    Real s1 = 0;
-    Real s2 = 0;
-    Real s3 = 0;
-    std::size_t k = 0;
-    for (; k + 4 <= count; k += 4)
+    switch (path)
     {
-        s0 += values[k] * x[index[k]];
-        s1 += values[k + 1] * x[index[k + 1]];
-        s2 += values[k + 2] * x[index[k + 2]];
-        s3 += values[k + 3] * x[index[k + 3]];
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return forwardRowsAvx512(rows, y, begin, end);
+    case SimdPath::Avx2:
+        return forwardRowsAvx2(rows, y, begin, end);
+#endif
+    default:
+        return forwardRowsDefault(rows, y, begin, end);
     }
-    for (; k < count; ++k)
+}
+
+void backwardRowsOn(SimdPath path, const RunLengthRows::View& columns, const Real* d, Real* x, Eigen::Index n,
+                    Eigen::Index begin, Eigen::Index end)
+{
+    switch (path)
     {
-        s0 += values[k] * x[index[k]];
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return backwardRowsAvx512(columns, d, x, n, begin, end);
+    case SimdPath::Avx2:
+        return backwardRowsAvx2(columns, d, x, n, begin, end);
+#endif
+    default:
+        return backwardRowsDefault(columns, d, x, n, begin, end);
     }
-    return (s0 + s1) + (s2 + s3);
 }
 } // namespace
 
@@ -70,9 +108,10 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     m_ready = m_factor.info() == Eigen::Success;
     if (m_ready)
     {
-        copyColumnsForBackwardSolve();
-        copyRowsForForwardSolve();
-        m_diagonal = m_factor.vectorD(); // vectorD() returns a copy: taken once here, not on every apply
+        const SparseMatrix& lower = m_factor.matrixL().nestedExpression();
+        m_forward.assignLowerRows(lower);
+        m_backward.assignLowerColumnsLastFirst(lower);
+        m_diagonal = m_factor.vectorD();
     }
     ++m_refreshCount;
     return m_ready;
@@ -111,103 +150,40 @@ void CholeskyPreconditioner::apply(const Vector& r, Vector& z) const
     }
 }
 
-void CholeskyPreconditioner::copyColumnsForBackwardSolve()
-{
-    const SparseMatrix& lower = m_factor.matrixL().nestedExpression();
-    const auto* outer = lower.outerIndexPtr();
-    const auto* inner = lower.innerIndexPtr();
-    const Real* values = lower.valuePtr();
-    const Eigen::Index n = lower.cols();
-    m_backwardStart.resize(std::size_t(n) + 1);
-    m_backwardRows.resize(std::size_t(outer[n]));
-    m_backwardValues.resize(std::size_t(outer[n]));
-    SparseMatrix::StorageIndex next = 0;
-    for (Eigen::Index q = 0; q < n; ++q)
-    {
-        m_backwardStart[std::size_t(q)] = next;
-        const Eigen::Index column = n - 1 - q;
-        std::copy(inner + outer[column], inner + outer[column + 1], m_backwardRows.begin() + next);
-        std::copy(values + outer[column], values + outer[column + 1], m_backwardValues.begin() + next);
-        next += outer[column + 1] - outer[column];
-    }
-    m_backwardStart[std::size_t(n)] = next;
-}
-
-void CholeskyPreconditioner::copyRowsForForwardSolve()
-{
-    const SparseMatrix& lower = m_factor.matrixL().nestedExpression();
-    const auto* outer = lower.outerIndexPtr();
-    const auto* inner = lower.innerIndexPtr();
-    const Real* values = lower.valuePtr();
-    const Eigen::Index n = lower.cols();
-    // A counting sort by row; walking the columns in increasing order leaves each row's entries in increasing column.
-    m_forwardStart.assign(std::size_t(n) + 1, 0);
-    for (Eigen::Index column = 0; column < n; ++column)
-    {
-        for (auto k = outer[column]; k < outer[column + 1]; ++k)
-        {
-            if (inner[k] > column)
-            {
-                ++m_forwardStart[std::size_t(inner[k]) + 1];
-            }
-        }
-    }
-    for (std::size_t row = 0; row < std::size_t(n); ++row)
-    {
-        m_forwardStart[row + 1] += m_forwardStart[row];
-    }
-    m_forwardColumns.resize(std::size_t(m_forwardStart[std::size_t(n)]));
-    m_forwardValues.resize(m_forwardColumns.size());
-    std::vector<SparseMatrix::StorageIndex> next(m_forwardStart.begin(), m_forwardStart.end() - 1);
-    for (Eigen::Index column = 0; column < n; ++column)
-    {
-        for (auto k = outer[column]; k < outer[column + 1]; ++k)
-        {
-            if (inner[k] > column)
-            {
-                const auto slot = std::size_t(next[std::size_t(inner[k])]++);
-                m_forwardColumns[slot] = SparseMatrix::StorageIndex(column);
-                m_forwardValues[slot] = values[k];
-            }
-        }
-    }
-}
-
-void CholeskyPreconditioner::forwardRows(Eigen::Index begin, Eigen::Index end) const
-{
-    // y_i = b_i - sum over L's row i of L_ij y_j (columns j < i).
-    const auto* start = m_forwardStart.data();
-    const auto* columns = m_forwardColumns.data();
-    const Real* values = m_forwardValues.data();
-    Real* y = m_permuted.data();
-    for (Eigen::Index i = begin; i < end; ++i)
-    {
-        y[i] -= rowSum(values + start[i], columns + start[i], std::size_t(start[i + 1] - start[i]), y);
-    }
-}
-
 void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
 {
     // P^T L D L^T P x = b, spelled out rather than through SimplicialLDLT::solve, whose in-place permutation
     // allocates a mask on every call. Both triangular solves run the ranges of each stage (see DissectionOrder) on the
     // pool, the forward one from the first stage, the backward one from the last, every entry computed by one gather
-    // in a fixed order whoever runs it (rowSum), so the bits do not depend on the thread count.
+    // in a fixed order whoever runs it (RunLengthRows::rowDot), so the bits do not depend on the thread count.
     const auto& permutation = m_permutation.indices();
     const Eigen::Index n = b.size();
     for (Eigen::Index i = 0; i < n; ++i)
     {
         m_permuted[permutation[i]] = b[i];
     }
+    const SimdPath path = activeSimdPath();
+    const RunLengthRows::View forward = m_forward.view();
+    const RunLengthRows::View backward = m_backward.view();
+    Real* work = m_permuted.data();
     for (const std::vector<OrderRange>& ranges : m_stages)
     {
-        sharedPool().run(ranges.size(), [&](std::size_t k)
-                         { forwardRows(Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
+        sharedPool().run(ranges.size(),
+                         [&](std::size_t k)
+                         {
+                             forwardRowsOn(path, forward, work, Eigen::Index(ranges[k].begin),
+                                           Eigen::Index(ranges[k].end));
+                         });
     }
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
         const std::vector<OrderRange>& ranges = *stage;
-        sharedPool().run(ranges.size(), [&](std::size_t k)
-                         { backwardRows(Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
+        sharedPool().run(ranges.size(),
+                         [&](std::size_t k)
+                         {
+                             backwardRowsOn(path, backward, m_diagonal.data(), work, n, Eigen::Index(ranges[k].begin),
+                                            Eigen::Index(ranges[k].end));
+                         });
     }
     for (Eigen::Index i = 0; i < n; ++i)
     {
@@ -215,20 +191,4 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     }
 }
 
-void CholeskyPreconditioner::backwardRows(Eigen::Index begin, Eigen::Index end) const
-{
-    // x_j = y_j / d_j - sum over L's column j of L_ij x_i (rows i > j).
-    const Eigen::Index n = m_permuted.size();
-    const auto* start = m_backwardStart.data();
-    const auto* rows = m_backwardRows.data();
-    const Real* values = m_backwardValues.data();
-    const Real* d = m_diagonal.data();
-    Real* x = m_permuted.data();
-    for (Eigen::Index q = n - end; q < n - begin; ++q)
-    {
-        const Eigen::Index column = n - 1 - q;
-        x[column] =
-            x[column] / d[column] - rowSum(values + start[q], rows + start[q], std::size_t(start[q + 1] - start[q]), x);
-    }
-}
 } // namespace masse

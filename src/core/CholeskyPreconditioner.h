@@ -11,6 +11,7 @@
 
 #include "NestedDissection.h"
 #include "RefreshedPreconditioner.h"
+#include "RunLengthRows.h"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -40,32 +41,22 @@ public:
 
 private:
     void solveWithFactor(const Vector& b, Vector& x) const;
-    /// Copies L's columns, last first, into m_backward*.
-    void copyColumnsForBackwardSolve();
-    /// Copies L's rows (its entries below the diagonal, by row, each row's in increasing column) into m_forward*.
-    void copyRowsForForwardSolve();
-    /// L y = b in place on m_permuted over factor rows [begin, end), from the first row up.
-    void forwardRows(Eigen::Index begin, Eigen::Index end) const;
-    /// D L^T x = y in place on m_permuted over factor rows [begin, end), from the last row down.
-    void backwardRows(Eigen::Index begin, Eigen::Index end) const;
 
     using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
 
     /// The factor of P A P^T: the order is ours (nested dissection), so the factor's own is the natural one.
     Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> m_factor;
-    /// L's columns from the last to the first, copied at each refresh: the backward solve walks the columns from the
-    /// last down, gathering each one's entries, and in Eigen's storage that walk jumps back a column at every column,
-    /// which the memory prefetcher does not follow (Eigen's own backward solve, the same walk, took 3x its forward
-    /// solve at 128x2x128: 57 against 18 ms). In this order it streams: 23 ms.
-    std::vector<SparseMatrix::StorageIndex> m_backwardStart; ///< entries of column n-1-q: [start[q], start[q+1])
-    std::vector<SparseMatrix::StorageIndex> m_backwardRows;
-    std::vector<Real> m_backwardValues;
+    /// L's columns from the last to the first, as rows of runs (see RunLengthRows), copied at each refresh: the
+    /// backward solve walks the columns from the last down, gathering each one's entries, and in Eigen's storage that
+    /// walk jumps back a column at every column, which the memory prefetcher does not follow (Eigen's own backward
+    /// solve, the same walk, took 3x its forward solve at 128x2x128: 57 against 18 ms). In this order it streams.
+    /// (Scattering each row's final x_i into the rows' runs instead, so that one copy served both solves, took 14 ms
+    /// an application against 10 at 128x2x128.)
+    RunLengthRows m_backward;
     /// L by rows, copied at each refresh, so that the forward solve gathers each row's entries as the backward solve
     /// gathers each column's, and runs a stage's ranges on the pool: Eigen's forward solve scatters column by column
     /// into later rows, which two ranges' columns share (their separators), so it runs on one core.
-    std::vector<SparseMatrix::StorageIndex> m_forwardStart; ///< entries of row i: [start[i], start[i+1])
-    std::vector<SparseMatrix::StorageIndex> m_forwardColumns;
-    std::vector<Real> m_forwardValues;
+    RunLengthRows m_forward;
     Vector m_diagonal; ///< D of the factor
     /// Factor rows of each stage's ranges (see DissectionOrder::stages).
     std::vector<std::vector<OrderRange>> m_stages;
