@@ -18,7 +18,7 @@ namespace
     {                                                                                                                  \
         for (Eigen::Index i = begin; i < end; ++i)                                                                     \
         {                                                                                                              \
-            y[i] -= rowDot(rows, i, y);                                                                                \
+            y[i] -= rowDot<8>(rows, i, y);                                                                                \
         }                                                                                                              \
     }                                                                                                                  \
     /* D L^T x = y in place on x over factor rows [begin, end), from the last row down: x_j = y_j / d_j - sum over    \
@@ -29,7 +29,7 @@ namespace
         for (Eigen::Index q = n - end; q < n - begin; ++q)                                                             \
         {                                                                                                              \
             const Eigen::Index column = n - 1 - q;                                                                     \
-            x[column] = x[column] / d[column] - rowDot(columns, q, x);                                                 \
+            x[column] = x[column] / d[column] - rowDot<4>(columns, q, x);                                                 \
         }                                                                                                              \
     }
 

@@ -61,12 +61,14 @@ private:
     std::vector<StorageIndex> m_lastColumn;
 };
 
-/// sum over row i's entries of value * x[column], in a fixed order whoever calls it and on any vector width: eight
-/// running sums, entry t of a run going to sum t mod 8, added pairwise at the end. Inlined into each SIMD path's copy
-/// of the caller (see SimdPath.h): only the instruction set differs.
+/// sum over row i's entries of value * x[column], in a fixed order whoever calls it and on any vector width: `lanes`
+/// running sums (4 or 8), entry t of a run going to sum t mod lanes, added pairwise at the end. Short runs want few
+/// lanes (the entries past the last full group of lanes are added one by one). Inlined into each SIMD path's copy of
+/// the caller (see SimdPath.h): only the instruction set differs.
+template <int lanes>
 [[gnu::always_inline]] inline Real rowDot(const RunLengthRows::View& m, Eigen::Index row, const Real* x)
 {
-    constexpr int lanes = 8;
+    static_assert(lanes == 4 || lanes == 8);
     Real sum[lanes] = {};
     for (auto run = m.rowRuns[row]; run < m.rowRuns[row + 1]; ++run)
     {
@@ -86,6 +88,13 @@ private:
             sum[lane] += Real(v[t + lane]) * xs[t + lane];
         }
     }
-    return ((sum[0] + sum[1]) + (sum[2] + sum[3])) + ((sum[4] + sum[5]) + (sum[6] + sum[7]));
+    if constexpr (lanes == 4)
+    {
+        return (sum[0] + sum[1]) + (sum[2] + sum[3]);
+    }
+    else
+    {
+        return ((sum[0] + sum[1]) + (sum[2] + sum[3])) + ((sum[4] + sum[5]) + (sum[6] + sum[7]));
+    }
 }
 } // namespace masse
