@@ -4,8 +4,9 @@
 #include "TestSystems.h"
 
 #include "core/CholeskyPreconditioner.h"
-#include "core/SimdPath.h"
 #include "core/NestedDissection.h"
+#include "core/SimdPath.h"
+#include "core/StagedLdlt.h"
 #include "core/TaskPool.h"
 
 #include <Eigen/SparseCholesky>
@@ -115,10 +116,10 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
 }
 
 // The preconditioner's staged solve gives what Eigen's own triangular solves give on the same factor with its values
-// rounded to single precision, as the preconditioner keeps them, to rounding (it sums each row's products in four or eight
-// running sums, Eigen in one: relative differences of a few ulps times the row's length are expected; 1e-12 of the
-// largest component is the bound); the same bits at 1, 2 and 3 threads and on every SIMD path; and the exact factor's
-// solve to 1e-7 of the largest component (the single-precision rounding, 6e-8 an entry, left this 2e-9 here).
+// rounded to single precision, as the preconditioner keeps them, to rounding (it sums each row's products in four or
+// eight running sums, Eigen in one: relative differences of a few ulps times the row's length are expected; 1e-12 of
+// the largest component is the bound); the same bits at 1, 2 and 3 threads and on every SIMD path; and the exact
+// factor's solve to 1e-7 of the largest component (the single-precision rounding, 6e-8 an entry, left this 2e-9 here).
 TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
 {
     const MassSpringSystem sheet = paperSheet(24);
@@ -191,9 +192,88 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
             preconditioner.apply(r, z);
             for (Eigen::Index i = 0; i < z.size(); ++i)
             {
-                ASSERT_EQ(z[i], oneThread[i]) << "row " << i << " at " << threads << " threads on the "
-                                              << simdPathName(path) << " path";
+                ASSERT_EQ(z[i], oneThread[i])
+                    << "row " << i << " at " << threads << " threads on the " << simdPathName(path) << " path";
             }
         }
     }
+}
+
+// The staged factorisation gives Eigen's SimplicialLDLT factor bit for bit (the same arithmetic, row by row) at 1, 2
+// and 3 threads, on a sheet whose dissection has several ranges in every stage; and a matrix with a zero pivot is
+// refused.
+TEST(StagedLdlt, IsEigensFactorBitForBitAtAnyThreadCount)
+{
+    const MassSpringSystem sheet = paperSheet(24);
+    const SparseMatrix a = springMatrix(sheet, 3);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    ASSERT_GT(dissection.stages[0].size(), 4u);
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex> permutation{a.rows()};
+    std::vector<std::vector<OrderRange>> rowStages;
+    for (std::size_t position = 0; position < dissection.order.size(); ++position)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            permutation.indices()[Eigen::Index(3 * dissection.order[position]) + c] =
+                SparseMatrix::StorageIndex(3 * position) + c;
+        }
+    }
+    for (const std::vector<OrderRange>& stage : dissection.stages)
+    {
+        rowStages.emplace_back();
+        for (const OrderRange& range : stage)
+        {
+            rowStages.back().push_back({3 * range.begin, 3 * range.end});
+        }
+    }
+    SparseMatrix permuted;
+    permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> eigen(
+        permuted);
+    ASSERT_EQ(eigen.info(), Eigen::Success);
+    const SparseMatrix& expected = eigen.matrixL().nestedExpression();
+    const Vector expectedD = eigen.vectorD();
+
+    const ThreadCountGuard guard;
+    for (const int threads : {1, 2, 3})
+    {
+        setThreadCount(threads);
+        StagedLdlt staged;
+        staged.analyse(permuted, rowStages);
+        ASSERT_TRUE(staged.factorize(permuted));
+        ASSERT_TRUE(staged.factorize(permuted)) << "a second factorisation of the same factor";
+        const SparseMatrix& lower = staged.lower();
+        ASSERT_EQ(lower.nonZeros(), expected.nonZeros());
+        for (Eigen::Index j = 0; j <= a.rows(); ++j)
+        {
+            ASSERT_EQ(lower.outerIndexPtr()[j], expected.outerIndexPtr()[j]) << "column " << j;
+        }
+        for (Eigen::Index k = 0; k < expected.nonZeros(); ++k)
+        {
+            ASSERT_EQ(lower.innerIndexPtr()[k], expected.innerIndexPtr()[k]) << "entry " << k;
+            ASSERT_EQ(lower.valuePtr()[k], expected.valuePtr()[k]) << "entry " << k << " at " << threads << " threads";
+        }
+        for (Eigen::Index k = 0; k < a.rows(); ++k)
+        {
+            ASSERT_EQ(staged.diagonal()[k], expectedD[k]) << "pivot " << k << " at " << threads << " threads";
+        }
+    }
+
+    // A zero pivot: the first row's diagonal set to zero, its off-diagonal entries too.
+    SparseMatrix singular = permuted;
+    for (Eigen::Index k = 0; k < singular.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(singular, k); it; ++it)
+        {
+            if (it.row() == 0 || it.col() == 0)
+            {
+                it.valueRef() = 0;
+            }
+        }
+    }
+    StagedLdlt staged;
+    staged.analyse(singular, rowStages);
+    EXPECT_FALSE(staged.factorize(singular));
+    EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after a refused one";
 }

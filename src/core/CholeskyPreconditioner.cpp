@@ -12,16 +12,16 @@ namespace
 // One copy of each triangular solve per SIMD path: only the instruction set differs (see SimdPath.h for why the bits
 // do not).
 #define MASSE_TRIANGULAR_KERNELS(suffix, targetAttribute)                                                              \
-    /* L y = b in place on y over factor rows [begin, end), from the first row up: y_i -= sum over L's row i. */      \
+    /* L y = b in place on y over factor rows [begin, end), from the first row up: y_i -= sum over L's row i. */       \
     targetAttribute void forwardRows##suffix(const RunLengthRows::View& rows, Real* y, Eigen::Index begin,             \
                                              Eigen::Index end)                                                         \
     {                                                                                                                  \
         for (Eigen::Index i = begin; i < end; ++i)                                                                     \
         {                                                                                                              \
-            y[i] -= rowDot<8>(rows, i, y);                                                                                \
+            y[i] -= rowDot<8>(rows, i, y);                                                                             \
         }                                                                                                              \
     }                                                                                                                  \
-    /* D L^T x = y in place on x over factor rows [begin, end), from the last row down: x_j = y_j / d_j - sum over    \
+    /* D L^T x = y in place on x over factor rows [begin, end), from the last row down: x_j = y_j / d_j - sum over     \
        L's column j of L_ij x_i, column j being row n-1-j of `columns`. */                                             \
     targetAttribute void backwardRows##suffix(const RunLengthRows::View& columns, const Real* d, Real* x,              \
                                               Eigen::Index n, Eigen::Index begin, Eigen::Index end)                    \
@@ -29,7 +29,7 @@ namespace
         for (Eigen::Index q = n - end; q < n - begin; ++q)                                                             \
         {                                                                                                              \
             const Eigen::Index column = n - 1 - q;                                                                     \
-            x[column] = x[column] / d[column] - rowDot<4>(columns, q, x);                                                 \
+            x[column] = x[column] / d[column] - rowDot<4>(columns, q, x);                                              \
         }                                                                                                              \
     }
 
@@ -94,7 +94,7 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
         }
     }
     m_permutedMatrix = a.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
-    m_factor.analyzePattern(m_permutedMatrix);
+    m_factor.analyse(m_permutedMatrix, m_stages);
     m_ready = false;
     m_filtered.resize(a.rows());
     m_permuted.resize(a.rows());
@@ -104,14 +104,13 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
 {
     // A refresh (not every step) copies the matrix into the factor's order; the pattern is unchanged.
     m_permutedMatrix = a.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
-    m_factor.factorize(m_permutedMatrix);
-    m_ready = m_factor.info() == Eigen::Success;
+    m_ready = m_factor.factorize(m_permutedMatrix);
     if (m_ready)
     {
-        const SparseMatrix& lower = m_factor.matrixL().nestedExpression();
+        const SparseMatrix& lower = m_factor.lower();
         m_forward.assignLowerRows(lower);
         m_backward.assignLowerColumnsLastFirst(lower);
-        m_diagonal = m_factor.vectorD();
+        m_diagonal = m_factor.diagonal();
     }
     ++m_refreshCount;
     return m_ready;
@@ -168,12 +167,9 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     Real* work = m_permuted.data();
     for (const std::vector<OrderRange>& ranges : m_stages)
     {
-        sharedPool().run(ranges.size(),
-                         [&](std::size_t k)
-                         {
-                             forwardRowsOn(path, forward, work, Eigen::Index(ranges[k].begin),
-                                           Eigen::Index(ranges[k].end));
-                         });
+        sharedPool().run(
+            ranges.size(), [&](std::size_t k)
+            { forwardRowsOn(path, forward, work, Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
     }
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {

@@ -13,8 +13,9 @@
 #include "RefreshedPreconditioner.h"
 #include "RunLengthRows.h"
 
-#include <Eigen/OrderingMethods>
-#include <Eigen/SparseCholesky>
+#include "StagedLdlt.h"
+
+#include <Eigen/SparseCore>
 
 #include <vector>
 
@@ -44,8 +45,8 @@ private:
 
     using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
 
-    /// The factor of P A P^T: the order is ours (nested dissection), so the factor's own is the natural one.
-    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> m_factor;
+    /// The factor of P A P^T (P: the nested dissection's order), factored over the dissection's stages.
+    StagedLdlt m_factor;
     /// L's columns from the last to the first, as rows of runs (see RunLengthRows), copied at each refresh: the
     /// backward solve walks the columns from the last down, gathering each one's entries, and in Eigen's storage that
     /// walk jumps back a column at every column, which the memory prefetcher does not follow (Eigen's own backward
