@@ -49,6 +49,23 @@ SparseMatrix springMatrix(const MassSpringSystem& system, int dof)
     a.makeCompressed();
     return a;
 }
+
+using RowPermutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
+
+/// The permutation that puts the rows of a matrix with `dof` rows per mass in the dissection's order.
+RowPermutation rowPermutation(const DissectionOrder& dissection, int dof)
+{
+    RowPermutation permutation{Eigen::Index(dof) * Eigen::Index(dissection.order.size())};
+    for (std::size_t position = 0; position < dissection.order.size(); ++position)
+    {
+        for (int c = 0; c < dof; ++c)
+        {
+            permutation.indices()[Eigen::Index(dof) * Eigen::Index(dissection.order[position]) + c] =
+                SparseMatrix::StorageIndex(std::size_t(dof) * position) + c;
+        }
+    }
+    return permutation;
+}
 } // namespace
 
 // Every position of the order lies in exactly one range, and the factor of the sheet's matrix in that order never
@@ -87,11 +104,7 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
 
     // The factor's pattern, one row per mass, in the dissection's order.
     const SparseMatrix a = springMatrix(sheet, 1);
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex> permutation{Eigen::Index(n)};
-    for (std::size_t position = 0; position < n; ++position)
-    {
-        permutation.indices()[Eigen::Index(dissection.order[position])] = SparseMatrix::StorageIndex(position);
-    }
+    const RowPermutation permutation = rowPermutation(dissection, 1);
     SparseMatrix permuted;
     permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
     Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> factor(
@@ -130,15 +143,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     preconditioner.analyse(a, dissection);
     ASSERT_TRUE(preconditioner.refresh(a));
 
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex> permutation{a.rows()};
-    for (std::size_t position = 0; position < dissection.order.size(); ++position)
-    {
-        for (int c = 0; c < 3; ++c)
-        {
-            permutation.indices()[Eigen::Index(3 * dissection.order[position]) + c] =
-                SparseMatrix::StorageIndex(3 * position) + c;
-        }
-    }
+    const RowPermutation permutation = rowPermutation(dissection, 3);
     SparseMatrix permuted;
     permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
     Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> factor(
@@ -209,16 +214,8 @@ TEST(StagedLdlt, IsEigensFactorBitForBitAtAnyThreadCount)
     const DissectionOrder dissection =
         nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
     ASSERT_GT(dissection.stages[0].size(), 4u);
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex> permutation{a.rows()};
+    const RowPermutation permutation = rowPermutation(dissection, 3);
     std::vector<std::vector<OrderRange>> rowStages;
-    for (std::size_t position = 0; position < dissection.order.size(); ++position)
-    {
-        for (int c = 0; c < 3; ++c)
-        {
-            permutation.indices()[Eigen::Index(3 * dissection.order[position]) + c] =
-                SparseMatrix::StorageIndex(3 * position) + c;
-        }
-    }
     for (const std::vector<OrderRange>& stage : dissection.stages)
     {
         rowStages.emplace_back();
