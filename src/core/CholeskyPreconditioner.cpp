@@ -110,7 +110,6 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
         const SparseMatrix& lower = m_factor.lower();
         m_forward.assignLowerRows(lower);
         m_backward.assignLowerColumnsLastFirst(lower);
-        m_diagonal = m_factor.diagonal();
     }
     ++m_refreshCount;
     return m_ready;
@@ -177,8 +176,8 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
         sharedPool().run(ranges.size(),
                          [&](std::size_t k)
                          {
-                             backwardRowsOn(path, backward, m_diagonal.data(), work, n, Eigen::Index(ranges[k].begin),
-                                            Eigen::Index(ranges[k].end));
+                             backwardRowsOn(path, backward, m_factor.diagonal().data(), work, n,
+                                            Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end));
                          });
     }
     for (Eigen::Index i = 0; i < n; ++i)

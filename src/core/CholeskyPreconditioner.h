@@ -58,7 +58,6 @@ private:
     /// gathers each column's, and runs a stage's ranges on the pool: Eigen's forward solve scatters column by column
     /// into later rows, which two ranges' columns share (their separators), so it runs on one core.
     RunLengthRows m_forward;
-    Vector m_diagonal; ///< D of the factor
     /// Factor rows of each stage's ranges (see DissectionOrder::stages).
     std::vector<std::vector<OrderRange>> m_stages;
     Permutation m_permutation; ///< row i of A is row m_permutation.indices()[i] of the factored matrix

@@ -46,50 +46,47 @@ template <class ForEachEntry> void RunLengthRows::assign(Eigen::Index rowCount, 
         });
 }
 
-void RunLengthRows::assignLowerRows(const SparseMatrix& lower)
+namespace
+{
+/// Calls visit(column, row, value) for every entry of `lower`'s strictly lower part, column by column in increasing
+/// order, each column's rows increasing.
+template <class Visit> void forEachStrictlyLower(const Eigen::SparseMatrix<Real>& lower, const Visit& visit)
 {
     const auto* outer = lower.outerIndexPtr();
     const auto* inner = lower.innerIndexPtr();
     const Real* values = lower.valuePtr();
-    const Eigen::Index n = lower.cols();
+    for (Eigen::Index column = 0; column < lower.cols(); ++column)
+    {
+        for (auto k = outer[column]; k < outer[column + 1]; ++k)
+        {
+            if (inner[k] > column)
+            {
+                visit(RunLengthRows::StorageIndex(column), inner[k], values[k]);
+            }
+        }
+    }
+}
+} // namespace
+
+void RunLengthRows::assignLowerRows(const SparseMatrix& lower)
+{
     // Walking the columns in increasing order gives each row's entries in increasing column.
-    assign(n,
+    assign(lower.cols(),
            [&](const auto& visit)
            {
-               for (Eigen::Index column = 0; column < n; ++column)
-               {
-                   for (auto k = outer[column]; k < outer[column + 1]; ++k)
-                   {
-                       if (inner[k] > column)
-                       {
-                           visit(inner[k], StorageIndex(column), values[k]);
-                       }
-                   }
-               }
+               forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
+                                    { visit(row, column, value); });
            });
 }
 
 void RunLengthRows::assignLowerColumnsLastFirst(const SparseMatrix& lower)
 {
-    const auto* outer = lower.outerIndexPtr();
-    const auto* inner = lower.innerIndexPtr();
-    const Real* values = lower.valuePtr();
-    const Eigen::Index n = lower.cols();
-    assign(n,
+    const auto last = StorageIndex(lower.cols() - 1);
+    assign(lower.cols(),
            [&](const auto& visit)
            {
-               for (Eigen::Index column = 0; column < n; ++column)
-               {
-                   const auto row = StorageIndex(n - 1 - column);
-                   for (auto k = outer[column]; k < outer[column + 1]; ++k)
-                   {
-                       if (inner[k] > column)
-                       {
-                           visit(row, inner[k], values[k]);
-                       }
-                   }
-               }
+               forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
+                                    { visit(last - column, row, value); });
            });
 }
-
 } // namespace masse

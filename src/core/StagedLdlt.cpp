@@ -39,9 +39,7 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     const StorageIndex n = StorageIndex(permuted.rows());
     // Eigen's factorisation reads the upper triangle it makes from the full matrix; the same expression here gives
     // the same entries in the same order, which fixes the order of each row's updates and so the bits.
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
-    m_upper.resize(n, n);
-    m_upper.selfadjointView<Eigen::Upper>() = permuted.selfadjointView<Eigen::Lower>().twistedBy(identity);
+    assignUpper(permuted);
     // The elimination tree and L's column counts (Eigen's analyzePattern_preordered).
     m_parent.assign(std::size_t(n), -1);
     m_columnCount.assign(std::size_t(n), 0);
@@ -74,10 +72,18 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     m_diagonal.resize(n);
 }
 
+void StagedLdlt::assignUpper(const SparseMatrix& permuted)
+{
+    // Eigen's expression, with its identity permutation: the same entries in the same order as Eigen's factorisation
+    // reads (see analyse).
+    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
+    m_upper.resize(permuted.rows(), permuted.cols());
+    m_upper.selfadjointView<Eigen::Upper>() = permuted.selfadjointView<Eigen::Lower>().twistedBy(identity);
+}
+
 bool StagedLdlt::factorize(const SparseMatrix& permuted)
 {
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
-    m_upper.selfadjointView<Eigen::Upper>() = permuted.selfadjointView<Eigen::Lower>().twistedBy(identity);
+    assignUpper(permuted);
     m_generation = ++factorisations;
     std::atomic<bool> ok{true};
     for (const std::vector<OrderRange>& ranges : m_stages)

@@ -35,6 +35,8 @@ public:
     const Vector& diagonal() const { return m_diagonal; }
 
 private:
+    /// m_upper = the upper triangle of `permuted` (stored in full).
+    void assignUpper(const SparseMatrix& permuted);
     /// Rows [begin, end) of L and D; false if a pivot is zero.
     bool factorRows(StorageIndex begin, StorageIndex end);
 
