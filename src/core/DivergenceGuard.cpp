@@ -235,32 +235,37 @@ bool isImplicit(IntegratorKind kind)
 /// compressed chain buckling, or a glassy sheet's springs of meganewtons per metre turning.
 Real linearisationGap(const MassSpringSystem& system, const std::vector<Vec3>& start)
 {
+    // A spring pass after every implicit solve: over ranges, summed in fixed chunks like the energies.
     const SpringSet& s = system.springs;
     const std::vector<Vec3>& x = system.particles.position;
-    Real gap = 0;
-    for (std::size_t k = 0; k < s.size(); ++k)
-    {
-        const Index a = s.ends()[k].a;
-        const Index b = s.ends()[k].b;
-        const Vec3 d0 = start[a] - start[b];
-        const Real l0 = d0.norm();
-        const Real L = s.restLength()[k];
-        const Real stiffness = s.stiffness()[k];
-        if (!(l0 > degenerateLengthFraction * L))
-        {
-            continue;
-        }
-        const Vec3 n = d0 / l0;
-        const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
-        const Real along = n.dot(move);
-        const Real across = (move - along * n).squaredNorm();
-        const Real model = Real(0.5) * stiffness *
-                           ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along + along * along +
-                            std::max(Real(0), Real(1) - L / l0) * across);
-        const Real l1 = (x[a] - x[b]).norm();
-        gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
-    }
-    return gap;
+    return chunkedSum(s.size(), springEnergyChunkSize,
+                      [&](std::size_t begin, std::size_t end)
+                      {
+                          Real gap = 0;
+                          for (std::size_t k = begin; k < end; ++k)
+                          {
+                              const Index a = s.ends()[k].a;
+                              const Index b = s.ends()[k].b;
+                              const Vec3 d0 = start[a] - start[b];
+                              const Real l0 = d0.norm();
+                              const Real L = s.restLength()[k];
+                              const Real stiffness = s.stiffness()[k];
+                              if (!(l0 > degenerateLengthFraction * L))
+                              {
+                                  continue;
+                              }
+                              const Vec3 n = d0 / l0;
+                              const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
+                              const Real along = n.dot(move);
+                              const Real across = (move - along * n).squaredNorm();
+                              const Real model = Real(0.5) * stiffness *
+                                                 ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along + along * along +
+                                                  std::max(Real(0), Real(1) - L / l0) * across);
+                              const Real l1 = (x[a] - x[b]).norm();
+                              gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
+                          }
+                          return gap;
+                      });
 }
 } // namespace
 

@@ -4,6 +4,7 @@
 #include "InputError.h"
 #include "NestedDissection.h"
 #include "SpringForce.h"
+#include "TaskPool.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,12 @@
 
 namespace masse
 {
+namespace
+{
+/// Springs per chunk of the assembly's spring pass: about a megabyte of terms.
+constexpr std::size_t springChunkSize = 8192;
+} // namespace
+
 IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
                                      const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum)
 {
@@ -208,6 +215,21 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
                          std::to_string(SlotMatrix<3>::maxMasses()) + "); use an explicit integrator");
     }
     m_matrix.build(n, springs.ends());
+    // A spring's two off-diagonal blocks are shared with any other spring joining the same two masses; the block
+    // above the diagonal names the pair.
+    m_offDiagonal.assign(springs.size(), OffDiagonal::None);
+    std::vector<bool> pairSeen(std::size_t(m_matrix.matrix().nonZeros()), false);
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds& e = springs.ends()[s];
+        if (e.a == e.b)
+        {
+            continue;
+        }
+        const std::size_t upper = std::size_t(e.a < e.b ? m_matrix.ab(s)[0] : m_matrix.ba(s)[0]);
+        m_offDiagonal[s] = pairSeen[upper] ? OffDiagonal::Later : OffDiagonal::First;
+        pairSeen[upper] = true;
+    }
     const Eigen::Index size = m_matrix.matrix().rows();
     m_rhs.setZero(size);
     m_deltaV.setZero(size);
@@ -398,72 +420,115 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
     const std::size_t n = p.size();
     const Real a2 = a * a;
     const bool hasOffset = !offset.empty();
-    m_matrix.setZero();
+    const SpringAdjacency& adjacency = springs.adjacency(n); // built here, on one thread, if the springs changed
 
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        m_rhs.segment<3>(Eigen::Index(3 * i)) = a * p.force[i];
-        if (!momentum.empty())
-        {
-            m_rhs.segment<3>(Eigen::Index(3 * i)) += p.mass[i] * momentum[i];
-        }
-        if (!p.pinned[i])
-        {
-            const Real diagonal = p.mass[i] * (Real(1) + a * system.forces.airDamping);
-            m_matrix.add(m_matrix.diagonal(i), diagonal * Mat3::Identity());
-        }
-    }
-
+    // Each spring's block and right-hand side term, once, over spring ranges.
     const Real repulsion = system.forces.repulsion;
-    for (std::size_t s = 0; s < springs.size(); ++s)
-    {
-        const Index ea = springs.ends()[s].a;
-        const Index eb = springs.ends()[s].b;
-        const Vec3 d = p.position[ea] - p.position[eb];
-        const Real length = d.norm();
-        const Real rest = springs.restLength()[s];
-        if (length <= degenerateLengthFraction * rest)
-        {
-            continue;
-        }
-        const Vec3 dir = d / length;
-        const Mat3 nn = dir * dir.transpose();
-        const Real k = springs.stiffness()[s];
-        Real axial = k;
-        if (repulsion > 0 && length < rest)
-        {
-            axial += Real(2) * repulsion / (length * length * length);
-        }
-        const Real transverse = k * std::max(Real(0), Real(1) - rest / length);
-        // -K_aa, the stiffness block of this spring.
-        const Mat3 stiffnessBlock = axial * nn + transverse * (Mat3::Identity() - nn);
-        const Mat3 block = (a * springs.damping()[s]) * nn + a2 * stiffnessBlock;
-        // a K (a v + d), this spring's part, at a (b gets the opposite).
-        Vec3 move = a * (p.velocity[ea] - p.velocity[eb]);
-        if (hasOffset)
-        {
-            move += offset[ea] - offset[eb];
-        }
-        const Vec3 kv = a * (stiffnessBlock * move);
+    m_springTerms.resize(springs.size());
+    m_springEngaged.resize(springs.size());
+    parallelFor(springs.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        SpringTerm& term = m_springTerms[s];
+                        const Index ea = springs.ends()[s].a;
+                        const Index eb = springs.ends()[s].b;
+                        const Vec3 d = p.position[ea] - p.position[eb];
+                        const Real length = d.norm();
+                        const Real rest = springs.restLength()[s];
+                        m_springEngaged[s] = length > degenerateLengthFraction * rest;
+                        if (!m_springEngaged[s])
+                        {
+                            continue;
+                        }
+                        const Vec3 dir = d / length;
+                        const Mat3 nn = dir * dir.transpose();
+                        const Real k = springs.stiffness()[s];
+                        Real axial = k;
+                        if (repulsion > 0 && length < rest)
+                        {
+                            axial += Real(2) * repulsion / (length * length * length);
+                        }
+                        const Real transverse = k * std::max(Real(0), Real(1) - rest / length);
+                        // -K_aa, the stiffness block of this spring.
+                        const Mat3 stiffnessBlock = axial * nn + transverse * (Mat3::Identity() - nn);
+                        term.setBlock((a * springs.damping()[s]) * nn + a2 * stiffnessBlock);
+                        // a K (a v + d), this spring's part, at a (b gets the opposite).
+                        Vec3 move = a * (p.velocity[ea] - p.velocity[eb]);
+                        if (hasOffset)
+                        {
+                            move += offset[ea] - offset[eb];
+                        }
+                        term.kv = a * (stiffnessBlock * move);
+                    }
+                });
 
-        const bool freeA = !p.pinned[ea];
-        const bool freeB = !p.pinned[eb];
-        if (freeA)
-        {
-            m_matrix.add(m_matrix.diagonal(ea), block);
-            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= kv;
-        }
-        if (freeB)
-        {
-            m_matrix.add(m_matrix.diagonal(eb), block);
-            m_rhs.segment<3>(Eigen::Index(3 * eb)) += kv;
-        }
-        if (freeA && freeB)
-        {
-            m_matrix.add(m_matrix.ab(s), -block);
-            m_matrix.add(m_matrix.ba(s), -block);
-        }
-    }
+    // Each mass gathers its row over mass ranges: its springs in increasing index, the order the serial scatter added
+    // them in, so the sums have the same bits at any thread count. The spring blocks off the diagonal are written by
+    // the lower-numbered end, the only writer of those slots.
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const bool freeI = !p.pinned[i];
+                        Mat3 diagonal = Mat3::Zero();
+                        Vec3 rhs = a * p.force[i];
+                        if (!momentum.empty())
+                        {
+                            rhs += p.mass[i] * momentum[i];
+                        }
+                        if (freeI)
+                        {
+                            diagonal += (p.mass[i] * (Real(1) + a * system.forces.airDamping)) * Mat3::Identity();
+                        }
+                        for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
+                        {
+                            const std::size_t s = std::size_t(adjacency.entries[e].spring);
+                            const Index other = adjacency.entries[e].other;
+                            const bool engaged = m_springEngaged[s] != 0;
+                            const bool couples = engaged && freeI && !p.pinned[other];
+                            const SpringTerm& term = m_springTerms[s];
+                            const Mat3 block = engaged ? term.block() : Mat3(Mat3::Zero());
+                            if (Index(i) < other) // the owner of the blocks off the diagonal
+                            {
+                                // 0 - B has the bits of 0 + (-B), the serial scatter's sum, signed zeros included.
+                                if (m_offDiagonal[s] == OffDiagonal::First)
+                                {
+                                    const Mat3 offDiagonal = couples ? Mat3(Mat3::Zero() - block) : Mat3::Zero();
+                                    m_matrix.write(m_matrix.ab(s), offDiagonal);
+                                    m_matrix.write(m_matrix.ba(s), offDiagonal);
+                                }
+                                else if (m_offDiagonal[s] == OffDiagonal::Later && couples)
+                                {
+                                    m_matrix.add(m_matrix.ab(s), -block);
+                                    m_matrix.add(m_matrix.ba(s), -block);
+                                }
+                            }
+                            if (!engaged || !freeI)
+                            {
+                                continue;
+                            }
+                            diagonal += block;
+                            if (Index(i) == springs.ends()[s].a)
+                            {
+                                rhs -= term.kv;
+                            }
+                            else
+                            {
+                                rhs += term.kv;
+                            }
+                        }
+                        if (!freeI) // an identity row and a zero right-hand side: dv = 0
+                        {
+                            diagonal += Mat3::Identity();
+                            rhs.setZero();
+                        }
+                        m_matrix.write(m_matrix.diagonal(i), diagonal);
+                        m_rhs.segment<3>(Eigen::Index(3 * i)) = rhs;
+                    }
+                });
 
     for (const UserSpring& spring : system.userSprings.all())
     {
@@ -484,13 +549,5 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
         m_rhs.segment<3>(Eigen::Index(3 * i)) -= a * f.effectiveStiffness * move;
     }
 
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        if (p.pinned[i])
-        {
-            m_matrix.add(m_matrix.diagonal(i), Mat3::Identity());
-            m_rhs.segment<3>(Eigen::Index(3 * i)).setZero();
-        }
-    }
 }
 } // namespace masse
