@@ -465,8 +465,8 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
                 });
 
     // Each mass gathers its row over mass ranges: its springs in increasing index, the order the serial scatter added
-    // them in, so the sums have the same bits at any thread count. The spring blocks off the diagonal are written by
-    // the lower-numbered end, the only writer of those slots.
+    // them in, so the sums have the same bits at any thread count. Each mass is the only writer of its own block column
+    // (Eigen's storage is column-major), the diagonal block and one block per spring.
     parallelFor(n, massChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
@@ -491,27 +491,25 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
                             const bool couples = engaged && freeI && !p.pinned[other];
                             const SpringTerm& term = m_springTerms[s];
                             const Mat3 block = engaged ? term.block() : Mat3(Mat3::Zero());
-                            if (Index(i) < other) // the owner of the blocks off the diagonal
+                            // Mass i writes its own block column: the block at row `other` (ab if i is the
+                            // spring's second end, ba if its first), so its writes stay in one place in memory.
+                            const bool first = Index(i) == springs.ends()[s].a;
+                            const auto& column = first ? m_matrix.ba(s) : m_matrix.ab(s);
+                            // 0 - B has the bits of 0 + (-B), the serial scatter's sum, signed zeros included.
+                            if (m_offDiagonal[s] == OffDiagonal::First)
                             {
-                                // 0 - B has the bits of 0 + (-B), the serial scatter's sum, signed zeros included.
-                                if (m_offDiagonal[s] == OffDiagonal::First)
-                                {
-                                    const Mat3 offDiagonal = couples ? Mat3(Mat3::Zero() - block) : Mat3::Zero();
-                                    m_matrix.write(m_matrix.ab(s), offDiagonal);
-                                    m_matrix.write(m_matrix.ba(s), offDiagonal);
-                                }
-                                else if (m_offDiagonal[s] == OffDiagonal::Later && couples)
-                                {
-                                    m_matrix.add(m_matrix.ab(s), -block);
-                                    m_matrix.add(m_matrix.ba(s), -block);
-                                }
+                                m_matrix.write(column, couples ? Mat3(Mat3::Zero() - block) : Mat3(Mat3::Zero()));
+                            }
+                            else if (m_offDiagonal[s] == OffDiagonal::Later && couples)
+                            {
+                                m_matrix.add(column, -block);
                             }
                             if (!engaged || !freeI)
                             {
                                 continue;
                             }
                             diagonal += block;
-                            if (Index(i) == springs.ends()[s].a)
+                            if (first)
                             {
                                 rhs -= term.kv;
                             }
