@@ -1,5 +1,7 @@
 #include "CholeskyPreconditioner.h"
 
+#include "PermutedValues.h"
+
 #include "SimdPath.h"
 #include "TaskPool.h"
 
@@ -93,7 +95,16 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
                 SparseMatrix::StorageIndex(3 * position) + c;
         }
     }
-    m_permutedMatrix = a.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
+    m_permutedSources = findPermutedSources(
+        a,
+        [&](const SparseMatrix& m)
+        {
+            SparseMatrix full;
+            full = m.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
+            return full;
+        },
+        m_permutedMatrix);
+    gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_factor.analyse(m_permutedMatrix, m_stages);
     m_ready = false;
     m_filtered.resize(a.rows());
@@ -103,13 +114,24 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
 bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
 {
     // A refresh (not every step) copies the matrix into the factor's order; the pattern is unchanged.
-    m_permutedMatrix = a.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
+    gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_ready = m_factor.factorize(m_permutedMatrix);
     if (m_ready)
     {
+        // The two copies of the factor are built at once, one a task (each some hundred milliseconds at 128x2x128).
         const SparseMatrix& lower = m_factor.lower();
-        m_forward.assignLowerRows(lower);
-        m_backward.assignLowerColumnsLastFirst(lower);
+        sharedPool().run(2,
+                         [&](std::size_t copy)
+                         {
+                             if (copy == 0)
+                             {
+                                 m_forward.assignLowerRows(lower);
+                             }
+                             else
+                             {
+                                 m_backward.assignLowerColumnsLastFirst(lower);
+                             }
+                         });
     }
     ++m_refreshCount;
     return m_ready;

@@ -62,6 +62,7 @@ private:
     std::vector<std::vector<OrderRange>> m_stages;
     Permutation m_permutation; ///< row i of A is row m_permutation.indices()[i] of the factored matrix
     SparseMatrix m_permutedMatrix;
+    std::vector<SparseMatrix::StorageIndex> m_permutedSources; ///< per value of m_permutedMatrix, A's it copies
     const std::vector<Index>* m_masses = nullptr;
     const std::vector<Mat3>* m_filters = nullptr;
     mutable Vector m_filtered;

@@ -1,5 +1,6 @@
 #include "StagedLdlt.h"
 
+#include "PermutedValues.h"
 #include "TaskPool.h"
 
 #include <algorithm>
@@ -37,6 +38,7 @@ struct RowWorkspace
 void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::vector<OrderRange>>& stages)
 {
     m_stages = stages;
+    m_upperSources.clear(); // a new pattern
     const StorageIndex n = StorageIndex(permuted.rows());
     // Eigen's factorisation reads the upper triangle it makes from the full matrix; the same expression here gives
     // the same entries in the same order, which fixes the order of each row's updates and so the bits.
@@ -160,10 +162,21 @@ StorageIndex StagedLdlt::rowPattern(StorageIndex k, long long visit, long long* 
 void StagedLdlt::assignUpper(const SparseMatrix& permuted)
 {
     // Eigen's expression, with its identity permutation: the same entries in the same order as Eigen's factorisation
-    // reads (see analyse).
-    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
-    m_upper.resize(permuted.rows(), permuted.cols());
-    m_upper.selfadjointView<Eigen::Upper>() = permuted.selfadjointView<Eigen::Lower>().twistedBy(identity);
+    // reads (see analyse). Found once; each factorisation gathers the values.
+    if (m_upperSources.empty())
+    {
+        const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
+        m_upperSources = findPermutedSources(
+            permuted,
+            [&](const SparseMatrix& m)
+            {
+                SparseMatrix upper(m.rows(), m.cols());
+                upper.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>().twistedBy(identity);
+                return upper;
+            },
+            m_upper);
+    }
+    gatherPermutedValues(permuted, m_upperSources, m_upper);
 }
 
 bool StagedLdlt::factorize(const SparseMatrix& permuted)

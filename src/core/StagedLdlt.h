@@ -57,6 +57,7 @@ private:
     StorageIndex rowPattern(StorageIndex k, long long visit, long long* mark, StorageIndex* pattern) const;
 
     SparseMatrix m_upper; ///< the matrix's upper triangle, as Eigen's factorisation reads it
+    std::vector<StorageIndex> m_upperSources; ///< per value of m_upper, the permuted matrix's it copies
     SparseMatrix m_lower;
     Vector m_diagonal;
     std::vector<StorageIndex> m_parent;      ///< elimination tree: parent of each row, -1 for a root
