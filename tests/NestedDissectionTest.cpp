@@ -5,6 +5,7 @@
 
 #include "core/CholeskyPreconditioner.h"
 #include "core/NestedDissection.h"
+#include "core/PermutedValues.h"
 #include "core/SimdPath.h"
 #include "core/StagedLdlt.h"
 #include "core/TaskPool.h"
@@ -12,6 +13,8 @@
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <stdexcept>
 #include <vector>
 
 using namespace masse;
@@ -292,4 +295,53 @@ TEST(StagedLdlt, IsEigensFactorBitForBitAtAnyThreadCount)
     EXPECT_FALSE(staged.factorize(singularAtTheTop));
     EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after one refused at the top";
     EXPECT_EQ(staged.diagonal()[last], expectedD[last]);
+}
+
+// A refresh gathers the permuted matrix's values through maps found once (PermutedValues.h): for new values on the
+// same pattern, the gathered matrix is Eigen's permutation of them, every value bit for bit, in full and as the upper
+// triangle; an uncompressed matrix, whose value indices would not be its entries', is refused.
+TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
+{
+    const MassSpringSystem sheet = paperSheet(8);
+    SparseMatrix a = springMatrix(sheet, 3);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    const RowPermutation permutation = rowPermutation(dissection, 3);
+    auto full = [&](const SparseMatrix& m)
+    {
+        SparseMatrix permuted;
+        permuted = m.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+        return permuted;
+    };
+    auto upper = [&](const SparseMatrix& m)
+    {
+        SparseMatrix triangle(m.rows(), m.cols());
+        triangle.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+        return triangle;
+    };
+    SparseMatrix fullGathered;
+    SparseMatrix upperGathered;
+    const PermutedSources fullSources = findPermutedSources(a, full, fullGathered);
+    const PermutedSources upperSources = findPermutedSources(a, upper, upperGathered);
+    for (Eigen::Index k = 0; k < a.nonZeros(); ++k) // new values, the same pattern
+    {
+        a.valuePtr()[k] = std::sin(Real(k) * 0.37) * Real(1 + k % 5);
+    }
+    gatherPermutedValues(a, fullSources, fullGathered);
+    gatherPermutedValues(a, upperSources, upperGathered);
+    for (const auto& [gathered, expected] :
+         {std::pair<const SparseMatrix*, SparseMatrix>{&fullGathered, full(a)}, {&upperGathered, upper(a)}})
+    {
+        ASSERT_EQ(gathered->nonZeros(), expected.nonZeros());
+        for (Eigen::Index k = 0; k < expected.nonZeros(); ++k)
+        {
+            ASSERT_EQ(gathered->innerIndexPtr()[k], expected.innerIndexPtr()[k]) << "entry " << k;
+            ASSERT_EQ(gathered->valuePtr()[k], expected.valuePtr()[k]) << "entry " << k;
+        }
+    }
+
+    SparseMatrix uncompressed = a;
+    uncompressed.uncompress();
+    SparseMatrix unused;
+    EXPECT_THROW(findPermutedSources(uncompressed, full, unused), std::logic_error);
 }
