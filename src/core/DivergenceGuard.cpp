@@ -233,39 +233,58 @@ bool isImplicit(IntegratorKind kind)
 /// the compressed springs' negative transverse stiffness left out as the solver leaves it out). The linearised step
 /// dissipates the model's energy; what the true springs hold beyond it is the integrator's known error: a straight,
 /// compressed chain buckling, or a glassy sheet's springs of meganewtons per metre turning.
-Real linearisationGap(const MassSpringSystem& system, const std::vector<Vec3>& start)
+/// The springs' energy (J, mechanicalEnergy's spring part) and the linearisation gap in one spring pass: each is summed
+/// in the chunks and order it would have alone, the gap's chunk sums kept in `gapPartial` (capacity kept).
+struct SpringPass
 {
-    // A spring pass after every implicit solve: over ranges, summed in fixed chunks like the energies.
+    Real energy = 0;
+    Real gap = 0;
+};
+SpringPass springEnergyAndGap(const MassSpringSystem& system, const std::vector<Vec3>& start,
+                              std::vector<Real>& gapPartial)
+{
     const SpringSet& s = system.springs;
     const std::vector<Vec3>& x = system.particles.position;
-    return chunkedSum(s.size(), springEnergyChunkSize,
-                      [&](std::size_t begin, std::size_t end)
-                      {
-                          Real gap = 0;
-                          for (std::size_t k = begin; k < end; ++k)
-                          {
-                              const Index a = s.ends()[k].a;
-                              const Index b = s.ends()[k].b;
-                              const Vec3 d0 = start[a] - start[b];
-                              const Real l0 = d0.norm();
-                              const Real L = s.restLength()[k];
-                              const Real stiffness = s.stiffness()[k];
-                              if (!(l0 > degenerateLengthFraction * L))
-                              {
-                                  continue;
-                              }
-                              const Vec3 n = d0 / l0;
-                              const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
-                              const Real along = n.dot(move);
-                              const Real across = (move - along * n).squaredNorm();
-                              const Real model = Real(0.5) * stiffness *
-                                                 ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along + along * along +
-                                                  std::max(Real(0), Real(1) - L / l0) * across);
-                              const Real l1 = (x[a] - x[b]).norm();
-                              gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
-                          }
-                          return gap;
-                      });
+    const Real repulsion = system.forces.repulsion;
+    gapPartial.resize(chunkCount(s.size(), springEnergyChunkSize));
+    SpringPass pass;
+    pass.energy = chunkedSum(
+        s.size(), springEnergyChunkSize,
+        [&](std::size_t begin, std::size_t end)
+        {
+            Real energy = 0;
+            Real gap = 0;
+            for (std::size_t k = begin; k < end; ++k)
+            {
+                const Index a = s.ends()[k].a;
+                const Index b = s.ends()[k].b;
+                const Real L = s.restLength()[k];
+                const Real stiffness = s.stiffness()[k];
+                const Real l1 = (x[a] - x[b]).norm();
+                energy += springPotential(l1, stiffness, L, repulsion);
+                const Vec3 d0 = start[a] - start[b];
+                const Real l0 = d0.norm();
+                if (!(l0 > degenerateLengthFraction * L))
+                {
+                    continue;
+                }
+                const Vec3 n = d0 / l0;
+                const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
+                const Real along = n.dot(move);
+                const Real across = (move - along * n).squaredNorm();
+                const Real model = Real(0.5) * stiffness *
+                                   ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along + along * along +
+                                    std::max(Real(0), Real(1) - L / l0) * across);
+                gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
+            }
+            gapPartial[begin / springEnergyChunkSize] = gap;
+            return energy;
+        });
+    for (const Real partial : gapPartial) // in chunk order
+    {
+        pass.gap += partial;
+    }
+    return pass;
 }
 } // namespace
 
@@ -284,10 +303,17 @@ void DivergenceGuard::afterIntegrator(const MassSpringSystem& system, Integrator
     {
         if (m_settings.account == EnergyAccount::Mechanical)
         {
-            m_linearisationError = Real(0.5) * m_linearisationError + linearisationGap(system, m_substepStart);
+            // mechanicalEnergy's sum, its spring pass shared with the gap's.
+            const Real masses = massEnergy(system);
+            const SpringPass pass = springEnergyAndGap(system, m_substepStart, m_gapPartial);
+            m_linearisationError = Real(0.5) * m_linearisationError + pass.gap;
+            m_contactEnergy = masses + pass.energy + grabEnergy(system);
+        }
+        else
+        {
+            m_contactEnergy = accountedEnergy(system);
         }
         m_contactStart = system.particles.position;
-        m_contactEnergy = accountedEnergy(system);
     }
 }
 

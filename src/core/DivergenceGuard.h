@@ -129,6 +129,7 @@ private:
     /// model by, halved every substep (the integrator damps what it put into stiff springs within a few steps).
     Real m_linearisationError = 0;
     std::vector<Vec3> m_stepStart;    ///< m, positions at the start of the step (the work of applied forces)
+    std::vector<Real> m_gapPartial;   ///< the linearisation gap's chunk sums (kept to allocate nothing a step)
     std::vector<Vec3> m_substepStart; ///< m, positions at the start of the substep (implicit integrators only)
     std::vector<Vec3> m_contactStart; ///< m, positions before the contact pass (implicit integrators only)
     Real m_contactEnergy = 0;         ///< J, energy before the contact pass
