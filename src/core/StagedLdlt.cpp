@@ -206,6 +206,26 @@ bool StagedLdlt::factorize(const SparseMatrix& permuted)
     return true;
 }
 
+Real StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Real* y, StorageIndex offset)
+{
+    const StorageIndex* start = m_lower.outerIndexPtr();
+    StorageIndex* rows = m_lower.innerIndexPtr();
+    Real* values = m_lower.valuePtr();
+    const Real yi = y[i - offset];
+    y[i - offset] = 0;
+    const Real lki = yi / m_diagonal[i];
+    const StorageIndex last = start[i] + m_columnCount[std::size_t(i)];
+    StorageIndex p = start[i];
+    for (; p < last; ++p)
+    {
+        y[rows[p] - offset] -= values[p] * yi;
+    }
+    rows[p] = k;
+    values[p] = lki;
+    ++m_columnCount[std::size_t(i)];
+    return lki * yi;
+}
+
 bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
 {
     // Eigen's factorize_preordered<true> over rows [begin, end), with this thread's scratch.
@@ -215,9 +235,6 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
     Real* y = work.y.data();
     StorageIndex* pattern = work.pattern.data();
     long long* mark = work.mark.data();
-    const StorageIndex* start = m_lower.outerIndexPtr();
-    StorageIndex* rows = m_lower.innerIndexPtr();
-    Real* values = m_lower.valuePtr();
     const long long base = m_generation * (long long)(n);
     for (StorageIndex k = begin; k < end; ++k)
     {
@@ -237,20 +254,7 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
         y[k] = 0;
         for (; top < StorageIndex(n); ++top)
         {
-            const StorageIndex i = pattern[top];
-            const Real yi = y[i];
-            y[i] = 0;
-            const Real lki = yi / m_diagonal[i];
-            const StorageIndex last = start[i] + m_columnCount[std::size_t(i)];
-            StorageIndex p = start[i];
-            for (; p < last; ++p)
-            {
-                y[rows[p]] -= values[p] * yi;
-            }
-            d -= lki * yi;
-            rows[p] = k;
-            values[p] = lki;
-            ++m_columnCount[std::size_t(i)];
+            d -= appendToColumn(pattern[top], k, y, 0);
         }
         m_diagonal[k] = d;
         if (d == 0)
@@ -352,20 +356,7 @@ bool StagedLdlt::factorTopStage()
         m_columnCount[std::size_t(k)] = 0;
         for (std::size_t e = m_top.ownStart[r]; e < m_top.ownStart[r + 1]; ++e)
         {
-            const StorageIndex i = m_top.ownColumn[e];
-            const Real yi = y[i - begin];
-            y[i - begin] = 0;
-            const Real lki = yi / m_diagonal[i];
-            const StorageIndex last = start[i] + m_columnCount[std::size_t(i)];
-            StorageIndex p = start[i];
-            for (; p < last; ++p)
-            {
-                y[rows[p] - begin] -= values[p] * yi;
-            }
-            d -= lki * yi;
-            rows[p] = k;
-            values[p] = lki;
-            ++m_columnCount[std::size_t(i)];
+            d -= appendToColumn(m_top.ownColumn[e], k, y, begin);
         }
         m_diagonal[k] = d;
         if (d == 0)

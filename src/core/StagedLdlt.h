@@ -48,6 +48,9 @@ private:
     void assignUpper(const SparseMatrix& permuted);
     /// Rows [begin, end) of L and D; false if a pivot is zero.
     bool factorRows(StorageIndex begin, StorageIndex end);
+    /// One step of row k's sparse triangular solve, Eigen's: y_i (held at y[i - offset]) gives l_ki = y_i / d_i,
+    /// appended to column i; column i's entries so far update y. Returns l_ki y_i, the step's part of the pivot.
+    [[gnu::always_inline]] inline Real appendToColumn(StorageIndex i, StorageIndex k, Real* y, StorageIndex offset);
     /// The top separator's rows (see the file comment); false if a pivot is zero.
     bool factorTopStage();
     /// The top separator's pattern, after the elimination tree and L's column starts.
