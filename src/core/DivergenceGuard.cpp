@@ -248,38 +248,37 @@ SpringPass springEnergyAndGap(const MassSpringSystem& system, const std::vector<
     const Real repulsion = system.forces.repulsion;
     gapPartial.resize(chunkCount(s.size(), springEnergyChunkSize));
     SpringPass pass;
-    pass.energy = chunkedSum(
-        s.size(), springEnergyChunkSize,
-        [&](std::size_t begin, std::size_t end)
-        {
-            Real energy = 0;
-            Real gap = 0;
-            for (std::size_t k = begin; k < end; ++k)
-            {
-                const Index a = s.ends()[k].a;
-                const Index b = s.ends()[k].b;
-                const Real L = s.restLength()[k];
-                const Real stiffness = s.stiffness()[k];
-                const Real l1 = (x[a] - x[b]).norm();
-                energy += springPotential(l1, stiffness, L, repulsion);
-                const Vec3 d0 = start[a] - start[b];
-                const Real l0 = d0.norm();
-                if (!(l0 > degenerateLengthFraction * L))
-                {
-                    continue;
-                }
-                const Vec3 n = d0 / l0;
-                const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
-                const Real along = n.dot(move);
-                const Real across = (move - along * n).squaredNorm();
-                const Real model = Real(0.5) * stiffness *
-                                   ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along + along * along +
-                                    std::max(Real(0), Real(1) - L / l0) * across);
-                gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
-            }
-            gapPartial[begin / springEnergyChunkSize] = gap;
-            return energy;
-        });
+    pass.energy = chunkedSum(s.size(), springEnergyChunkSize,
+                             [&](std::size_t begin, std::size_t end)
+                             {
+                                 Real energy = 0;
+                                 Real gap = 0;
+                                 for (std::size_t k = begin; k < end; ++k)
+                                 {
+                                     const Index a = s.ends()[k].a;
+                                     const Index b = s.ends()[k].b;
+                                     const Real L = s.restLength()[k];
+                                     const Real stiffness = s.stiffness()[k];
+                                     const Real l1 = (x[a] - x[b]).norm();
+                                     energy += springPotential(l1, stiffness, L, repulsion);
+                                     const Vec3 d0 = start[a] - start[b];
+                                     const Real l0 = d0.norm();
+                                     if (!(l0 > degenerateLengthFraction * L))
+                                     {
+                                         continue;
+                                     }
+                                     const Vec3 n = d0 / l0;
+                                     const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
+                                     const Real along = n.dot(move);
+                                     const Real across = (move - along * n).squaredNorm();
+                                     const Real model = Real(0.5) * stiffness *
+                                                        ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along +
+                                                         along * along + std::max(Real(0), Real(1) - L / l0) * across);
+                                     gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
+                                 }
+                                 gapPartial[begin / springEnergyChunkSize] = gap;
+                                 return energy;
+                             });
     for (const Real partial : gapPartial) // in chunk order
     {
         pass.gap += partial;

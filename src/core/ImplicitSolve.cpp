@@ -546,6 +546,5 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
         }
         m_rhs.segment<3>(Eigen::Index(3 * i)) -= a * f.effectiveStiffness * move;
     }
-
 }
 } // namespace masse

@@ -59,7 +59,7 @@ private:
     /// k): written to pattern[top, n), top returned. `mark` holds `visit` for the rows reached.
     StorageIndex rowPattern(StorageIndex k, long long visit, long long* mark, StorageIndex* pattern) const;
 
-    SparseMatrix m_upper; ///< the matrix's upper triangle, as Eigen's factorisation reads it
+    SparseMatrix m_upper;                     ///< the matrix's upper triangle, as Eigen's factorisation reads it
     std::vector<StorageIndex> m_upperSources; ///< per value of m_upper, the permuted matrix's it copies
     SparseMatrix m_lower;
     Vector m_diagonal;
