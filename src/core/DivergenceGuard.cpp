@@ -228,16 +228,16 @@ bool isImplicit(IntegratorKind kind)
     return kind == IntegratorKind::ImplicitEuler || kind == IntegratorKind::Bdf2;
 }
 
-/// J: how much the sheet springs' energy at the end of an implicit substep exceeds the quadratic model the
-/// linearised solve minimised (the springs' energy at the substep's start, its force and its stiffness there, with
-/// the compressed springs' negative transverse stiffness left out as the solver leaves it out). The linearised step
-/// dissipates the model's energy; what the true springs hold beyond it is the integrator's known error: a straight,
-/// compressed chain buckling, or a glassy sheet's springs of meganewtons per metre turning.
-/// The springs' energy (J, mechanicalEnergy's spring part) and the linearisation gap in one spring pass: each is summed
-/// in the chunks and order it would have alone, the gap's chunk sums kept in `gapPartial` (capacity kept).
+/// Two figures from one spring pass after an implicit substep, each summed in the chunks and order it would have
+/// alone (the gap's chunk sums kept in `gapPartial`, whose capacity is kept).
 struct SpringPass
 {
-    Real energy = 0;
+    Real energy = 0; ///< J, the springs' energy: mechanicalEnergy's spring part
+    /// J, the linearisation gap: how much the springs' energy at the end of the substep exceeds the quadratic model the
+    /// linearised solve minimised (the springs' energy at the substep's start, its force and its stiffness there, with
+    /// the compressed springs' negative transverse stiffness left out as the solver leaves it out). The linearised
+    /// step dissipates the model's energy; what the true springs hold beyond it is the integrator's known error: a
+    /// straight, compressed chain buckling, or a glassy sheet's springs of meganewtons per metre turning.
     Real gap = 0;
 };
 SpringPass springEnergyAndGap(const MassSpringSystem& system, const std::vector<Vec3>& start,
