@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace masse
 {
@@ -118,13 +119,24 @@ Real kineticEnergy(const MassSpringSystem& system)
                       });
 }
 
-/// J, what the hooks may put in is what they change the account's potential energy by (springs softened or
-/// stiffened by heat or a material's flow, gravity, pins, grab targets): no hook gives masses speed, so one that does
-/// (a fault) is not credited and its energy is a breach.
-Real hooksEnergy(const MassSpringSystem& system, EnergyAccount account)
+/// The springs' energy (J): a spring pass over ranges on all threads, summed in fixed chunks (the guard's figure is the
+/// same at any thread count).
+Real springsEnergy(const MassSpringSystem& system)
 {
-    const Real kinetic = kineticEnergy(system);
-    return account == EnergyAccount::Mechanical ? mechanicalEnergy(system) - kinetic : motionEnergy(system) - kinetic;
+    const Particles& p = system.particles;
+    const SpringSet& s = system.springs;
+    const Real repulsion = system.forces.repulsion;
+    return chunkedSum(s.size(), springEnergyChunkSize,
+                      [&](std::size_t begin, std::size_t end)
+                      {
+                          Real energy = 0;
+                          for (std::size_t k = begin; k < end; ++k)
+                          {
+                              const Real length = (p.position[s.ends()[k].a] - p.position[s.ends()[k].b]).norm();
+                              energy += springPotential(length, s.stiffness()[k], s.restLength()[k], repulsion);
+                          }
+                          return energy;
+                      });
 }
 } // namespace
 
@@ -135,25 +147,43 @@ Real motionEnergy(const MassSpringSystem& system)
 
 Real mechanicalEnergy(const MassSpringSystem& system)
 {
-    // Twice a step on the explicit path and twice a substep on the implicit one: a spring pass each time, so it runs
-    // over ranges on all threads, summed in fixed chunks (the guard's figure is the same at any thread count).
-    const Particles& p = system.particles;
+    // Each sum in its own order, so the guard's memo (DivergenceGuard::mechanical) has the same bits.
     const Real masses = massEnergy(system);
-    const SpringSet& s = system.springs;
-    const Real repulsion = system.forces.repulsion;
-    const Real springs =
-        chunkedSum(s.size(), springEnergyChunkSize,
-                   [&](std::size_t begin, std::size_t end)
-                   {
-                       Real energy = 0;
-                       for (std::size_t k = begin; k < end; ++k)
-                       {
-                           const Real length = (p.position[s.ends()[k].a] - p.position[s.ends()[k].b]).norm();
-                           energy += springPotential(length, s.stiffness()[k], s.restLength()[k], repulsion);
-                       }
-                       return energy;
-                   });
+    const Real springs = springsEnergy(system);
     return masses + springs + grabEnergy(system);
+}
+
+bool DivergenceGuard::SpringEnergyMemo::holds(const MassSpringSystem& system) const
+{
+    const std::vector<Vec3>& x = system.particles.position;
+    return valid && revision == system.revision && springs == system.springs.size() && positions.size() == x.size() &&
+           std::memcmp(positions.data(), x.data(), x.size() * sizeof(Vec3)) == 0;
+}
+
+void DivergenceGuard::SpringEnergyMemo::keep(const MassSpringSystem& system, Real springEnergy)
+{
+    valid = true;
+    revision = system.revision;
+    springs = system.springs.size();
+    positions = system.particles.position; // capacity kept: no allocation after the first
+    energy = springEnergy;
+}
+
+Real DivergenceGuard::mechanical(const MassSpringSystem& system) const
+{
+    const Real masses = massEnergy(system);
+    if (!m_springMemo.holds(system))
+    {
+        m_springMemo.keep(system, springsEnergy(system));
+    }
+    return masses + m_springMemo.energy + grabEnergy(system);
+}
+
+Real DivergenceGuard::hooksEnergy(const MassSpringSystem& system) const
+{
+    const Real kinetic = kineticEnergy(system);
+    return m_settings.account == EnergyAccount::Mechanical ? mechanical(system) - kinetic
+                                                           : motionEnergy(system) - kinetic;
 }
 
 void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
@@ -170,7 +200,7 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
         {
             // The reference holds the springs' energy in either account: what they hold at the start may turn into
             // motion.
-            const Real energy = mechanicalEnergy(system);
+            const Real energy = mechanical(system);
             m_started = true;
             m_reference = energy;
             m_scale = energyScale(system) + std::max(Real(0), energy - gravityEnergy(system));
@@ -188,7 +218,7 @@ void DivergenceGuard::beforeHooks(const MassSpringSystem& system)
     m_hooksMeasured = m_measureEveryPass;
     if (m_hooksMeasured)
     {
-        m_hooksEnergy = hooksEnergy(system, m_settings.account);
+        m_hooksEnergy = hooksEnergy(system);
     }
 }
 
@@ -204,7 +234,7 @@ void DivergenceGuard::afterHooks(const MassSpringSystem& system)
     }
     if (m_hooksMeasured)
     {
-        m_putIn += std::max(Real(0), hooksEnergy(system, m_settings.account) - m_hooksEnergy);
+        m_putIn += std::max(Real(0), hooksEnergy(system) - m_hooksEnergy);
         return;
     }
     if (system.revision != m_hooksRevision)
@@ -307,6 +337,7 @@ void DivergenceGuard::afterIntegrator(const MassSpringSystem& system, Integrator
             const SpringPass pass = springEnergyAndGap(system, m_substepStart, m_gapPartial);
             m_linearisationError = Real(0.5) * m_linearisationError + pass.gap;
             m_contactEnergy = masses + pass.energy + grabEnergy(system);
+            m_springMemo.keep(system, pass.energy);
         }
         else
         {
@@ -398,13 +429,13 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
     {
         // A change within the hooks that was not measured (before the guard knew to measure them): the accounting
         // starts again from here.
-        const Real mechanical = m_settings.account == EnergyAccount::Mechanical ? energy : mechanicalEnergy(system);
+        const Real mechanicalNow = m_settings.account == EnergyAccount::Mechanical ? energy : mechanical(system);
         m_rebase = false;
-        m_reference = mechanical;
+        m_reference = mechanicalNow;
         m_putIn = 0;
         m_integratorError = 0;
         m_linearisationError = 0;
-        m_scale = energyScale(system) + std::max(Real(0), mechanical - gravityEnergy(system));
+        m_scale = energyScale(system) + std::max(Real(0), mechanicalNow - gravityEnergy(system));
     }
     else
     {
@@ -495,7 +526,7 @@ Real DivergenceGuard::energyBetweenSteps(const MassSpringSystem& system) const
 
 Real DivergenceGuard::accountedEnergy(const MassSpringSystem& system) const
 {
-    return m_settings.account == EnergyAccount::Mechanical ? mechanicalEnergy(system) : motionEnergy(system);
+    return m_settings.account == EnergyAccount::Mechanical ? mechanical(system) : motionEnergy(system);
 }
 
 void DivergenceGuard::fail(const GuardStep& step, const std::string& what) const

@@ -116,6 +116,29 @@ private:
     /// The accounted energy at a step's start: the last check's when the system has not been marked changed since
     /// (MassSpringSystem::revision: pins, teleported masses and new coefficients mark it), with the grabs' energy now.
     Real energyBetweenSteps(const MassSpringSystem& system) const;
+    /// mechanicalEnergy with the same bits, its spring pass taken from m_springMemo when that holds.
+    Real mechanical(const MassSpringSystem& system) const;
+    /// J, what the hooks may put in is what they change the account's potential energy by (springs softened or
+    /// stiffened by heat or a material's flow, gravity, pins, grab targets): no hook gives masses speed, so one that
+    /// does (a fault) is not credited and its energy is a breach.
+    Real hooksEnergy(const MassSpringSystem& system) const;
+
+    /// The springs' energy last measured, with the positions (bit for bit) and the revision it was measured at. The
+    /// springs' energy is the guard's costliest figure (a pass over every spring), and it is asked for again at the
+    /// same state: after a contact pass or a hook that moved nothing, and on both sides of every hook pass of a
+    /// material scene. Coefficients change only with the revision (MassSpringSystem::markChanged).
+    struct SpringEnergyMemo
+    {
+        bool valid = false;
+        std::uint64_t revision = 0;
+        std::size_t springs = 0;
+        std::vector<Vec3> positions;
+        Real energy = 0;
+
+        bool holds(const MassSpringSystem& system) const;
+        void keep(const MassSpringSystem& system, Real springEnergy);
+    };
+    mutable SpringEnergyMemo m_springMemo;
 
     GuardSettings m_settings;
     bool m_started = false;
