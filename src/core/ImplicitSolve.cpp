@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace masse
 {
@@ -217,7 +218,7 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     m_matrix.build(n, springs.ends());
     // A spring's two off-diagonal blocks are shared with any other spring joining the same two masses; the block
     // above the diagonal names the pair.
-    m_offDiagonal.assign(springs.size(), OffDiagonal::None);
+    std::vector<OffDiagonal> offDiagonal(springs.size(), OffDiagonal::None);
     std::vector<bool> pairSeen(std::size_t(m_matrix.matrix().nonZeros()), false);
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
@@ -227,8 +228,26 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
             continue;
         }
         const std::size_t upper = std::size_t(e.a < e.b ? m_matrix.ab(s)[0] : m_matrix.ba(s)[0]);
-        m_offDiagonal[s] = pairSeen[upper] ? OffDiagonal::Later : OffDiagonal::First;
+        offDiagonal[s] = pairSeen[upper] ? OffDiagonal::Later : OffDiagonal::First;
         pairSeen[upper] = true;
+    }
+    const SpringAdjacency& adjacency = springs.adjacency(n);
+    const auto* outer = m_matrix.matrix().outerIndexPtr();
+    m_columnEntries.resize(adjacency.entries.size());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
+        {
+            const std::size_t s = std::size_t(adjacency.entries[e].spring);
+            const bool first = Index(i) == springs.ends()[s].a;
+            const SlotMatrix<3>::Slots& column = first ? m_matrix.ba(s) : m_matrix.ab(s);
+            const auto offset = column[0] - outer[3 * i];
+            if (column[1] - outer[3 * i + 1] != offset || column[2] - outer[3 * i + 2] != offset)
+            {
+                throw std::logic_error("ImplicitSolve: a block column whose three columns differ in pattern");
+            }
+            m_columnEntries[e] = {offset, offDiagonal[s], first};
+        }
     }
     const Eigen::Index size = m_matrix.matrix().rows();
     m_rhs.setZero(size);
@@ -464,6 +483,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
                     }
                 });
 
+    const auto* outer = m_matrix.matrix().outerIndexPtr();
     // Each mass gathers its row over mass ranges: its springs in increasing index, the order the serial scatter added
     // them in, so the sums have the same bits at any thread count. Each mass is the only writer of its own block column
     // (Eigen's storage is column-major), the diagonal block and one block per spring.
@@ -483,24 +503,25 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
                         {
                             diagonal += (p.mass[i] * (Real(1) + a * system.forces.airDamping)) * Mat3::Identity();
                         }
+                        // Mass i writes its own block column, so its writes stay in one place in memory.
+                        const SlotMatrix<3>::Slots columnTop = {outer[3 * i], outer[3 * i + 1], outer[3 * i + 2]};
                         for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
                         {
                             const std::size_t s = std::size_t(adjacency.entries[e].spring);
                             const Index other = adjacency.entries[e].other;
+                            const ColumnEntry& entry = m_columnEntries[e];
                             const bool engaged = m_springEngaged[s] != 0;
                             const bool couples = engaged && freeI && !p.pinned[other];
                             const SpringTerm& term = m_springTerms[s];
                             const Mat3 block = engaged ? term.block() : Mat3(Mat3::Zero());
-                            // Mass i writes its own block column: the block at row `other` (ab if i is the
-                            // spring's second end, ba if its first), so its writes stay in one place in memory.
-                            const bool first = Index(i) == springs.ends()[s].a;
-                            const auto& column = first ? m_matrix.ba(s) : m_matrix.ab(s);
+                            const SlotMatrix<3>::Slots column = {
+                                columnTop[0] + entry.offset, columnTop[1] + entry.offset, columnTop[2] + entry.offset};
                             // 0 - B has the bits of 0 + (-B), the serial scatter's sum, signed zeros included.
-                            if (m_offDiagonal[s] == OffDiagonal::First)
+                            if (entry.kind == OffDiagonal::First)
                             {
                                 m_matrix.write(column, couples ? Mat3(Mat3::Zero() - block) : Mat3(Mat3::Zero()));
                             }
-                            else if (m_offDiagonal[s] == OffDiagonal::Later && couples)
+                            else if (entry.kind == OffDiagonal::Later && couples)
                             {
                                 m_matrix.add(column, -block);
                             }
@@ -509,7 +530,7 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
                                 continue;
                             }
                             diagonal += block;
-                            if (first)
+                            if (entry.first)
                             {
                                 rhs -= term.kv;
                             }

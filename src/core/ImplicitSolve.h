@@ -124,7 +124,16 @@ private:
         Later,
         None
     };
-    std::vector<OffDiagonal> m_offDiagonal;
+    /// Per entry of the springs' adjacency (a spring seen from mass i), what mass i's gather needs besides the spring's
+    /// term, laid out in the gather's order so that it reads them in sequence: where the spring's block sits in i's
+    /// block column (the same place in each of its three columns), and how it is written.
+    struct ColumnEntry
+    {
+        SparseMatrix::StorageIndex offset; ///< from the top of each of i's columns to the block's top entry
+        OffDiagonal kind;
+        bool first; ///< i is the spring's first end (it gives the spring's kv away, the second end takes it)
+    };
+    std::vector<ColumnEntry> m_columnEntries;
     Vector m_rhs;
     Vector m_deltaV;
     ConjugateGradient m_cg;
