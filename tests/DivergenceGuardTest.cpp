@@ -10,10 +10,14 @@
 
 #include "core/DivergenceGuard.h"
 #include "core/NumericalError.h"
+#include "core/SimdPath.h"
 #include "core/Simulator.h"
+#include "core/SpringEnergyKernels.h"
+#include "core/SpringForce.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -435,4 +439,58 @@ TEST(DivergenceGuard, AMaterialSheetLaunchedOutOfNothingIsStoppedByItsEnergyAcco
     const auto [unaccounted, endedAt] = launched(false);
     EXPECT_EQ(unaccounted, "") << "the speed bound stopped it: the test no longer tells the energy account's work";
     EXPECT_GE(endedAt, spec.run.duration - 1e-9);
+}
+
+// The guard's spring passes (SpringEnergyKernels): the springs' energy is springPotential summed in spring order, bit
+// for bit, on every SIMD path, and the linearisation gap of one spring stretched to twice its rest length and moved
+// sideways by u matches its closed form. The linear model there is the start's energy 1/2 k L^2 plus the transverse
+// stiffness k (1 - L/l0) = k/2 over the move, 1/2 k (L^2 + u^2/2); the spring then holds 1/2 k (sqrt(4L^2 + u^2) -
+// L)^2.
+TEST(SpringEnergyKernels, EnergyIsTheSpringsPotentialsAndTheGapItsClosedForm)
+{
+    MassSpringSystem sheet = test::paperSheet(12);
+    sheet.forces.repulsion = 1e-4; // the compressed springs' repulsion term too
+    std::vector<Vec3> start = sheet.particles.position;
+    for (std::size_t i = 0; i < sheet.particles.size(); ++i)
+    {
+        // A deformed state: every mass moved by its own few millimetres, some springs stretched, some compressed.
+        const Real phase = Real(i % 17) / 17;
+        sheet.particles.position[i] += Vec3(0.004 * std::sin(7 * phase), 0.003 * std::cos(5 * phase), -0.002 * phase);
+    }
+    const SpringSet& s = sheet.springs;
+    Real expected = 0;
+    for (std::size_t k = 0; k < s.size(); ++k)
+    {
+        const Real length = (sheet.particles.position[s.ends()[k].a] - sheet.particles.position[s.ends()[k].b]).norm();
+        expected += springPotential(length, s.stiffness()[k], s.restLength()[k], sheet.forces.repulsion);
+    }
+    ASSERT_GT(expected, 0);
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        EXPECT_EQ(springEnergyOfRange(path, sheet, 0, s.size()), expected) << simdPathName(path);
+        const SpringEnergyAndGap both = springEnergyAndGapOfRange(path, sheet, start, 0, s.size());
+        EXPECT_EQ(both.energy, expected) << simdPathName(path);
+        EXPECT_EQ(both.gap, springEnergyAndGapOfRange(SimdPath::Default, sheet, start, 0, s.size()).gap)
+            << simdPathName(path);
+    }
+
+    const Real k = 90.2;
+    const Real rest = 0.01;
+    const Real u = 0.01;
+    MassSpringSystem spring = test::makeChain(2, 0.001, k, rest);
+    spring.particles.position[1] = Vec3(2 * rest, 0, 0);
+    const std::vector<Vec3> stretched = spring.particles.position;
+    spring.particles.position[1].y() = u;
+    const Real l1 = std::sqrt(4 * rest * rest + u * u);
+    const Real closedForm = 0.5 * k * ((l1 - rest) * (l1 - rest) - rest * rest - 0.5 * u * u);
+    ASSERT_GT(closedForm, 0);
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        const SpringEnergyAndGap both = springEnergyAndGapOfRange(path, spring, stretched, 0, 1);
+        EXPECT_NEAR(both.gap, closedForm, 1e-12 * k * rest * rest) << simdPathName(path);
+        EXPECT_NEAR(both.energy, 0.5 * k * (l1 - rest) * (l1 - rest), 1e-15) << simdPathName(path);
+    }
+    // Moved along its axis, the spring stays on its linear model: no gap.
+    spring.particles.position[1] = Vec3(2 * rest + u, 0, 0);
+    EXPECT_NEAR(springEnergyAndGapOfRange(SimdPath::Default, spring, stretched, 0, 1).gap, 0, 1e-15);
 }

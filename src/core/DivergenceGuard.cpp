@@ -4,7 +4,8 @@
 #include "Energy.h"
 #include "Format.h"
 #include "NumericalError.h"
-#include "SpringForce.h"
+#include "SimdPath.h"
+#include "SpringEnergyKernels.h"
 
 #include <algorithm>
 #include <cmath>
@@ -123,20 +124,10 @@ Real kineticEnergy(const MassSpringSystem& system)
 /// same at any thread count).
 Real springsEnergy(const MassSpringSystem& system)
 {
-    const Particles& p = system.particles;
-    const SpringSet& s = system.springs;
-    const Real repulsion = system.forces.repulsion;
-    return chunkedSum(s.size(), springEnergyChunkSize,
+    const SimdPath path = activeSimdPath();
+    return chunkedSum(system.springs.size(), springEnergyChunkSize,
                       [&](std::size_t begin, std::size_t end)
-                      {
-                          Real energy = 0;
-                          for (std::size_t k = begin; k < end; ++k)
-                          {
-                              const Real length = (p.position[s.ends()[k].a] - p.position[s.ends()[k].b]).norm();
-                              energy += springPotential(length, s.stiffness()[k], s.restLength()[k], repulsion);
-                          }
-                          return energy;
-                      });
+                      { return springEnergyOfRange(path, system, begin, end); });
 }
 } // namespace
 
@@ -273,41 +264,16 @@ struct SpringPass
 SpringPass springEnergyAndGap(const MassSpringSystem& system, const std::vector<Vec3>& start,
                               std::vector<Real>& gapPartial)
 {
-    const SpringSet& s = system.springs;
-    const std::vector<Vec3>& x = system.particles.position;
-    const Real repulsion = system.forces.repulsion;
-    gapPartial.resize(chunkCount(s.size(), springEnergyChunkSize));
+    const SimdPath path = activeSimdPath();
+    gapPartial.resize(chunkCount(system.springs.size(), springEnergyChunkSize));
     SpringPass pass;
-    pass.energy = chunkedSum(s.size(), springEnergyChunkSize,
+    pass.energy = chunkedSum(system.springs.size(), springEnergyChunkSize,
                              [&](std::size_t begin, std::size_t end)
                              {
-                                 Real energy = 0;
-                                 Real gap = 0;
-                                 for (std::size_t k = begin; k < end; ++k)
-                                 {
-                                     const Index a = s.ends()[k].a;
-                                     const Index b = s.ends()[k].b;
-                                     const Real L = s.restLength()[k];
-                                     const Real stiffness = s.stiffness()[k];
-                                     const Real l1 = (x[a] - x[b]).norm();
-                                     energy += springPotential(l1, stiffness, L, repulsion);
-                                     const Vec3 d0 = start[a] - start[b];
-                                     const Real l0 = d0.norm();
-                                     if (!(l0 > degenerateLengthFraction * L))
-                                     {
-                                         continue;
-                                     }
-                                     const Vec3 n = d0 / l0;
-                                     const Vec3 move = (x[a] - start[a]) - (x[b] - start[b]);
-                                     const Real along = n.dot(move);
-                                     const Real across = (move - along * n).squaredNorm();
-                                     const Real model = Real(0.5) * stiffness *
-                                                        ((l0 - L) * (l0 - L) + Real(2) * (l0 - L) * along +
-                                                         along * along + std::max(Real(0), Real(1) - L / l0) * across);
-                                     gap += std::max(Real(0), Real(0.5) * stiffness * (l1 - L) * (l1 - L) - model);
-                                 }
-                                 gapPartial[begin / springEnergyChunkSize] = gap;
-                                 return energy;
+                                 const SpringEnergyAndGap range =
+                                     springEnergyAndGapOfRange(path, system, start, begin, end);
+                                 gapPartial[begin / springEnergyChunkSize] = range.gap;
+                                 return range.energy;
                              });
     for (const Real partial : gapPartial) // in chunk order
     {
