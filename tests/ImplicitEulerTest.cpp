@@ -4,9 +4,12 @@
 
 #include "core/Damping.h"
 #include "core/Energy.h"
+#include "core/ImplicitSpringTerms.h"
+#include "core/SimdPath.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 using namespace masse;
@@ -271,5 +274,68 @@ TEST(ImplicitEuler, CatenaryIsTheSameWithEitherPreconditioner)
     {
         EXPECT_LT((a[i] - b[i]).norm(), 1e-5) << "mass " << i;
         EXPECT_LT((c[i] - b[i]).norm(), 1e-5) << "mass " << i;
+    }
+}
+
+// Each spring's term of the implicit step (ImplicitSpringTerms) is, bit for bit and on every SIMD path, the term as
+// Eigen's expressions give it: the stiffness block -K = axial n n^T + transverse (I - n n^T) (axial with the
+// compressed spring's repulsion), the block a k_d n n^T + a^2 (-K), and a (-K) (a v_ab + offset_ab). A deformed,
+// moving sheet, some springs stretched and some compressed.
+TEST(ImplicitSpringTerms, AreEigensExpressionsBitForBitOnEveryPath)
+{
+    MassSpringSystem sheet = paperSheet(8);
+    sheet.forces.repulsion = 1e-4;
+    std::vector<Vec3> offset(sheet.particles.size());
+    for (std::size_t i = 0; i < sheet.particles.size(); ++i)
+    {
+        const Real phase = Real(i % 13) / 13;
+        sheet.particles.position[i] += Vec3(0.004 * std::sin(7 * phase), 0.003 * std::cos(5 * phase), -0.002 * phase);
+        sheet.particles.velocity[i] = Vec3(0.3 * phase, -0.2, 0.1 * std::cos(3 * phase));
+        offset[i] = Vec3(1e-4 * phase, 2e-4, -1e-4 * phase);
+    }
+    const Real a = 0.03;
+    const SpringSet& springs = sheet.springs;
+    const Particles& p = sheet.particles;
+    SpringTermInputs inputs;
+    inputs.a = a;
+    inputs.offset = &offset;
+    const SimdPathGuard simdGuard;
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        std::vector<SpringTerm> terms(springs.size());
+        std::vector<std::uint8_t> engaged(springs.size());
+        computeSpringTerms(path, sheet, inputs, 0, springs.size(), terms.data(), engaged.data());
+        int compressed = 0;
+        for (std::size_t s = 0; s < springs.size(); ++s)
+        {
+            const Index ea = springs.ends()[s].a;
+            const Index eb = springs.ends()[s].b;
+            const Vec3 d = p.position[ea] - p.position[eb];
+            const Real length = d.norm();
+            const Real rest = springs.restLength()[s];
+            ASSERT_TRUE(engaged[s]);
+            const Vec3 n = d / length;
+            const Mat3 nn = n * n.transpose();
+            Real axial = springs.stiffness()[s];
+            if (length < rest)
+            {
+                axial += Real(2) * sheet.forces.repulsion / (length * length * length);
+                ++compressed;
+            }
+            const Real transverse = springs.stiffness()[s] * std::max(Real(0), Real(1) - rest / length);
+            const Mat3 stiffness = axial * nn + transverse * (Mat3::Identity() - nn);
+            const Mat3 block = (a * springs.damping()[s]) * nn + a * a * stiffness;
+            const Vec3 move = a * (p.velocity[ea] - p.velocity[eb]) + (offset[ea] - offset[eb]);
+            const Vec3 kv = a * (stiffness * move);
+            for (int r = 0; r < 3; ++r)
+            {
+                for (int c = 0; c < 3; ++c)
+                {
+                    ASSERT_EQ(terms[s].block()(r, c), block(r, c)) << simdPathName(path) << " spring " << s;
+                }
+                ASSERT_EQ(terms[s].kv[r], kv[r]) << simdPathName(path) << " spring " << s << " row " << r;
+            }
+        }
+        EXPECT_GT(compressed, 0);
     }
 }

@@ -442,45 +442,15 @@ void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::
     const SpringAdjacency& adjacency = springs.adjacency(n); // built here, on one thread, if the springs changed
 
     // Each spring's block and right-hand side term, once, over spring ranges.
-    const Real repulsion = system.forces.repulsion;
     m_springTerms.resize(springs.size());
     m_springEngaged.resize(springs.size());
+    const SimdPath path = activeSimdPath();
+    SpringTermInputs inputs;
+    inputs.a = a;
+    inputs.offset = &offset;
     parallelFor(springs.size(), springChunkSize,
-                [&](std::size_t begin, std::size_t end)
-                {
-                    for (std::size_t s = begin; s < end; ++s)
-                    {
-                        SpringTerm& term = m_springTerms[s];
-                        const Index ea = springs.ends()[s].a;
-                        const Index eb = springs.ends()[s].b;
-                        const Vec3 d = p.position[ea] - p.position[eb];
-                        const Real length = d.norm();
-                        const Real rest = springs.restLength()[s];
-                        m_springEngaged[s] = length > degenerateLengthFraction * rest;
-                        if (!m_springEngaged[s])
-                        {
-                            continue;
-                        }
-                        const Vec3 dir = d / length;
-                        const Mat3 nn = dir * dir.transpose();
-                        const Real k = springs.stiffness()[s];
-                        Real axial = k;
-                        if (repulsion > 0 && length < rest)
-                        {
-                            axial += Real(2) * repulsion / (length * length * length);
-                        }
-                        const Real transverse = k * std::max(Real(0), Real(1) - rest / length);
-                        // -K_aa, the stiffness block of this spring.
-                        const Mat3 stiffnessBlock = axial * nn + transverse * (Mat3::Identity() - nn);
-                        term.setBlock((a * springs.damping()[s]) * nn + a2 * stiffnessBlock);
-                        // a K (a v + d), this spring's part, at a (b gets the opposite).
-                        Vec3 move = a * (p.velocity[ea] - p.velocity[eb]);
-                        if (hasOffset)
-                        {
-                            move += offset[ea] - offset[eb];
-                        }
-                        term.kv = a * (stiffnessBlock * move);
-                    }
+                [&](std::size_t begin, std::size_t end) {
+                    computeSpringTerms(path, system, inputs, begin, end, m_springTerms.data(), m_springEngaged.data());
                 });
 
     const auto* outer = m_matrix.matrix().outerIndexPtr();

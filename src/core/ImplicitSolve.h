@@ -26,6 +26,7 @@
 
 #include "CholeskyPreconditioner.h"
 #include "ConjugateGradient.h"
+#include "ImplicitSpringTerms.h"
 #include "Integrator.h"
 #include "JacobiPreconditioner.h"
 #include "MultigridPreconditioner.h"
@@ -95,24 +96,7 @@ private:
 
     Real m_tolerance = 0; ///< of the current solve
     SlotMatrix<3> m_matrix;
-    /// One spring's part of the step's system, computed once and gathered by both its masses. The block is exactly
-    /// symmetric (n_r n_c and n_c n_r are the same product), so its upper triangle holds it.
-    struct SpringTerm
-    {
-        std::array<Real, 6> upper; ///< of a k_d n n^T - a^2 K_aa, by rows: xx xy xz yy yz zz
-        Vec3 kv;                   ///< a K_aa (a v_ab + d_ab): taken from a's right-hand side, given to b's
-
-        void setBlock(const Mat3& block)
-        {
-            upper = {block(0, 0), block(0, 1), block(0, 2), block(1, 1), block(1, 2), block(2, 2)};
-        }
-        Mat3 block() const
-        {
-            Mat3 b;
-            b << upper[0], upper[1], upper[2], upper[1], upper[3], upper[4], upper[2], upper[4], upper[5];
-            return b;
-        }
-    };
+    /// Each spring's part of the step's system (ImplicitSpringTerms.h), computed once and gathered by both its masses.
     std::vector<SpringTerm> m_springTerms;
     /// Per spring: false for one too short to have a direction, which adds nothing (its term is not set).
     std::vector<std::uint8_t> m_springEngaged;
