@@ -132,8 +132,8 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
 }
 
 // The preconditioner's staged solve gives what Eigen's own triangular solves give on the same factor with its values
-// rounded to single precision, as the preconditioner keeps them, to rounding (it sums each row's products in four or
-// eight running sums, Eigen in one: relative differences of a few ulps times the row's length are expected; 1e-12 of
+// rounded to single precision, as the preconditioner keeps them, to rounding (it sums each row's products in eight
+// running sums, Eigen in one: relative differences of a few ulps times the row's length are expected; 1e-12 of
 // the largest component is the bound); the same bits at 1, 2 and 3 threads and on every SIMD path; and the exact
 // factor's solve to 1e-7 of the largest component (the single-precision rounding, 6e-8 an entry, left this 2e-9 here).
 TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)

@@ -18,6 +18,10 @@
 
 #include <vector>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
 namespace masse
 {
 class RunLengthRows
@@ -62,9 +66,9 @@ private:
 };
 
 /// sum over row i's entries of value * x[column], in a fixed order whoever calls it and on any vector width: `lanes`
-/// running sums (4 or 8), entry t of a run going to sum t mod lanes, added pairwise at the end. Short runs want few
-/// lanes (the entries past the last full group of lanes are added one by one). Inlined into each SIMD path's copy of
-/// the caller (see SimdPath.h): only the instruction set differs.
+/// running sums (4 or 8), entry t of a run going to sum t mod lanes, added pairwise at the end (the entries past the
+/// last full group of lanes are added one by one; rowDotAvx512 adds them under a mask). Inlined into each SIMD path's
+/// copy of the caller (see SimdPath.h): only the instruction set differs.
 template <int lanes>
 [[gnu::always_inline]] inline Real rowDot(const RunLengthRows::View& m, Eigen::Index row, const Real* x)
 {
@@ -97,4 +101,44 @@ template <int lanes>
         return ((sum[0] + sum[1]) + (sum[2] + sum[3])) + ((sum[4] + sum[5]) + (sum[6] + sum[7]));
     }
 }
+#if defined(__x86_64__) && defined(__GNUC__)
+/// rowDot<8> with AVX-512, the same bits: each group of eight entries goes into the eight sums in one vector, and a
+/// run's last entries (fewer than eight) are added to their sums under a mask instead of one by one, so entry t of a
+/// run still goes to sum t mod 8, in order, and the sums past the run's end are left as they were (not even + 0,
+/// which would turn a -0 into +0).
+[[gnu::always_inline]] inline __attribute__((target("avx512f"))) Real rowDotAvx512(const RunLengthRows::View& m,
+                                                                                   Eigen::Index row, const Real* x)
+{
+    __m512d sum = _mm512_setzero_pd();
+    for (auto run = m.rowRuns[row]; run < m.rowRuns[row + 1]; ++run)
+    {
+        const float* v = m.values + m.runStart[run];
+        const Real* xs = x + m.runColumn[run];
+        const RunLengthRows::StorageIndex length = m.runStart[run + 1] - m.runStart[run];
+        RunLengthRows::StorageIndex t = 0;
+        // The zero-masking forms throughout: GCC 12's plain _mm512_cvtps_pd and _mm512_castps512_ps256 merge into an
+        // "undefined" vector, which its own -Wmaybe-uninitialized reports.
+        const __mmask8 all = 0xFF;
+        for (; t + 8 <= length; t += 8)
+        {
+            const __m512d values = _mm512_maskz_cvtps_pd(all, _mm256_loadu_ps(v + t));
+            sum = _mm512_add_pd(sum, _mm512_mul_pd(values, _mm512_loadu_pd(xs + t)));
+        }
+        if (t < length)
+        {
+            const unsigned remaining = unsigned(length - t);
+            const __mmask8 mask = __mmask8((1u << remaining) - 1);
+            // A masked load reads nothing past the run, so it cannot fault at the end of the arrays.
+            const __m512 tail = _mm512_maskz_loadu_ps(__mmask16((1u << remaining) - 1), v + t);
+            const __m256 low = _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(__mmask8(0xF), _mm512_castps_pd(tail), 0));
+            const __m512d values = _mm512_maskz_cvtps_pd(mask, low);
+            const __m512d product = _mm512_mul_pd(values, _mm512_maskz_loadu_pd(mask, xs + t));
+            sum = _mm512_mask_add_pd(sum, mask, sum, product);
+        }
+    }
+    alignas(64) Real lanes[8];
+    _mm512_store_pd(lanes, sum);
+    return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
+}
+#endif
 } // namespace masse
