@@ -6,10 +6,13 @@
 #include "scene/Scene.h"
 #include "scene/SceneOverrides.h"
 
+#include "core/CholeskyPreconditioner.h"
 #include "core/ContactSolver.h"
 #include "core/Damping.h"
 #include "core/Forces.h"
 #include "core/Integrator.h"
+#include "core/NestedDissection.h"
+#include "core/SlotMatrix.h"
 
 #include <benchmark/benchmark.h>
 
@@ -64,6 +67,46 @@ void implicitStep(benchmark::State& state)
     state.counters["masses"] = double(sheet.massCount());
 }
 BENCHMARK(implicitStep)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+
+/// One refactorisation of the implicit step's preconditioner (CholeskyPreconditioner::refresh: the values put in the
+/// factor's order, the staged LDL^T, the two run-length copies) on a matrix of the step's shape: a dense 3x3 block
+/// per spring, a k (n n^T + I / 10), and the masses on the diagonal. A drape-forming run at 128x2x128 refactors some
+/// dozens of times as its material softens and its contacts change.
+void choleskyRefresh(benchmark::State& state)
+{
+    const MassSpringSystem sheet = paperSheet(int(state.range(0)));
+    const Particles& p = sheet.particles;
+    SlotMatrix<3> matrix;
+    matrix.build(sheet.massCount(), sheet.springs.ends());
+    for (std::size_t i = 0; i < sheet.massCount(); ++i)
+    {
+        matrix.add(matrix.diagonal(i), p.mass[i] * Mat3::Identity());
+    }
+    for (std::size_t s = 0; s < sheet.springs.size(); ++s)
+    {
+        const SpringEnds& e = sheet.springs.ends()[s];
+        const Vec3 n = (p.position[e.a] - p.position[e.b]).normalized();
+        const Mat3 block = (paperTimeStep * paperTimeStep * sheet.springs.stiffness()[s]) *
+                           (n * n.transpose() + 0.1 * Mat3::Identity());
+        matrix.add(matrix.diagonal(e.a), block);
+        matrix.add(matrix.diagonal(e.b), block);
+        matrix.add(matrix.ab(s), -block);
+        matrix.add(matrix.ba(s), -block);
+    }
+    CholeskyPreconditioner preconditioner;
+    preconditioner.analyse(matrix.matrix(),
+                           nestedDissection(p.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
+    for (auto _ : state)
+    {
+        if (!preconditioner.refresh(matrix.matrix()))
+        {
+            state.SkipWithError("the matrix is not positive definite");
+            break;
+        }
+    }
+    state.counters["rows"] = double(matrix.matrix().rows());
+}
+BENCHMARK(choleskyRefresh)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 /// One frame's contact for the sheet resting on two boxes (bench-contact.json): detection (Bullet's broadphase,
 /// then face planes or GJK for every mass), one projection pass and the frame's end.
