@@ -95,11 +95,12 @@ void runRun(const RunOptions& options)
     {
         const nlohmann::json& solver = s["solver"];
         std::printf("implicit solver (%s): %.2f iterations a step (largest %d), %llu steps at the cap of %d, final "
-                    "residual %.3g\n",
+                    "residual %.3g, %llu refactorisations\n",
                     solver["preconditioner"].get<std::string>().c_str(), solver["mean_iterations"].get<double>(),
                     solver["largest_iterations"].get<int>(),
                     static_cast<unsigned long long>(solver["steps_at_iteration_cap"].get<std::uint64_t>()),
-                    solver["max_iterations"].get<int>(), solver["final_residual"].get<double>());
+                    solver["max_iterations"].get<int>(), solver["final_residual"].get<double>(),
+                    static_cast<unsigned long long>(solver["refactorisations"].get<std::uint64_t>()));
         const std::string warning = scene::solverCapWarning(scene.simulator().solverTally(), spec.time.implicit);
         if (!warning.empty())
         {

@@ -94,6 +94,7 @@ public:
                 stats.solverIterations += more.solverIterations;
                 stats.solverResidual = more.solverResidual;
                 stats.hitIterationCap = stats.hitIterationCap || more.hitIterationCap;
+                stats.refactorisations += more.refactorisations;
                 Real next = 0;
                 for (std::size_t i = 0; i < n; ++i)
                 {

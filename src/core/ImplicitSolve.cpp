@@ -42,6 +42,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
         stats.solverIterations += solved.solverIterations;
         stats.solverResidual = solved.solverResidual;
         stats.hitIterationCap = stats.hitIterationCap || solved.hitIterationCap;
+        stats.refactorisations += solved.refactorisations;
         if (constrained)
         {
             for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
@@ -150,6 +151,7 @@ IntegratorStats ImplicitSolve::runSolver()
 {
     const int cap = m_settings.maxIterations;
     SolveResult result;
+    int refactorisations = 0;
     if (m_settings.preconditioner == PreconditionerKind::Jacobi)
     {
         m_jacobi.refresh(m_matrix.matrix());
@@ -166,6 +168,7 @@ IntegratorStats ImplicitSolve::runSolver()
         bool fresh = false;
         if (!recent.ready())
         {
+            ++refactorisations;
             fresh = recent.refresh(m_matrix.matrix());
         }
         // A factor fresh from the matrix solves in one or two iterations, a multigrid cycle takes several even
@@ -183,7 +186,12 @@ IntegratorStats ImplicitSolve::runSolver()
                 m_freshIterations = result.iterations;
             }
         }
-        if (!result.converged && result.iterations < cap && !fresh && recent.refresh(m_matrix.matrix()))
+        const bool drifted = !result.converged && result.iterations < cap && !fresh;
+        if (drifted)
+        {
+            ++refactorisations;
+        }
+        if (drifted && recent.refresh(m_matrix.matrix()))
         {
             const int used = result.iterations;
             result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, cap - used);
@@ -202,6 +210,7 @@ IntegratorStats ImplicitSolve::runSolver()
     stats.solverIterations = result.iterations;
     stats.solverResidual = result.residual;
     stats.hitIterationCap = !result.converged;
+    stats.refactorisations = refactorisations;
     return stats;
 }
 

@@ -55,6 +55,7 @@ struct IntegratorStats
     int solverIterations = 0;     ///< conjugate-gradient iterations (implicit only)
     Real solverResidual = 0;      ///< relative residual reached (implicit only)
     bool hitIterationCap = false; ///< the solve stopped at maxIterations short of the tolerance
+    int refactorisations = 0;     ///< preconditioner rebuilds (implicit with a refreshed preconditioner only)
 };
 
 class Integrator

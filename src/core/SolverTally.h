@@ -11,12 +11,13 @@ namespace masse
 {
 struct SolverTally
 {
-    std::uint64_t solves = 0;     ///< implicit steps (substeps) solved
-    std::uint64_t iterations = 0; ///< summed over them
-    int largestIterations = 0;    ///< in one step
-    std::uint64_t capHits = 0;    ///< steps that stopped at the iteration cap
-    Real finalResidual = 0;       ///< relative residual of the last solve
-    Real largestResidual = 0;     ///< over all solves
+    std::uint64_t solves = 0;           ///< implicit steps (substeps) solved
+    std::uint64_t iterations = 0;       ///< summed over them
+    int largestIterations = 0;          ///< in one step
+    std::uint64_t capHits = 0;          ///< steps that stopped at the iteration cap
+    Real finalResidual = 0;             ///< relative residual of the last solve
+    Real largestResidual = 0;           ///< over all solves
+    std::uint64_t refactorisations = 0; ///< preconditioner rebuilds (the Cholesky factor's or the multigrid's)
 
     void add(const IntegratorStats& stats)
     {
@@ -26,6 +27,7 @@ struct SolverTally
         capHits += stats.hitIterationCap ? 1 : 0;
         finalResidual = stats.solverResidual;
         largestResidual = std::max(largestResidual, stats.solverResidual);
+        refactorisations += std::uint64_t(stats.refactorisations);
     }
     Real meanIterations() const { return solves > 0 ? Real(iterations) / Real(solves) : Real(0); }
 };

@@ -58,6 +58,7 @@ nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& s
         {"steps_at_iteration_cap", tally.capHits},
         {"final_residual", tally.finalResidual},
         {"largest_residual", tally.largestResidual},
+        {"refactorisations", tally.refactorisations},
     };
 }
 
