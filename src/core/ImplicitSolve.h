@@ -98,7 +98,7 @@ private:
     SlotMatrix<3> m_matrix;
     /// Each spring's part of the step's system (ImplicitSpringTerms.h), computed once and gathered by both its masses.
     std::vector<SpringTerm> m_springTerms;
-    /// Per spring: false for one too short to have a direction, which adds nothing (its term is not set).
+    /// Per spring: false for one too short to have a direction, which adds nothing (its term means nothing).
     std::vector<std::uint8_t> m_springEngaged;
     /// What a spring does to its off-diagonal blocks, set with the pattern: the first spring joining two masses
     /// clears them, a later one joining the same two adds to them, one from a mass to itself has none.
