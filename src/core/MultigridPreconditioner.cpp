@@ -13,7 +13,7 @@ namespace
 /// Nodes per piece of a level's kernels: a constant, so the ranges do not depend on the thread count.
 constexpr std::size_t nodeChunk = 1024;
 /// Power iterations for each level's largest eigenvalue, and the margin put on the estimate (it is from below).
-constexpr int powerIterations = 12;
+constexpr int levelPowerIterations = 12;
 constexpr Real eigenvalueMargin = 1.1;
 
 template <class Body> void overNodes(std::size_t nodes, const Body& body)
@@ -259,7 +259,7 @@ void MultigridPreconditioner::estimateLargestEigenvalue(std::size_t index)
         x[k] = Real(hash >> 8) / Real(1 << 24) - Real(0.5);
     }
     Real estimate = 1;
-    for (int iteration = 0; iteration < powerIterations; ++iteration)
+    for (int iteration = 0; iteration < levelPowerIterations; ++iteration)
     {
         overNodes(nodes,
                   [&](std::size_t begin, std::size_t end) { multiplyBlockRows(level.matrix, x, ax, begin, end); });

@@ -16,7 +16,7 @@ namespace
 {
 /// Power iterations on the mass-weighted stiffness; the Rayleigh quotient of a lattice's dense top band is within a
 /// few percent of the largest eigenvalue after this many (and never above it).
-constexpr int powerIterations = 40;
+constexpr int stiffnessPowerIterations = 40;
 /// What the power estimate of the highest frequency is raised by, for the part of the top band it has not reached.
 constexpr Real powerMargin = 1.1;
 constexpr std::size_t springChunk = 16384;
@@ -136,7 +136,7 @@ Real powerFrequency(const MassSpringSystem& system)
     }
     Real highest = 0;
     Real scale = Real(1) / startNorm;
-    for (int iteration = 0; iteration < powerIterations; ++iteration)
+    for (int iteration = 0; iteration < stiffnessPowerIterations; ++iteration)
     {
         // y = W^1/2 K W^1/2 (scale q): springs first, then each mass gathers its springs.
         parallelFor(m, springChunk,
