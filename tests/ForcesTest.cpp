@@ -249,3 +249,80 @@ TEST(Forces, ExternalForceAHookAppliesMidFrameIsFelt)
     }
     EXPECT_FALSE(sameBits(simulator.system().particles.position, unpushed.particles.position));
 }
+
+// The symplectic pass that stores no forces moves the sheet with the bits of the one that does, and leaves
+// particles.force as it found it (what it saves is that store).
+TEST(Forces, SymplecticSubstepWithoutStoringForcesMovesTheSame)
+{
+    MassSpringSystem sheet = paperSheet(12);
+    ASSERT_NE(sheet.springs.rowPlan(sheet.massCount()), nullptr);
+    for (std::size_t i = 0; i < sheet.massCount(); i += 5)
+    {
+        sheet.particles.velocity[i] = Vec3(0.01 * Real(i % 3), -0.02, 0.005);
+    }
+    MassSpringSystem storing = sheet;
+    MassSpringSystem skipping = sheet;
+    skipping.particles.force.assign(skipping.massCount(), Vec3(7, 8, 9));
+    for (int substep = 0; substep < 4; ++substep)
+    {
+        ASSERT_TRUE(symplecticSubstep(storing, 1e-3, false, true));
+        ASSERT_TRUE(symplecticSubstep(skipping, 1e-3, false, false));
+    }
+    EXPECT_TRUE(sameBits(skipping.particles.position, storing.particles.position));
+    EXPECT_TRUE(sameBits(skipping.particles.velocity, storing.particles.velocity));
+    EXPECT_TRUE(sameBits(skipping.particles.force, std::vector<Vec3>(skipping.massCount(), Vec3(7, 8, 9))));
+}
+
+namespace
+{
+/// Copies particles.force after every substep; says it reads them or not.
+class ForceWatcher final : public StepHook
+{
+public:
+    explicit ForceWatcher(bool reads) : m_reads(reads) {}
+    void afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real /*h*/, Real /*time*/) override
+    {
+        seen.push_back(system.particles.force);
+    }
+    bool readsForcesMidFrame() const override { return m_reads; }
+    std::vector<std::vector<Vec3>> seen;
+
+private:
+    bool m_reads;
+};
+} // namespace
+
+// A frame stores the forces of its last substep, so what the contact's reach and the guard read between frames does
+// not depend on who read them within it; a hook that says it reads them finds each substep's own, and one that does
+// not may find an earlier substep's (the first substeps of a frame store none).
+TEST(Forces, AFrameEndsWithItsLastSubstepsForcesWhoeverReadsThem)
+{
+    MassSpringSystem sheet = paperSheet(8);
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    Simulator reading(sheet, settings);
+    Simulator notReading(sheet, settings);
+    ForceWatcher reader(true);
+    ForceWatcher other(false);
+    reading.addHook(&reader);
+    notReading.addHook(&other);
+    for (int frame = 0; frame < 2; ++frame)
+    {
+        const StepReport report = reading.step(paperTimeStep);
+        ASSERT_GE(report.substeps, 3);
+        notReading.step(paperTimeStep);
+    }
+    EXPECT_TRUE(sameBits(notReading.system().particles.force, reading.system().particles.force));
+    EXPECT_TRUE(sameBits(notReading.system().particles.position, reading.system().particles.position));
+    EXPECT_TRUE(sameBits(notReading.system().particles.velocity, reading.system().particles.velocity));
+    ASSERT_EQ(reader.seen.size(), other.seen.size());
+    const std::size_t perFrame = reader.seen.size() / 2;
+    // Each substep's forces are its own for the reader (the sheet speeds up as it falls: its drag changes)...
+    for (std::size_t k = 1; k < reader.seen.size(); ++k)
+    {
+        EXPECT_FALSE(sameBits(reader.seen[k], reader.seen[k - 1])) << "substep " << k;
+    }
+    // ...while the other finds the previous frame's last ones until its own frame's last substep.
+    EXPECT_TRUE(sameBits(other.seen[perFrame], other.seen[perFrame - 1]));
+    EXPECT_TRUE(sameBits(other.seen[2 * perFrame - 1], reader.seen[2 * perFrame - 1]));
+}

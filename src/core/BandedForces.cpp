@@ -35,6 +35,14 @@ constexpr bool isSymplectic(BandedPass pass)
     return pass == BandedPass::SymplecticSubstep || pass == BandedPass::SymplecticSubstepWithoutExternalForces;
 }
 
+/// A pass as the kernels are compiled for it: what it computes, and whether it stores the forces (a symplectic
+/// substep whose forces nobody reads skips the store, a sixth of the memory the pass streams).
+struct PassConfig
+{
+    BandedPass pass;
+    bool storeForce;
+};
+
 /// The spring forces of one spring row: x, y and z components of slot s at x[s], x[slots + s], x[2 * slots + s].
 struct RowForces
 {
@@ -197,11 +205,11 @@ EntrySource entrySource(const SpringRowPlan::Entry& e, const RowForces& previous
     return {row.x + e.slot, row.slots, e.negated ? Real(-1) : Real(1)};
 }
 
-template <BandedPass pass>
+template <PassConfig config>
 [[gnu::always_inline]] inline void ownForce(const BandedForceArgs& args, const BandState& state, std::size_t mass,
                                             std::size_t local, Real& fx, Real& fy, Real& fz)
 {
-    if constexpr (pass == BandedPass::AddSpringForces)
+    if constexpr (config.pass == BandedPass::AddSpringForces)
     {
         fx = args.force[mass].x();
         fy = args.force[mass].y();
@@ -212,7 +220,7 @@ template <BandedPass pass>
         // m (g - drag v) + external, as Eigen evaluates it component by component in the plain gather. Without
         // external forces the sum still adds +0: the same bits as adding an external force of +0 (a -0 would stay -0).
         const Real m = args.mass[mass];
-        constexpr bool external = pass != BandedPass::SymplecticSubstepWithoutExternalForces;
+        constexpr bool external = config.pass != BandedPass::SymplecticSubstepWithoutExternalForces;
         fx = m * (args.gravity.x() - args.drag * state.velocity[local]) +
              (external ? args.externalForce[mass].x() : Real(0));
         fy = m * (args.gravity.y() - args.drag * state.velocity[state.stride + local]) +
@@ -222,16 +230,20 @@ template <BandedPass pass>
     }
 }
 
-/// Stores mass `mass`'s force and, for the symplectic substep, its kick and drift from the band's copy.
-template <BandedPass pass>
+/// Stores mass `mass`'s force (unless the pass keeps none) and, for the symplectic substep, its kick and drift from the
+/// band's copy.
+template <PassConfig config>
 [[gnu::always_inline]] inline void finishMass(const BandedForceArgs& args, const BandState& state, std::size_t mass,
                                               std::size_t local, Real fx, Real fy, Real fz)
 {
-    Real* force = args.force[mass].data();
-    force[0] = fx;
-    force[1] = fy;
-    force[2] = fz;
-    if constexpr (isSymplectic(pass))
+    if constexpr (config.storeForce)
+    {
+        Real* force = args.force[mass].data();
+        force[0] = fx;
+        force[1] = fy;
+        force[2] = fz;
+    }
+    if constexpr (isSymplectic(config.pass))
     {
         const Real kick = args.h * args.inverseMass[mass];
         const std::size_t s = state.stride;
@@ -252,7 +264,7 @@ template <BandedPass pass>
 /// Each mass of a run whose pattern has exactly `entryCount` entries sums its force in one pass, the force held in
 /// registers while the entries are added in the pattern's order. The count is a template argument so that the loop
 /// over entries unrolls and the loop over masses vectorises.
-template <BandedPass pass, int entryCount>
+template <PassConfig config, int entryCount>
 [[gnu::always_inline]] inline void fusedMassRun(const SpringRowPlan::MassRun& run, const SpringRowPlan::Entry* entries,
                                                 const RowForces& previous, const RowForces& current,
                                                 const BandedForceArgs& args, const BandState& state)
@@ -270,19 +282,19 @@ template <BandedPass pass, int entryCount>
         Real fx;
         Real fy;
         Real fz;
-        ownForce<pass>(args, state, first + j, local + j, fx, fy, fz);
+        ownForce<config>(args, state, first + j, local + j, fx, fy, fz);
         for (int k = 0; k < entryCount; ++k)
         {
             fx += source[k].sign * source[k].x[j];
             fy += source[k].sign * source[k].x[source[k].stride + j];
             fz += source[k].sign * source[k].x[2 * source[k].stride + j];
         }
-        finishMass<pass>(args, state, first + j, local + j, fx, fy, fz);
+        finishMass<config>(args, state, first + j, local + j, fx, fy, fz);
     }
 }
 
 /// The same sums for a pattern of any length, mass by mass.
-template <BandedPass pass>
+template <PassConfig config>
 [[gnu::always_inline]] inline void entryByEntry(const SpringRowPlan::MassRun& run, const SpringRowPlan::Entry* entries,
                                                 const RowForces& previous, const RowForces& current,
                                                 const BandedForceArgs& args, const BandState& state)
@@ -292,7 +304,7 @@ template <BandedPass pass>
         Real fx;
         Real fy;
         Real fz;
-        ownForce<pass>(args, state, run.firstMass + j, run.local + j, fx, fy, fz);
+        ownForce<config>(args, state, run.firstMass + j, run.local + j, fx, fy, fz);
         for (Index k = 0; k < run.entryCount; ++k)
         {
             const EntrySource source = entrySource(entries[run.firstEntry + k], previous, current);
@@ -300,27 +312,27 @@ template <BandedPass pass>
             fy += source.sign * source.x[source.stride + j];
             fz += source.sign * source.x[2 * source.stride + j];
         }
-        finishMass<pass>(args, state, run.firstMass + j, run.local + j, fx, fy, fz);
+        finishMass<config>(args, state, run.firstMass + j, run.local + j, fx, fy, fz);
     }
 }
 
 /// Dispatches a mass run to the fused loop of its entry count.
-template <BandedPass pass, int entryCount = 1>
+template <PassConfig config, int entryCount = 1>
 [[gnu::always_inline]] inline void massRun(const SpringRowPlan::MassRun& run, const SpringRowPlan::Entry* entries,
                                            const RowForces& previous, const RowForces& current,
                                            const BandedForceArgs& args, const BandState& state)
 {
     if constexpr (entryCount > maxFusedEntries)
     {
-        entryByEntry<pass>(run, entries, previous, current, args, state);
+        entryByEntry<config>(run, entries, previous, current, args, state);
     }
     else if (run.entryCount == Index(entryCount))
     {
-        fusedMassRun<pass, entryCount>(run, entries, previous, current, args, state);
+        fusedMassRun<config, entryCount>(run, entries, previous, current, args, state);
     }
     else
     {
-        massRun<pass, entryCount + 1>(run, entries, previous, current, args, state);
+        massRun<config, entryCount + 1>(run, entries, previous, current, args, state);
     }
 }
 
@@ -338,7 +350,7 @@ struct Boundaries
 
 /// One band: its masses' state copied, then row by row the row's springs and the row's masses. `scratch` holds the
 /// copy and two spring rows.
-template <BandedPass pass, bool withRepulsion>
+template <PassConfig config, bool withRepulsion>
 [[gnu::always_inline]] inline void bandBody(const BandedForceArgs& args, const Boundaries& boundaries, std::size_t band,
                                             Real* scratch)
 {
@@ -374,7 +386,7 @@ template <BandedPass pass, bool withRepulsion>
         }
         for (Index k = plan.massRunStart[row]; k < plan.massRunStart[row + 1]; ++k)
         {
-            massRun<pass>(plan.massRuns[k], plan.entries.data(), previous, current, args, state);
+            massRun<config>(plan.massRuns[k], plan.entries.data(), previous, current, args, state);
         }
         previous = current;
     }
@@ -394,11 +406,11 @@ template <bool withRepulsion>
 
 // One copy of each kernel per SIMD path: only the instruction set differs (see SimdPath.h for why the bits do not).
 #define MASSE_BAND_KERNELS(suffix, targetAttribute)                                                                    \
-    template <BandedPass pass, bool withRepulsion>                                                                     \
+    template <PassConfig config, bool withRepulsion>                                                                   \
     targetAttribute void band##suffix(const BandedForceArgs& args, const Boundaries& boundaries, std::size_t band,     \
                                       Real* scratch)                                                                   \
     {                                                                                                                  \
-        bandBody<pass, withRepulsion>(args, boundaries, band, scratch);                                                \
+        bandBody<config, withRepulsion>(args, boundaries, band, scratch);                                              \
     }                                                                                                                  \
     template <bool withRepulsion>                                                                                      \
     targetAttribute void boundary##suffix(const BandedForceArgs& args, const Boundaries& boundaries,                   \
@@ -414,19 +426,19 @@ MASSE_BAND_KERNELS(Avx512, __attribute__((target("avx512f"))))
 #endif
 #undef MASSE_BAND_KERNELS
 
-template <BandedPass pass, bool withRepulsion>
+template <PassConfig config, bool withRepulsion>
 void bandOn(SimdPath path, const BandedForceArgs& args, const Boundaries& boundaries, std::size_t band, Real* scratch)
 {
     switch (path)
     {
 #if defined(__x86_64__) && defined(__GNUC__)
     case SimdPath::Avx512:
-        return bandAvx512<pass, withRepulsion>(args, boundaries, band, scratch);
+        return bandAvx512<config, withRepulsion>(args, boundaries, band, scratch);
     case SimdPath::Avx2:
-        return bandAvx2<pass, withRepulsion>(args, boundaries, band, scratch);
+        return bandAvx2<config, withRepulsion>(args, boundaries, band, scratch);
 #endif
     default:
-        return bandDefault<pass, withRepulsion>(args, boundaries, band, scratch);
+        return bandDefault<config, withRepulsion>(args, boundaries, band, scratch);
     }
 }
 
@@ -447,7 +459,7 @@ void boundaryOn(SimdPath path, const BandedForceArgs& args, const Boundaries& bo
     }
 }
 
-template <BandedPass pass> void runBands(const BandedForceArgs& args)
+template <PassConfig config> void runBands(const BandedForceArgs& args)
 {
     const SpringRowPlan& plan = *args.plan;
     const std::size_t bands = plan.bandCount();
@@ -489,8 +501,8 @@ template <BandedPass pass> void runBands(const BandedForceArgs& args)
                     }
                     for (std::size_t band = begin; band < end; ++band)
                     {
-                        repulsion ? bandOn<pass, true>(path, args, boundaries, band, scratch.data())
-                                  : bandOn<pass, false>(path, args, boundaries, band, scratch.data());
+                        repulsion ? bandOn<config, true>(path, args, boundaries, band, scratch.data())
+                                  : bandOn<config, false>(path, args, boundaries, band, scratch.data());
                     }
                 });
 }
@@ -498,16 +510,19 @@ template <BandedPass pass> void runBands(const BandedForceArgs& args)
 
 void runBandedForces(BandedPass pass, const BandedForceArgs& args)
 {
+    const bool storeForce = args.force != nullptr;
     switch (pass)
     {
     case BandedPass::AddSpringForces:
-        return runBands<BandedPass::AddSpringForces>(args);
+        return runBands<PassConfig{BandedPass::AddSpringForces, true}>(args);
     case BandedPass::TotalForces:
-        return runBands<BandedPass::TotalForces>(args);
+        return runBands<PassConfig{BandedPass::TotalForces, true}>(args);
     case BandedPass::SymplecticSubstep:
-        return runBands<BandedPass::SymplecticSubstep>(args);
+        return storeForce ? runBands<PassConfig{BandedPass::SymplecticSubstep, true}>(args)
+                          : runBands<PassConfig{BandedPass::SymplecticSubstep, false}>(args);
     case BandedPass::SymplecticSubstepWithoutExternalForces:
-        return runBands<BandedPass::SymplecticSubstepWithoutExternalForces>(args);
+        return storeForce ? runBands<PassConfig{BandedPass::SymplecticSubstepWithoutExternalForces, true}>(args)
+                          : runBands<PassConfig{BandedPass::SymplecticSubstepWithoutExternalForces, false}>(args);
     }
 }
 } // namespace masse

@@ -29,6 +29,8 @@ struct BandedForceArgs
     Real repulsion = 0;
     const Vec3* x = nullptr;
     const Vec3* v = nullptr;
+    /// Where the forces go. A symplectic pass may be given null when nobody reads this substep's forces: it then
+    /// stores none (the other passes need it).
     Vec3* force = nullptr;
     // TotalForces and SymplecticSubstep
     const Real* mass = nullptr;

@@ -49,6 +49,9 @@ public:
     const ContactReport& report() const { return m_report; }
     /// Masses held by sticky contact.
     const std::vector<std::uint8_t>& stuck() const { return m_stuck.stuck; }
+    /// Whether the next afterSubstep reads the substep's forces (particles.force): while a mass is stuck, whose pull
+    /// off its surface decides its release.
+    bool readsForces() const { return m_stuck.any; }
     std::size_t planeCount() const { return m_planes.size(); }
 
     /// Deepest penetration of any mass's sphere into an obstacle now (m, 0 if none), measured afresh by the detector.

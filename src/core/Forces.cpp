@@ -306,7 +306,7 @@ bool noExternalForces(const Particles& particles)
     return true;
 }
 
-bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces)
+bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces, bool storeForces)
 {
     if (!system.userSprings.all().empty())
     {
@@ -322,6 +322,10 @@ bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces)
         args.inverseMass = p.inverseMass.data();
         args.position = p.position.data();
         args.velocity = p.velocity.data();
+        if (!storeForces)
+        {
+            args.force = nullptr;
+        }
         runBandedForces(
             externalForces ? BandedPass::SymplecticSubstep : BandedPass::SymplecticSubstepWithoutExternalForces, args);
         return true;

@@ -16,8 +16,10 @@ void evaluateForces(const MassSpringSystem& system, const std::vector<Vec3>& x, 
 /// other spring sets in a gather pass and a drift pass. The same bits either way as evaluateForces followed by the two
 /// updates. Returns false, doing nothing, when the system has user springs (their forces are added after the gather):
 /// use evaluateForces then. With `externalForces` false the caller vouches that every external force is +0 in every
-/// bit (noExternalForces), and a lattice sheet's pass does not read them: the same bits, less memory to stream.
-bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces = true);
+/// bit (noExternalForces), and a lattice sheet's pass does not read them: the same bits, less memory to stream. With
+/// `storeForces` false nobody will read this substep's forces, and a lattice sheet's pass leaves particles.force as it
+/// was (it then streams a sixth less memory).
+bool symplecticSubstep(MassSpringSystem& system, Real h, bool externalForces = true, bool storeForces = true);
 
 /// Whether every component of every external force is +0 in every bit (a -0 would not add as +0 does).
 bool noExternalForces(const Particles& particles);

@@ -89,8 +89,11 @@ StepReport Simulator::step(Real dt)
     const bool hooksWriteExternalForces =
         watchExternalForces && std::any_of(m_hooks.begin(), m_hooks.end(),
                                            [](const StepHook* hook) { return hook->writesExternalForcesMidFrame(); });
+    const bool hooksReadForces =
+        std::any_of(m_hooks.begin(), m_hooks.end(), [](const StepHook* hook) { return hook->readsForcesMidFrame(); });
     for (int i = 0; i < report.substeps; ++i)
     {
+        m_context.forcesRead = i + 1 == report.substeps || hooksReadForces || (m_contact && m_contact->readsForces());
         m_guard.beforeSubstep(m_system, m_settings.integrator);
         const IntegratorStats stats = m_integrator->step(m_system, m_context, report.substep);
         report.solverIterations += stats.solverIterations;

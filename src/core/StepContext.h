@@ -38,5 +38,10 @@ struct StepContext
     /// when a hook says it writes them then (StepHook::writesExternalForcesMidFrame; a pressure load does); nothing
     /// else in a step writes them.
     bool externalForces = true;
+    /// Whether somebody reads particles.force after this substep: the Simulator sets it for a frame's last substep
+    /// (the contact's reach and the guard read them between frames), for every substep while a contact holds a
+    /// stuck mass (its release force), and when a hook says it reads them (StepHook::readsForcesMidFrame). When it is
+    /// false the symplectic pass need not store them.
+    bool forcesRead = true;
 };
 } // namespace masse

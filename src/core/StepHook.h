@@ -26,5 +26,8 @@ public:
     /// substep's hooks, not only at a frame's start (see StepContext::externalForces); a hook that writes them
     /// without saying so may go unfelt until the next frame.
     virtual bool writesExternalForcesMidFrame() const { return false; }
+    /// Whether afterSubstep reads particles.force (the forces of the substep just taken). Else they are only kept at
+    /// a frame's last substep (see StepContext::forcesRead), and afterSubstep may find those of an earlier one.
+    virtual bool readsForcesMidFrame() const { return false; }
 };
 } // namespace masse

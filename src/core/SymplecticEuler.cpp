@@ -15,7 +15,7 @@ public:
     IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {
         Particles& p = system.particles;
-        if (symplecticSubstep(system, h, context.externalForces))
+        if (symplecticSubstep(system, h, context.externalForces, context.forcesRead))
         {
             return {};
         }
