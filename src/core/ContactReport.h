@@ -3,6 +3,7 @@
 /// each mass, the faces touched), and over the run (the first contact with each obstacle). The contact stages write
 /// it; the scene, the viewer and the reports read it between frames. It changes no mass's state.
 
+#include "PerChunk.h"
 #include "Types.h"
 
 #include <cstdint>
@@ -101,5 +102,7 @@ private:
     std::size_t m_touchingCount = 0;
     std::vector<ContactEvent> m_firstContacts;
     std::vector<std::uint8_t> m_obstacleTouched;
+    PerChunk<std::vector<std::pair<int, int>>> m_chunkFaces; ///< endFrame's per mass chunk faces, kept frame to frame
+    std::vector<std::size_t> m_chunkTouching;                ///< endFrame's per mass chunk touching masses
 };
 } // namespace masse

@@ -154,32 +154,53 @@ void ContactSolver::endFrame(MassSpringSystem& system, StepContext& context, Rea
     m_elapsed = time - m_frameTime;
 
     // Masses that moved beyond their reach had no plane for what they may have crossed: sweep their path. Stuck
-    // masses sit at their anchors, which are outside by construction.
-    for (std::size_t i = 0; i < p.size(); ++i)
+    // masses sit at their anchors, which are outside by construction. Which masses moved that far is found over
+    // chunks on all threads (a pass over every mass); the few sweeps then run in mass order.
+    const std::size_t chunks = chunkCount(p.size(), massChunkSize);
+    m_chunkOutran.reserveChunks(chunks);
+    parallelFor(p.size(), massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    std::vector<Index>& outran = m_chunkOutran[begin / massChunkSize];
+                    outran.clear();
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        if (!p.pinned[i] && !m_stuck.stuck[i] &&
+                            !((p.position[i] - m_frameStart[i]).norm() <= m_reach[i] - radius))
+                        {
+                            outran.push_back(Index(i));
+                        }
+                    }
+                });
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk)
     {
-        const Vec3 travel = p.position[i] - m_frameStart[i];
-        if (p.pinned[i] || m_stuck.stuck[i] || travel.norm() <= m_reach[i] - radius)
+        for (const Index mass : m_chunkOutran[chunk])
         {
-            continue;
+            sweep(p, mass);
         }
-        const std::optional<SweepHit> hit = m_detector.sweep(m_frameStart[i], p.position[i], radius);
-        if (!hit)
-        {
-            continue;
-        }
-        // Stop just before the surface and drop the velocity into it.
-        const Real fraction = std::max(Real(0), hit->fraction - Real(1e-9));
-        p.position[i] = m_frameStart[i] + fraction * travel;
-        const Real normalSpeed = p.velocity[i].dot(hit->normal);
-        if (normalSpeed < 0)
-        {
-            const Vec3 before = p.velocity[i];
-            p.velocity[i] -= normalSpeed * hit->normal;
-            m_report.addImpulse(i, p.mass[i] * (p.velocity[i] - before));
-        }
-        m_report.touch(Index(i), hit->obstacle, hit->face, now());
     }
     m_report.endFrame(m_frameDt);
+}
+
+void ContactSolver::sweep(Particles& p, std::size_t i)
+{
+    const Vec3 travel = p.position[i] - m_frameStart[i];
+    const std::optional<SweepHit> hit = m_detector.sweep(m_frameStart[i], p.position[i], m_settings.radius);
+    if (!hit)
+    {
+        return;
+    }
+    // Stop just before the surface and drop the velocity into it.
+    const Real fraction = std::max(Real(0), hit->fraction - Real(1e-9));
+    p.position[i] = m_frameStart[i] + fraction * travel;
+    const Real normalSpeed = p.velocity[i].dot(hit->normal);
+    if (normalSpeed < 0)
+    {
+        const Vec3 before = p.velocity[i];
+        p.velocity[i] -= normalSpeed * hit->normal;
+        m_report.addImpulse(i, p.mass[i] * (p.velocity[i] - before));
+    }
+    m_report.touch(Index(i), hit->obstacle, hit->face, now());
 }
 
 Real ContactSolver::maxPenetration(const MassSpringSystem& system)

@@ -64,6 +64,8 @@ public:
 private:
     /// Simulated time now: the frame's start plus the substeps taken in it.
     Real now() const { return m_frameTime + m_elapsed; }
+    /// Sweeps mass i's path over the frame, which went beyond its reach: stopped before the first surface it crossed.
+    void sweep(Particles& p, std::size_t i);
 
     ContactDetector& m_detector;
     ContactSettings m_settings;
@@ -75,6 +77,7 @@ private:
     std::vector<Real> m_reach;                      ///< m, how far each mass may get this frame
     PerChunk<std::vector<int>> m_chunkFirstTouches; ///< per mass chunk, the obstacles first touched this substep
     std::vector<std::uint8_t> m_chunkMadeStuck;     ///< per mass chunk, whether a mass stuck this substep
+    PerChunk<std::vector<Index>> m_chunkOutran;     ///< per mass chunk, the masses that went beyond their reach
     Real m_frameTime = 0;
     Real m_frameDt = 0;
     Real m_elapsed = 0;
