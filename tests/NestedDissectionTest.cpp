@@ -10,10 +10,14 @@
 #include "core/StagedLdlt.h"
 #include "core/TaskPool.h"
 
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -344,4 +348,87 @@ TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
     uncompressed.uncompress();
     SparseMatrix unused;
     EXPECT_THROW(findPermutedSources(uncompressed, full, unused), std::logic_error);
+}
+
+namespace
+{
+/// Nonzeros of the Cholesky factor L (the diagonal included) of a symmetric matrix with the springs' pattern, one row
+/// per mass, eliminated in `order`: each row's nonzeros are the elimination tree's nodes reached from the row's own
+/// entries (the row subtree), counted without forming L.
+std::size_t factorNonZeros(const MassSpringSystem& system, const std::vector<Index>& order)
+{
+    const std::size_t n = system.massCount();
+    std::vector<std::size_t> position(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        position[order[k]] = k;
+    }
+    std::vector<std::vector<std::size_t>> lower(n); // per row (new numbering), its columns before the diagonal
+    for (const SpringEnds& e : system.springs.ends())
+    {
+        const std::size_t a = position[e.a];
+        const std::size_t b = position[e.b];
+        if (a != b)
+        {
+            lower[std::max(a, b)].push_back(std::min(a, b));
+        }
+    }
+    constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+    std::vector<std::size_t> parent(n, none);
+    std::vector<std::size_t> visited(n, none);
+    std::size_t count = 0;
+    for (std::size_t row = 0; row < n; ++row)
+    {
+        visited[row] = row;
+        ++count; // the diagonal
+        for (std::size_t column : lower[row])
+        {
+            // Up the tree from the entry's column to the first node this row has met; the first time, it is a root,
+            // and the row becomes its parent.
+            for (; visited[column] != row; column = parent[column])
+            {
+                visited[column] = row;
+                ++count;
+                if (parent[column] == none)
+                {
+                    parent[column] = row;
+                }
+            }
+        }
+    }
+    return count;
+}
+} // namespace
+
+// The dissection's factor is smaller than the one of Eigen's approximate minimum degree on the same sheet. On a fine
+// sheet (128x2x128, 7.9 mm spacing) many parts are thicker across the layers than they are wide, so the cut cannot
+// split them and they are left whole: eliminated in index order they held 2.89 M nonzeros against AMD's 2.50 M;
+// ordered by minimum degree 2.04 M (METIS's nested dissection, measured apart: 1.94 M). Exact counts of the pattern.
+TEST(NestedDissection, FactorIsSmallerThanMinimumDegreesOnAFineSheet)
+{
+    const MassSpringSystem sheet = paperSheet(128);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+
+    std::vector<Eigen::Triplet<Real, int>> pattern;
+    for (std::size_t i = 0; i < sheet.massCount(); ++i)
+    {
+        pattern.emplace_back(int(i), int(i), Real(1));
+    }
+    for (const SpringEnds& e : sheet.springs.ends())
+    {
+        pattern.emplace_back(int(e.a), int(e.b), Real(1));
+        pattern.emplace_back(int(e.b), int(e.a), Real(1));
+    }
+    Eigen::SparseMatrix<Real, Eigen::ColMajor, int> graph(int(sheet.massCount()), int(sheet.massCount()));
+    graph.setFromTriplets(pattern.begin(), pattern.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> amd;
+    Eigen::AMDOrdering<int>()(graph, amd); // entry k: the mass eliminated k-th (as SimplicialLDLT reads it)
+    const std::vector<Index> amdOrder(amd.indices().data(), amd.indices().data() + sheet.massCount());
+
+    const std::size_t ours = factorNonZeros(sheet, dissection.order);
+    const std::size_t theirs = factorNonZeros(sheet, amdOrder);
+    std::printf("factor nonzeros (mass blocks) at 128x2x128: dissection %zu, AMD %zu (ratio %.3f)\n", ours, theirs,
+                double(ours) / double(theirs));
+    EXPECT_LT(double(ours), 0.9 * double(theirs));
 }

@@ -3,9 +3,11 @@
 ///
 /// A sheet is a thin lattice, nearly planar at rest, so cutting it at the median of its longest extent splits it in
 /// two with a thin line of masses between (the separator: the masses of one half with a spring into the other).
-/// Ordering each half recursively and the separator last keeps the factor's fill to O(n log n) on a 2D lattice,
-/// about half of what Eigen's approximate minimum degree gives on these sheets, and the factor's two triangular solves
-/// are most of a step's cost. Only rest positions and springs are used, so the order is fixed per topology.
+/// Ordering each half recursively and the separator last keeps the factor's fill to O(n log n) on a 2D lattice, and
+/// the factor's two triangular solves are most of a step's cost. The parts left whole (small ones, and those the cut
+/// cannot split) are ordered by minimum degree. At 128x2x128 the factor holds 2.04 M nonzero blocks, 0.82 times what
+/// Eigen's approximate minimum degree gives on the whole sheet (and about 0.58 times its arithmetic); METIS's nested
+/// dissection gives 1.94 M. Only rest positions and springs are used, so the order is fixed per topology.
 
 #include "SpringSet.h"
 #include "Types.h"
