@@ -174,10 +174,11 @@ IntegratorStats ImplicitSolve::runSolver()
         // A factor fresh from the matrix solves in one or two iterations, a multigrid cycle takes several even
         // then (ten on a cold material sheet at its tight tolerance): it has drifted only when it needs more than
         // the allowance beyond what it took fresh.
-        const int allowance = m_settings.preconditioner == PreconditionerKind::Multigrid
-                                  ? m_freshIterations + m_settings.refreshAfterIterations / 2
-                                  : 0;
-        const int firstTry = fresh ? cap : std::min(cap, std::max(m_settings.refreshAfterIterations, allowance));
+        const bool multigrid = m_settings.preconditioner == PreconditionerKind::Multigrid;
+        const int allowance = multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
+                                                   m_freshIterations + m_settings.multigridRefreshAfterIterations / 2)
+                                        : m_settings.refreshAfterIterations;
+        const int firstTry = fresh ? cap : std::min(cap, allowance);
         if (recent.ready())
         {
             result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry);
