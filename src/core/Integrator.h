@@ -49,7 +49,8 @@ struct ImplicitSettings
     /// not 8: drape forming at 128x2x128 refactored 64 times instead of 81 (each about 2.4 s) and ran 12% faster,
     /// its largest step 11 iterations.
     int refreshAfterIterations = 10;
-    /// The same for the multigrid hierarchy, which also gets this half of this beyond what it took fresh.
+    /// The same for the multigrid hierarchy: it is rebuilt after this many iterations, or after half this many beyond
+    /// what it took fresh if that is more (a fresh cycle takes several).
     int multigridRefreshAfterIterations = 8;
 };
 
