@@ -2,6 +2,7 @@
 
 #include "BulletMath.h"
 #include "FacePlaneDistance.h"
+#include "NearestOnFrontFaces.h"
 
 #include "core/ClosestPointOnTriangle.h"
 #include "core/InputError.h"
@@ -13,12 +14,7 @@
 #include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
 #include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
 #include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
-#include <BulletCollision/CollisionShapes/btConvexShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
-#include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
-#include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
-#include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
-#include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
 
 #include <algorithm>
 #include <limits>
@@ -27,43 +23,17 @@ namespace masse::bridge
 {
 namespace
 {
-/// A sphere probing for the nearest surface of a solid: small enough not to matter, large enough for GJK to treat it
-/// as a sphere rather than a point.
+/// The radius of the sphere that probes for the nearest surface of a solid (the search takes a sphere): small enough
+/// not to matter.
 constexpr Real probeRadius = 1e-6;
 
-struct Gjk
+/// A surface's nearest point to a mass: the distance from the mass's sphere, the normal towards the mass, the point.
+struct NearPoint
 {
     Real distance;
     Vec3 normal;
     Vec3 point;
 };
-
-/// GJK (with EPA for overlap) between a sphere and a convex shape at a transform.
-std::optional<Gjk> sphereConvex(const btConvexShape& shape, const btTransform& transform, const Vec3& centre,
-                                Real radius)
-{
-    btSphereShape sphere(radius);
-    btVoronoiSimplexSolver simplex;
-    btGjkEpaPenetrationDepthSolver epa;
-    btGjkPairDetector gjk(&sphere, &shape, &simplex, &epa);
-    btGjkPairDetector::ClosestPointInput input;
-    input.m_transformA.setIdentity();
-    input.m_transformA.setOrigin(toBullet(centre));
-    input.m_transformB = transform;
-    input.m_maximumDistanceSquared = BT_LARGE_FLOAT;
-    btPointCollector result;
-    gjk.getClosestPoints(input, result, nullptr);
-    if (!result.m_hasResult)
-    {
-        return std::nullopt;
-    }
-    const Vec3 normal = toVec3(result.m_normalOnBInWorld);
-    if (!normal.allFinite() || normal.squaredNorm() < 0.5)
-    {
-        return std::nullopt;
-    }
-    return Gjk{result.m_distance, normal.normalized(), toVec3(result.m_pointInWorld)};
-}
 
 /// Bullet's default pools hold 4,096 contact manifolds and 4,096 collision algorithms, zeroed when made: about 30%
 /// of a small sweep case's time went to that. MaSSE never lets Bullet pair obstacles with each other (only queries
@@ -96,7 +66,7 @@ struct TriangleCollector : btTriangleCallback
     Vec3 localCentre;
     Real radius;
     Real searchDistance;
-    std::vector<std::pair<Gjk, int>>* found; // closest point and triangle index
+    std::vector<std::pair<NearPoint, int>>* found; // closest point and triangle index
 
     void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
     {
@@ -128,7 +98,7 @@ struct TriangleCollector : btTriangleCallback
             localNormal = face / length;
         }
         const Vec3 normal = toVec3(transform->getBasis() * toBullet(localNormal));
-        found->emplace_back(Gjk{gap - radius, normal, toVec3((*transform)(toBullet(nearest)))}, triangleIndex);
+        found->emplace_back(NearPoint{gap - radius, normal, toVec3((*transform)(toBullet(nearest)))}, triangleIndex);
     }
 };
 
@@ -305,10 +275,10 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     const Eigen::Quaternion<Real> toLocal = obstacle.pose.orientation.conjugate();
     if (obstacle.geometry.convex)
     {
-        // Near a face, its plane gives the nearest point exactly and far faster than GJK; near an edge or a vertex,
-        // GJK (with EPA for overlap) between the sphere and the hull.
-        const std::optional<FacePlaneDistance> nearFace =
-            facePlaneDistance(obstacle.geometry, toLocal * (centre - obstacle.pose.position));
+        // Near a face, its plane gives the nearest point exactly; near an edge or a vertex, the nearest of the front
+        // faces' nearest points does (NearestOnFrontFaces.h). Both in closed form, where GJK searched.
+        const Vec3 local = toLocal * (centre - obstacle.pose.position);
+        const std::optional<FacePlaneDistance> nearFace = facePlaneDistance(obstacle.geometry, local);
         if (nearFace)
         {
             const Real distance = nearFace->distance - radius;
@@ -320,20 +290,20 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
             }
             return;
         }
-        const auto& shape = static_cast<const btConvexShape&>(*obstacle.geometry.shape);
-        const std::optional<Gjk> closest = sphereConvex(shape, transform, centre, radius);
-        if (closest && closest->distance <= searchDistance)
+        const NearestOnFrontFaces nearEdge = nearestOnFrontFaces(obstacle.geometry, local);
+        const Real distance = nearEdge.distance - radius;
+        if (distance <= searchDistance)
         {
-            const Vec3 localPoint = toLocal * (closest->point - obstacle.pose.position);
-            const int face = obstacle.geometry.faceAt(localPoint, toLocal * closest->normal);
-            out.push_back({closest->distance, closest->normal, closest->point, face});
+            out.push_back({distance, obstacle.pose.orientation * nearEdge.normal,
+                           obstacle.pose.orientation * nearEdge.point + obstacle.pose.position,
+                           obstacle.geometry.faceAt(nearEdge.point, nearEdge.normal)});
         }
         return;
     }
     // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame. Their list is kept per thread
     // (the queries run on the task pool's threads) and reused: a new one for each mass's query was a heap allocation
     // or more per mass and frame.
-    thread_local std::vector<std::pair<Gjk, int>> found;
+    thread_local std::vector<std::pair<NearPoint, int>> found;
     found.clear();
     TriangleCollector collector;
     collector.found = &found;
@@ -398,9 +368,9 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
             m_frameMotion[index] = averageMotion(path, m_time, m_time + dt);
         }
     }
-    // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk, GJK and
-    // EPA on shapes made per query), so chunks of masses run on all threads, each into its own list. Joined in
-    // chunk order, the planes come out in mass order whatever the thread count.
+    // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk), so chunks of
+    // masses run on all threads, each into its own list. Joined in chunk order, the planes come out in mass order
+    // whatever the thread count.
     const Real obstacleTravel = m_fastestKinematic * dt;
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
     m_chunkPlanes.reserveChunks(chunks);

@@ -3,8 +3,9 @@
 /// solver as its ContactDetector.
 ///
 /// Bullet supplies the broadphase (a btDbvtBroadphase: each mass's reach box is queried against the obstacles'
-/// boxes) and the narrowphase (GJK with EPA between the mass's sphere and a convex obstacle or each nearby triangle
-/// of a mesh, and btCollisionWorld::convexSweepTest for the sweep). The paper's game rule holds by construction:
+/// boxes), the mesh's triangle walk (btBvhTriangleMeshShape) and the sweep (btCollisionWorld::convexSweepTest); the
+/// nearest point of a convex obstacle or of each nearby triangle of a mesh has a closed form and is computed so
+/// (FacePlaneDistance.h, NearestOnFrontFaces.h, ClosestPointOnTriangle.h). The paper's game rule holds by construction:
 /// obstacles are static or kinematic and are never tested against one another; only sheet masses are tested.
 
 #include "KinematicPath.h"

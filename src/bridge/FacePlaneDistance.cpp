@@ -24,7 +24,7 @@ std::optional<FacePlaneDistance> facePlaneDistance(const ObstacleGeometry& g, co
     if (height > 0)
     {
         // In front of the face: the projection must lie behind (or on) every other face's plane. Strictly so up to
-        // rounding; a projection on an edge is left to GJK, which handles edges exactly.
+        // rounding; a projection on an edge is left to nearestOnFrontFaces, which handles edges exactly.
         for (std::size_t f = 0; f < g.faces.size(); ++f)
         {
             if (f != nearest && g.faces[f].normal.dot(projection) - g.faces[f].offset >= 0)

@@ -5,8 +5,9 @@
 /// is its projection onto the nearest face plane. For a point outside, let f be the face whose plane it is farthest
 /// in front of: if its projection onto f's plane lies behind every other plane, the projection is on the polyhedron
 /// and no point of the polyhedron is nearer (every one lies behind f's plane). Both cases cover a sheet lying on or
-/// pressed into a face, which is most of contact; what is left (nearest to an edge or a vertex) goes to GJK. This is
-/// what Bullet itself does for a sphere against a box (btSphereBoxCollisionAlgorithm), for any convex polyhedron.
+/// pressed into a face, which is most of contact; what is left (nearest to an edge or a vertex) goes to
+/// NearestOnFrontFaces.h. This is what Bullet itself does for a sphere against a box (btSphereBoxCollisionAlgorithm),
+/// for any convex polyhedron.
 
 #include "ObstacleGeometry.h"
 
