@@ -345,6 +345,46 @@ TEST(ObstacleGeometry, NearestOnFrontFacesOnAPrismIsTheNearestPoint)
     EXPECT_GT(edgesAndCorners, 100);
 }
 
+// Points on the surface (the vertices and the edges' midpoints of slanted solids), some of them in front of a face's
+// plane by a rounding error only: the answer is a finite unit normal and a distance of at most 1e-12 m, never the 0/0
+// of a direction from a point to itself.
+TEST(ObstacleGeometry, NearestOnFrontFacesOfAPointOnTheSurfaceHasAFiniteNormal)
+{
+    int inFront = 0;
+    for (const Real apex : {0.0, 0.5, 0.37, -0.29})
+    {
+        const ObstacleGeometry g = makeObstacleGeometry(prism("wedge", 1.1, 1.3, 0.7, apex).shape);
+        std::vector<Vec3> points = g.vertices;
+        for (const Face& face : g.faces)
+        {
+            for (std::size_t k = 0; k < face.vertices.size(); ++k)
+            {
+                const Vec3& a = g.vertices[std::size_t(face.vertices[k])];
+                const Vec3& b = g.vertices[std::size_t(face.vertices[(k + 1) % face.vertices.size()])];
+                points.push_back((a + b) / 3 + (a + b) / 6);
+            }
+        }
+        for (const Vec3& p : points)
+        {
+            bool front = false;
+            for (const Face& face : g.faces)
+            {
+                front = front || face.normal.dot(p) - face.offset > 0;
+            }
+            if (!front || facePlaneDistance(g, p))
+            {
+                continue;
+            }
+            ++inFront;
+            const NearestOnFrontFaces d = nearestOnFrontFaces(g, p);
+            EXPECT_TRUE(d.normal.allFinite()) << p.transpose();
+            EXPECT_NEAR(d.normal.norm(), 1.0, 1e-12) << p.transpose();
+            EXPECT_LE(d.distance, 1e-12) << p.transpose();
+        }
+    }
+    std::cout << inFront << " surface points in front of a plane by rounding\n";
+}
+
 namespace
 {
 /// A mesh obstacle of two rectangles 2 m long (along z) meeting along z at x = 0, y = `creaseHeight`, each falling

@@ -16,9 +16,11 @@ namespace masse::bridge
 {
 struct NearestOnFrontFaces
 {
-    Real distance; ///< from the point to the surface, > 0
+    Real distance; ///< from the point to the surface, >= 0
     Vec3 point;    ///< the nearest surface point, in the polyhedron's frame
-    Vec3 normal;   ///< from that point towards the point asked about, unit length, in the polyhedron's frame
+    /// From that point towards the point asked about, unit length, in the polyhedron's frame (for a point on the
+    /// surface to the bit, the normal of the face it is farthest in front of).
+    Vec3 normal;
 };
 
 /// The nearest surface point of convex geometry g to localPoint (both in g's frame), which lies in front of at least
