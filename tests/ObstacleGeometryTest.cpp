@@ -53,6 +53,23 @@ Real boxDistance(const Vec3& p, const Vec3& centre, const Vec3& half)
     return outside + inside;
 }
 
+/// The grid points (step.x i, step.y j, step.z k) for |i| <= nx, |j| <= ny, |k| <= nz.
+std::vector<Vec3> gridPoints(const Vec3& step, int nx, int ny, int nz)
+{
+    std::vector<Vec3> points;
+    for (int i = -nx; i <= nx; ++i)
+    {
+        for (int j = -ny; j <= ny; ++j)
+        {
+            for (int k = -nz; k <= nz; ++k)
+            {
+                points.emplace_back(step.x() * i, step.y() * j, step.z() * k);
+            }
+        }
+    }
+    return points;
+}
+
 std::string errorOf(const ObstacleBody& body)
 {
     return masse::test::inputErrorOf(
@@ -193,36 +210,29 @@ TEST(ObstacleGeometry, RoomHasTablesFloorAndWalls)
 
 // The face-plane shortcut (FacePlaneDistance.h) against the closed-form distance to a box, over a grid of points
 // inside and around it: where it answers, the distance is exact to rounding (1e-12 m); it answers inside and in front
-// of each face, and leaves the edge and corner regions (to GJK).
+// of each face, and leaves the edge and corner regions (to nearestOnFrontFaces).
 TEST(ObstacleGeometry, FacePlaneDistanceIsExactWhereItAnswers)
 {
     const Vec3 half(0.5, 0.25, 0.75);
     const ObstacleGeometry g = makeObstacleGeometry(box("box", Vec3::Zero(), half).shape);
     int answered = 0;
     int left = 0;
-    for (int i = -6; i <= 6; ++i)
+    for (const Vec3& p : gridPoints(Vec3(0.13, 0.07, 0.19), 6, 6, 6))
     {
-        for (int j = -6; j <= 6; ++j)
+        const Vec3 q = p.cwiseAbs() - half;
+        const bool edgeOrCorner = (q.array() > 0).count() >= 2;
+        const std::optional<FacePlaneDistance> d = facePlaneDistance(g, p);
+        if (!d)
         {
-            for (int k = -6; k <= 6; ++k)
-            {
-                const Vec3 p(0.13 * i, 0.07 * j, 0.19 * k);
-                const Vec3 q = p.cwiseAbs() - half;
-                const bool edgeOrCorner = (q.array() > 0).count() >= 2;
-                const std::optional<FacePlaneDistance> d = facePlaneDistance(g, p);
-                if (!d)
-                {
-                    EXPECT_TRUE(edgeOrCorner) << p.transpose();
-                    ++left;
-                    continue;
-                }
-                ++answered;
-                EXPECT_FALSE(edgeOrCorner) << p.transpose();
-                EXPECT_NEAR(d->distance, boxDistance(p, Vec3::Zero(), half), 1e-12) << p.transpose();
-                EXPECT_NEAR((d->point - p).norm(), std::abs(d->distance), 1e-12) << p.transpose();
-                EXPECT_NEAR(boxDistance(d->point, Vec3::Zero(), half), 0.0, 1e-12) << p.transpose();
-            }
+            EXPECT_TRUE(edgeOrCorner) << p.transpose();
+            ++left;
+            continue;
         }
+        ++answered;
+        EXPECT_FALSE(edgeOrCorner) << p.transpose();
+        EXPECT_NEAR(d->distance, boxDistance(p, Vec3::Zero(), half), 1e-12) << p.transpose();
+        EXPECT_NEAR((d->point - p).norm(), std::abs(d->distance), 1e-12) << p.transpose();
+        EXPECT_NEAR(boxDistance(d->point, Vec3::Zero(), half), 0.0, 1e-12) << p.transpose();
     }
     EXPECT_GT(answered, 0);
     EXPECT_GT(left, 0);
@@ -234,29 +244,22 @@ TEST(ObstacleGeometry, FacePlaneDistanceOnAPrismLiesOnItsSurface)
 {
     const ObstacleGeometry g = makeObstacleGeometry(prism("wedge", 1.0, 1.6, 1.6, 0.5).shape);
     int answered = 0;
-    for (int i = -8; i <= 8; ++i)
+    for (const Vec3& p : gridPoints(Vec3(0.11, 0.13, 0.31), 8, 8, 3))
     {
-        for (int j = -8; j <= 8; ++j)
+        const std::optional<FacePlaneDistance> d = facePlaneDistance(g, p);
+        if (!d)
         {
-            for (int k = -3; k <= 3; ++k)
-            {
-                const Vec3 p(0.11 * i, 0.13 * j, 0.31 * k);
-                const std::optional<FacePlaneDistance> d = facePlaneDistance(g, p);
-                if (!d)
-                {
-                    continue;
-                }
-                ++answered;
-                const Face& face = g.faces[std::size_t(d->face)];
-                EXPECT_NEAR(face.normal.dot(d->point) - face.offset, 0.0, 1e-12) << p.transpose();
-                for (const Face& other : g.faces)
-                {
-                    EXPECT_LE(other.normal.dot(d->point) - other.offset, 1e-12) << p.transpose();
-                }
-                EXPECT_NEAR((p - d->point).norm(), std::abs(d->distance), 1e-12) << p.transpose();
-                EXPECT_NEAR(face.normal.dot(p) - face.offset, d->distance, 1e-12) << p.transpose();
-            }
+            continue;
         }
+        ++answered;
+        const Face& face = g.faces[std::size_t(d->face)];
+        EXPECT_NEAR(face.normal.dot(d->point) - face.offset, 0.0, 1e-12) << p.transpose();
+        for (const Face& other : g.faces)
+        {
+            EXPECT_LE(other.normal.dot(d->point) - other.offset, 1e-12) << p.transpose();
+        }
+        EXPECT_NEAR((p - d->point).norm(), std::abs(d->distance), 1e-12) << p.transpose();
+        EXPECT_NEAR(face.normal.dot(p) - face.offset, d->distance, 1e-12) << p.transpose();
     }
     EXPECT_GT(answered, 100);
 }
@@ -269,24 +272,17 @@ TEST(ObstacleGeometry, NearestOnFrontFacesMatchesBoxDistanceAtEdgesAndCorners)
     const Vec3 half(0.5, 0.25, 0.75);
     const ObstacleGeometry g = makeObstacleGeometry(box("box", Vec3::Zero(), half).shape);
     int edgesAndCorners = 0;
-    for (int i = -6; i <= 6; ++i)
+    for (const Vec3& p : gridPoints(Vec3(0.13, 0.07, 0.19), 6, 6, 6))
     {
-        for (int j = -6; j <= 6; ++j)
+        if (facePlaneDistance(g, p))
         {
-            for (int k = -6; k <= 6; ++k)
-            {
-                const Vec3 p(0.13 * i, 0.07 * j, 0.19 * k);
-                if (facePlaneDistance(g, p))
-                {
-                    continue;
-                }
-                ++edgesAndCorners;
-                const NearestOnFrontFaces d = nearestOnFrontFaces(g, p);
-                EXPECT_NEAR(d.distance, boxDistance(p, Vec3::Zero(), half), 1e-12) << p.transpose();
-                EXPECT_NEAR(boxDistance(d.point, Vec3::Zero(), half), 0.0, 1e-12) << p.transpose();
-                EXPECT_NEAR((p - (d.point + d.distance * d.normal)).norm(), 0.0, 1e-12) << p.transpose();
-            }
+            continue;
         }
+        ++edgesAndCorners;
+        const NearestOnFrontFaces d = nearestOnFrontFaces(g, p);
+        EXPECT_NEAR(d.distance, boxDistance(p, Vec3::Zero(), half), 1e-12) << p.transpose();
+        EXPECT_NEAR(boxDistance(d.point, Vec3::Zero(), half), 0.0, 1e-12) << p.transpose();
+        EXPECT_NEAR((p - (d.point + d.distance * d.normal)).norm(), 0.0, 1e-12) << p.transpose();
     }
     EXPECT_GT(edgesAndCorners, 100);
 }
@@ -300,45 +296,38 @@ TEST(ObstacleGeometry, NearestOnFrontFacesOnAPrismIsTheNearestPoint)
     const ObstacleGeometry g = makeObstacleGeometry(prism("wedge", 1.0, 1.6, 1.6, 0.5).shape);
     int outside = 0;
     int edgesAndCorners = 0;
-    for (int i = -8; i <= 8; ++i)
+    for (const Vec3& p : gridPoints(Vec3(0.11, 0.13, 0.23), 8, 8, 4))
     {
-        for (int j = -8; j <= 8; ++j)
+        Real height = -std::numeric_limits<Real>::infinity();
+        for (const Face& face : g.faces)
         {
-            for (int k = -4; k <= 4; ++k)
-            {
-                const Vec3 p(0.11 * i, 0.13 * j, 0.23 * k);
-                Real height = -std::numeric_limits<Real>::infinity();
-                for (const Face& face : g.faces)
-                {
-                    height = std::max(height, face.normal.dot(p) - face.offset);
-                }
-                if (!(height > 0))
-                {
-                    continue;
-                }
-                ++outside;
-                edgesAndCorners += facePlaneDistance(g, p) ? 0 : 1;
-                const NearestOnFrontFaces d = nearestOnFrontFaces(g, p);
-                Real onSurface = -std::numeric_limits<Real>::infinity();
-                for (const Face& face : g.faces)
-                {
-                    const Real q = face.normal.dot(d.point) - face.offset;
-                    EXPECT_LE(q, 1e-12) << p.transpose();
-                    onSurface = std::max(onSurface, q);
-                }
-                EXPECT_NEAR(onSurface, 0.0, 1e-12) << p.transpose();
-                for (const Vec3& v : g.vertices)
-                {
-                    EXPECT_LE((p - d.point).dot(v - d.point), 1e-12) << p.transpose();
-                }
-                EXPECT_NEAR((p - d.point).norm(), d.distance, 1e-12) << p.transpose();
-                EXPECT_NEAR(d.normal.norm(), 1.0, 1e-12) << p.transpose();
-                // Where the face plane answers too, both give the same distance.
-                if (const std::optional<FacePlaneDistance> face = facePlaneDistance(g, p))
-                {
-                    EXPECT_NEAR(face->distance, d.distance, 1e-12) << p.transpose();
-                }
-            }
+            height = std::max(height, face.normal.dot(p) - face.offset);
+        }
+        if (!(height > 0))
+        {
+            continue;
+        }
+        ++outside;
+        edgesAndCorners += facePlaneDistance(g, p) ? 0 : 1;
+        const NearestOnFrontFaces d = nearestOnFrontFaces(g, p);
+        Real onSurface = -std::numeric_limits<Real>::infinity();
+        for (const Face& face : g.faces)
+        {
+            const Real q = face.normal.dot(d.point) - face.offset;
+            EXPECT_LE(q, 1e-12) << p.transpose();
+            onSurface = std::max(onSurface, q);
+        }
+        EXPECT_NEAR(onSurface, 0.0, 1e-12) << p.transpose();
+        for (const Vec3& v : g.vertices)
+        {
+            EXPECT_LE((p - d.point).dot(v - d.point), 1e-12) << p.transpose();
+        }
+        EXPECT_NEAR((p - d.point).norm(), d.distance, 1e-12) << p.transpose();
+        EXPECT_NEAR(d.normal.norm(), 1.0, 1e-12) << p.transpose();
+        // Where the face plane answers too, both give the same distance.
+        if (const std::optional<FacePlaneDistance> face = facePlaneDistance(g, p))
+        {
+            EXPECT_NEAR(face->distance, d.distance, 1e-12) << p.transpose();
         }
     }
     EXPECT_GT(outside, 500);
