@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 using namespace masse;
@@ -395,12 +396,16 @@ struct FoldOutcome
     Real smallestGap = std::numeric_limits<Real>::infinity(); ///< m, over every frame
     Real crossedShare = 0;                                    ///< the largest at the end of any frame
     std::uint64_t touches = 0;
+    Real energyBeforeTouch = 0; ///< J, the sheet's total energy at the end of the last frame without a touch
+    Real finalEnergy = 0;       ///< J, at the end of the run
+    Real peakEnergy = -std::numeric_limits<Real>::infinity(); ///< J, the most at the end of a frame after a touch
 };
 
-FoldOutcome foldOverRod(bool selfCollision)
+FoldOutcome foldOverRod(bool selfCollision, IntegratorKind integrator = IntegratorKind::SymplecticEuler)
 {
     SceneSpec spec = loadScene(source + "/data/scenes/fold-over-rod.json");
     spec.selfCollision = selfCollision;
+    spec.time.integrator = integrator;
     Scene scene(spec);
     // The triangles the self-contact uses, for the measurement: from a self-contact of the same lattice.
     EveryPair unused;
@@ -412,8 +417,18 @@ FoldOutcome foldOverRod(bool selfCollision)
         scene.step();
         outcome.smallestGap = std::min(outcome.smallestGap, halves.gap(scene.system().particles.position));
         outcome.crossedShare = std::max(outcome.crossedShare, halves.crossedShare(scene));
+        const Real energy = computeEnergy(scene.system()).total();
+        if (!scene.selfContact() || scene.selfContact()->report().total == 0)
+        {
+            outcome.energyBeforeTouch = energy;
+        }
+        else
+        {
+            outcome.peakEnergy = std::max(outcome.peakEnergy, energy);
+        }
     }
     outcome.touches = scene.selfContact() ? scene.selfContact()->report().total : 0;
+    outcome.finalEnergy = computeEnergy(scene.system()).total();
     return outcome;
 }
 } // namespace
@@ -447,10 +462,13 @@ struct WrapOutcome
 };
 
 /// The wrap-box scene, and its two flaps: the masses within 35 cm of either end of the strip at rest.
-WrapOutcome wrapAroundBox(bool selfCollision)
+WrapOutcome wrapAroundBox(bool selfCollision, IntegratorKind integrator = IntegratorKind::SymplecticEuler,
+                          bool edgeCollision = true)
 {
     SceneSpec spec = loadScene(source + "/data/scenes/wrap-box.json");
     spec.selfCollision = selfCollision;
+    spec.time.integrator = integrator;
+    spec.edgeCollision = spec.edgeCollision && edgeCollision;
     Scene scene(spec);
     EveryPair unused;
     const SelfContact surface(scene.lattice(), unused, SelfContactSettings{});
@@ -511,21 +529,68 @@ TEST(SelfContact, StripWrappedAroundABoxKeepsItsFlapsApart)
     EXPECT_GE(with.smallestGap, 0.85 * radius);
 }
 
-// contact.self_collision is refused with the implicit integrators (not built for them yet), naming the key.
-TEST(SelfContact, RefusedWithTheImplicitIntegrators)
+// The wrap with backward Euler. The edge contact is off (it works with the explicit integrators only), which the
+// explicit wrap keeps too: 0 of 42 masses of the right flap end above the left one and the flaps stay 7.7 mm apart.
+// With backward Euler the flaps keep the radius at every frame, but 3 of 45 masses end above (measured; not
+// understood yet). The bound, a tenth of the flap, catches the flap passing through, as it does without
+// self-collision (36 of 41).
+TEST(SelfContact, StripWrappedAroundABoxKeepsItsFlapsApartWithImplicitEuler)
+{
+    const Real radius = loadScene(source + "/data/scenes/wrap-box.json").contact.radius;
+    const WrapOutcome without = wrapAroundBox(false, IntegratorKind::ImplicitEuler, false);
+    ASSERT_GT(without.under, 20u) << "the flaps were not laid under the box";
+    EXPECT_GT(without.crossed, without.under / 2) << "without self-collision the right flap should pass through";
+
+    const WrapOutcome with = wrapAroundBox(true, IntegratorKind::ImplicitEuler, false);
+    ASSERT_GT(with.under, 20u) << "the flaps were not laid under the box";
+    EXPECT_GT(with.touches, 0u) << "the flaps never met: the scene does not test self-collision";
+    EXPECT_LE(with.crossed, with.under / 10);
+    EXPECT_GE(with.smallestGap, 0.85 * radius);
+    std::printf("implicit wrap: %zu of %zu right-flap masses above the left flap (without self-collision %zu of %zu), "
+                "smallest gap %.5f m\n",
+                with.crossed, with.under, without.crossed, without.under, with.smallestGap);
+}
+
+// The same fold with backward Euler, one solve a frame of 0.03 s: the pairs that the step would carry within the
+// radius, or that rest on each other, are held inside the solve (velocity constraints), and the responses after it
+// are repeated until none moves a mass, before the obstacle contact and after it. The halves stay a radius apart
+// (minus 1%) at every frame and each stays on its side (measured: 0.0100 m; 8.8% of the left half beyond its mirror
+// at worst, where the halves' edges slide past
+// each other), and the sheet ends the run with less energy than it had before its halves first met (after they met
+// it was at most 0.04 J above that, where responses after the solve alone put 0.8 J into the springs). Without
+// self-collision the halves pass through each other, so the checks can fail.
+TEST(SelfContact, SheetFoldedOverARodKeepsItsHalvesApartWithImplicitEuler)
+{
+    const Real radius = loadScene(source + "/data/scenes/fold-over-rod.json").contact.radius;
+    const FoldOutcome without = foldOverRod(false, IntegratorKind::ImplicitEuler);
+    EXPECT_GT(without.crossedShare, 0.5) << "without self-collision the halves should pass through each other";
+    EXPECT_LT(without.smallestGap, 0.5 * radius);
+
+    const FoldOutcome with = foldOverRod(true, IntegratorKind::ImplicitEuler);
+    EXPECT_GT(with.touches, 0u) << "the halves never met: the scene does not test self-collision";
+    EXPECT_LT(with.crossedShare, 0.1);
+    EXPECT_GE(with.smallestGap, 0.99 * radius);
+    EXPECT_LT(with.finalEnergy, with.energyBeforeTouch);
+    std::printf("implicit: smallest gap %.5f m (radius %.3f), crossed %.3f, touches %llu, energy %.4f J before the "
+                "halves met, %.4f J at most after, %.4f J at the end\n",
+                with.smallestGap, radius, with.crossedShare, static_cast<unsigned long long>(with.touches),
+                with.energyBeforeTouch, with.peakEnergy, with.finalEnergy);
+}
+
+// contact.self_collision is refused with bdf2, naming the key: on the fold over the rod its step diverged where the
+// halves meet (with its history made to follow the constraints, it kept the halves apart but let the rod pull the
+// sheet through between its masses).
+TEST(SelfContact, RefusedWithBdf2)
 {
     SceneSpec spec = loadScene(source + "/data/scenes/fold-over-rod.json");
-    for (const IntegratorKind kind : {IntegratorKind::ImplicitEuler, IntegratorKind::Bdf2})
+    spec.time.integrator = IntegratorKind::Bdf2;
+    try
     {
-        spec.time.integrator = kind;
-        try
-        {
-            Scene scene(spec);
-            ADD_FAILURE() << "accepted with " << integratorName(kind);
-        }
-        catch (const InputError& e)
-        {
-            EXPECT_NE(std::string(e.what()).find("contact.self_collision"), std::string::npos) << e.what();
-        }
+        Scene scene(spec);
+        ADD_FAILURE() << "accepted with bdf2";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("contact.self_collision"), std::string::npos) << e.what();
     }
 }

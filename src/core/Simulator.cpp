@@ -75,6 +75,8 @@ StepReport Simulator::step(Real dt)
     runHooks([&](StepHook& hook) { hook.beforeFrame(m_system, m_context, m_time); });
     report.substeps = substepsFor(dt);
     report.substep = dt / Real(report.substeps);
+    m_context.oneSolveAFrame = !isExplicit(m_settings.integrator);
+    m_context.constraints.clear(); // the contact solver clears them too; without one, the self-contact's are here
     if (m_contact)
     {
         m_contact->beginFrame(m_system, m_context, m_time, dt, m_integrator->honoursConstraints());
@@ -104,13 +106,17 @@ StepReport Simulator::step(Real dt)
             m_solverTally.add(stats);
         }
         m_guard.afterIntegrator(m_system, m_settings.integrator);
+        const Real substepEnd = m_time + Real(i + 1) * report.substep;
+        if (m_context.oneSolveAFrame)
+        {
+            runHooks([&](StepHook& hook) { hook.afterImplicitSolve(m_system, m_context, report.substep, substepEnd); });
+        }
         if (m_contact)
         {
             m_contact->afterSubstep(m_system, m_context, report.substep);
             publishContact();
             m_guard.afterContact(m_system, m_settings.integrator);
         }
-        const Real substepEnd = m_time + Real(i + 1) * report.substep;
         runHooks([&](StepHook& hook) { hook.afterSubstep(m_system, m_context, report.substep, substepEnd); });
         if (hooksWriteExternalForces)
         {

@@ -43,5 +43,8 @@ struct StepContext
     /// stuck mass (its release force), and when a hook says it reads them (StepHook::readsForcesMidFrame). When it is
     /// false the symplectic pass need not store them.
     bool forcesRead = true;
+    /// Whether the integrator takes each frame in one solve (the implicit ones), set by the Simulator at each frame's
+    /// start: a stage that relies on short substeps to catch up (the self-contact) then has none after the solve.
+    bool oneSolveAFrame = false;
 };
 } // namespace masse

@@ -18,6 +18,12 @@ public:
     virtual void beforeFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/) {}
     /// Before the first substep of a frame from `time` to `time + dt`.
     virtual void beginFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/, Real /*dt*/) {}
+    /// With an implicit integrator (one solve a frame), after the solve and before the obstacle contact's
+    /// projection, so that the obstacles have the last word on what the hook moves: no later substep's contact would
+    /// put back what it pushed into an obstacle. With the step's length and the time at its end.
+    virtual void afterImplicitSolve(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*h*/, Real /*time*/)
+    {
+    }
     /// After each substep of length h (and after contact), with the time at its end.
     virtual void afterSubstep(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*h*/, Real /*time*/) {}
     /// After the last substep (and after contact's end of frame), with the time at the end of the frame.

@@ -228,7 +228,7 @@ void Scene::addHooks()
     {
         // Right after the script, so that it runs after the obstacle contact of every substep and before the models
         // that read the positions.
-        requireExplicitForSheetContact(m_spec); // again: --integrator may have changed the scene's
+        requireIntegratorForSheetContact(m_spec); // again: --integrator may have changed the scene's
         SelfContactSettings self;
         self.radius = m_spec.contact.radius;
         self.friction = m_spec.selfFriction;
@@ -240,7 +240,7 @@ void Scene::addHooks()
     if (m_spec.edgeCollision)
     {
         // After the self-contact, so that in every substep the obstacles have the last word.
-        requireExplicitForSheetContact(m_spec);
+        requireIntegratorForSheetContact(m_spec); // again: --integrator may have changed the scene's
         m_edgeContactPairs = std::make_unique<bridge::SheetEdgeTree>(*m_environment);
         m_edgeContact = std::make_unique<EdgeContact>(m_lattice, *m_edgeContactPairs, m_contact->settings());
         m_simulator->addHook(m_edgeContact.get());
