@@ -126,6 +126,9 @@ private:
     };
     /// Measures every listed pair at the current positions and responds to those that touch, in pair order.
     Passed detectAndRespond(Particles& p, Real h, Real time);
+    /// detectAndRespond again and again until no response moves a mass (at most selfResponsePasses); returns the
+    /// first pass's touches.
+    std::size_t respondUntilSettled(Particles& p, Real h, Real time);
     void detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const;
     /// The swept test of pair k over the substep from m_substepStart to x: whether the vertex crossed the triangle's
     /// plane inside the triangle, as all four masses moved in straight lines.
