@@ -19,8 +19,8 @@ public:
     /// Before the first substep of a frame from `time` to `time + dt`.
     virtual void beginFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/, Real /*dt*/) {}
     /// With an implicit integrator (one solve a frame), after the solve and before the obstacle contact's
-    /// projection, so that the obstacles have the last word on what the hook moves: no later substep's contact would
-    /// put back what it pushed into an obstacle. With the step's length and the time at its end.
+    /// projection, so that the projection can put back what the hook pushed into an obstacle: no later substep would.
+    /// With the step's length and the time at its end.
     virtual void afterImplicitSolve(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*h*/, Real /*time*/)
     {
     }
