@@ -16,7 +16,10 @@
 /// The first step (and the first after the number of masses changes) has no history and is a backward Euler step.
 /// Contact is handled like backward Euler's (velocity constraints through the solve's filter); in a mass's
 /// constrained directions the position follows x += h v, so a prescribed velocity moves it exactly as it would under
-/// backward Euler and the history cannot push it into an obstacle. Pinned masses move by x += h v likewise.
+/// backward Euler and the history cannot push it into an obstacle, and the solve places it there too
+/// (HeldPlacement). Pinned masses move by x += h v likewise. A velocity change between steps (the contact's impulses)
+/// enters the history as it happened, once (see step()), and the contact's projection moves a mass by 2h/3 of the
+/// velocity it changes (StepContext::moveStep), as this step placed it.
 
 #include "Forces.h"
 #include "ImplicitSolve.h"
@@ -36,12 +39,13 @@ constexpr Real newtonTolerance = 1e-6;
 class Bdf2 final : public Integrator
 {
 public:
-    // Speculative constraints are left to backward Euler: with them the BDF2 drop scene (Determinism's) gained 27 J
-    // and was stopped at t = 0.54 s; BDF2 keeps the projection for masses that arrive. (Measured since: with Newton
-    // and the friction cap, speculative constraints put 8, 9 and 12x2x12 drops in order, wedge at 0.96-0.99 s, but
-    // 6x2x6 still gains 0.67 J in its landing step, 0.54 s; not understood yet.) Friction is capped at Coulomb's
-    // within each solve (ImplicitSolve.h, capFriction).
-    explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, false, true) {}
+    // Speculative constraints as backward Euler's, and friction capped at Coulomb's within each solve (ImplicitSolve.h,
+    // capFriction). Left to the contact's projection instead, arriving masses were stopped after the solve, while the
+    // masses joined to them had been moved as if they went on: 0.045 J in the 3x2x3 drop's springs at landing
+    // (symplectic 0.008 J), and the drop's wedge came after the floor at 9x2x9. The speculative constraints gained
+    // energy in landings (6x2x6: 0.67 J in one step) until the solve placed constrained masses where BDF2 puts them
+    // (HeldPlacement in ImplicitSolve.h) and the contact's impulses stopped being extrapolated (step()).
+    explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, true, true) {}
 
     IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {
@@ -59,6 +63,8 @@ public:
             m_momentum.resize(n);
             m_newtonOffset.resize(n);
             m_newtonMomentum.resize(n);
+            m_newtonStart.resize(n);
+            m_solvedVelocity.resize(n);
             for (std::size_t i = 0; i < n; ++i)
             {
                 p.velocity[i] += m_solve.deltaV(Index(i));
@@ -68,15 +74,19 @@ public:
         else
         {
             const Real a = Real(2) / Real(3) * h;
+            // What changed a velocity since the last solve (the contact's impulses, a script) happened once: it is
+            // moved into the history too, so that BDF2 does not extrapolate it as an acceleration into this step.
             for (std::size_t i = 0; i < n; ++i)
             {
+                m_previousVelocity[i] += p.velocity[i] - m_solvedVelocity[i];
                 m_offset[i] = (p.position[i] - m_previousPosition[i]) / Real(3);
                 m_momentum[i] = (p.velocity[i] - m_previousVelocity[i]) / Real(3);
             }
-            stats = m_solve.solve(system, context.constraints, a, m_offset, m_momentum);
+            stats = m_solve.solve(system, context.constraints, a, m_offset, m_momentum, {h, nullptr});
             std::copy(p.position.begin(), p.position.end(), m_previousPosition.begin());
             std::copy(p.velocity.begin(), p.velocity.end(), m_previousVelocity.begin());
             applyCorrection(p, h, a);
+            context.moveStep = a;
             Real correction = std::numeric_limits<Real>::infinity(); // the last Newton correction's largest, m/s
             for (int iteration = 0; iteration < maxNewtonIterations && correction * h > newtonTolerance; ++iteration)
             {
@@ -87,10 +97,11 @@ public:
                 {
                     m_newtonOffset[i] = m_previousPosition[i] + m_offset[i] - p.position[i];
                     m_newtonMomentum[i] = m_previousVelocity[i] + m_momentum[i] - p.velocity[i];
+                    m_newtonStart[i] = m_previousPosition[i] - p.position[i];
                 }
                 evaluateForces(system, p.position, p.velocity, p.force);
                 const IntegratorStats more =
-                    m_solve.solve(system, context.constraints, a, m_newtonOffset, m_newtonMomentum);
+                    m_solve.solve(system, context.constraints, a, m_newtonOffset, m_newtonMomentum, {h, &m_newtonStart});
                 stats.solverIterations += more.solverIterations;
                 stats.solverResidual = more.solverResidual;
                 stats.hitIterationCap = stats.hitIterationCap || more.hitIterationCap;
@@ -108,6 +119,7 @@ public:
                 correction = next;
             }
         }
+        std::copy(p.velocity.begin(), p.velocity.end(), m_solvedVelocity.begin());
         m_historySystem = &system;
         m_previousStep = h;
         return stats;
@@ -155,10 +167,12 @@ private:
     const std::vector<Vec3> m_none;
     std::vector<Vec3> m_previousPosition;
     std::vector<Vec3> m_previousVelocity;
+    std::vector<Vec3> m_solvedVelocity; ///< the velocities the last step's solve left
     std::vector<Vec3> m_offset;
     std::vector<Vec3> m_momentum;
     std::vector<Vec3> m_newtonOffset;
     std::vector<Vec3> m_newtonMomentum;
+    std::vector<Vec3> m_newtonStart;
     const MassSpringSystem* m_historySystem = nullptr;
     Real m_previousStep = 0;
 };

@@ -23,7 +23,9 @@ struct ContactProjection
     StuckContacts& stuck;
     ContactReport& report;
     Real elapsed; ///< s since the frame began (kinematic surfaces have moved by their velocity times this)
-    Real h;       ///< the substep just taken
+    /// s: how far a velocity change moves a mass after the substep just taken (StepContext::moveStep: the
+    /// substep, or BDF2's 2h/3)
+    Real moveStep;
 
     /// Projects the masses of entries [begin, end) of planes' list of masses with planes (a range within one of its
     /// runs of ContactPlanes::runLength); obstacles touched for the first time go to `firstTouches`; `madeStuck` is

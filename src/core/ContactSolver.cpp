@@ -129,7 +129,8 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
         m_chunkFirstTouches[chunk].clear();
     }
     m_chunkMadeStuck.assign(m_chunkFirstTouches.size(), 0);
-    const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, h};
+    const Real moveStep = context.moveStep > 0 ? context.moveStep : h;
+    const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, moveStep};
     parallelFor(masses, ContactPlanes::runLength,
                 [&](std::size_t begin, std::size_t end)
                 {

@@ -20,7 +20,8 @@ constexpr std::size_t springChunkSize = 8192;
 } // namespace
 
 IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
-                                     const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum)
+                                     const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum,
+                                     HeldPlacement held)
 {
     const std::size_t n = system.particles.size();
     if (m_patternSystem != &system || m_patternMasses != n || m_patternSprings != system.springs.size())
@@ -35,7 +36,8 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
     IntegratorStats stats;
     for (int round = 1;; ++round)
     {
-        assemble(system, a, offset, momentum);
+        const std::vector<Vec3>& roundOffset = heldOffset(system.particles, constraints, a, offset, held);
+        assemble(system, a, roundOffset, momentum);
         const bool constrained = applyConstraints(system, constraints, a);
         m_tolerance = solverTolerance(system, a);
         const IntegratorStats solved = runSolver();
@@ -56,12 +58,43 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
             return stats;
         }
         const bool capped = m_coulombCap && constrained && capFriction(system, constraints, a);
-        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, offset);
+        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, roundOffset);
         if (!capped && !arrivals)
         {
             return stats;
         }
     }
+}
+
+const std::vector<Vec3>& ImplicitSolve::heldOffset(const Particles& p, const std::vector<VelocityConstraint>& constraints,
+                                                   Real a, const std::vector<Vec3>& offset, HeldPlacement held)
+{
+    if (held.step <= 0 || offset.empty() || constraints.empty())
+    {
+        return offset;
+    }
+    m_heldOffset.resize(offset.size());
+    std::copy(offset.begin(), offset.end(), m_heldOffset.begin());
+    const bool fromStart = held.fromStart && !held.fromStart->empty();
+    for (const VelocityConstraint& c : constraints)
+    {
+        if (!c.honoured() || c.mass >= p.size() || p.pinned[c.mass])
+        {
+            continue;
+        }
+        const Vec3 start = fromStart ? (*held.fromStart)[c.mass] : Vec3(Vec3::Zero());
+        const Vec3 wanted = start + (held.step - a) * c.velocity;
+        Vec3& d = m_heldOffset[c.mass];
+        if (c.directions >= 3)
+        {
+            d = wanted;
+        }
+        else
+        {
+            d += c.normal * c.normal.dot(wanted - d);
+        }
+    }
+    return m_heldOffset;
 }
 
 bool ImplicitSolve::updateSpeculative(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints,

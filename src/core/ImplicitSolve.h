@@ -38,6 +38,19 @@
 
 namespace masse
 {
+/// Where the integrator places a constrained mass, in its constrained directions, when they differ from x + d + a v'
+/// (BDF2 puts it at x_start + h v' there, see Bdf2.cpp). The solve then uses, in those directions, the offset
+/// that puts it there: d = (x_start - x) + (step - a) v', with v' the constraint's velocity. Without it the springs
+/// of the solve would see the mass where it will not be, and the masses around a contact would be placed for a
+/// contact that is not there (measured: the drop scene's sheet kept sliding along the valley at 12 mm/s).
+struct HeldPlacement
+{
+    Real step = 0; ///< 0: the constrained directions follow d + a v' like the others
+    /// Per mass x_start - x, or empty for zero (the solve is about the step's start).
+    const std::vector<Vec3>* fromStart = nullptr;
+};
+
+
 class ImplicitSolve
 {
 public:
@@ -56,7 +69,8 @@ public:
     /// Assembles and solves for dv with the forces already in system.particles.force, honouring `constraints`.
     /// `offset` and `momentum` are per mass, or empty for zero. Sets each constraint's reaction.
     IntegratorStats solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
-                          const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum);
+                          const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum,
+                          HeldPlacement held = {});
 
     /// The velocity change of mass i from the last solve.
     Vec3 deltaV(Index i) const { return m_deltaV.segment<3>(Eigen::Index(3 * i)); }
@@ -71,6 +85,9 @@ public:
 
 private:
     void buildPattern(const MassSpringSystem& system);
+    /// The offset of this round: `offset`, with each honoured constraint's directions set as `held` says.
+    const std::vector<Vec3>& heldOffset(const Particles& p, const std::vector<VelocityConstraint>& constraints, Real a,
+                                        const std::vector<Vec3>& offset, HeldPlacement held);
     void assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
                   const std::vector<Vec3>& momentum);
     bool applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints, Real a);
@@ -120,6 +137,7 @@ private:
     std::vector<ColumnEntry> m_columnEntries;
     Vector m_rhs;
     Vector m_deltaV;
+    std::vector<Vec3> m_heldOffset; ///< heldOffset's result, kept between steps for its capacity
     ConjugateGradient m_cg;
     CholeskyPreconditioner m_cholesky;
     MultigridPreconditioner m_multigrid;

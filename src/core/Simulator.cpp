@@ -97,6 +97,7 @@ StepReport Simulator::step(Real dt)
     {
         m_context.forcesRead = i + 1 == report.substeps || hooksReadForces || (m_contact && m_contact->readsForces());
         m_guard.beforeSubstep(m_system, m_settings.integrator);
+        m_context.moveStep = report.substep;
         const IntegratorStats stats = m_integrator->step(m_system, m_context, report.substep);
         report.solverIterations += stats.solverIterations;
         report.solverResidual = std::max(report.solverResidual, stats.solverResidual);

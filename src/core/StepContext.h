@@ -46,5 +46,9 @@ struct StepContext
     /// Whether the integrator takes each frame in one solve (the implicit ones), set by the Simulator at each frame's
     /// start: a stage that relies on short substeps to catch up (the self-contact) then has none after the solve.
     bool oneSolveAFrame = false;
+    /// s: how far a change of a mass's velocity after the substep just taken moves the mass, as the integrator placed
+    /// it (x' = ... + moveStep v'). The Simulator sets the substep before each integrator step; BDF2 sets its 2h/3.
+    /// The contact's projection moves a mass whose velocity its friction changed by this times the change.
+    Real moveStep = 0;
 };
 } // namespace masse
