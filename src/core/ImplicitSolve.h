@@ -19,7 +19,7 @@
 /// them, each one whose mass the step would carry through its surface is engaged (the mass arrives at the surface), and
 /// the step solved again; an engaged one whose reaction pulls is released for good, and solved again. Each constraint
 /// changes at most twice, and a frame without arrivals takes one solve. After maxSpeculativeRounds solves the last is
-/// kept, and the contact's projection deals with what is left. Backward Euler engages them; BDF2 does not (Bdf2.cpp).
+/// kept, and the contact's projection deals with what is left. Backward Euler and BDF2 both engage them.
 ///
 /// The matrix is a SlotMatrix of 3x3 blocks, its pattern built once per topology; each step only rewrites values
 /// through its slots, and every work array keeps its capacity, so a step allocates nothing once the first has run.
