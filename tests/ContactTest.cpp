@@ -18,7 +18,8 @@ using namespace masse::test;
 
 namespace
 {
-const IntegratorKind contactIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitEuler};
+const IntegratorKind contactIntegrators[] = {IntegratorKind::SymplecticEuler, IntegratorKind::ImplicitEuler,
+                                             IntegratorKind::Bdf2};
 
 /// A long box tilted by `angle` degrees about z (its top face slopes down toward +x), and a small 4x2x4 sheet lying
 /// on that face: built flat at the origin, turned and lifted so its bottom masses just touch it.
