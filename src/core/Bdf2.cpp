@@ -39,13 +39,14 @@ constexpr Real newtonTolerance = 1e-6;
 class Bdf2 final : public Integrator
 {
 public:
-    // Speculative constraints as backward Euler's, and friction capped at Coulomb's within each solve (ImplicitSolve.h,
-    // capFriction). Left to the contact's projection instead, arriving masses were stopped after the solve, while the
-    // masses joined to them had been moved as if they went on: 0.045 J in the 3x2x3 drop's springs at landing
-    // (symplectic 0.008 J), and the drop's wedge came after the floor at 9x2x9. The speculative constraints gained
-    // energy in landings (6x2x6: 0.67 J in one step) until the solve placed constrained masses where BDF2 puts them
-    // (HeldPlacement in ImplicitSolve.h) and the contact's impulses stopped being extrapolated (step()).
-    explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, true, true) {}
+    // Speculative constraints as backward Euler's, friction capped at Coulomb's within each solve, and resting
+    // constraints that pull released (ImplicitSolve.h: capFriction, releaseLifting). Left to the contact's projection
+    // instead, arriving masses were stopped after the solve, while the masses joined to them had been moved as if they
+    // went on: 0.045 J in the 3x2x3 drop's springs at landing (symplectic 0.008 J), and the drop's wedge came after the
+    // floor at 9x2x9. The speculative constraints gained energy in landings (6x2x6: 0.67 J in one step) until the solve
+    // placed constrained masses where BDF2 puts them (HeldPlacement in ImplicitSolve.h) and the contact's impulses
+    // stopped being extrapolated (step()).
+    explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, true, true, true) {}
 
     IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
     {
@@ -100,8 +101,8 @@ public:
                     m_newtonStart[i] = m_previousPosition[i] - p.position[i];
                 }
                 evaluateForces(system, p.position, p.velocity, p.force);
-                const IntegratorStats more =
-                    m_solve.solve(system, context.constraints, a, m_newtonOffset, m_newtonMomentum, {h, &m_newtonStart});
+                const IntegratorStats more = m_solve.solve(system, context.constraints, a, m_newtonOffset,
+                                                           m_newtonMomentum, {h, &m_newtonStart});
                 stats.solverIterations += more.solverIterations;
                 stats.solverResidual = more.solverResidual;
                 stats.hitIterationCap = stats.hitIterationCap || more.hitIterationCap;

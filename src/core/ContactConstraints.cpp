@@ -135,11 +135,16 @@ void ContactConstraints::afterSubstep(const Particles& p, const StepContext& con
         {
             continue;
         }
-        m_lastReaction[i] = context.constraints[m_constraint[i]].reaction;
+        const VelocityConstraint& resting = context.constraints[m_constraint[i]];
+        m_lastReaction[i] = resting.reaction;
+        if (resting.released)
+        {
+            continue; // leaving its surface within the step (ImplicitSolve::releaseLifting): no push, no friction
+        }
         const Vec3 relative = p.velocity[i] - m_velocity[i];
         const Vec3 slip = relative - relative.dot(m_normal[i]) * m_normal[i];
         // The reaction holds; friction drags (with the damping the solve used, which it may have capped).
-        report.addImpulse(i, m_lastReaction[i] - h * context.constraints[m_constraint[i]].tangentialDamping * slip);
+        report.addImpulse(i, m_lastReaction[i] - h * resting.tangentialDamping * slip);
         report.touch(i, m_obstacle[i], m_face[i], time);
     }
     // Masses that arrived at their surface in the solve: the projection gives their impact its friction, and its

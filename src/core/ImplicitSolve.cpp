@@ -59,15 +59,17 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
         }
         const bool capped = m_coulombCap && constrained && capFriction(system, constraints, a);
         const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, roundOffset);
-        if (!capped && !arrivals)
+        const bool lifted = m_releaseLifting && constrained && releaseLifting(constraints);
+        if (!capped && !arrivals && !lifted)
         {
             return stats;
         }
     }
 }
 
-const std::vector<Vec3>& ImplicitSolve::heldOffset(const Particles& p, const std::vector<VelocityConstraint>& constraints,
-                                                   Real a, const std::vector<Vec3>& offset, HeldPlacement held)
+const std::vector<Vec3>& ImplicitSolve::heldOffset(const Particles& p,
+                                                   const std::vector<VelocityConstraint>& constraints, Real a,
+                                                   const std::vector<Vec3>& offset, HeldPlacement held)
 {
     if (held.step <= 0 || offset.empty() || constraints.empty())
     {
@@ -131,6 +133,22 @@ bool ImplicitSolve::updateSpeculative(const MassSpringSystem& system, std::vecto
             c.engaged = true;
             changed = true;
         }
+    }
+    return changed;
+}
+
+bool ImplicitSolve::releaseLifting(std::vector<VelocityConstraint>& constraints)
+{
+    bool changed = false;
+    for (VelocityConstraint& c : constraints)
+    {
+        if (c.speculative || c.directions != 1 || !c.honoured() || c.reaction.dot(c.normal) >= 0)
+        {
+            continue;
+        }
+        c.released = true;
+        c.reaction.setZero();
+        changed = true;
     }
     return changed;
 }

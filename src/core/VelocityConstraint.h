@@ -34,7 +34,8 @@ struct VelocityConstraint
     Real gap = 0;
     /// Written back by the integrator, speculative only: whether it honoured the constraint in its final solve.
     bool engaged = false;
-    /// Written back by the integrator, speculative only: it was engaged, then released because its reaction pulled.
+    /// Written back by the integrator: it was honoured, then released because its reaction pulled (a speculative one
+    /// that was engaged, or, under BDF2, a resting one whose mass leaves its surface within the step).
     bool released = false;
 
     /// Coulomb's coefficient of the friction that tangentialDamping stands for (0: none given). With it a solve may
@@ -42,6 +43,6 @@ struct VelocityConstraint
     Real friction = 0;
 
     /// Whether the solve honours it now: always, unless it is speculative and not engaged.
-    bool honoured() const { return !speculative || engaged; }
+    bool honoured() const { return !released && (!speculative || engaged); }
 };
 } // namespace masse
