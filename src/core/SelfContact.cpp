@@ -489,6 +489,7 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
         // 0.01 mm of each other and 11.7% of the 16x2x16 fold's left half ended past its mirror. Both: the 16x2x16
         // checks hold, and the 64x2x64 fold still ends frames up to 6.8 mm inside the rod (the two would need one
         // loop, the obstacle planes inside the passes).
+        const StageScope stage(m_observer, Stage::SelfContactSolve);
         respondUntilSettled(p, h, time);
         m_substepStart = p.position;
         return;
