@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 using namespace masse;
 using namespace masse::scene;
@@ -241,6 +242,89 @@ TEST(EdgeContact, AnApexUnderATrianglePushesItOutInelastically)
     atMass.afterSubstep(sheet, context, 0.001, 0.001);
     EXPECT_EQ(atMass.report().lastSubstep, 0u);
     EXPECT_EQ(p.position, before);
+}
+
+// The surface the edge contact meets obstacles with, rim included, is closed for every structure and layer count: each
+// of its edges belongs to exactly two of its triangles (without the rim the border edges of the bottom and top layers
+// belong to one, and the springs that join the layers at the border to none, so a ridge could cut them), every
+// spring between two layers at the border is one of its edges, and its patches hold each triangle once.
+TEST(EdgeContact, TheSurfaceWithItsRimIsClosed)
+{
+    for (const Structure structure : {Structure::SaMM, Structure::SLaMM, Structure::TRiMM})
+    {
+        for (const int layers : {2, 3})
+        {
+            LatticeSpec spec;
+            spec.structure = structure;
+            spec.countX = 9;
+            spec.countZ = 6;
+            spec.layers = layers;
+            const Lattice lattice = buildLattice(spec);
+            const SheetSurface surface = sheetSurface(lattice, SheetRim::With);
+            const std::string name = std::string(structureName(structure)) + " " + std::to_string(layers) + " layers";
+
+            std::map<Edge, int> uses;
+            for (const Triangle& t : surface.triangles)
+            {
+                for (int k = 0; k < 3; ++k)
+                {
+                    const Index a = t[std::size_t(k)];
+                    const Index b = t[std::size_t((k + 1) % 3)];
+                    ++uses[{std::min(a, b), std::max(a, b)}];
+                }
+            }
+            EXPECT_EQ(uses.size(), surface.edges.size()) << name;
+            for (const auto& [edge, count] : uses)
+            {
+                EXPECT_EQ(count, 2) << name << ": edge " << edge[0] << "-" << edge[1];
+            }
+            // Without the rim the same surface is open.
+            const SheetSurface open = sheetSurface(lattice);
+            std::map<Edge, int> openUses;
+            for (const Triangle& t : open.triangles)
+            {
+                for (int k = 0; k < 3; ++k)
+                {
+                    const Index a = t[std::size_t(k)];
+                    const Index b = t[std::size_t((k + 1) % 3)];
+                    ++openUses[{std::min(a, b), std::max(a, b)}];
+                }
+            }
+            EXPECT_TRUE(std::any_of(openUses.begin(), openUses.end(), [](const auto& use) { return use.second == 1; }))
+                << name;
+
+            const auto onBorder = [&](Index i)
+            {
+                const LatticeCoord& c = lattice.coord[i];
+                return c.row == 0 || c.column == 0 || c.row == lattice.layerCountZ(c.layer) - 1 ||
+                       c.column == lattice.layerCountX(c.layer) - 1;
+            };
+            int borderSprings = 0;
+            for (const SpringEnds& spring : lattice.springs.ends())
+            {
+                const LatticeCoord& a = lattice.coord[spring.a];
+                const LatticeCoord& b = lattice.coord[spring.b];
+                if (std::abs(a.layer - b.layer) != 1 || !onBorder(spring.a) || !onBorder(spring.b))
+                {
+                    continue;
+                }
+                ++borderSprings;
+                const Edge edge{std::min(spring.a, spring.b), std::max(spring.a, spring.b)};
+                EXPECT_TRUE(std::binary_search(surface.edges.begin(), surface.edges.end(), edge))
+                    << name << ": border spring " << spring.a << "-" << spring.b;
+            }
+            EXPECT_GT(borderSprings, 0) << name;
+
+            std::vector<Index> patched = surface.patchTriangles;
+            std::sort(patched.begin(), patched.end());
+            ASSERT_EQ(patched.size(), surface.triangles.size()) << name;
+            for (std::size_t k = 0; k < patched.size(); ++k)
+            {
+                EXPECT_EQ(patched[k], Index(k)) << name;
+            }
+            EXPECT_EQ(surface.patchStart.back(), surface.patchTriangles.size()) << name;
+        }
+    }
 }
 
 // Which features count as sharp: a box's 12 edges and 8 corners, a prism's 9 and 6 (each edge with its two faces'

@@ -19,7 +19,7 @@ constexpr std::size_t reachChunkSize = 8192;
 } // namespace
 
 EdgeContact::EdgeContact(const Lattice& lattice, EdgeContactDetector& detector, const ContactSettings& settings)
-    : m_detector(detector), m_settings(settings), m_surface(sheetSurface(lattice))
+    : m_detector(detector), m_settings(settings), m_surface(sheetSurface(lattice, SheetRim::With))
 {
     validate(settings);
     const std::size_t n = lattice.massCount();

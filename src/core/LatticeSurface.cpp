@@ -43,6 +43,47 @@ std::vector<Triangle> layerTriangles(const Lattice& lattice, int layer)
     }
     return triangles;
 }
+
+std::vector<std::vector<Triangle>> rimStrips(const Lattice& lattice)
+{
+    std::vector<std::vector<Triangle>> strips;
+    for (int layer = 0; layer + 1 < lattice.spec.layers; ++layer)
+    {
+        const int nx = lattice.layerCountX(layer);
+        const int nz = lattice.layerCountZ(layer);
+        // Per side, the lower layer's border masses and the upper layer's (one fewer), in the same direction.
+        const auto border = [&](int which, int line, bool alongRow)
+        {
+            std::vector<Index> masses;
+            const int count = (alongRow ? nx : nz) - which;
+            for (int k = 0; k < count; ++k)
+            {
+                masses.push_back(alongRow ? lattice.index(layer + which, line, k)
+                                          : lattice.index(layer + which, k, line));
+            }
+            return masses;
+        };
+        const std::array<std::pair<std::vector<Index>, std::vector<Index>>, 4> sides = {{
+            {border(0, 0, true), border(1, 0, true)},
+            {border(0, nz - 1, true), border(1, nz - 2, true)},
+            {border(0, 0, false), border(1, 0, false)},
+            {border(0, nx - 1, false), border(1, nx - 2, false)},
+        }};
+        for (const auto& [lower, upper] : sides)
+        {
+            std::vector<Triangle>& strip = strips.emplace_back();
+            for (std::size_t k = 0; k + 1 < lower.size(); ++k)
+            {
+                strip.push_back({lower[k], lower[k + 1], upper[k]});
+                if (k + 1 < upper.size())
+                {
+                    strip.push_back({upper[k], lower[k + 1], upper[k + 1]});
+                }
+            }
+        }
+    }
+    return strips;
+}
 } // namespace masse
 
 namespace masse
@@ -75,9 +116,30 @@ void addPatches(const Lattice& lattice, int layer, Index first, SheetSurface& su
         }
     }
 }
+
+/// Most triangles a patch of the rim holds, as many as a patch of a layer holds.
+constexpr std::size_t rimPatchTriangles = 2 * patchCells * patchCells;
+
+/// Appends the rim's triangles, each strip in patches of at most rimPatchTriangles (a strip is one side of the
+/// sheet: pieces of it are compact, a patch across two sides would not be).
+void addRim(const Lattice& lattice, SheetSurface& surface)
+{
+    for (const std::vector<Triangle>& strip : rimStrips(lattice))
+    {
+        for (std::size_t k = 0; k < strip.size(); ++k)
+        {
+            surface.patchTriangles.push_back(Index(surface.triangles.size()));
+            surface.triangles.push_back(strip[k]);
+            if ((k + 1) % rimPatchTriangles == 0 || k + 1 == strip.size())
+            {
+                surface.patchStart.push_back(surface.patchTriangles.size());
+            }
+        }
+    }
+}
 } // namespace
 
-SheetSurface sheetSurface(const Lattice& lattice)
+SheetSurface sheetSurface(const Lattice& lattice, SheetRim rim)
 {
     SheetSurface surface;
     surface.triangles = layerTriangles(lattice, 0);
@@ -89,6 +151,10 @@ SheetSurface sheetSurface(const Lattice& lattice)
         const std::vector<Triangle> upper = layerTriangles(lattice, top);
         addPatches(lattice, top, Index(surface.triangles.size()), surface);
         surface.triangles.insert(surface.triangles.end(), upper.begin(), upper.end());
+    }
+    if (rim == SheetRim::With)
+    {
+        addRim(lattice, surface);
     }
     for (const Triangle& t : surface.triangles)
     {

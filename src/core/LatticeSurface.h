@@ -18,8 +18,14 @@ using Edge = std::array<Index, 2>;
 /// (row, column) to (row + 1, column + 1) diagonal, where SLaMM has its brace.
 std::vector<Triangle> layerTriangles(const Lattice& lattice, int layer);
 
+/// The sheet's rim: per pair of neighbouring layers and per side (rows 0 and last, columns 0 and last), the strip of
+/// triangles that joins the lower layer's border to the upper one's. Each upper mass sits over the gap between two
+/// lower ones, so the strip zips the two rows: (b_k, b_k+1, t_k) and (t_k, b_k+1, t_k+1); neighbouring sides share
+/// their corner masses, so the strips meet without a gap. Not wound any particular way.
+std::vector<std::vector<Triangle>> rimStrips(const Lattice& lattice);
+
 /// The sheet's outer surface: the triangles of its bottom layer, then those of its top layer (one layer's if the
-/// sheet has one), each edge of them once and each mass of them once.
+/// sheet has one), then, if asked for, those of its rim; each edge of them once and each mass of them once.
 struct SheetSurface
 {
     std::vector<Triangle> triangles;
@@ -33,5 +39,15 @@ struct SheetSurface
     std::vector<Index> patchTriangles;
 };
 
-SheetSurface sheetSurface(const Lattice& lattice);
+/// Whether the sheet's surface takes its rim too: the strips of triangles that join each layer's border to the next
+/// layer's, around the sheet's four sides.
+enum class SheetRim
+{
+    Without,
+    With,
+};
+
+/// With SheetRim::With the rim's triangles follow the top layer's, one patch per side and layer gap (in pieces of at
+/// most 128 triangles), and their edges include the springs between the layers at the border.
+SheetSurface sheetSurface(const Lattice& lattice, SheetRim rim = SheetRim::Without);
 } // namespace masse

@@ -58,24 +58,6 @@ void appendPolygon(std::vector<GeometryVertex>& out, const std::vector<Vec3>& co
     }
 }
 
-/// The masses along the four sides of a layer, each side from corner to corner, going round the layer.
-std::array<std::vector<Index>, 4> layerSides(const Lattice& lattice, int layer)
-{
-    const int nx = lattice.layerCountX(layer);
-    const int nz = lattice.layerCountZ(layer);
-    std::array<std::vector<Index>, 4> sides;
-    for (int column = 0; column < nx; ++column)
-    {
-        sides[0].push_back(lattice.index(layer, 0, column));
-        sides[2].push_back(lattice.index(layer, nz - 1, nx - 1 - column));
-    }
-    for (int row = 0; row < nz; ++row)
-    {
-        sides[1].push_back(lattice.index(layer, row, nx - 1));
-        sides[3].push_back(lattice.index(layer, nz - 1 - row, 0));
-    }
-    return sides;
-}
 } // namespace
 
 DrawMode parseDrawMode(std::string_view name)
@@ -140,9 +122,7 @@ std::vector<std::uint32_t> sheetSurfaceTriangles(const Lattice& lattice)
         add(t[0], t[1], t[2]);
     }
 
-    // The sides: each layer above sits over the cells of the one below, so along a side the upper layer has one
-    // mass fewer, each between two lower ones. The strip zips the two rows: (b_k, b_k+1, t_k) and (t_k, b_k+1,
-    // t_k+1); the corners of neighbouring sides share their corner masses, so the strips meet without a gap.
+    // The sides (rimStrips), each wound to face out.
     Vec3 centre = Vec3::Zero();
     for (const Vec3& p : lattice.position)
     {
@@ -165,22 +145,11 @@ std::vector<std::uint32_t> sheetSurfaceTriangles(const Lattice& lattice)
             add(a, b, c);
         }
     };
-    for (int layer = 0; layer + 1 < layers; ++layer)
+    for (const std::vector<Triangle>& strip : rimStrips(lattice))
     {
-        const auto lower = layerSides(lattice, layer);
-        const auto upper = layerSides(lattice, layer + 1);
-        for (std::size_t side = 0; side < 4; ++side)
+        for (const Triangle& t : strip)
         {
-            const std::vector<Index>& b = lower[side];
-            const std::vector<Index>& t = upper[side];
-            for (std::size_t k = 0; k + 1 < b.size() && k < t.size(); ++k)
-            {
-                addOutward(b[k], b[k + 1], t[k]);
-                if (k + 1 < t.size())
-                {
-                    addOutward(t[k], b[k + 1], t[k + 1]);
-                }
-            }
+            addOutward(t[0], t[1], t[2]);
         }
     }
     return out;
