@@ -19,7 +19,7 @@ constexpr std::size_t reachChunkSize = 8192;
 } // namespace
 
 EdgeContact::EdgeContact(const Lattice& lattice, EdgeContactDetector& detector, const ContactSettings& settings)
-    : m_detector(detector), m_settings(settings), m_surface(sheetSurface(lattice, SheetRim::With))
+    : m_detector(detector), m_settings(settings), m_surface(sheetSurface(lattice, SheetFaces::Volume))
 {
     validate(settings);
     const std::size_t n = lattice.massCount();

@@ -1,5 +1,7 @@
 #include "LatticeSurface.h"
 
+#include "SpringTopology.h"
+
 #include <algorithm>
 
 namespace masse
@@ -137,9 +139,68 @@ void addRim(const Lattice& lattice, SheetSurface& surface)
         }
     }
 }
+
+/// The faces inside the sheet: each upper mass with every two of the masses it is joined to in the layer below that
+/// are joined to each other (a SaMM or SLaMM mass's pyramid, a TRiMM mass's tetrahedron), so that the springs between
+/// the layers are edges; patched by blocks of upper masses.
+void addInnerFaces(const Lattice& lattice, SheetSurface& surface)
+{
+    std::vector<Edge> planar;
+    std::vector<std::vector<Index>> below(lattice.massCount());
+    for (const SpringEnds& spring : lattice.springs.ends())
+    {
+        const LatticeCoord& a = lattice.coord[spring.a];
+        const LatticeCoord& b = lattice.coord[spring.b];
+        if (a.layer == b.layer)
+        {
+            planar.push_back({std::min(spring.a, spring.b), std::max(spring.a, spring.b)});
+        }
+        else if (b.layer == a.layer + 1)
+        {
+            below[spring.b].push_back(spring.a);
+        }
+        else if (a.layer == b.layer + 1)
+        {
+            below[spring.a].push_back(spring.b);
+        }
+    }
+    std::sort(planar.begin(), planar.end());
+    for (int layer = 1; layer < lattice.spec.layers; ++layer)
+    {
+        const int nx = lattice.layerCountX(layer);
+        const int nz = lattice.layerCountZ(layer);
+        for (int rowBlock = 0; rowBlock < nz; rowBlock += patchCells)
+        {
+            for (int columnBlock = 0; columnBlock < nx; columnBlock += patchCells)
+            {
+                for (int row = rowBlock; row < std::min(rowBlock + patchCells, nz); ++row)
+                {
+                    for (int column = columnBlock; column < std::min(columnBlock + patchCells, nx); ++column)
+                    {
+                        const Index u = lattice.index(layer, row, column);
+                        std::vector<Index>& lower = below[u];
+                        std::sort(lower.begin(), lower.end());
+                        for (std::size_t i = 0; i < lower.size(); ++i)
+                        {
+                            for (std::size_t j = i + 1; j < lower.size(); ++j)
+                            {
+                                if (std::binary_search(planar.begin(), planar.end(), Edge{lower[i], lower[j]}))
+                                {
+                                    surface.patchTriangles.push_back(Index(surface.triangles.size()));
+                                    surface.triangles.push_back({u, lower[i], lower[j]});
+                                }
+                            }
+                        }
+                    }
+                }
+                surface.patchStart.push_back(surface.patchTriangles.size());
+            }
+        }
+    }
+}
 } // namespace
 
-SheetSurface sheetSurface(const Lattice& lattice, SheetRim rim)
+SheetSurface sheetSurface(const Lattice& lattice, SheetFaces faces)
 {
     SheetSurface surface;
     surface.triangles = layerTriangles(lattice, 0);
@@ -152,9 +213,10 @@ SheetSurface sheetSurface(const Lattice& lattice, SheetRim rim)
         addPatches(lattice, top, Index(surface.triangles.size()), surface);
         surface.triangles.insert(surface.triangles.end(), upper.begin(), upper.end());
     }
-    if (rim == SheetRim::With)
+    if (faces == SheetFaces::Volume)
     {
         addRim(lattice, surface);
+        addInnerFaces(lattice, surface);
     }
     for (const Triangle& t : surface.triangles)
     {

@@ -24,8 +24,9 @@ std::vector<Triangle> layerTriangles(const Lattice& lattice, int layer);
 /// their corner masses, so the strips meet without a gap. Not wound any particular way.
 std::vector<std::vector<Triangle>> rimStrips(const Lattice& lattice);
 
-/// The sheet's outer surface: the triangles of its bottom layer, then those of its top layer (one layer's if the
-/// sheet has one), then, if asked for, those of its rim; each edge of them once and each mass of them once.
+/// The sheet's surface: the triangles of its bottom layer, then those of its top layer (one layer's if the sheet has
+/// one), then, if asked for, its rim's and the faces inside it (SheetFaces); each edge of them once and each mass of
+/// them once.
 struct SheetSurface
 {
     std::vector<Triangle> triangles;
@@ -39,15 +40,19 @@ struct SheetSurface
     std::vector<Index> patchTriangles;
 };
 
-/// Whether the sheet's surface takes its rim too: the strips of triangles that join each layer's border to the next
-/// layer's, around the sheet's four sides.
-enum class SheetRim
+/// Which faces of the sheet sheetSurface lists.
+enum class SheetFaces
 {
-    Without,
-    With,
+    /// The bottom and top layers' triangles: the sheet as the self-contact and the drawing see it.
+    Layers,
+    /// Those, then the rim's (rimStrips), then the faces inside the sheet: each mass above the bottom layer with every
+    /// two of the masses it is joined to in the layer below that are joined to each other (a SaMM or SLaMM mass's
+    /// pyramid, a TRiMM mass's tetrahedron). Every spring between two layers is then one of the edges, so nothing
+    /// the edge contact keeps out of an obstacle leaves a spring across it.
+    Volume,
 };
 
-/// With SheetRim::With the rim's triangles follow the top layer's, one patch per side and layer gap (in pieces of at
-/// most 128 triangles), and their edges include the springs between the layers at the border.
-SheetSurface sheetSurface(const Lattice& lattice, SheetRim rim = SheetRim::Without);
+/// With SheetFaces::Volume the rim comes in patches of one side of one layer gap (pieces of at most 128 triangles),
+/// the inner faces in patches of 8 x 8 upper masses.
+SheetSurface sheetSurface(const Lattice& lattice, SheetFaces faces = SheetFaces::Layers);
 } // namespace masse
