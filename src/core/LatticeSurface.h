@@ -1,6 +1,7 @@
 #pragma once
-/// The surface of a lattice layer as triangles, for drawing, frame files and per-mass areas, and the sheet's outer
-/// surface (its bottom and top layers' triangles and their edges) for the contacts that see the sheet as a surface.
+/// The surface of a lattice layer as triangles, for drawing, frame files and per-mass areas; the sheet's rim; and the
+/// sheet's faces (its bottom and top layers' triangles, for the edge contact also its rim and the faces inside it, with
+/// their edges) for the contacts that see the sheet as a surface.
 
 #include "Lattice.h"
 
@@ -33,8 +34,9 @@ struct SheetSurface
     std::vector<Edge> edges;                         ///< sorted
     std::vector<std::array<Index, 3>> triangleEdges; ///< per triangle, its three edges (into edges)
     std::vector<Index> vertices;                     ///< the surface's masses, increasing
-    /// The triangles in patches, blocks of up to 8 x 8 cells of one layer: each a compact piece of the sheet however
-    /// it folds, the leaves of a broadphase over the surface. Patch p holds patchTriangles[patchStart[p],
+    /// The triangles in patches (blocks of up to 8 x 8 cells of one layer; pieces of one side's rim; blocks of 8 x 8
+    /// upper masses' inner faces): each a compact piece of the sheet however it folds, the leaves of a broadphase over
+    /// the surface. Patch p holds patchTriangles[patchStart[p],
     /// patchStart[p + 1]).
     std::vector<std::size_t> patchStart;
     std::vector<Index> patchTriangles;
