@@ -24,14 +24,25 @@ void ContactPlanes::index()
     {
         std::stable_sort(m_planes.begin(), m_planes.end(), byMass);
     }
-    m_surfaces.resize(m_planes.size());
+    const std::size_t count = m_planes.size();
+    m_normalX.resize(count);
+    m_normalY.resize(count);
+    m_normalZ.resize(count);
+    m_offset.resize(count);
+    m_obstacle.resize(count);
+    m_face.resize(count);
     m_entries.clear();
     m_stillRuns.clear();
     bool still = true;
     for (std::size_t k = 0; k < m_planes.size(); ++k)
     {
         const ContactPlane& plane = m_planes[k];
-        m_surfaces[k] = {plane.normal, plane.offset, plane.obstacle, plane.face};
+        m_normalX[k] = plane.normal.x();
+        m_normalY[k] = plane.normal.y();
+        m_normalZ[k] = plane.normal.z();
+        m_offset[k] = plane.offset;
+        m_obstacle[k] = plane.obstacle;
+        m_face[k] = plane.face;
         if (m_entries.empty() || m_entries.back().mass != plane.mass)
         {
             if (!m_entries.empty() && m_entries.size() % runLength == 0)

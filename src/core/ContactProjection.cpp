@@ -1,10 +1,216 @@
 #include "ContactProjection.h"
 
+#include "SimdPath.h"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define MASSE_PROJECTION_AVX512 1
+#else
+#define MASSE_PROJECTION_AVX512 0
+#endif
 
 namespace masse
 {
+namespace
+{
+#if MASSE_PROJECTION_AVX512
+#define MASSE_AVX512 __attribute__((target("avx512f")))
+
+/// Eight consecutive 3-vectors (x0 y0 z0 x1 ... z7: three registers' worth) as one register per coordinate.
+struct Columns
+{
+    __m512d x;
+    __m512d y;
+    __m512d z;
+};
+
+MASSE_AVX512 inline Columns loadColumns(const Real* p)
+{
+    const __m512d a = _mm512_loadu_pd(p);
+    const __m512d b = _mm512_loadu_pd(p + 8);
+    const __m512d c = _mm512_loadu_pd(p + 16);
+    // Each coordinate's first five or six values come from a and b, the rest from c.
+    const __m512d xab = _mm512_permutex2var_pd(a, _mm512_setr_epi64(0, 3, 6, 9, 12, 15, 0, 0), b);
+    const __m512d yab = _mm512_permutex2var_pd(a, _mm512_setr_epi64(1, 4, 7, 10, 13, 0, 0, 0), b);
+    const __m512d zab = _mm512_permutex2var_pd(a, _mm512_setr_epi64(2, 5, 8, 11, 14, 0, 0, 0), b);
+    return {_mm512_permutex2var_pd(xab, _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 10, 13), c),
+            _mm512_permutex2var_pd(yab, _mm512_setr_epi64(0, 1, 2, 3, 4, 8, 11, 14), c),
+            _mm512_permutex2var_pd(zab, _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15), c)};
+}
+
+/// The inverse of loadColumns.
+MASSE_AVX512 inline void storeColumns(Real* p, const Columns& v)
+{
+    // x0 y0 z0 x1 y1 z1 x2 y2 | z2 x3 y3 z3 x4 y4 z4 x5 | y5 z5 x6 y6 z6 x7 y7 z7: x and y first, then z.
+    const __m512d xya = _mm512_permutex2var_pd(v.x, _mm512_setr_epi64(0, 8, 0, 1, 9, 0, 2, 10), v.y);
+    const __m512d xyb = _mm512_permutex2var_pd(v.x, _mm512_setr_epi64(0, 3, 11, 0, 4, 12, 0, 5), v.y);
+    const __m512d xyc = _mm512_permutex2var_pd(v.x, _mm512_setr_epi64(13, 0, 6, 14, 0, 7, 15, 0), v.y);
+    _mm512_storeu_pd(p, _mm512_permutex2var_pd(xya, _mm512_setr_epi64(0, 1, 8, 3, 4, 9, 6, 7), v.z));
+    _mm512_storeu_pd(p + 8, _mm512_permutex2var_pd(xyb, _mm512_setr_epi64(10, 1, 2, 11, 4, 5, 12, 7), v.z));
+    _mm512_storeu_pd(p + 16, _mm512_permutex2var_pd(xyc, _mm512_setr_epi64(0, 13, 2, 3, 14, 5, 6, 15), v.z));
+}
+
+MASSE_AVX512 inline __m512d negated(__m512d a)
+{
+    // Flips the sign bit, as the scalar negation does (0 - a would give +0 for +0).
+    return _mm512_castsi512_pd(
+        _mm512_xor_si512(_mm512_castpd_si512(a), _mm512_set1_epi64(std::int64_t(0x8000000000000000ULL))));
+}
+
+/// The dot product of normal n with (x, y, z) in the scalar code's order: (nx x + ny y) + nz z.
+MASSE_AVX512 inline __m512d dot(const Columns& n, __m512d x, __m512d y, __m512d z)
+{
+    return _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(n.x, x), _mm512_mul_pd(n.y, y)), _mm512_mul_pd(n.z, z));
+}
+
+/// projectEntry on still surfaces for entries [first, first + 8), eight lanes at once, if these are eight
+/// consecutive masses (the lattice numbers a layer's masses in a row) with one plane each, free, not stuck, on one
+/// obstacle that does not stick and was touched before (so no first contact to list), and, Constrained, neither
+/// resting nor arriving in the solve. Returns false, having changed nothing, for any other eight.
+///
+/// Every lane does projectEntry's operations in its order; its branches become masks, and a lane the scalar code
+/// would leave alone is stored back unchanged. Each mass gets the very bits the scalar code gives it.
+template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactProjection& c, std::size_t first)
+{
+    const ContactPlanes& planes = c.planes;
+    const ContactPlanes::Entry* entries = planes.entries();
+    const Index i0 = entries[first].mass;
+    const std::size_t k0 = entries[first].firstPlane;
+    if (entries[first + 7].mass != i0 + 7 || entries[first + 8].firstPlane != k0 + 8)
+    {
+        return false;
+    }
+    Particles& p = c.particles;
+    std::uint64_t eightFlags = 0;
+    std::memcpy(&eightFlags, &p.pinned[i0], 8);
+    if (eightFlags != 0)
+    {
+        return false;
+    }
+    if (c.stuck.any)
+    {
+        std::memcpy(&eightFlags, &c.stuck.stuck[i0], 8);
+        if (eightFlags != 0)
+        {
+            return false;
+        }
+    }
+    const int* const obstacles = planes.obstacles() + k0;
+    const int obstacle = obstacles[0];
+    for (int l = 1; l < 8; ++l)
+    {
+        if (obstacles[l] != obstacle)
+        {
+            return false;
+        }
+    }
+    const ContactResponse response = c.settings.responseOf(obstacle);
+    if (response == ContactResponse::Sticky || c.report.firstTouchPending(obstacle))
+    {
+        return false;
+    }
+    if constexpr (Constrained)
+    {
+        for (Index i = i0; i < i0 + 8; ++i)
+        {
+            if (c.constraints.resting(i) || c.constraints.arrived(i))
+            {
+                return false;
+            }
+        }
+    }
+
+    const __m512d zero = _mm512_setzero_pd();
+    const Columns n{_mm512_loadu_pd(planes.normalX() + k0), _mm512_loadu_pd(planes.normalY() + k0),
+                    _mm512_loadu_pd(planes.normalZ() + k0)};
+    Real* const positions = p.position[i0].data();
+    const Columns x = loadColumns(positions);
+    // The surface's velocity is the constant +0, with which the scalar code computes too.
+    const __m512d offset = _mm512_add_pd(_mm512_loadu_pd(planes.offsets() + k0),
+                                         _mm512_mul_pd(dot(n, zero, zero, zero), _mm512_set1_pd(c.elapsed)));
+    const __m512d separation =
+        _mm512_sub_pd(_mm512_sub_pd(dot(n, x.x, x.y, x.z), offset), _mm512_set1_pd(c.settings.radius));
+    // Not "less than": a NaN separation touches, as it does in the scalar code.
+    const __mmask8 touches =
+        _mm512_cmp_pd_mask(separation, _mm512_set1_pd(Real(1e-6) * c.settings.radius), _CMP_NGE_UQ);
+    if (touches == 0)
+    {
+        return true;
+    }
+    const __mmask8 inside = _mm512_cmp_pd_mask(separation, zero, _CMP_LT_OQ);
+    Columns y{_mm512_mask_sub_pd(x.x, inside, x.x, _mm512_mul_pd(separation, n.x)),
+              _mm512_mask_sub_pd(x.y, inside, x.y, _mm512_mul_pd(separation, n.y)),
+              _mm512_mask_sub_pd(x.z, inside, x.z, _mm512_mul_pd(separation, n.z))};
+
+    Real* const velocities = p.velocity[i0].data();
+    const Columns v = loadColumns(velocities);
+    const __m512d rx = _mm512_sub_pd(v.x, zero);
+    const __m512d ry = _mm512_sub_pd(v.y, zero);
+    const __m512d rz = _mm512_sub_pd(v.z, zero);
+    const __m512d normalSpeed = dot(n, rx, ry, rz);
+    const __mmask8 stops = touches & _mm512_cmp_pd_mask(normalSpeed, zero, _CMP_NGE_UQ);
+    if (stops != 0)
+    {
+        __m512d tx = _mm512_sub_pd(rx, _mm512_mul_pd(normalSpeed, n.x));
+        __m512d ty = _mm512_sub_pd(ry, _mm512_mul_pd(normalSpeed, n.y));
+        __m512d tz = _mm512_sub_pd(rz, _mm512_mul_pd(normalSpeed, n.z));
+        if (response == ContactResponse::Friction)
+        {
+            const __m512d budget = _mm512_mul_pd(_mm512_set1_pd(c.settings.frictionOf(obstacle)), negated(normalSpeed));
+            const __m512d squared =
+                _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(tx, tx), _mm512_mul_pd(ty, ty)), _mm512_mul_pd(tz, tz));
+            // (Masked with every lane set: the unmasked form reads a register GCC 12 warns is undefined.)
+            const __m512d speed = _mm512_mask_sqrt_pd(squared, 0xFF, squared);
+            const __mmask8 slides = _mm512_cmp_pd_mask(speed, budget, _CMP_NLE_UQ);
+            const __m512d keep = _mm512_div_pd(_mm512_sub_pd(speed, budget), speed);
+            // Held lanes get +0, as the scalar code sets.
+            tx = _mm512_maskz_mul_pd(slides, tx, keep);
+            ty = _mm512_maskz_mul_pd(slides, ty, keep);
+            tz = _mm512_maskz_mul_pd(slides, tz, keep);
+        }
+        const Columns w{_mm512_mask_add_pd(v.x, stops, zero, tx), _mm512_mask_add_pd(v.y, stops, zero, ty),
+                        _mm512_mask_add_pd(v.z, stops, zero, tz)};
+        const __m512d dx = _mm512_sub_pd(w.x, v.x);
+        const __m512d dy = _mm512_sub_pd(w.y, v.y);
+        const __m512d dz = _mm512_sub_pd(w.z, v.z);
+        const __m512d along = dot(n, dx, dy, dz);
+        const __m512d moveStep = _mm512_set1_pd(c.moveStep);
+        y.x =
+            _mm512_mask_add_pd(y.x, stops, y.x, _mm512_mul_pd(moveStep, _mm512_sub_pd(dx, _mm512_mul_pd(along, n.x))));
+        y.y =
+            _mm512_mask_add_pd(y.y, stops, y.y, _mm512_mul_pd(moveStep, _mm512_sub_pd(dy, _mm512_mul_pd(along, n.y))));
+        y.z =
+            _mm512_mask_add_pd(y.z, stops, y.z, _mm512_mul_pd(moveStep, _mm512_sub_pd(dz, _mm512_mul_pd(along, n.z))));
+        storeColumns(velocities, w);
+
+        Real* const impulses = c.report.impulseData() + 3 * std::size_t(i0);
+        const Columns impulse = loadColumns(impulses);
+        const __m512d m = _mm512_loadu_pd(p.mass.data() + i0);
+        storeColumns(impulses, {_mm512_mask_add_pd(impulse.x, stops, impulse.x, _mm512_mul_pd(m, dx)),
+                                _mm512_mask_add_pd(impulse.y, stops, impulse.y, _mm512_mul_pd(m, dy)),
+                                _mm512_mask_add_pd(impulse.z, stops, impulse.z, _mm512_mul_pd(m, dz))});
+    }
+    storeColumns(positions, y);
+
+    // ContactReport::touchInChunk: a mass's first touch this frame names the obstacle and face.
+    int* const touchedObstacle = c.report.touchingObstacleData() + i0;
+    const __mmask16 lower = 0xFF;
+    const __mmask16 untouched = _mm512_mask_cmplt_epi32_mask(
+        __mmask16(touches) & lower, _mm512_maskz_loadu_epi32(lower, touchedObstacle), _mm512_setzero_si512());
+    _mm512_mask_storeu_epi32(touchedObstacle, untouched, _mm512_set1_epi32(obstacle));
+    _mm512_mask_storeu_epi32(c.report.touchingFaceData() + i0, untouched,
+                             _mm512_maskz_loadu_epi32(lower, planes.faces() + k0));
+    return true;
+}
+#undef MASSE_AVX512
+#endif
+} // namespace
+
 void ContactProjection::run(std::size_t begin, std::size_t end, std::vector<int>& firstTouches, bool& madeStuck) const
 {
     const bool still = planes.stillRun(begin / ContactPlanes::runLength);
@@ -31,7 +237,28 @@ template <bool Still, bool Constrained>
 void ContactProjection::projectRange(std::size_t begin, std::size_t end, std::vector<int>& firstTouches,
                                      bool& madeStuck) const
 {
-    for (std::size_t j = begin; j < end; ++j)
+    std::size_t j = begin;
+#if MASSE_PROJECTION_AVX512
+    // Most masses near a still surface come in eights that projectEightStill takes at once, branch-free: the scalar
+    // code's branches on separation, approach and friction went to mispredictions and waits on the square root.
+    if constexpr (Still)
+    {
+        if (activeSimdPath() == SimdPath::Avx512)
+        {
+            for (; j + 8 <= end; j += 8)
+            {
+                if (!projectEightStill<Constrained>(*this, j))
+                {
+                    for (std::size_t l = j; l < j + 8; ++l)
+                    {
+                        projectEntry<Still, Constrained>(l, firstTouches, madeStuck);
+                    }
+                }
+            }
+        }
+    }
+#endif
+    for (; j < end; ++j)
     {
         projectEntry<Still, Constrained>(j, firstTouches, madeStuck);
     }
@@ -53,7 +280,7 @@ void ContactProjection::projectEntry(std::size_t j, std::vector<int>& firstTouch
         {
             continue; // (a plane earlier in this loop may have just made it stuck)
         }
-        const ContactPlanes::Surface& plane = planes.surface(k);
+        const ContactPlanes::Surface plane = planes.surface(k);
         const Real nx = plane.normal.x();
         const Real ny = plane.normal.y();
         const Real nz = plane.normal.z();

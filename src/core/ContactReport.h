@@ -51,10 +51,17 @@ public:
             firstTouches.push_back(obstacle);
         }
     }
+    /// Whether touching `obstacle` now would be the sheet's first contact with it (what touch() records).
+    bool firstTouchPending(int obstacle) const { return isFirstTouch(obstacle); }
     /// Records a chunk's first touches at `time`, skipping obstacles an earlier chunk already recorded.
     void recordFirstTouches(const std::vector<int>& obstacles, Real time);
     /// The impulse (N s) contact gave mass i this frame.
     void addImpulse(std::size_t i, const Vec3& impulse) { m_impulse[i] += impulse; }
+    /// The per-mass records of this frame as arrays (touched obstacle and face, impulse x y z per mass), for a kernel
+    /// that records eight masses of its own range at once; what it writes must be what touch and addImpulse would.
+    int* touchingObstacleData() { return m_touchObstacle.data(); }
+    int* touchingFaceData() { return m_touchFace.data(); }
+    Real* impulseData() { return m_impulse.data()->data(); }
     /// Turns the frame's impulses into mean forces over `dt` and lists the touched faces.
     void endFrame(Real dt);
 
