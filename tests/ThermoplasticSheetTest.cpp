@@ -335,6 +335,7 @@ public:
     void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real /*dt*/,
                       std::vector<ContactPlane>& out) override
     {
+        out.clear();
         for (std::size_t i = 0; i < x.size(); ++i)
         {
             if (x[i].y() - reach[i] - radius <= m_height)

@@ -427,8 +427,9 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
                         }
                     }
                 });
-    // Joined in chunk order, each chunk copied to its place in parallel.
-    std::vector<std::size_t> start(chunks + 1, out.size());
+    // Joined in chunk order, each chunk copied to its place in parallel. The list keeps the last frame's planes until
+    // overwritten: resized from empty it would be filled with default planes first, one serial pass over it.
+    std::vector<std::size_t> start(chunks + 1, 0);
     for (std::size_t chunk = 0; chunk < chunks; ++chunk)
     {
         start[chunk + 1] = start[chunk] + m_chunkPlanes[chunk].size();

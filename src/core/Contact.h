@@ -103,9 +103,10 @@ public:
     virtual int obstacleCount() const = 0;
     /// Places moving (kinematic) obstacles where they are at `time`.
     virtual void setTime(Real time) = 0;
-    /// Appends a plane for every pair of a mass i and an obstacle whose surfaces may meet during the next `dt`
-    /// seconds: the mass's sphere of `radius` may move anywhere within reach[i] of x[i], the obstacle along its own
-    /// path. Planes of one mass are appended together.
+    /// Fills `out`, replacing what it held, with a plane for every pair of a mass i and an obstacle whose surfaces may
+    /// meet during the next `dt` seconds: the mass's sphere of `radius` may move anywhere within reach[i] of x[i], the
+    /// obstacle along its own path. Planes of one mass are listed together. (Replacing, not appending: the caller
+    /// keeps the list from frame to frame, and a list resized to about its last size costs no pass over it.)
     virtual void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
                               std::vector<ContactPlane>& out) = 0;
     /// The first surface a sphere of `radius` meets moving from `from` to `to`, if any.

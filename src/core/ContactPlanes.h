@@ -39,9 +39,8 @@ public:
     /// thread, a third slower).
     static constexpr std::size_t runLength = 2048;
 
-    /// The list the detector fills (cleared by clear()); call index() after filling it.
+    /// The list the detector fills (replacing the last frame's); call index() after filling it.
     std::vector<ContactPlane>& list() { return m_planes; }
-    void clear() { m_planes.clear(); }
     /// Sorts the planes by mass and lists the masses that have planes, with their planes' surfaces.
     void index();
 
@@ -80,5 +79,9 @@ private:
     std::vector<int> m_face;
     std::vector<Entry> m_entries{Entry{0, 0}}; ///< with a closing entry, so endPlane needs no test
     std::vector<std::uint8_t> m_stillRuns;
+    /// Planes per chunk of index()'s parallel passes.
+    static constexpr std::size_t indexChunkSize = 4096;
+    std::vector<std::size_t> m_chunkEntries;  ///< index(): entries begun before each chunk
+    std::vector<std::uint8_t> m_chunkInOrder; ///< index(): whether each chunk's planes are in mass order
 };
 } // namespace masse

@@ -96,7 +96,6 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
                         m_report.clearMass(i);
                     }
                 });
-    m_planes.clear();
     m_detector.setTime(time);
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.list());
     m_planes.index();
