@@ -43,16 +43,32 @@ MASSE_AVX512 inline Columns loadColumns(const Real* p)
             _mm512_permutex2var_pd(zab, _mm512_setr_epi64(0, 1, 2, 3, 4, 9, 12, 15), c)};
 }
 
-/// The inverse of loadColumns.
-MASSE_AVX512 inline void storeColumns(Real* p, const Columns& v)
+/// Three registers of eight 3-vectors as they lie in memory: x0 y0 z0 x1 y1 z1 x2 y2 | z2 x3 ... | ... x7 y7 z7.
+struct Rows
 {
-    // x0 y0 z0 x1 y1 z1 x2 y2 | z2 x3 y3 z3 x4 y4 z4 x5 | y5 z5 x6 y6 z6 x7 y7 z7: x and y first, then z.
+    __m512d first;
+    __m512d second;
+    __m512d third;
+};
+
+/// The inverse of loadColumns, in registers.
+MASSE_AVX512 inline Rows rowsOf(const Columns& v)
+{
+    // x and y first, then z.
     const __m512d xya = _mm512_permutex2var_pd(v.x, _mm512_setr_epi64(0, 8, 0, 1, 9, 0, 2, 10), v.y);
     const __m512d xyb = _mm512_permutex2var_pd(v.x, _mm512_setr_epi64(0, 3, 11, 0, 4, 12, 0, 5), v.y);
     const __m512d xyc = _mm512_permutex2var_pd(v.x, _mm512_setr_epi64(13, 0, 6, 14, 0, 7, 15, 0), v.y);
-    _mm512_storeu_pd(p, _mm512_permutex2var_pd(xya, _mm512_setr_epi64(0, 1, 8, 3, 4, 9, 6, 7), v.z));
-    _mm512_storeu_pd(p + 8, _mm512_permutex2var_pd(xyb, _mm512_setr_epi64(10, 1, 2, 11, 4, 5, 12, 7), v.z));
-    _mm512_storeu_pd(p + 16, _mm512_permutex2var_pd(xyc, _mm512_setr_epi64(0, 13, 2, 3, 14, 5, 6, 15), v.z));
+    return {_mm512_permutex2var_pd(xya, _mm512_setr_epi64(0, 1, 8, 3, 4, 9, 6, 7), v.z),
+            _mm512_permutex2var_pd(xyb, _mm512_setr_epi64(10, 1, 2, 11, 4, 5, 12, 7), v.z),
+            _mm512_permutex2var_pd(xyc, _mm512_setr_epi64(0, 13, 2, 3, 14, 5, 6, 15), v.z)};
+}
+
+MASSE_AVX512 inline void storeColumns(Real* p, const Columns& v)
+{
+    const Rows rows = rowsOf(v);
+    _mm512_storeu_pd(p, rows.first);
+    _mm512_storeu_pd(p + 8, rows.second);
+    _mm512_storeu_pd(p + 16, rows.third);
 }
 
 MASSE_AVX512 inline __m512d negated(__m512d a)
@@ -130,11 +146,14 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
                     _mm512_loadu_pd(planes.normalZ() + k0)};
     Real* const positions = p.position[i0].data();
     const Columns x = loadColumns(positions);
-    // The surface's velocity is the constant +0, with which the scalar code computes too.
-    const __m512d offset = _mm512_add_pd(_mm512_loadu_pd(planes.offsets() + k0),
-                                         _mm512_mul_pd(dot(n, zero, zero, zero), _mm512_set1_pd(c.elapsed)));
+    // The scalar code adds the surface's travel to the offset, ((n . u) elapsed with u = +0: a zero), and takes u from
+    // the velocity (v - 0). Both leave every bit as it was here, so they are left out: v - (+0) is v, -0 included; and
+    // offset + (±0) differs from the offset only in the sign of a zero offset, which (dot - offset) - radius does not
+    // keep (the two differences of a zero dot differ only in a zero's sign, and subtracting the radius, positive,
+    // gives the same -radius).
     const __m512d separation =
-        _mm512_sub_pd(_mm512_sub_pd(dot(n, x.x, x.y, x.z), offset), _mm512_set1_pd(c.settings.radius));
+        _mm512_sub_pd(_mm512_sub_pd(dot(n, x.x, x.y, x.z), _mm512_loadu_pd(planes.offsets() + k0)),
+                      _mm512_set1_pd(c.settings.radius));
     // Not "less than": a NaN separation touches, as it does in the scalar code.
     const __mmask8 touches =
         _mm512_cmp_pd_mask(separation, _mm512_set1_pd(Real(1e-6) * c.settings.radius), _CMP_NGE_UQ);
@@ -149,9 +168,9 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
 
     Real* const velocities = p.velocity[i0].data();
     const Columns v = loadColumns(velocities);
-    const __m512d rx = _mm512_sub_pd(v.x, zero);
-    const __m512d ry = _mm512_sub_pd(v.y, zero);
-    const __m512d rz = _mm512_sub_pd(v.z, zero);
+    const __m512d& rx = v.x;
+    const __m512d& ry = v.y;
+    const __m512d& rz = v.z;
     const __m512d normalSpeed = dot(n, rx, ry, rz);
     const __mmask8 stops = touches & _mm512_cmp_pd_mask(normalSpeed, zero, _CMP_NGE_UQ);
     if (stops != 0)
@@ -188,12 +207,16 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
             _mm512_mask_add_pd(y.z, stops, y.z, _mm512_mul_pd(moveStep, _mm512_sub_pd(dz, _mm512_mul_pd(along, n.z))));
         storeColumns(velocities, w);
 
+        // The impulses are added as they lie in memory, x y z of one mass after another: only the change needs
+        // rearranging. A lane that stopped nothing adds +0, which leaves its impulse as it was: an impulse starts the
+        // frame at +0 and only has changes added, so it is never -0.
         Real* const impulses = c.report.impulseData() + 3 * std::size_t(i0);
-        const Columns impulse = loadColumns(impulses);
         const __m512d m = _mm512_loadu_pd(p.mass.data() + i0);
-        storeColumns(impulses, {_mm512_mask_add_pd(impulse.x, stops, impulse.x, _mm512_mul_pd(m, dx)),
-                                _mm512_mask_add_pd(impulse.y, stops, impulse.y, _mm512_mul_pd(m, dy)),
-                                _mm512_mask_add_pd(impulse.z, stops, impulse.z, _mm512_mul_pd(m, dz))});
+        const Rows change = rowsOf(
+            {_mm512_maskz_mul_pd(stops, m, dx), _mm512_maskz_mul_pd(stops, m, dy), _mm512_maskz_mul_pd(stops, m, dz)});
+        _mm512_storeu_pd(impulses, _mm512_add_pd(_mm512_loadu_pd(impulses), change.first));
+        _mm512_storeu_pd(impulses + 8, _mm512_add_pd(_mm512_loadu_pd(impulses + 8), change.second));
+        _mm512_storeu_pd(impulses + 16, _mm512_add_pd(_mm512_loadu_pd(impulses + 16), change.third));
     }
     storeColumns(positions, y);
 
@@ -202,9 +225,12 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
     const __mmask16 lower = 0xFF;
     const __mmask16 untouched = _mm512_mask_cmplt_epi32_mask(
         __mmask16(touches) & lower, _mm512_maskz_loadu_epi32(lower, touchedObstacle), _mm512_setzero_si512());
-    _mm512_mask_storeu_epi32(touchedObstacle, untouched, _mm512_set1_epi32(obstacle));
-    _mm512_mask_storeu_epi32(c.report.touchingFaceData() + i0, untouched,
-                             _mm512_maskz_loadu_epi32(lower, planes.faces() + k0));
+    if (untouched != 0) // (after the frame's first substep, rarely)
+    {
+        _mm512_mask_storeu_epi32(touchedObstacle, untouched, _mm512_set1_epi32(obstacle));
+        _mm512_mask_storeu_epi32(c.report.touchingFaceData() + i0, untouched,
+                                 _mm512_maskz_loadu_epi32(lower, planes.faces() + k0));
+    }
     return true;
 }
 #undef MASSE_AVX512
