@@ -21,6 +21,8 @@ namespace
 #if MASSE_PROJECTION_AVX512
 #define MASSE_AVX512 __attribute__((target("avx512f")))
 
+static_assert(sizeof(Vec3) == 3 * sizeof(Real), "the kernels below read eight masses' 3-vectors as 24 Reals");
+
 /// Eight consecutive 3-vectors (x0 y0 z0 x1 ... z7: three registers' worth) as one register per coordinate.
 struct Columns
 {
@@ -265,8 +267,8 @@ void ContactProjection::projectRange(std::size_t begin, std::size_t end, std::ve
 {
     std::size_t j = begin;
 #if MASSE_PROJECTION_AVX512
-    // Most masses near a still surface come in eights that projectEightStill takes at once, branch-free: the scalar
-    // code's branches on separation, approach and friction went to mispredictions and waits on the square root.
+    // Most masses near a still surface come in eights that projectEightStill takes at once, branch-free, in about
+    // 150 instructions for the eight, where the scalar code below takes about as many for each mass.
     if constexpr (Still)
     {
         if (activeSimdPath() == SimdPath::Avx512)
