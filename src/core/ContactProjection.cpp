@@ -128,7 +128,7 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
         }
     }
     const ContactResponse response = c.settings.responseOf(obstacle);
-    if (response == ContactResponse::Sticky || c.report.firstTouchPending(obstacle))
+    if (response == ContactResponse::Sticky || c.report.isFirstTouch(obstacle))
     {
         return false;
     }
@@ -170,16 +170,13 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
 
     Real* const velocities = p.velocity[i0].data();
     const Columns v = loadColumns(velocities);
-    const __m512d& rx = v.x;
-    const __m512d& ry = v.y;
-    const __m512d& rz = v.z;
-    const __m512d normalSpeed = dot(n, rx, ry, rz);
+    const __m512d normalSpeed = dot(n, v.x, v.y, v.z);
     const __mmask8 stops = touches & _mm512_cmp_pd_mask(normalSpeed, zero, _CMP_NGE_UQ);
     if (stops != 0)
     {
-        __m512d tx = _mm512_sub_pd(rx, _mm512_mul_pd(normalSpeed, n.x));
-        __m512d ty = _mm512_sub_pd(ry, _mm512_mul_pd(normalSpeed, n.y));
-        __m512d tz = _mm512_sub_pd(rz, _mm512_mul_pd(normalSpeed, n.z));
+        __m512d tx = _mm512_sub_pd(v.x, _mm512_mul_pd(normalSpeed, n.x));
+        __m512d ty = _mm512_sub_pd(v.y, _mm512_mul_pd(normalSpeed, n.y));
+        __m512d tz = _mm512_sub_pd(v.z, _mm512_mul_pd(normalSpeed, n.z));
         if (response == ContactResponse::Friction)
         {
             const __m512d budget = _mm512_mul_pd(_mm512_set1_pd(c.settings.frictionOf(obstacle)), negated(normalSpeed));

@@ -52,7 +52,11 @@ public:
         }
     }
     /// Whether touching `obstacle` now would be the sheet's first contact with it (what touch() records).
-    bool firstTouchPending(int obstacle) const { return isFirstTouch(obstacle); }
+    bool isFirstTouch(int obstacle) const
+    {
+        return obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
+               !m_obstacleTouched[std::size_t(obstacle)];
+    }
     /// Records a chunk's first touches at `time`, skipping obstacles an earlier chunk already recorded.
     void recordFirstTouches(const std::vector<int>& obstacles, Real time);
     /// The impulse (N s) contact gave mass i this frame.
@@ -93,11 +97,6 @@ private:
             m_touchObstacle[mass] = obstacle;
             m_touchFace[mass] = face;
         }
-    }
-    bool isFirstTouch(int obstacle) const
-    {
-        return obstacle >= 0 && std::size_t(obstacle) < m_obstacleTouched.size() &&
-               !m_obstacleTouched[std::size_t(obstacle)];
     }
     void recordFirstContact(int obstacle, Real time);
 
