@@ -4,18 +4,22 @@
 
 #include "bridge/BulletEnvironment.h"
 #include "bridge/FacePlaneDistance.h"
+#include "bridge/FacePlanesOfEight.h"
 #include "bridge/NearestOnFrontFaces.h"
 #include "bridge/StlFile.h"
 #include "scene/Room.h"
 
 #include "core/ClosestPointOnTriangle.h"
 #include "core/InputError.h"
+#include "core/SimdPath.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <limits>
+#include <random>
 
 using namespace masse;
 using namespace masse::bridge;
@@ -482,4 +486,85 @@ TEST(ClosestPointOnTriangle, NearestPointLiesOnTheTriangleAndBeatsEverySample)
     // A degenerate triangle (its three corners on a line) still answers with a point of the segment.
     const Vec3 q = closestPointOnTriangle(Vec3(0.5, 1.0, 0.0), Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0));
     EXPECT_NEAR((q - Vec3(0.5, 0.0, 0.0)).norm(), 0.0, 1e-12);
+}
+
+namespace
+{
+bool sameBits(Real a, Real b)
+{
+    return std::memcmp(&a, &b, sizeof(Real)) == 0;
+}
+} // namespace
+
+// The eight-lane face planes (AVX-512) against the scalar query they replace in detection: for each lane, whether a
+// face plane answers, and then the distance, face, world normal, world point and offset, bit for bit. Box, prism and
+// a hull, each turned and moved, with points inside, on faces, near edges and corners and on a face's plane exactly.
+TEST(ObstacleGeometry, FacePlanesOfEightGiveTheScalarQuerysBits)
+{
+    if (!simdPathSupported(SimdPath::Avx512))
+    {
+        GTEST_SKIP() << "this processor has no AVX-512";
+    }
+    const SimdPath active = activeSimdPath();
+    setSimdPath(SimdPath::Avx512);
+    ASSERT_TRUE(facePlanesOfEightAvailable());
+    ObstacleShape hull;
+    hull.kind = ShapeKind::Hull;
+    hull.hullPoints = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(0.8, 0.7, 0.9)};
+    std::vector<ObstacleGeometry> shapes;
+    shapes.push_back(makeObstacleGeometry(box("box", Vec3::Zero(), Vec3(0.5, 0.25, 0.75)).shape));
+    shapes.push_back(makeObstacleGeometry(prism("wedge", 1.0, 1.6, 1.6, 0.5).shape));
+    shapes.push_back(makeObstacleGeometry(hull));
+    std::mt19937_64 random(20261128);
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    int answered = 0;
+    int left = 0;
+    for (const ObstacleGeometry& g : shapes)
+    {
+        for (int trial = 0; trial < 200; ++trial)
+        {
+            Pose pose;
+            pose.position = Vec3(unit(random), unit(random), unit(random));
+            pose.orientation =
+                trial == 0
+                    ? Eigen::Quaternion<Real>::Identity()
+                    : Eigen::Quaternion<Real>(unit(random), unit(random), unit(random), unit(random)).normalized();
+            Vec3 centres[8];
+            for (Vec3& c : centres)
+            {
+                c = pose.position + 1.2 * Vec3(unit(random), unit(random), unit(random));
+            }
+            // A point on a face's plane exactly (in the local frame), where the sign tests meet their boundary.
+            const Face& face = g.faces[std::size_t(trial) % g.faces.size()];
+            centres[7] = pose.orientation * (face.offset * face.normal) + pose.position;
+            FacePlanesOfEight eight;
+            facePlanesOfEight(g, pose, centres, eight);
+            for (int lane = 0; lane < 8; ++lane)
+            {
+                const Vec3 local = pose.orientation.conjugate() * (centres[lane] - pose.position);
+                const std::optional<FacePlaneDistance> expected = facePlaneDistance(g, local);
+                ASSERT_EQ((eight.found >> lane & 1) != 0, expected.has_value()) << trial << " " << lane;
+                if (!expected)
+                {
+                    ++left;
+                    continue;
+                }
+                ++answered;
+                const Vec3 normal = pose.orientation * g.faces[std::size_t(expected->face)].normal;
+                const Vec3 point = pose.orientation * expected->point + pose.position;
+                EXPECT_EQ(eight.face[lane], expected->face);
+                EXPECT_TRUE(sameBits(eight.distance[lane], expected->distance)) << trial << " " << lane;
+                EXPECT_TRUE(sameBits(eight.normalX[lane], normal.x()) && sameBits(eight.normalY[lane], normal.y()) &&
+                            sameBits(eight.normalZ[lane], normal.z()))
+                    << trial << " " << lane;
+                EXPECT_TRUE(sameBits(eight.pointX[lane], point.x()) && sameBits(eight.pointY[lane], point.y()) &&
+                            sameBits(eight.pointZ[lane], point.z()))
+                    << trial << " " << lane;
+                EXPECT_TRUE(sameBits(eight.offset[lane], normal.dot(point))) << trial << " " << lane;
+            }
+        }
+    }
+    setSimdPath(active);
+    EXPECT_GT(answered, 1000);
+    EXPECT_GT(left, 100);
 }

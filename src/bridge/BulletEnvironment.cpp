@@ -2,6 +2,7 @@
 
 #include "BulletMath.h"
 #include "FacePlaneDistance.h"
+#include "FacePlanesOfEight.h"
 #include "NearestOnFrontFaces.h"
 
 #include "core/ClosestPointOnTriangle.h"
@@ -374,6 +375,7 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     const Real obstacleTravel = m_fastestKinematic * dt;
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
     m_chunkPlanes.reserveChunks(chunks);
+    m_chunkEights.reserveChunks(chunks);
     parallelFor(x.size(), detectionChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
@@ -396,33 +398,88 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
                     {
                         return;
                     }
+                    // On the AVX-512 path, eight masses at a time get their face planes of each convex obstacle
+                    // near the chunk in one pass (FacePlanesOfEight.h); a mass whose nearest point is on an edge, and
+                    // every other case, takes the scalar query. Planes are listed mass by mass either way.
                     std::vector<Closest> features;
-                    for (std::size_t i = begin; i < end; ++i)
+                    std::vector<FacePlanesOfEight>& eights = m_chunkEights[begin / detectionChunkSize];
+                    eights.resize(near.size());
+                    const bool byEights = facePlanesOfEightAvailable();
+                    for (std::size_t first = begin; first < end; first += 8)
                     {
-                        const Real searchDistance = reach[i] + obstacleTravel;
-                        const Vec3 extent = Vec3::Constant(searchDistance + radius);
-                        const Vec3 massLo = x[i] - extent;
-                        const Vec3 massHi = x[i] + extent;
-                        for (int index : near)
+                        const std::size_t last = std::min(first + 8, end);
+                        const bool eight = byEights && last == first + 8;
+                        std::uint8_t batched = 0; // bit s: eights[s] holds near[s]'s planes for these masses
+                        for (std::size_t slot = 0; eight && slot < near.size(); ++slot)
                         {
-                            const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-                            if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
-                                (massHi.array() < obstacle.broadphaseMin.array()).any())
+                            const Obstacle& obstacle = *m_obstacles[std::size_t(near[slot])];
+                            if (slot < 8 && obstacle.geometry.convex && !obstacle.geometry.faces.empty())
                             {
-                                continue;
+                                facePlanesOfEight(obstacle.geometry, obstacle.pose, &x[first], eights[slot]);
+                                batched |= std::uint8_t(1u << slot);
                             }
-                            closestFeatures(index, x[i], radius, searchDistance, features);
-                            const Motion& motion = m_frameMotion[std::size_t(index)];
-                            for (const Closest& feature : features)
+                        }
+                        for (std::size_t i = first; i < last; ++i)
+                        {
+                            const Real searchDistance = reach[i] + obstacleTravel;
+                            const Vec3 extent = Vec3::Constant(searchDistance + radius);
+                            const Vec3 massLo = x[i] - extent;
+                            const Vec3 massHi = x[i] + extent;
+                            for (std::size_t slot = 0; slot < near.size(); ++slot)
                             {
-                                ContactPlane plane;
-                                plane.mass = Index(i);
-                                plane.obstacle = index;
-                                plane.face = feature.face;
-                                plane.normal = feature.normal;
-                                plane.offset = feature.normal.dot(feature.point);
-                                plane.velocity = motion.at(feature.point, obstacle.pose.position);
-                                planes.push_back(plane);
+                                const int index = near[slot];
+                                const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+                                if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
+                                    (massHi.array() < obstacle.broadphaseMin.array()).any())
+                                {
+                                    continue;
+                                }
+                                // A still surface's velocity, motion.at with zero motion, is +0 in every coordinate
+                                // for any finite point: the default plane's. Left so, it is not computed; computed,
+                                // the cross product's result went through memory and stalled the loop (perf annotate).
+                                const bool moving = obstacle.path.isKinematic() && dt > 0;
+                                const Motion& motion = m_frameMotion[std::size_t(index)];
+                                const std::size_t lane = i - first;
+                                if ((batched >> slot & 1u) != 0 && (eights[slot].found >> lane & 1u) != 0)
+                                {
+                                    // closestFeatures' face-plane case, computed for the eight.
+                                    const FacePlanesOfEight& e = eights[slot];
+                                    if (e.distance[lane] - radius <= searchDistance)
+                                    {
+                                        // Written in place, coordinate by coordinate: a plane built aside and
+                                        // copied in was read back as pairs of its coordinates just stored one by
+                                        // one, a stall on every plane (perf annotate).
+                                        ContactPlane& plane = planes.emplace_back();
+                                        plane.mass = Index(i);
+                                        plane.obstacle = index;
+                                        plane.face = int(e.face[lane]);
+                                        plane.normal.x() = e.normalX[lane];
+                                        plane.normal.y() = e.normalY[lane];
+                                        plane.normal.z() = e.normalZ[lane];
+                                        plane.offset = e.offset[lane];
+                                        if (moving)
+                                        {
+                                            const Vec3 point(e.pointX[lane], e.pointY[lane], e.pointZ[lane]);
+                                            plane.velocity = motion.at(point, obstacle.pose.position);
+                                        }
+                                    }
+                                    continue;
+                                }
+                                closestFeatures(index, x[i], radius, searchDistance, features);
+                                for (const Closest& feature : features)
+                                {
+                                    ContactPlane plane;
+                                    plane.mass = Index(i);
+                                    plane.obstacle = index;
+                                    plane.face = feature.face;
+                                    plane.normal = feature.normal;
+                                    plane.offset = feature.normal.dot(feature.point);
+                                    if (moving)
+                                    {
+                                        plane.velocity = motion.at(feature.point, obstacle.pose.position);
+                                    }
+                                    planes.push_back(plane);
+                                }
                             }
                         }
                     }

@@ -8,6 +8,7 @@
 /// (FacePlaneDistance.h, NearestOnFrontFaces.h, ClosestPointOnTriangle.h). The paper's game rule holds by construction:
 /// obstacles are static or kinematic and are never tested against one another; only sheet masses are tested.
 
+#include "FacePlanesOfEight.h"
 #include "KinematicPath.h"
 #include "ObstacleGeometry.h"
 
@@ -105,5 +106,6 @@ private:
     Real m_fastestKinematic = 0;                       ///< m/s, the fastest any kinematic obstacle's point moves now
     std::vector<Motion> m_frameMotion;                 ///< per obstacle, its mean motion over the frame being detected
     PerChunk<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
+    PerChunk<std::vector<FacePlanesOfEight>> m_chunkEights; ///< per chunk, its eights' face planes of each obstacle
 };
 } // namespace masse::bridge
