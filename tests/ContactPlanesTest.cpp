@@ -44,10 +44,10 @@ std::vector<ContactPlane> someMassesPlanes(bool shuffled)
 }
 } // namespace
 
-// The masses come out in increasing order, each once, with its planes in the order the detector listed them (a stable
-// sort when they came shuffled), each plane's surface as listed, and a run marked still exactly when none of its
-// planes moves; the same at every thread count. A second call with fewer planes (the list is kept from frame to frame)
-// leaves nothing of the first.
+// Joined from lists of several sizes, the masses come out in increasing order, each once, with its planes in the order
+// the detector listed them (a stable sort when they came shuffled), each plane as listed, and a run marked still
+// exactly when none of its planes moves; the same at every thread count. A second call with fewer planes (the lists
+// are kept from frame to frame) leaves nothing of the first.
 TEST(ContactPlanes, IndexesThePlanesByMassKeepingEachMassesOrder)
 {
     const ThreadCountGuard guard;
@@ -60,8 +60,16 @@ TEST(ContactPlanes, IndexesThePlanesByMassKeepingEachMassesOrder)
             std::vector<ContactPlane> expected = listed;
             std::stable_sort(expected.begin(), expected.end(),
                              [](const ContactPlane& a, const ContactPlane& b) { return a.mass < b.mass; });
+            // In lists of several sizes, one of them empty, as the detector's chunks may give them.
             ContactPlanes planes;
-            planes.list() = listed;
+            const std::size_t n = listed.size();
+            const std::size_t ends[] = {0, n / 4, n / 4, n / 4 + 1, n / 2 + 7, n - 1, n};
+            planes.lists().resize(std::size(ends) - 1);
+            for (std::size_t list = 0; list + 1 < std::size(ends); ++list)
+            {
+                planes.lists()[list].assign(listed.begin() + std::ptrdiff_t(ends[list]),
+                                            listed.begin() + std::ptrdiff_t(ends[list + 1]));
+            }
             planes.index();
             ASSERT_EQ(planes.size(), expected.size());
             ASSERT_EQ(planes.massCount(), 10000u);
@@ -74,6 +82,8 @@ TEST(ContactPlanes, IndexesThePlanesByMassKeepingEachMassesOrder)
                 {
                     // The mass's planes in the order listed (in mass order, the copies 0, 1, 2 as made).
                     ASSERT_EQ(planes[k].obstacle, expected[k].obstacle) << k;
+                    ASSERT_EQ(planes[k].mass, mass) << k;
+                    ASSERT_EQ(planes.velocity(k), expected[k].velocity) << k;
                     if (!shuffled)
                     {
                         ASSERT_EQ(planes[k].obstacle, int(k - planes.firstPlane(j))) << k;
@@ -96,9 +106,10 @@ TEST(ContactPlanes, IndexesThePlanesByMassKeepingEachMassesOrder)
                 EXPECT_EQ(planes.stillRun(run), !moving) << "run " << run << " at " << threads << " threads";
             }
 
-            planes.list().resize(2);
-            planes.list()[0].mass = 5;
-            planes.list()[1].mass = 9;
+            planes.lists().resize(1);
+            planes.lists()[0].resize(2);
+            planes.lists()[0][0].mass = 5;
+            planes.lists()[0][1].mass = 9;
             planes.index();
             ASSERT_EQ(planes.massCount(), 2u);
             EXPECT_EQ(planes.mass(1), 9u);

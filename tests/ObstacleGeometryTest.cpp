@@ -401,8 +401,13 @@ ObstacleBody twoSlopes(const std::string& name, Real creaseHeight)
 std::vector<ContactPlane> planesAt(BulletEnvironment& environment, const Vec3& x)
 {
     const Real radius = 0.01;
+    ContactPlaneLists lists;
+    environment.findContacts({x}, {0.05}, radius, 0.03, lists);
     std::vector<ContactPlane> planes;
-    environment.findContacts({x}, {0.05}, radius, 0.03, planes);
+    for (std::size_t list = 0; list < lists.size(); ++list)
+    {
+        planes.insert(planes.end(), lists[list].begin(), lists[list].end());
+    }
     return planes;
 }
 } // namespace

@@ -333,8 +333,10 @@ public:
     int obstacleCount() const override { return 1; }
     void setTime(Real /*time*/) override {}
     void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real /*dt*/,
-                      std::vector<ContactPlane>& out) override
+                      ContactPlaneLists& lists) override
     {
+        lists.resize(1);
+        std::vector<ContactPlane>& out = lists[0];
         out.clear();
         for (std::size_t i = 0; i < x.size(); ++i)
         {

@@ -357,7 +357,7 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
 }
 
 void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
-                                     std::vector<ContactPlane>& out)
+                                     ContactPlaneLists& out)
 {
     // The surface's mean velocity over the frame, so a path that starts or stops within it is followed.
     m_frameMotion.assign(m_obstacles.size(), Motion{});
@@ -371,15 +371,15 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     }
     // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk), so chunks of
     // masses run on all threads, each into its own list. Joined in chunk order, the planes come out in mass order
-    // whatever the thread count.
+    // whatever the thread count. ContactPlanes::index joins them.
     const Real obstacleTravel = m_fastestKinematic * dt;
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
-    m_chunkPlanes.reserveChunks(chunks);
+    out.resize(chunks);
     m_chunkEights.reserveChunks(chunks);
     parallelFor(x.size(), detectionChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    std::vector<ContactPlane>& planes = m_chunkPlanes[begin / detectionChunkSize];
+                    std::vector<ContactPlane>& planes = out[begin / detectionChunkSize];
                     planes.clear();
                     // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it
                     // found against its own box. An obstacle left out there cannot give a plane: a plane needs the mass
@@ -483,19 +483,6 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
                             }
                         }
                     }
-                });
-    // Joined in chunk order, each chunk copied to its place in parallel. The list keeps the last frame's planes until
-    // overwritten: resized from empty it would be filled with default planes first, one serial pass over it.
-    std::vector<std::size_t> start(chunks + 1, 0);
-    for (std::size_t chunk = 0; chunk < chunks; ++chunk)
-    {
-        start[chunk + 1] = start[chunk] + m_chunkPlanes[chunk].size();
-    }
-    out.resize(start[chunks]);
-    parallelFor(chunks, 1,
-                [&](std::size_t chunk, std::size_t) {
-                    std::copy(m_chunkPlanes[chunk].begin(), m_chunkPlanes[chunk].end(),
-                              out.begin() + std::ptrdiff_t(start[chunk]));
                 });
 }
 

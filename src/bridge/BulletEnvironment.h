@@ -75,7 +75,7 @@ public:
     int obstacleCount() const override { return int(m_obstacles.size()); }
     void setTime(Real time) override;
     void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
-                      std::vector<ContactPlane>& out) override;
+                      ContactPlaneLists& out) override;
     std::optional<SweepHit> sweep(const Vec3& from, const Vec3& to, Real radius) override;
     SurfaceDistance nearestSurface(const Vec3& x, Real maxDistance) override;
     Vec3 pointVelocity(int obstacle, const Vec3& point, Real dt) override;
@@ -103,9 +103,8 @@ private:
     std::unique_ptr<btCollisionWorld> m_world;
     std::vector<std::unique_ptr<Obstacle>> m_obstacles;
     Real m_time = 0;
-    Real m_fastestKinematic = 0;                       ///< m/s, the fastest any kinematic obstacle's point moves now
-    std::vector<Motion> m_frameMotion;                 ///< per obstacle, its mean motion over the frame being detected
-    PerChunk<std::vector<ContactPlane>> m_chunkPlanes; ///< per chunk of masses, the planes it found
+    Real m_fastestKinematic = 0;       ///< m/s, the fastest any kinematic obstacle's point moves now
+    std::vector<Motion> m_frameMotion; ///< per obstacle, its mean motion over the frame being detected
     PerChunk<std::vector<FacePlanesOfEight>> m_chunkEights; ///< per chunk, its eights' face planes of each obstacle
 };
 } // namespace masse::bridge

@@ -2,6 +2,7 @@
 /// Contact between sheet masses (spheres of one radius) and obstacles: the settings, the planes a detector finds,
 /// and the detector interface that the Bullet bridge implements. The core knows obstacles only by index.
 
+#include "PerChunk.h"
 #include "Types.h"
 
 #include <optional>
@@ -94,6 +95,9 @@ struct SurfaceDistance
     int face = -1;
 };
 
+/// A detector's planes, in lists per chunk of masses (ContactDetector::findContacts).
+using ContactPlaneLists = PerChunk<std::vector<ContactPlane>>;
+
 /// Finds obstacles near masses. Implemented by the Bullet bridge (broadphase plus narrowphase); tests may implement
 /// it with analytic shapes.
 class ContactDetector
@@ -105,10 +109,12 @@ public:
     virtual void setTime(Real time) = 0;
     /// Fills `out`, replacing what it held, with a plane for every pair of a mass i and an obstacle whose surfaces may
     /// meet during the next `dt` seconds: the mass's sphere of `radius` may move anywhere within reach[i] of x[i], the
-    /// obstacle along its own path. Planes of one mass are listed together. (Replacing, not appending: the caller
-    /// keeps the list from frame to frame, and a list resized to about its last size costs no pass over it.)
+    /// obstacle along its own path. The planes come in lists (one per chunk of masses a thread searched, or a single
+    /// one): `out` is resized to the lists used and each is replaced. Joined in order, the lists give a mass's planes
+    /// together. (Lists kept from frame to frame keep their capacity, and are joined once, by ContactPlanes::index,
+    /// into the arrays the projection reads: joining them here too was a copy of every plane a frame.)
     virtual void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
-                              std::vector<ContactPlane>& out) = 0;
+                              ContactPlaneLists& out) = 0;
     /// The first surface a sphere of `radius` meets moving from `from` to `to`, if any.
     virtual std::optional<SweepHit> sweep(const Vec3& from, const Vec3& to, Real radius) = 0;
     /// Distance from x to the nearest obstacle surface, searching no farther than maxDistance (returns a distance of

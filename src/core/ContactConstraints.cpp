@@ -50,7 +50,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
     const Real touchTolerance = Real(1e-6) * settings.radius;
     for (std::size_t k = 0; k < planes.size(); ++k)
     {
-        const ContactPlane& plane = planes[k];
+        const ContactPlane plane = planes[k];
         const Index i = plane.mass;
         if (stuck.stuck[i] || m_resting[i] || p.pinned[i])
         {
@@ -101,7 +101,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
     // touches.
     for (std::size_t k = 0; k < planes.size(); ++k)
     {
-        const ContactPlane& plane = planes[k];
+        const ContactPlane plane = planes[k];
         const Index i = plane.mass;
         if (stuck.stuck[i] || m_resting[i] || m_arriving[i] || p.pinned[i] ||
             settings.responseOf(plane.obstacle) == ContactResponse::Sticky)

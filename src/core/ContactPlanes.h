@@ -1,13 +1,14 @@
 #pragma once
-/// The frame's contact planes, indexed by mass: the detector's list sorted by mass (stably, so each mass's planes keep
-/// the order they are applied in), the masses that have planes, and each plane's surface packed for the per-substep
-/// projection.
+/// The frame's contact planes, indexed by mass: the detector's lists joined and sorted by mass (stably, so each mass's
+/// planes keep the order they are applied in), the masses that have planes, and each plane's fields packed for the
+/// per-substep projection.
 ///
 /// The projection runs after every substep over the masses near a surface only (a sheet resting on a table has half
-/// its masses there, a falling one none), so it walks the list of those masses, not every mass. What it reads of a
-/// plane each time (normal, offset, obstacle, face: 40 bytes) is kept apart from the rest (72 bytes with the mass and
-/// the surface's velocity), one array per field, so eight planes' normals load as three vectors; and a run of masses
-/// whose planes all lie on still surfaces is marked as such, so the pass reads no velocity there.
+/// its masses there, a falling one none), so it walks the list of those masses, not every mass. The planes are kept one
+/// array per field, so eight planes' normals load as three vectors and what the projection reads of a plane each time
+/// (normal, offset, obstacle, face: 40 bytes) comes without the rest; a run of masses whose planes all lie on still
+/// surfaces is marked as such, so the pass reads no velocity there. The detector's lists are joined straight into these
+/// arrays: joined first into one list of planes and then copied into the arrays, every plane was copied twice a frame.
 
 #include "Contact.h"
 
@@ -39,13 +40,25 @@ public:
     /// thread, a third slower).
     static constexpr std::size_t runLength = 2048;
 
-    /// The list the detector fills (replacing the last frame's); call index() after filling it.
-    std::vector<ContactPlane>& list() { return m_planes; }
-    /// Sorts the planes by mass and lists the masses that have planes, with their planes' surfaces.
+    /// The lists the detector fills (replacing the last frame's); call index() after filling them.
+    ContactPlaneLists& lists() { return m_lists; }
+    /// Joins the lists into the planes' arrays, sorted by mass, and lists the masses that have planes.
     void index();
 
-    std::size_t size() const { return m_planes.size(); }
-    const ContactPlane& operator[](std::size_t k) const { return m_planes[k]; }
+    std::size_t size() const { return m_mass.size(); }
+    /// Plane k, gathered from the arrays.
+    ContactPlane operator[](std::size_t k) const
+    {
+        ContactPlane plane;
+        plane.mass = m_mass[k];
+        plane.obstacle = m_obstacle[k];
+        plane.face = m_face[k];
+        plane.normal = Vec3(m_normalX[k], m_normalY[k], m_normalZ[k]);
+        plane.offset = m_offset[k];
+        plane.velocity = velocity(k);
+        return plane;
+    }
+    Vec3 velocity(std::size_t k) const { return Vec3(m_velocityX[k], m_velocityY[k], m_velocityZ[k]); }
     Surface surface(std::size_t k) const
     {
         return {Vec3(m_normalX[k], m_normalY[k], m_normalZ[k]), m_offset[k], m_obstacle[k], m_face[k]};
@@ -70,13 +83,24 @@ public:
     bool stillRun(std::size_t r) const { return m_stillRuns[r] != 0; }
 
 private:
-    std::vector<ContactPlane> m_planes;
+    /// Writes planes [0, count) of `from` to the arrays from `first` on.
+    void store(const ContactPlane* from, std::size_t count, std::size_t first);
+    /// Counts, per chunk of the arrays, the masses whose planes begin there; returns whether the masses are in order.
+    bool countEntries();
+
+    ContactPlaneLists m_lists;
+    std::vector<ContactPlane> m_sorted;   ///< index(): the planes of lists out of mass order, joined and sorted
+    std::vector<std::size_t> m_listStart; ///< index(): where each list's planes begin in the arrays
+    std::vector<Index> m_mass;
     std::vector<Real> m_normalX;
     std::vector<Real> m_normalY;
     std::vector<Real> m_normalZ;
     std::vector<Real> m_offset;
     std::vector<int> m_obstacle;
     std::vector<int> m_face;
+    std::vector<Real> m_velocityX;
+    std::vector<Real> m_velocityY;
+    std::vector<Real> m_velocityZ;
     std::vector<Entry> m_entries{Entry{0, 0}}; ///< with a closing entry, so endPlane needs no test
     std::vector<std::uint8_t> m_stillRuns;
     /// Planes per chunk of index()'s parallel passes.

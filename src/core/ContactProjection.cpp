@@ -238,7 +238,7 @@ void ContactProjection::projectEntry(std::size_t j, std::vector<int>& firstTouch
         const Real ny = plane.normal.y();
         const Real nz = plane.normal.z();
         // A still surface's velocity is +0 in every bit, so the constant gives the very same arithmetic.
-        const Vec3 surfaceVelocity = Still ? Vec3(Vec3::Zero()) : planes[k].velocity;
+        const Vec3 surfaceVelocity = Still ? Vec3(Vec3::Zero()) : planes.velocity(k);
         const Real ux = surfaceVelocity.x();
         const Real uy = surfaceVelocity.y();
         const Real uz = surfaceVelocity.z();

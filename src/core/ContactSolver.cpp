@@ -97,7 +97,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
                     }
                 });
     m_detector.setTime(time);
-    m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.list());
+    m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.lists());
     m_planes.index();
     // A stuck mass moves with the point of its obstacle it is stuck to, as that point moves during this frame.
     m_stuck.followSurfaces(m_detector, dt);
