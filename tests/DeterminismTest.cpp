@@ -314,11 +314,12 @@ ContactOutcome runContactScene(const std::string& file, const std::string& size,
 }
 } // namespace
 
-// The contact projection takes eight masses at once on the AVX-512 path (ContactProjection.cpp): each mass must get
-// the bits the scalar code gives it, its contact force and touched face too. The sheet on two boxes has masses
-// resting, sliding and leaving (with Coulomb friction) and eights that straddle the two boxes; the drop scene's
-// sheet meets the wedge's ridge (masses with two planes) and the floor.
-TEST(Determinism, ContactProjectionGivesTheScalarBitsOnEverySimdPath)
+// The contact projection (ContactProjection.cpp) and the detection's face planes (bridge/FacePlanesOfEight.h) take
+// eight masses at once on the AVX-512 path: each mass must get the bits the scalar code gives it, its contact force
+// and touched face too. The sheet on two boxes has masses resting, sliding and leaving (with Coulomb friction) and
+// eights that straddle the two boxes; the drop scene's sheet meets the wedge's ridge (masses with two planes, masses
+// nearest an edge) and the floor.
+TEST(Determinism, ContactGivesTheScalarBitsOnEverySimdPath)
 {
     const ThreadCountGuard guard;
     const SimdPath active = activeSimdPath();
