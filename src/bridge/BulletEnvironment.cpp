@@ -370,120 +370,127 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
         }
     }
     // Bullet's queries used here only read the world (the broadphase's box test, a mesh's triangle walk), so chunks of
-    // masses run on all threads, each into its own list. Joined in chunk order, the planes come out in mass order
-    // whatever the thread count. ContactPlanes::index joins them.
-    const Real obstacleTravel = m_fastestKinematic * dt;
+    // masses run on all threads, each into its own list. Joined in chunk order (ContactPlanes::index joins them), the
+    // planes come out in mass order whatever the thread count.
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
     out.resize(chunks);
     m_chunkEights.reserveChunks(chunks);
     parallelFor(x.size(), detectionChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    std::vector<ContactPlane>& planes = out[begin / detectionChunkSize];
-                    planes.clear();
-                    // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it
-                    // found against its own box. An obstacle left out there cannot give a plane: a plane needs the mass
-                    // within its search distance of the surface, hence its box to meet the obstacle's.
-                    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
-                    Vec3 hi = -lo;
-                    for (std::size_t i = begin; i < end; ++i)
-                    {
-                        const Vec3 extent = Vec3::Constant(reach[i] + obstacleTravel + radius);
-                        lo = lo.cwiseMin(x[i] - extent);
-                        hi = hi.cwiseMax(x[i] + extent);
-                    }
-                    std::vector<int> near;
-                    candidates(lo, hi, near);
-                    if (near.empty())
-                    {
-                        return;
-                    }
-                    // On the AVX-512 path, eight masses at a time get their face planes of each convex obstacle
-                    // near the chunk in one pass (FacePlanesOfEight.h); a mass whose nearest point is on an edge, and
-                    // every other case, takes the scalar query. Planes are listed mass by mass either way.
-                    std::vector<Closest> features;
-                    std::vector<FacePlanesOfEight>& eights = m_chunkEights[begin / detectionChunkSize];
-                    eights.resize(near.size());
-                    const bool byEights = facePlanesOfEightAvailable();
-                    for (std::size_t first = begin; first < end; first += 8)
-                    {
-                        const std::size_t last = std::min(first + 8, end);
-                        const bool eight = byEights && last == first + 8;
-                        std::uint8_t batched = 0; // bit s: eights[s] holds near[s]'s planes for these masses
-                        for (std::size_t slot = 0; eight && slot < near.size(); ++slot)
-                        {
-                            const Obstacle& obstacle = *m_obstacles[std::size_t(near[slot])];
-                            if (slot < 8 && obstacle.geometry.convex && !obstacle.geometry.faces.empty())
-                            {
-                                facePlanesOfEight(obstacle.geometry, obstacle.pose, &x[first], eights[slot]);
-                                batched |= std::uint8_t(1u << slot);
-                            }
-                        }
-                        for (std::size_t i = first; i < last; ++i)
-                        {
-                            const Real searchDistance = reach[i] + obstacleTravel;
-                            const Vec3 extent = Vec3::Constant(searchDistance + radius);
-                            const Vec3 massLo = x[i] - extent;
-                            const Vec3 massHi = x[i] + extent;
-                            for (std::size_t slot = 0; slot < near.size(); ++slot)
-                            {
-                                const int index = near[slot];
-                                const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
-                                if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
-                                    (massHi.array() < obstacle.broadphaseMin.array()).any())
-                                {
-                                    continue;
-                                }
-                                // A still surface's velocity, motion.at with zero motion, is +0 in every coordinate
-                                // for any finite point: the default plane's. Left so, it is not computed; computed,
-                                // the cross product's result went through memory and stalled the loop (perf annotate).
-                                const bool moving = obstacle.path.isKinematic() && dt > 0;
-                                const Motion& motion = m_frameMotion[std::size_t(index)];
-                                const std::size_t lane = i - first;
-                                if ((batched >> slot & 1u) != 0 && (eights[slot].found >> lane & 1u) != 0)
-                                {
-                                    // closestFeatures' face-plane case, computed for the eight.
-                                    const FacePlanesOfEight& e = eights[slot];
-                                    if (e.distance[lane] - radius <= searchDistance)
-                                    {
-                                        // Written in place, coordinate by coordinate: a plane built aside and
-                                        // copied in was read back as pairs of its coordinates just stored one by
-                                        // one, a stall on every plane (perf annotate).
-                                        ContactPlane& plane = planes.emplace_back();
-                                        plane.mass = Index(i);
-                                        plane.obstacle = index;
-                                        plane.face = int(e.face[lane]);
-                                        plane.normal.x() = e.normalX[lane];
-                                        plane.normal.y() = e.normalY[lane];
-                                        plane.normal.z() = e.normalZ[lane];
-                                        plane.offset = e.offset[lane];
-                                        if (moving)
-                                        {
-                                            const Vec3 point(e.pointX[lane], e.pointY[lane], e.pointZ[lane]);
-                                            plane.velocity = motion.at(point, obstacle.pose.position);
-                                        }
-                                    }
-                                    continue;
-                                }
-                                closestFeatures(index, x[i], radius, searchDistance, features);
-                                for (const Closest& feature : features)
-                                {
-                                    ContactPlane plane;
-                                    plane.mass = Index(i);
-                                    plane.obstacle = index;
-                                    plane.face = feature.face;
-                                    plane.normal = feature.normal;
-                                    plane.offset = feature.normal.dot(feature.point);
-                                    if (moving)
-                                    {
-                                        plane.velocity = motion.at(feature.point, obstacle.pose.position);
-                                    }
-                                    planes.push_back(plane);
-                                }
-                            }
-                        }
-                    }
+                    const std::size_t chunk = begin / detectionChunkSize;
+                    ChunkQuery query{x, reach, radius, dt, m_fastestKinematic * dt, m_chunkEights[chunk]};
+                    findChunkContacts(query, begin, end, out[chunk]);
                 });
+}
+
+void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, std::size_t end,
+                                          std::vector<ContactPlane>& planes) const
+{
+    planes.clear();
+    // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it found against its
+    // own box. An obstacle left out there cannot give a plane: a plane needs the mass within its search distance of
+    // the surface, hence its box to meet the obstacle's.
+    Vec3 lo = Vec3::Constant(std::numeric_limits<Real>::infinity());
+    Vec3 hi = -lo;
+    for (std::size_t i = begin; i < end; ++i)
+    {
+        const Vec3 extent = Vec3::Constant(query.reach[i] + query.obstacleTravel + query.radius);
+        lo = lo.cwiseMin(query.x[i] - extent);
+        hi = hi.cwiseMax(query.x[i] + extent);
+    }
+    candidates(lo, hi, query.near);
+    if (query.near.empty())
+    {
+        return;
+    }
+    // On the AVX-512 path, eight masses at a time get their face planes of each convex obstacle near the chunk in one
+    // pass (FacePlanesOfEight.h); a mass whose nearest point is on an edge, and every other case, takes the scalar
+    // query. Planes are listed mass by mass either way.
+    query.eights.resize(query.near.size());
+    const bool byEights = facePlanesOfEightAvailable();
+    for (std::size_t first = begin; first < end; first += 8)
+    {
+        const std::size_t last = std::min(first + 8, end);
+        query.first = first;
+        query.batched = 0;
+        for (std::size_t slot = 0; byEights && last == first + 8 && slot < query.near.size() && slot < 8; ++slot)
+        {
+            const Obstacle& obstacle = *m_obstacles[std::size_t(query.near[slot])];
+            if (obstacle.geometry.convex && !obstacle.geometry.faces.empty())
+            {
+                facePlanesOfEight(obstacle.geometry, obstacle.pose, &query.x[first], query.eights[slot]);
+                query.batched |= std::uint8_t(1u << slot);
+            }
+        }
+        for (std::size_t i = first; i < last; ++i)
+        {
+            appendMassPlanes(query, i, planes);
+        }
+    }
+}
+
+void BulletEnvironment::appendMassPlanes(ChunkQuery& query, std::size_t i, std::vector<ContactPlane>& planes) const
+{
+    const Real searchDistance = query.reach[i] + query.obstacleTravel;
+    const Vec3 extent = Vec3::Constant(searchDistance + query.radius);
+    const Vec3 massLo = query.x[i] - extent;
+    const Vec3 massHi = query.x[i] + extent;
+    const std::size_t lane = i - query.first;
+    for (std::size_t slot = 0; slot < query.near.size(); ++slot)
+    {
+        const int index = query.near[slot];
+        const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+        if ((massLo.array() > obstacle.broadphaseMax.array()).any() ||
+            (massHi.array() < obstacle.broadphaseMin.array()).any())
+        {
+            continue;
+        }
+        // A still surface's velocity, motion.at with zero motion, is +0 in every coordinate for any finite point: the
+        // default plane's. Left so, it is not computed; computed, the cross product's result went through memory and
+        // stalled the loop (perf annotate).
+        const bool moving = obstacle.path.isKinematic() && query.dt > 0;
+        const Motion& motion = m_frameMotion[std::size_t(index)];
+        if ((query.batched >> slot & 1u) != 0 && (query.eights[slot].found >> lane & 1u) != 0)
+        {
+            // closestFeatures' face-plane case, computed for the eight.
+            const FacePlanesOfEight& e = query.eights[slot];
+            if (e.distance[lane] - query.radius <= searchDistance)
+            {
+                // Written in place, coordinate by coordinate: a plane built aside and copied in was read back as pairs
+                // of its coordinates just stored one by one, a stall on every plane (perf annotate).
+                ContactPlane& plane = planes.emplace_back();
+                plane.mass = Index(i);
+                plane.obstacle = index;
+                plane.face = int(e.face[lane]);
+                plane.normal.x() = e.normalX[lane];
+                plane.normal.y() = e.normalY[lane];
+                plane.normal.z() = e.normalZ[lane];
+                plane.offset = e.offset[lane];
+                if (moving)
+                {
+                    plane.velocity =
+                        motion.at(Vec3(e.pointX[lane], e.pointY[lane], e.pointZ[lane]), obstacle.pose.position);
+                }
+            }
+            continue;
+        }
+        closestFeatures(index, query.x[i], query.radius, searchDistance, query.features);
+        for (const Closest& feature : query.features)
+        {
+            ContactPlane plane;
+            plane.mass = Index(i);
+            plane.obstacle = index;
+            plane.face = feature.face;
+            plane.normal = feature.normal;
+            plane.offset = feature.normal.dot(feature.point);
+            if (moving)
+            {
+                plane.velocity = motion.at(feature.point, obstacle.pose.position);
+            }
+            planes.push_back(plane);
+        }
+    }
 }
 
 std::optional<SweepHit> BulletEnvironment::sweep(const Vec3& from, const Vec3& to, Real radius)

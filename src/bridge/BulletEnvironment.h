@@ -15,6 +15,7 @@
 #include "core/Contact.h"
 #include "core/PerChunk.h"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -92,6 +93,26 @@ private:
     /// normal) for a mesh, nearest first.
     void closestFeatures(int obstacle, const Vec3& centre, Real radius, Real searchDistance,
                          std::vector<Closest>& out) const;
+    /// One chunk of masses in findContacts: what its masses' queries share.
+    struct ChunkQuery
+    {
+        const std::vector<Vec3>& x;
+        const std::vector<Real>& reach;
+        Real radius;
+        Real dt;
+        Real obstacleTravel;                    ///< m, the farthest a kinematic obstacle's point moves this frame
+        std::vector<FacePlanesOfEight>& eights; ///< per obstacle of `near`, the current eight masses' face planes
+        std::vector<int> near{};                ///< the obstacles whose boxes meet the chunk's
+        std::uint8_t batched = 0;               ///< bit s: eights[s] holds near[s]'s planes for the current eight
+        std::size_t first = 0;                  ///< the current eight's first mass
+        std::vector<Closest> features{};        ///< closestFeatures' answer, reused mass to mass
+    };
+    /// The planes of the masses [begin, end), into `planes` (replacing what it held).
+    void findChunkContacts(ChunkQuery& query, std::size_t begin, std::size_t end,
+                           std::vector<ContactPlane>& planes) const;
+    /// Appends mass i's planes of the chunk's obstacles: from the current eight's face planes where a face plane gives
+    /// its nearest point, else from closestFeatures.
+    void appendMassPlanes(ChunkQuery& query, std::size_t i, std::vector<ContactPlane>& planes) const;
     /// Copies the obstacle's broadphase box (after it was added or moved).
     static void recordBroadphaseBox(Obstacle& obstacle);
     /// Obstacles whose boxes overlap the box [lo, hi], in index order.
