@@ -2,6 +2,7 @@
 // where a dense assembly puts them, bit for bit, and a block the pattern does not hold is refused.
 
 #include "core/SlotMatrix.h"
+#include "core/ConjugateGradient.h"
 #include "core/InputError.h"
 
 #include <gtest/gtest.h>
@@ -119,4 +120,54 @@ TEST(SlotMatrix, TooManyMassesIsAnInputError)
     // Refused before anything is allocated.
     EXPECT_THROW(matrix.build(SlotMatrix<3>::maxMasses() + 1, {}), InputError);
     EXPECT_GT(SlotMatrix<1>::maxMasses(), SlotMatrix<3>::maxMasses());
+}
+
+// The conjugate gradient's product (multiplySymmetricRows) sums a mass's three rows together where they share their
+// columns: each row's sum must be the plain one-row loop's, bit for bit, over the whole matrix and over row ranges
+// that cut a mass's rows apart; a matrix of scalar blocks, whose neighbouring rows mostly differ, too.
+template <int B> void expectProductIsEachRowsPlainSum()
+{
+    SlotMatrix<B> matrix;
+    matrix.build(chainMasses, chainEnds);
+    for (std::size_t i = 0; i < chainMasses; ++i)
+    {
+        matrix.add(matrix.diagonal(i), distinctBlock<B>(int(i)));
+    }
+    for (std::size_t s = 0; s < chainEnds.size(); ++s)
+    {
+        const auto block = distinctBlock<B>(10 + int(s));
+        matrix.add(matrix.ab(s), -block);
+        matrix.add(matrix.ba(s), -block.transpose());
+    }
+    const SparseMatrix& a = matrix.matrix();
+    Vector x(a.rows());
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+    {
+        x[i] = Real(1) / Real(3 + i) - Real(0.37) * Real(i % 5);
+    }
+    Vector expected(a.rows());
+    for (Eigen::Index row = 0; row < a.rows(); ++row)
+    {
+        Real sum = 0;
+        for (SparseMatrix::InnerIterator it(a, row); it; ++it)
+        {
+            sum += it.value() * x[it.index()];
+        }
+        expected[row] = sum;
+    }
+    for (const Eigen::Index begin : {Eigen::Index(0), Eigen::Index(1), Eigen::Index(2)})
+    {
+        Vector y = Vector::Constant(a.rows(), -1);
+        multiplySymmetricRows(a, x, y, begin, a.rows() - (begin == 1 ? 1 : 0));
+        for (Eigen::Index row = begin; row < a.rows() - (begin == 1 ? 1 : 0); ++row)
+        {
+            EXPECT_EQ(y[row], expected[row]) << "row " << row << " from " << begin;
+        }
+    }
+}
+
+TEST(SlotMatrix, ProductSumsEachRowInItsOwnOrder)
+{
+    expectProductIsEachRowsPlainSum<3>();
+    expectProductIsEachRowsPlainSum<1>();
 }
