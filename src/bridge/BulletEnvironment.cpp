@@ -414,10 +414,22 @@ void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, 
         const std::size_t last = std::min(first + 8, end);
         query.first = first;
         query.batched = 0;
+        // The eight's box (each mass's own, as appendMassPlanes tests): an obstacle it does not meet gives none of the
+        // eight a plane, so its pass is skipped (in a chunk spanning two obstacles, half the passes were wasted).
+        Vec3 eightLo = Vec3::Constant(std::numeric_limits<Real>::infinity());
+        Vec3 eightHi = -eightLo;
+        for (std::size_t i = first; byEights && i < last; ++i)
+        {
+            const Vec3 extent = Vec3::Constant(query.reach[i] + query.obstacleTravel + query.radius);
+            eightLo = eightLo.cwiseMin(query.x[i] - extent);
+            eightHi = eightHi.cwiseMax(query.x[i] + extent);
+        }
         for (std::size_t slot = 0; byEights && last == first + 8 && slot < query.near.size() && slot < 8; ++slot)
         {
             const Obstacle& obstacle = *m_obstacles[std::size_t(query.near[slot])];
-            if (obstacle.geometry.convex && !obstacle.geometry.faces.empty())
+            const bool meets = !((eightLo.array() > obstacle.broadphaseMax.array()).any() ||
+                                 (eightHi.array() < obstacle.broadphaseMin.array()).any());
+            if (meets && obstacle.geometry.convex && !obstacle.geometry.faces.empty())
             {
                 facePlanesOfEight(obstacle.geometry, obstacle.pose, &query.x[first], query.eights[slot]);
                 query.batched |= std::uint8_t(1u << slot);
