@@ -317,7 +317,6 @@ void StagedLdlt::analyseSeparators()
         separator->schur.resize(rows * (rows - 1) / 2);
     }
     m_blocks.y.resize(m_blocks.column.size() * lanes);
-    m_stageBlocks.assign(m_stages.size(), {});
     for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
     {
         for (std::size_t k = m_stageSeparators[stage]; k < m_stageSeparators[stage + 1]; ++k)
