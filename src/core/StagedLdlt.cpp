@@ -499,7 +499,7 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                      [&](std::size_t task)
                      {
                          const std::size_t b = blocks[task];
-                         const Separator& separator = m_separators[m_blocks.separator[b]];
+                         Separator& separator = m_separators[m_blocks.separator[b]];
                          const StorageIndex firstRow = m_blocks.firstRow[b];
                          const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
                          thread_local std::vector<Real> scratch; // lanes values per row, all zero between blocks
@@ -539,10 +539,9 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                                  values[position[lane]] = yc[lane] / m_diagonal[block.column[j]];
                              }
                          }
-                         Real* pivots = m_separators[m_blocks.separator[b]].partialPivot.data();
                          for (std::size_t lane = 0; lane < count; ++lane)
                          {
-                             pivots[std::size_t(firstRow - separator.begin) + lane] = d[lane];
+                             separator.partialPivot[std::size_t(firstRow - separator.begin) + lane] = d[lane];
                          }
                      });
 
