@@ -136,11 +136,11 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
 }
 
 // The preconditioner's staged solve gives what Eigen's own triangular solves give on Eigen's factor with its values
-// rounded to single precision, as the preconditioner keeps them (the staged factor is Eigen's to rounding, and here
-// every value rounds to the same float), to rounding (it sums each row's products in eight
-// running sums, Eigen in one: relative differences of a few ulps times the row's length are expected; 1e-12 of
-// the largest component is the bound); the same bits at 1, 2 and 3 threads and on every SIMD path; and the exact
-// factor's solve to 1e-7 of the largest component (the single-precision rounding, 6e-8 an entry, left this 2e-9 here).
+// rounded to half precision, as the preconditioner keeps them (the staged factor is Eigen's to rounding, and here
+// every value rounds to the same half; GCC's _Float16 conversion is the reference), to the rounding of single
+// precision, in which the preconditioner solves (1e-6 of the largest component is the bound; 1.8e-7 measured); the
+// same bits at 1, 2 and 3 threads and on every SIMD path; and the exact factor's solve to 1e-3 of the largest
+// component (the half-precision rounding, 4.9e-4 of an entry at most, left 2.4e-4 here).
 TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
 {
     const MassSpringSystem sheet = paperSheet(24);
@@ -175,7 +175,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     SparseMatrix rounded = factor.matrixL().nestedExpression();
     for (Eigen::Index k = 0; k < rounded.nonZeros(); ++k)
     {
-        rounded.valuePtr()[k] = Real(float(rounded.valuePtr()[k]));
+        rounded.valuePtr()[k] = Real(_Float16(rounded.valuePtr()[k]));
     }
     const Vector expected = solveWith(rounded);
     const Vector exact = solveWith(factor.matrixL().nestedExpression());
@@ -184,12 +184,12 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     setThreadCount(1);
     Vector oneThread(a.rows());
     preconditioner.apply(r, oneThread);
-    const Real bound = 1e-12 * expected.cwiseAbs().maxCoeff();
+    const Real bound = 1e-6 * expected.cwiseAbs().maxCoeff();
     for (Eigen::Index i = 0; i < oneThread.size(); ++i)
     {
         ASSERT_NEAR(oneThread[i], expected[i], bound) << "row " << i;
     }
-    const Real exactBound = 1e-7 * exact.cwiseAbs().maxCoeff();
+    const Real exactBound = 1e-3 * exact.cwiseAbs().maxCoeff();
     for (Eigen::Index i = 0; i < oneThread.size(); ++i)
     {
         ASSERT_NEAR(oneThread[i], exact[i], exactBound) << "row " << i;

@@ -15,7 +15,7 @@ namespace
 // do not).
 #define MASSE_TRIANGULAR_KERNELS(suffix, targetAttribute, dot)                                                         \
     /* L y = b in place on y over factor rows [begin, end), from the first row up: y_i -= sum over L's row i. */       \
-    targetAttribute void forwardRows##suffix(const RunLengthRows::View& rows, Real* y, Eigen::Index begin,             \
+    targetAttribute void forwardRows##suffix(const RunLengthRows::View& rows, float* y, Eigen::Index begin,            \
                                              Eigen::Index end)                                                         \
     {                                                                                                                  \
         for (Eigen::Index i = begin; i < end; ++i)                                                                     \
@@ -25,7 +25,7 @@ namespace
     }                                                                                                                  \
     /* D L^T x = y in place on x over factor rows [begin, end), from the last row down: x_j = y_j / d_j - sum over     \
        L's column j of L_ij x_i, column j being row n-1-j of `columns`. */                                             \
-    targetAttribute void backwardRows##suffix(const RunLengthRows::View& columns, const Real* d, Real* x,              \
+    targetAttribute void backwardRows##suffix(const RunLengthRows::View& columns, const float* d, float* x,            \
                                               Eigen::Index n, Eigen::Index begin, Eigen::Index end)                    \
     {                                                                                                                  \
         for (Eigen::Index q = n - end; q < n - begin; ++q)                                                             \
@@ -35,16 +35,28 @@ namespace
         }                                                                                                              \
     }
 
-// Eight running sums in both solves (four in the backward one, whose runs are shorter, took a quarter longer on the
-// AVX-512 path); the AVX-512 path adds a run's last few entries under a mask (rowDotAvx512).
-MASSE_TRIANGULAR_KERNELS(Default, , rowDot<8>)
+// The AVX-512 path adds a run's last few entries under a mask (rowDotAvx512); the AVX2 path reads the halves with
+// F16C's instruction, the default one in software, both exact.
+[[gnu::always_inline]] inline float rowDotDefault(const RunLengthRows::View& m, Eigen::Index row, const float* x)
+{
+    return rowDot(m, row, x, floatFromHalf);
+}
 #if defined(__x86_64__) && defined(__GNUC__)
-MASSE_TRIANGULAR_KERNELS(Avx2, __attribute__((target("avx2"))), rowDot<8>)
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) float rowDotAvx2(const RunLengthRows::View& m,
+                                                                                    Eigen::Index row, const float* x)
+{
+    return rowDot(
+        m, row, x, [](std::uint16_t half) __attribute__((target("avx2,f16c"))) { return _cvtsh_ss(half); });
+}
+#endif
+MASSE_TRIANGULAR_KERNELS(Default, , rowDotDefault)
+#if defined(__x86_64__) && defined(__GNUC__)
+MASSE_TRIANGULAR_KERNELS(Avx2, __attribute__((target("avx2,f16c"))), rowDotAvx2)
 MASSE_TRIANGULAR_KERNELS(Avx512, __attribute__((target("avx512f"))), rowDotAvx512)
 #endif
 #undef MASSE_TRIANGULAR_KERNELS
 
-void forwardRowsOn(SimdPath path, const RunLengthRows::View& rows, Real* y, Eigen::Index begin, Eigen::Index end)
+void forwardRowsOn(SimdPath path, const RunLengthRows::View& rows, float* y, Eigen::Index begin, Eigen::Index end)
 {
     switch (path)
     {
@@ -59,7 +71,7 @@ void forwardRowsOn(SimdPath path, const RunLengthRows::View& rows, Real* y, Eige
     }
 }
 
-void backwardRowsOn(SimdPath path, const RunLengthRows::View& columns, const Real* d, Real* x, Eigen::Index n,
+void backwardRowsOn(SimdPath path, const RunLengthRows::View& columns, const float* d, float* x, Eigen::Index n,
                     Eigen::Index begin, Eigen::Index end)
 {
     switch (path)
@@ -110,7 +122,7 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
     m_factor.analyse(m_permutedMatrix, m_stages);
     m_ready = false;
     m_filtered.resize(a.rows());
-    m_permuted.resize(a.rows());
+    m_permuted.resize(std::size_t(a.rows()));
 }
 
 bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
@@ -121,6 +133,12 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     if (m_ready)
     {
         // The two copies of the factor are built at once, one a task (each some hundred milliseconds at 128x2x128).
+        const Vector& diagonal = m_factor.diagonal();
+        m_diagonal.resize(std::size_t(diagonal.size()));
+        for (Eigen::Index i = 0; i < diagonal.size(); ++i)
+        {
+            m_diagonal[std::size_t(i)] = float(diagonal[i]);
+        }
         const SparseMatrix& lower = m_factor.lower();
         sharedPool().run(2,
                          [&](std::size_t copy)
@@ -177,17 +195,18 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     // P^T L D L^T P x = b, spelled out rather than through SimplicialLDLT::solve, whose in-place permutation
     // allocates a mask on every call. Both triangular solves run the ranges of each stage (see DissectionOrder) on the
     // pool, the forward one from the first stage, the backward one from the last, every entry computed by one gather
-    // in a fixed order whoever runs it (RunLengthRows::rowDot), so the bits do not depend on the thread count.
+    // in a fixed order whoever runs it (RunLengthRows::rowDot), so the bits do not depend on the thread count. They run
+    // in single precision on the factor's half values (see RunLengthRows); r and z stay double.
     const auto& permutation = m_permutation.indices();
     const Eigen::Index n = b.size();
     for (Eigen::Index i = 0; i < n; ++i)
     {
-        m_permuted[permutation[i]] = b[i];
+        m_permuted[permutation[i]] = float(b[i]);
     }
     const SimdPath path = activeSimdPath();
     const RunLengthRows::View forward = m_forward.view();
     const RunLengthRows::View backward = m_backward.view();
-    Real* work = m_permuted.data();
+    float* work = m_permuted.data();
     for (const std::vector<OrderRange>& ranges : m_stages)
     {
         sharedPool().run(
@@ -200,13 +219,13 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
         sharedPool().run(ranges.size(),
                          [&](std::size_t k)
                          {
-                             backwardRowsOn(path, backward, m_factor.diagonal().data(), work, n,
-                                            Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end));
+                             backwardRowsOn(path, backward, m_diagonal.data(), work, n, Eigen::Index(ranges[k].begin),
+                                            Eigen::Index(ranges[k].end));
                          });
     }
     for (Eigen::Index i = 0; i < n; ++i)
     {
-        x[i] = m_permuted[permutation[i]];
+        x[i] = Real(m_permuted[permutation[i]]);
     }
 }
 

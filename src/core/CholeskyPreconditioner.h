@@ -66,7 +66,8 @@ private:
     const std::vector<Index>* m_masses = nullptr;
     const std::vector<Mat3>* m_filters = nullptr;
     mutable Vector m_filtered;
-    mutable Vector m_permuted;
+    std::vector<float> m_diagonal;         ///< D, rounded to single precision at each refresh
+    mutable std::vector<float> m_permuted; ///< the solves' work vector, in single precision (see solveWithFactor)
     bool m_ready = false;
     int m_refreshCount = 0;
 };

@@ -28,7 +28,7 @@ template <class ForEachEntry> void RunLengthRows::assign(Eigen::Index rowCount, 
     m_runColumn.resize(std::size_t(m_nextRun[n]));
     m_runStart.resize(std::size_t(m_nextRun[n]) + 1);
     m_runStart.back() = m_nextValue[n];
-    m_values.resize(std::size_t(m_nextValue[n]));
+    m_values.assign(std::size_t(m_nextValue[n]) + valuePadding, 0);
     // Fill. Rows and their runs are laid out in order, so a run's values end where the next run's begin.
     m_lastColumn.assign(n, -2);
     forEachEntry(
@@ -41,7 +41,7 @@ template <class ForEachEntry> void RunLengthRows::assign(Eigen::Index rowCount, 
                 m_runColumn[run] = column;
                 m_runStart[run] = m_nextValue[i];
             }
-            m_values[std::size_t(m_nextValue[i]++)] = float(value);
+            m_values[std::size_t(m_nextValue[i]++)] = halfFromReal(value);
             m_lastColumn[i] = column;
         });
 }

@@ -45,7 +45,7 @@ bool simdPathSupported(SimdPath path)
     case SimdPath::Default:
         return true;
     case SimdPath::Avx2:
-        return __builtin_cpu_supports("avx2");
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c"); // F16C: the factor's halves
     case SimdPath::Avx512:
         return __builtin_cpu_supports("avx512f");
     }
