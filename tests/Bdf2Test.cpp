@@ -1,6 +1,6 @@
 // BDF2 against its closed forms: a linear oscillator's amplitude and period per step; a tumbling sheet's spin and
-// Coulomb friction inside its solve; and two targets of issue 11 it does not meet yet (an undamped sheet's energy, the
-// paper's drop scene at the paper's step), disabled with what was measured.
+// Coulomb friction inside its solve; the paper's drop scene at the paper's step; and a target of issue 11 it does not
+// meet yet (an undamped sheet's swing), disabled with what was measured.
 //
 // Why the amplitude targets are as they are: for x'' = -w^2 x, one BDF2 step multiplies the oscillating mode by the
 // root r of (3/2 - i w h) r^2 - 2 r + 1/2 = 0 of larger modulus. At w h = 1 that is |r| = 0.9333 with a phase of
@@ -252,51 +252,82 @@ TEST(Bdf2, FrictionOnARestingMassStaysWithinCoulomb)
                 coulomb);
 }
 
-// An undamped Table 1 sheet (no dashpots, no air) hung from two corners at the paper's step: BDF2 keeps the total
-// energy within 5% after 10 s of swinging, where backward Euler loses most of it. The gravity energy has an
-// arbitrary zero, so 5% is of the energy the swing exchanges: the largest kinetic plus spring energy of the run.
+// An undamped Table 1 sheet (no dashpots, no air) swinging from two corners at the paper's step: BDF2 keeps the total
+// energy within 5% after 10 s, where backward Euler loses most of it. The sheet is first let settle, hanging from two
+// corners of one edge (damped, as the paper's sheet is), then turned rigidly by 30 degrees about the line through the
+// two corners and let go undamped: it swings as a curtain in a draught. 5% is of the swing's energy, the total at
+// release less the total at rest (the gravity energy has an arbitrary zero, and the springs' static stretch is not
+// part of the motion).
 //
-// DISABLED (an open target of issue 11, not met): measured, BDF2 loses 1.40 J of the 1.02 J largest exchanged energy
-// over the 10 s (backward Euler 1.44 J) with one linearised step; 0.30 J of 1.47 J with Newton (20%, not 5%). Released
-// flat from two corners, the Table 1 sheet (w h up to about 9 for its 90 N/m springs and 1 g masses) puts most of its
-// energy into stretching waves, which any L-stable step of 0.03 s damps; only the slow swing is kept, and that is a
-// small share. Kept to measure the next integrator against.
+// Why released from rest and not flat: released flat, the Table 1 sheet (w h up to about 9 for its 90 N/m springs and
+// 1 g masses) puts most of its energy into stretching waves as it falls, which any L-stable step of 0.03 s damps away
+// (BDF2 lost 20% of the largest kinetic plus spring energy over 10 s, backward Euler 98%): the test would then measure
+// the stretching waves' share, not the swing. Turned from rest, the sheet's stretch barely changes, and what moves is
+// the swing (w h about 0.1, where BDF2 keeps 98% of an oscillator's energy over 10 s and backward Euler 4%; see the
+// oscillator tests above).
+//
+// DISABLED (an open target of issue 11, not met): measured, BDF2 loses 9.6% of the 0.182 J swing over the 10 s
+// (backward Euler 99.7%). That is what BDF2's closed form takes from a single mode at w h = 0.16 over 10 s (7.7% at
+// 0.15): the swing itself is too fast for BDF2 to keep within 5% at this step. TR-BDF2 (the
+// trapezoidal rule over 0.59 h, then BDF2) keeps 99.9% of such a mode in its closed form and is as L-stable; it is
+// the next integrator to measure here. Kept to measure it against.
 TEST(Bdf2, DISABLED_UndampedSheetSwingingFromTwoCornersKeepsItsEnergy)
 {
-    auto energyAfter = [](IntegratorKind kind, Real& initial, Real& exchanged)
+    Lattice lattice;
+    MassSpringSystem sheet = paperSheet(12, &lattice);
+    const Index cornerA = lattice.bottomCorners()[0];
+    const Index cornerB = lattice.bottomCorners()[1];
+    sheet.particles.setPinned(cornerA, true);
+    sheet.particles.setPinned(cornerB, true);
+
+    // Settle: the paper's damping, backward Euler, 10 s.
+    SimulatorSettings settleSettings;
+    settleSettings.integrator = IntegratorKind::ImplicitEuler;
+    Simulator settling(sheet, settleSettings);
+    simulate(settling, 10.0, stepSize, [](const Simulator&) {});
+    const Real settledKinetic = computeEnergy(settling.system()).kinetic;
+
+    // The settled shape, undamped, turned by 30 degrees about the corners' line.
+    MassSpringSystem hanging = settling.system();
+    hanging.forces.airDamping = 0;
+    std::vector<Real>& damping = hanging.springs.mutableDamping();
+    std::fill(damping.begin(), damping.end(), Real(0));
+    const Real restEnergy = computeEnergy(hanging).total();
+    const Vec3 pivot = hanging.particles.position[std::size_t(cornerA)];
+    const Vec3 axis = (hanging.particles.position[std::size_t(cornerB)] - pivot).normalized();
+    const Eigen::AngleAxis<Real> turn(30.0 * 3.141592653589793 / 180.0, axis);
+    for (std::size_t i = 0; i < hanging.particles.position.size(); ++i)
     {
-        Lattice lattice;
-        MassSpringSystem sheet = paperSheet(12, &lattice);
-        sheet.forces.airDamping = 0;
-        std::vector<Real>& damping = sheet.springs.mutableDamping();
-        std::fill(damping.begin(), damping.end(), Real(0));
-        sheet.particles.setPinned(lattice.bottomCorners()[0], true);
-        sheet.particles.setPinned(lattice.bottomCorners()[1], true);
+        hanging.particles.position[i] = pivot + turn * (hanging.particles.position[i] - pivot);
+        hanging.particles.velocity[i] = Vec3::Zero();
+    }
+    const Real released = computeEnergy(hanging).total();
+    const Real swing = released - restEnergy;
+    ASSERT_GT(swing, 0.0);
+    ASSERT_LT(settledKinetic, 1e-5 * swing) << "the sheet had not settled";
+
+    auto finalEnergy = [&](IntegratorKind kind, Real& largestKinetic)
+    {
         SimulatorSettings settings;
         settings.integrator = kind;
-        Simulator simulator(std::move(sheet), settings);
-        initial = computeEnergy(simulator.system()).total();
-        exchanged = 0;
+        Simulator simulator(hanging, settings);
+        largestKinetic = 0;
         simulate(simulator, 10.0, stepSize,
                  [&](const Simulator& s)
-                 {
-                     const Energy e = computeEnergy(s.system());
-                     exchanged = std::max(exchanged, e.kinetic + e.springs);
-                 });
+                 { largestKinetic = std::max(largestKinetic, computeEnergy(s.system()).kinetic); });
         return computeEnergy(simulator.system());
     };
-    Real initial = 0;
-    Real exchanged = 0;
-    const Energy bdf2 = energyAfter(IntegratorKind::Bdf2, initial, exchanged);
-    Real initialEuler = 0;
-    Real exchangedEuler = 0;
-    const Energy euler = energyAfter(IntegratorKind::ImplicitEuler, initialEuler, exchangedEuler);
-    EXPECT_GT(bdf2.kinetic, 0.1 * exchanged) << "the sheet is no longer swinging";
-    EXPECT_NEAR(bdf2.total(), initial, 0.05 * exchanged);
-    EXPECT_LT(euler.total(), initialEuler - 0.05 * exchangedEuler) << "backward Euler should lose energy here";
-    std::printf("undamped sheet after 10 s: BDF2 loses %.4g J of %.4g J exchanged (kinetic %.4g J), "
-                "backward Euler %.4g J\n",
-                initial - bdf2.total(), exchanged, bdf2.kinetic, initialEuler - euler.total());
+    Real largestKinetic = 0;
+    const Energy bdf2 = finalEnergy(IntegratorKind::Bdf2, largestKinetic);
+    Real largestKineticEuler = 0;
+    const Energy euler = finalEnergy(IntegratorKind::ImplicitEuler, largestKineticEuler);
+    std::printf("sheet swinging undamped for 10 s: swing energy %.4g J; BDF2 loses %.4g J (%.2f%%, largest kinetic "
+                "%.4g J), backward Euler %.4g J (%.1f%%)\n",
+                swing, released - bdf2.total(), 100 * (released - bdf2.total()) / swing, largestKinetic,
+                released - euler.total(), 100 * (released - euler.total()) / swing);
+    EXPECT_GT(largestKinetic, 0.5 * swing) << "the sheet did not swing";
+    EXPECT_NEAR(bdf2.total(), released, 0.05 * swing);
+    EXPECT_LT(euler.total(), released - 0.5 * swing) << "backward Euler should lose most of the swing here";
 }
 
 // The paper's experiment with BDF2 at dt = 0.03 s: for every Table 2 size the sheet touches the block, then the
