@@ -68,13 +68,10 @@ void implicitStep(benchmark::State& state)
 }
 BENCHMARK(implicitStep)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
-/// One refactorisation of the implicit step's preconditioner (CholeskyPreconditioner::refresh: the values put in the
-/// factor's order, the staged LDL^T, the two run-length copies) on a matrix of the step's shape: a dense 3x3 block
-/// per spring, a k (n n^T + I / 10), and the masses on the diagonal. A drape-forming run at 128x2x128 refactors some
-/// dozens of times as its material softens and its contacts change.
-void choleskyRefresh(benchmark::State& state)
+/// A matrix of the implicit step's shape for the paper's sheet of `size`: a dense 3x3 block per spring,
+/// h^2 k (n n^T + I / 10), and the masses on the diagonal.
+SlotMatrix<3> implicitShapedMatrix(const MassSpringSystem& sheet)
 {
-    const MassSpringSystem sheet = paperSheet(int(state.range(0)));
     const Particles& p = sheet.particles;
     SlotMatrix<3> matrix;
     matrix.build(sheet.massCount(), sheet.springs.ends());
@@ -93,9 +90,19 @@ void choleskyRefresh(benchmark::State& state)
         matrix.add(matrix.ab(s), -block);
         matrix.add(matrix.ba(s), -block);
     }
+    return matrix;
+}
+
+/// One refactorisation of the implicit step's preconditioner (CholeskyPreconditioner::refresh: the values put in the
+/// factor's order, the staged LDL^T, the two run-length copies) on a matrix of the step's shape. A drape-forming run
+/// at 128x2x128 refactors some dozens of times as its material softens and its contacts change.
+void choleskyRefresh(benchmark::State& state)
+{
+    const MassSpringSystem sheet = paperSheet(int(state.range(0)));
+    const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
     CholeskyPreconditioner preconditioner;
-    preconditioner.analyse(matrix.matrix(),
-                           nestedDissection(p.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
+    preconditioner.analyse(matrix.matrix(), nestedDissection(sheet.particles.position, sheet.springs,
+                                                             CholeskyPreconditioner::parallelDepth));
     for (auto _ : state)
     {
         if (!preconditioner.refresh(matrix.matrix()))
@@ -107,6 +114,35 @@ void choleskyRefresh(benchmark::State& state)
     state.counters["rows"] = double(matrix.matrix().rows());
 }
 BENCHMARK(choleskyRefresh)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+/// One application of that preconditioner (CholeskyPreconditioner::apply: the two triangular solves, which stream the
+/// factor's copies): what every conjugate-gradient iteration of an implicit step costs besides the product.
+void choleskyApply(benchmark::State& state)
+{
+    const MassSpringSystem sheet = paperSheet(int(state.range(0)));
+    const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
+    CholeskyPreconditioner preconditioner;
+    preconditioner.analyse(matrix.matrix(), nestedDissection(sheet.particles.position, sheet.springs,
+                                                             CholeskyPreconditioner::parallelDepth));
+    if (!preconditioner.refresh(matrix.matrix()))
+    {
+        state.SkipWithError("the matrix is not positive definite");
+        return;
+    }
+    Eigen::VectorX<Real> r(matrix.matrix().rows());
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+    Eigen::VectorX<Real> z(r.size());
+    for (auto _ : state)
+    {
+        preconditioner.apply(r, z);
+        benchmark::DoNotOptimize(z.data());
+    }
+    state.counters["rows"] = double(r.size());
+}
+BENCHMARK(choleskyApply)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
 /// One frame's contact for the sheet resting on two boxes (bench-contact.json): detection (Bullet's broadphase,
 /// then face planes or GJK for every mass), one projection pass and the frame's end.
