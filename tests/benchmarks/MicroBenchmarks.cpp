@@ -93,6 +93,13 @@ SlotMatrix<3> implicitShapedMatrix(const MassSpringSystem& sheet)
     return matrix;
 }
 
+/// Analyses `matrix` (of `sheet`'s shape) in the sheet's nested-dissection order, as the implicit step does.
+void analyseForSheet(CholeskyPreconditioner& preconditioner, const MassSpringSystem& sheet, const SlotMatrix<3>& matrix)
+{
+    preconditioner.analyse(matrix.matrix(), nestedDissection(sheet.particles.position, sheet.springs,
+                                                             CholeskyPreconditioner::parallelDepth));
+}
+
 /// One refactorisation of the implicit step's preconditioner (CholeskyPreconditioner::refresh: the values put in the
 /// factor's order, the staged LDL^T, the two run-length copies) on a matrix of the step's shape. A drape-forming run
 /// at 128x2x128 refactors some dozens of times as its material softens and its contacts change.
@@ -101,8 +108,7 @@ void choleskyRefresh(benchmark::State& state)
     const MassSpringSystem sheet = paperSheet(int(state.range(0)));
     const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
     CholeskyPreconditioner preconditioner;
-    preconditioner.analyse(matrix.matrix(), nestedDissection(sheet.particles.position, sheet.springs,
-                                                             CholeskyPreconditioner::parallelDepth));
+    analyseForSheet(preconditioner, sheet, matrix);
     for (auto _ : state)
     {
         if (!preconditioner.refresh(matrix.matrix()))
@@ -122,8 +128,7 @@ void choleskyApply(benchmark::State& state)
     const MassSpringSystem sheet = paperSheet(int(state.range(0)));
     const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
     CholeskyPreconditioner preconditioner;
-    preconditioner.analyse(matrix.matrix(), nestedDissection(sheet.particles.position, sheet.springs,
-                                                             CholeskyPreconditioner::parallelDepth));
+    analyseForSheet(preconditioner, sheet, matrix);
     if (!preconditioner.refresh(matrix.matrix()))
     {
         state.SkipWithError("the matrix is not positive definite");
