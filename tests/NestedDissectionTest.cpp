@@ -212,6 +212,39 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     }
 }
 
+// The solves run in single precision, whose range is far narrower than double's: a residual of 1e-42 or 1e30 (times
+// an ordinary one) must be solved as the ordinary one and scaled, exactly (the solve scales by a power of two), not
+// flushed to zero or overflowed to infinity.
+TEST(CholeskyPreconditioner, ResidualsOutsideTheFloatRangeAreSolvedExactlyScaled)
+{
+    const MassSpringSystem sheet = paperSheet(8);
+    const SparseMatrix a = springMatrix(sheet, 3);
+    CholeskyPreconditioner preconditioner;
+    preconditioner.analyse(
+        a, nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
+    ASSERT_TRUE(preconditioner.refresh(a));
+    Vector r(a.rows());
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+    Vector z(a.rows());
+    preconditioner.apply(r, z);
+    ASSERT_GT(z.cwiseAbs().maxCoeff(), 0.0);
+    for (const int exponent : {-140, 100})
+    {
+        Vector scaledZ(a.rows());
+        preconditioner.apply(r * std::ldexp(1.0, exponent), scaledZ);
+        for (Eigen::Index i = 0; i < z.size(); ++i)
+        {
+            ASSERT_EQ(scaledZ[i], std::ldexp(z[i], exponent)) << "row " << i << ", r scaled by 2^" << exponent;
+        }
+    }
+    Vector zero = Vector::Constant(a.rows(), 1.0);
+    preconditioner.apply(Vector::Zero(a.rows()), zero);
+    EXPECT_EQ(zero.cwiseAbs().maxCoeff(), 0.0);
+}
+
 // The staged factorisation gives Eigen's SimplicialLDLT factor, the same pattern and each value to rounding, on a
 // sheet whose dissection has several ranges in every stage below the top separator: the parts are factored row by row
 // as Eigen does, the separators a block of rows at once with their columns below in increasing order (Eigen's order is

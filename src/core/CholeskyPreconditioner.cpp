@@ -6,6 +6,7 @@
 #include "TaskPool.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace masse
 {
@@ -196,12 +197,23 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     // allocates a mask on every call. Both triangular solves run the ranges of each stage (see DissectionOrder) on the
     // pool, the forward one from the first stage, the backward one from the last, every entry computed by one gather
     // in a fixed order whoever runs it (RunLengthRows::rowDot), so the bits do not depend on the thread count. They run
-    // in single precision on the factor's half values (see RunLengthRows); r and z stay double.
+    // in single precision on the factor's half values (see RunLengthRows); r and z stay double. b is scaled by a power
+    // of two to a largest entry in [1, 2) on the way in, and x back on the way out: a float's range is far narrower
+    // than a double's, and a residual of 1e-40 or 1e40 would otherwise flush to zero or overflow. A power of two
+    // scales every rounding with it, so where nothing would have left the float range the bits are those of no scaling.
     const auto& permutation = m_permutation.indices();
     const Eigen::Index n = b.size();
+    const Real largest = b.cwiseAbs().maxCoeff();
+    if (!(largest > 0) || !std::isfinite(largest))
+    {
+        x = b; // zero stays zero; a non-finite residual passes through to the run's finite check
+        return;
+    }
+    const int exponent = std::ilogb(largest);
+    const Real down = std::ldexp(Real(1), -exponent);
     for (Eigen::Index i = 0; i < n; ++i)
     {
-        m_permuted[permutation[i]] = float(b[i]);
+        m_permuted[permutation[i]] = float(b[i] * down);
     }
     const SimdPath path = activeSimdPath();
     const RunLengthRows::View forward = m_forward.view();
@@ -225,7 +237,7 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     }
     for (Eigen::Index i = 0; i < n; ++i)
     {
-        x[i] = Real(m_permuted[permutation[i]]);
+        x[i] = std::ldexp(Real(m_permuted[permutation[i]]), exponent);
     }
 }
 
