@@ -315,6 +315,10 @@ Real ThermalModel::absorbedHeat(std::size_t i, const Vec3& x, const Vec3& normal
     Real absorbed = 0;
     for (const RadiantHeater& heater : m_settings.heaters)
     {
+        if (heater.power == 0)
+        {
+            continue; // switched off (a script's "heater" action): its view factor would only be multiplied by 0
+        }
         if (m_faces[i] & topFace)
         {
             absorbed += heaterIrradiance(heater, x, normal);
