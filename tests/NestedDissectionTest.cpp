@@ -6,6 +6,7 @@
 #include "core/CholeskyPreconditioner.h"
 #include "core/NestedDissection.h"
 #include "core/PermutedValues.h"
+#include "core/RunLengthRows.h"
 #include "core/SimdPath.h"
 #include "core/StagedLdlt.h"
 #include "core/TaskPool.h"
@@ -137,7 +138,8 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
 
 // The preconditioner's staged solve gives what Eigen's own triangular solves give on Eigen's factor with its values
 // rounded to half precision, as the preconditioner keeps them (the staged factor is Eigen's to rounding, and here
-// every value rounds to the same half; GCC's _Float16 conversion is the reference), to the rounding of single
+// every value rounds to the same half; halfFromReal is tested against IEEE's rounding in RunLengthRowsTest), to the
+// rounding of single
 // precision, in which the preconditioner solves (1e-6 of the largest component is the bound; 1.8e-7 measured); the
 // same bits at 1, 2 and 3 threads and on every SIMD path; and the exact factor's solve to 1e-3 of the largest
 // component (the half-precision rounding, 4.9e-4 of an entry at most, left 2.4e-4 here).
@@ -175,7 +177,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     SparseMatrix rounded = factor.matrixL().nestedExpression();
     for (Eigen::Index k = 0; k < rounded.nonZeros(); ++k)
     {
-        rounded.valuePtr()[k] = Real(_Float16(rounded.valuePtr()[k]));
+        rounded.valuePtr()[k] = Real(floatFromHalf(halfFromReal(rounded.valuePtr()[k])));
     }
     const Vector expected = solveWith(rounded);
     const Vector exact = solveWith(factor.matrixL().nestedExpression());

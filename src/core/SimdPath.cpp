@@ -7,10 +7,25 @@
 #include <cstdlib>
 #include <string>
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#endif
+
 namespace masse
 {
 namespace
 {
+#if defined(__x86_64__) && defined(__GNUC__)
+/// F16C (CPUID leaf 1, ECX bit 29), asked of the processor directly: clang's __builtin_cpu_supports has no "f16c".
+bool hasF16c()
+{
+    unsigned eax = 0;
+    unsigned ebx = 0;
+    unsigned ecx = 0;
+    unsigned edx = 0;
+    return __get_cpuid(1, &eax, &ebx, &ecx, &edx) != 0 && (ecx & bit_F16C) != 0;
+}
+#endif
 constexpr EnumName<SimdPath> simdNames[] = {
     {SimdPath::Default, "default"},
     {SimdPath::Avx2, "avx2"},
@@ -45,7 +60,7 @@ bool simdPathSupported(SimdPath path)
     case SimdPath::Default:
         return true;
     case SimdPath::Avx2:
-        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c"); // F16C: the factor's halves
+        return __builtin_cpu_supports("avx2") && hasF16c(); // F16C: the Cholesky factor's halves (RunLengthRows)
     case SimdPath::Avx512:
         return __builtin_cpu_supports("avx512f");
     }
