@@ -211,6 +211,7 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     }
     const int exponent = std::ilogb(largest);
     const Real down = std::ldexp(Real(1), -exponent);
+    const Real up = std::ldexp(Real(1), exponent); // multiplying by it rounds as ldexp would, without a call an entry
     for (Eigen::Index i = 0; i < n; ++i)
     {
         m_permuted[permutation[i]] = float(b[i] * down);
@@ -237,7 +238,7 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     }
     for (Eigen::Index i = 0; i < n; ++i)
     {
-        x[i] = std::ldexp(Real(m_permuted[permutation[i]]), exponent);
+        x[i] = Real(m_permuted[permutation[i]]) * up;
     }
 }
 
