@@ -1,6 +1,10 @@
 #include "core/RunLengthRows.h"
 
+#include "core/SimdPath.h"
+
 #include <gtest/gtest.h>
+
+#include <Eigen/SparseCore>
 
 #include <cmath>
 #include <cstdint>
@@ -58,6 +62,13 @@ std::uint16_t referenceHalf(double value)
     const bool toAbove = up < down || (up == down && (above & 1) == 0);
     return std::uint16_t(sign | (toAbove ? above : below));
 }
+#if defined(__x86_64__) && defined(__GNUC__)
+/// rowDotAvx512 compiled for AVX-512 (it is inlined into its callers, which must be).
+__attribute__((target("avx512f"))) float rowDotOnAvx512(const RunLengthRows::View& m, Eigen::Index row, const float* x)
+{
+    return rowDotAvx512(m, row, x);
+}
+#endif
 } // namespace
 
 // The factor's values are rounded to half precision in software (halfFromReal), so that the bits do not depend on the
@@ -110,5 +121,63 @@ TEST(RunLengthRows, HalfRoundingIsIeeeNearestEvenAndClampsInsteadOfOverflowing)
     EXPECT_EQ(halfFromReal(65520.0), 0x7BFF);
     EXPECT_EQ(halfFromReal(-1e300), 0xFBFF);
     EXPECT_EQ(halfFromReal(1e-300), 0x0000);
+}
+
+// A row's entries at most joinGap columns apart are stored as one run, the columns between as zeros; farther apart,
+// as two. Row 60 of a lower triangular matrix has entries at columns 0-2, then joinGap after the last (joined), then
+// joinGap + 1 after that (a new run), then a lone entry two columns on (joined): two runs. By columns (the backward
+// solve's copy) the same entries, one to a row. Each row's dot product (by the default path's arithmetic, and the
+// AVX-512 one's where the processor has it) is the exact sum of its own entries: the values and x are small integers
+// and halves, so every sum is exact, and a stored zero adds nothing.
+TEST(RunLengthRows, RowsEntriesCloseTogetherShareARunThroughStoredZeros)
+{
+    const Eigen::Index n = 200;
+    const Eigen::Index row = n - 1;
+    const auto gap = Eigen::Index(RunLengthRows::joinGap);
+    std::vector<Eigen::Index> columns = {0, 1, 2};
+    columns.push_back(columns.back() + gap);     // joined: joinGap - 1 zeros between
+    columns.push_back(columns.back() + gap + 1); // a new run
+    columns.push_back(columns.back() + 2);       // joined: one zero between
+    ASSERT_LT(columns.back(), row);
+    std::vector<Eigen::Triplet<Real>> triplets;
+    for (std::size_t k = 0; k < columns.size(); ++k)
+    {
+        triplets.emplace_back(row, columns[k], Real(k + 1) * 0.5);
+    }
+    Eigen::SparseMatrix<Real> lower(n, n);
+    lower.setFromTriplets(triplets.begin(), triplets.end());
+    std::vector<float> x(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+        x[i] = float(int(i % 7) - 3);
+    }
+    float exact = 0;
+    for (std::size_t k = 0; k < columns.size(); ++k)
+    {
+        exact += float(Real(k + 1) * 0.5) * x[std::size_t(columns[k])];
+    }
+    ASSERT_NE(exact, 0.0f);
+
+    RunLengthRows byRows;
+    byRows.assignLowerRows(lower);
+    EXPECT_EQ(byRows.runs(), 2u);
+    EXPECT_EQ(byRows.entries(), std::size_t(columns[3] + 1 + 3)); // columns 0 to the fourth entry's, then three
+    const RunLengthRows::View rows = byRows.view();
+    EXPECT_EQ(rowDot(rows, row, x.data(), floatFromHalf), exact);
+    for (Eigen::Index other = 0; other < row; ++other)
+    {
+        EXPECT_EQ(rowDot(rows, other, x.data(), floatFromHalf), 0.0f);
+    }
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (simdPathSupported(SimdPath::Avx512))
+    {
+        EXPECT_EQ(rowDotOnAvx512(rows, row, x.data()), exact);
+    }
+#endif
+
+    RunLengthRows byColumns;
+    byColumns.assignLowerColumnsLastFirst(lower);
+    EXPECT_EQ(byColumns.runs(), columns.size()); // each column holds one entry, in row 199
+    EXPECT_EQ(byColumns.entries(), columns.size());
 }
 } // namespace masse

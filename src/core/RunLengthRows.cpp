@@ -5,16 +5,22 @@ namespace masse
 template <class ForEachEntry> void RunLengthRows::assign(Eigen::Index rowCount, const ForEachEntry& forEachEntry)
 {
     const std::size_t n = std::size_t(rowCount);
-    // Count each row's entries and runs: an entry starts a run unless the row's previous entry is the column before.
+    // Count each row's entries and runs: an entry starts a run unless the row's previous entry is at most joinGap
+    // columns before it (the columns between are stored as zeros).
     m_nextValue.assign(n + 1, 0);
     m_nextRun.assign(n + 1, 0);
     m_lastColumn.assign(n, -2);
     forEachEntry(
         [&](StorageIndex row, StorageIndex column, Real)
         {
-            ++m_nextValue[std::size_t(row) + 1];
-            if (m_lastColumn[std::size_t(row)] != column - 1)
+            const StorageIndex last = m_lastColumn[std::size_t(row)];
+            if (last >= 0 && column - last <= joinGap)
             {
+                m_nextValue[std::size_t(row) + 1] += column - last;
+            }
+            else
+            {
+                ++m_nextValue[std::size_t(row) + 1];
                 ++m_nextRun[std::size_t(row) + 1];
             }
             m_lastColumn[std::size_t(row)] = column;
@@ -35,7 +41,12 @@ template <class ForEachEntry> void RunLengthRows::assign(Eigen::Index rowCount, 
         [&](StorageIndex row, StorageIndex column, Real value)
         {
             const std::size_t i = std::size_t(row);
-            if (m_lastColumn[i] != column - 1)
+            const StorageIndex last = m_lastColumn[i];
+            if (last >= 0 && column - last <= joinGap)
+            {
+                m_nextValue[i] += column - last - 1; // the gap's entries stay zero
+            }
+            else
             {
                 const std::size_t run = std::size_t(m_nextRun[i]++);
                 m_runColumn[run] = column;

@@ -97,8 +97,19 @@ public:
     void assignLowerColumnsLastFirst(const SparseMatrix& lower);
 
     Eigen::Index rows() const { return Eigen::Index(m_rowRuns.size()) - 1; }
+    /// Values stored, the zeros of joined runs included.
     std::size_t entries() const { return m_values.size() - valuePadding; }
     std::size_t runs() const { return m_runColumn.size(); }
+
+    /// Two entries of a row at most this many columns apart are in one run, the columns between stored as zeros (1:
+    /// only neighbours). A run costs the solves its loads and a masked vector of its last entries whatever its length,
+    /// and by columns the factor's runs are short (35 entries on average at 128x2x128, 727,000 of them; 150 by rows),
+    /// so the backward solve took longer than the forward one over the same entries. An application at 128x2x128
+    /// (masse_benchmarks' choleskyApply, alternated): 4.7-4.8 ms with only neighbours joined, 4.1-4.2 at 16, 3.9-4.1 at
+    /// 32; one thread 7.7-8.2 ms against 6.1-7.4 at 32 and 64. Drape forming at 128x2x128 over the whole 60 s: 172.3
+    /// s against 186.7 s, one run each, the same iterations and refactorisations. The zeros add nothing to a sum, but
+    /// they move the entries after them to other running sums, so the last bits differ from storing runs apart.
+    static constexpr StorageIndex joinGap = 32;
 
     /// The arrays, for the kernels (rowDot below).
     struct View
