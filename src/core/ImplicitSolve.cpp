@@ -222,20 +222,26 @@ IntegratorStats ImplicitSolve::runSolver()
             ++refactorisations;
             fresh = recent.refresh(m_matrix.matrix());
         }
-        // A factor fresh from the matrix solves in one or two iterations, a multigrid cycle takes several even
-        // then (ten on a cold material sheet at its tight tolerance): it has drifted only when it needs more than
-        // the allowance beyond what it took fresh.
+        // A factor fresh from the matrix solves in one or two iterations, and is kept while the iterations it takes
+        // beyond that, summed since it was made, cost less than a refactorisation (RefreshBudget). A multigrid cycle
+        // takes several even when fresh (ten on a cold material sheet at its tight tolerance): it is rebuilt when a
+        // solve needs more than its allowance beyond what it took fresh.
         const bool multigrid = m_settings.preconditioner == PreconditionerKind::Multigrid;
-        const int allowance = multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
-                                                   m_freshIterations + m_settings.multigridRefreshAfterIterations / 2)
-                                        : m_settings.refreshAfterIterations;
+        const int allowance =
+            multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
+                                 m_refreshBudget.freshIterations() + m_settings.multigridRefreshAfterIterations / 2)
+                      : m_refreshBudget.allowance();
         const int firstTry = fresh ? cap : std::min(cap, allowance);
         if (recent.ready())
         {
             result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry);
             if (fresh)
             {
-                m_freshIterations = result.iterations;
+                m_refreshBudget.refreshed(result.iterations);
+            }
+            else
+            {
+                m_refreshBudget.used(result.iterations);
             }
         }
         const bool drifted = !result.converged && result.iterations < cap && !fresh;
@@ -247,7 +253,7 @@ IntegratorStats ImplicitSolve::runSolver()
         {
             const int used = result.iterations;
             result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, cap - used);
-            m_freshIterations = result.iterations;
+            m_refreshBudget.refreshed(result.iterations);
             result.iterations += used;
         }
         if (!recent.ready()) // not positive definite to the factorisation: fall back to the diagonal
@@ -318,6 +324,7 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     {
         m_cholesky.analyse(m_matrix.matrix(),
                            nestedDissection(system.particles.position, springs, CholeskyPreconditioner::parallelDepth));
+        m_refreshBudget = RefreshBudget(int(std::lround(m_cholesky.refreshCost())), m_settings.refreshAfterIterations);
     }
     else if (m_settings.preconditioner == PreconditionerKind::Multigrid)
     {

@@ -30,6 +30,7 @@
 #include "Integrator.h"
 #include "JacobiPreconditioner.h"
 #include "MultigridPreconditioner.h"
+#include "RefreshBudget.h"
 #include "SlotMatrix.h"
 
 #include <array>
@@ -151,7 +152,7 @@ private:
     CholeskyPreconditioner m_cholesky;
     MultigridPreconditioner m_multigrid;
     JacobiPreconditioner m_jacobi;
-    int m_freshIterations = 0; ///< iterations of the first solve after the last refresh
+    RefreshBudget m_refreshBudget; ///< when the preconditioner is refreshed (its fresh iterations for multigrid's rule)
 
     // Constraint filter of the current step; cleared, not freed, between steps.
     std::vector<int> m_constraintOf; ///< per mass: index into the arrays below, or -1

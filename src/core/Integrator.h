@@ -44,10 +44,10 @@ struct ImplicitSettings
                            ///< a third of the iterations)
     int maxIterations = 1000; ///< per step
     PreconditionerKind preconditioner = PreconditionerKind::Cholesky;
-    /// Iterations the old factor gets before it is refactored from the current matrix (the solve then finishes in
-    /// one or two more): keeps every step near this count while refactoring only when the matrix has drifted. 10,
-    /// not 8: drape forming at 128x2x128 refactored 64 times instead of 81 (each about 2.4 s) and ran 12% faster,
-    /// its largest step 11 iterations.
+    /// Iterations the old factor always gets before it is refactored from the current matrix (the solve then
+    /// finishes in one or two more); beyond that it keeps its factor while the iterations it takes beyond a fresh
+    /// factor's, summed since the last refactorisation, cost less than one (RefreshBudget). 10, not 8, when this was
+    /// the whole rule: drape forming at 128x2x128 refactored 64 times instead of 81 and ran 12% faster.
     int refreshAfterIterations = 10;
     /// The same for the multigrid hierarchy: it is rebuilt after this many iterations, or after half this many beyond
     /// what it took fresh if that is more (a fresh cycle takes several).

@@ -164,6 +164,11 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
             }
         }
     }
+    m_updates = 0;
+    for (const StorageIndex count : m_columnCount)
+    {
+        m_updates += 0.5 * double(count) * double(count - 1);
+    }
     m_lower.resize(n, n);
     StorageIndex* start = m_lower.outerIndexPtr();
     start[0] = 0;

@@ -46,6 +46,9 @@ public:
     /// L's strictly lower part, column-major, each column's rows increasing (unit diagonal not stored).
     const SparseMatrix& lower() const { return m_lower; }
     const Vector& diagonal() const { return m_diagonal; }
+    /// The multiply-adds of a factorisation, from the analysed pattern: a column's entries update each other's rows,
+    /// sum over the columns of count (count - 1) / 2.
+    double updates() const { return m_updates; }
 
 private:
     /// m_upper = the upper triangle of `permuted` (stored in full).
@@ -70,6 +73,7 @@ private:
     std::vector<StorageIndex> m_parent;      ///< elimination tree: parent of each row, -1 for a root
     std::vector<StorageIndex> m_columnCount; ///< entries of each column of L so far
     std::vector<std::vector<OrderRange>> m_stages;
+    double m_updates = 0;
     long long m_generation = 0; ///< this factorisation's number in the process (tells its visit marks from others')
 
     /// A separator: a range of a stage after the first, rows [begin, end), with its pattern from analyse.
