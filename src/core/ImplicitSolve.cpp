@@ -230,7 +230,7 @@ IntegratorStats ImplicitSolve::runSolver()
         const int allowance =
             multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
                                  m_refreshBudget.freshIterations() + m_settings.multigridRefreshAfterIterations / 2)
-                      : m_refreshBudget.allowance();
+                      : std::min(m_refreshBudget.allowance(), cap / 2); // room left to finish after a refresh
         const int firstTry = fresh ? cap : std::min(cap, allowance);
         if (recent.ready())
         {
