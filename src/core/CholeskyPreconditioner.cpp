@@ -121,7 +121,6 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
         m_permutedMatrix);
     gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_factor.analyse(m_permutedMatrix, m_stages);
-    m_updatesPerEntry = m_factor.updates() / double(std::max<Eigen::Index>(m_factor.lower().nonZeros(), 1));
     m_ready = false;
     m_filtered.resize(a.rows());
     m_permuted.resize(std::size_t(a.rows()));

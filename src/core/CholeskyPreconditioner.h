@@ -17,6 +17,7 @@
 
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <vector>
 
 namespace masse
@@ -38,12 +39,15 @@ public:
     void setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters) override;
     void apply(const Vector& r, Vector& z) const override;
     /// A refactorisation's updates per entry of the factor (StagedLdlt::updates over its entries), from the pattern.
-    double updatesPerEntry() const { return m_updatesPerEntry; }
+    double updatesPerEntry() const
+    {
+        return m_factor.updates() / double(std::max<Eigen::Index>(m_factor.lower().nonZeros(), 1));
+    }
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
     /// on every machine and at any thread count): a refresh took 1.08 and 1.14 times updatesPerEntry() applications
     /// at 64x2x64 and 128x2x128 (91 ms against 0.68, 895 ms against 3.68: masse_benchmarks' choleskyRefresh and
     /// choleskyApply, two threads), and an iteration is about 1.3 applications (the product and the vector work).
-    double refreshCost() const { return 0.85 * m_updatesPerEntry; }
+    double refreshCost() const { return 0.85 * updatesPerEntry(); }
     /// Factorisations since construction.
     int refreshCount() const override { return m_refreshCount; }
 
@@ -75,7 +79,6 @@ private:
     mutable Vector m_filtered;
     std::vector<float> m_diagonal;         ///< D, rounded to single precision at each refresh
     mutable std::vector<float> m_permuted; ///< the solves' work vector, in single precision (see solveWithFactor)
-    double m_updatesPerEntry = 0;
     bool m_ready = false;
     int m_refreshCount = 0;
 };
