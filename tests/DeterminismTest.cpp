@@ -46,11 +46,14 @@ constexpr Real stickySeconds = 0.45;
 // The BDF2 drop (205 s, then tsan's longest) to 0.3 s: its threaded solve from the first step on, before the block is
 // reached at 0.51 s; the sticky runs above take the implicit contact's threaded paths.
 constexpr Real bdf2DropSeconds = 0.3;
+// TR-BDF2's drop before the first contact: its own steps only.
+constexpr Real trBdf2DropSeconds = 0.3;
 #else
 const std::vector<int> threadCounts = {1, 2, 3, 8};
 constexpr bool sanitizingThreads = false;
 constexpr Real stickySeconds = 0.9;
 constexpr Real bdf2DropSeconds = 0.6;
+constexpr Real trBdf2DropSeconds = 0.6;
 #endif
 
 /// What a run ends with: the state hash and every event, so a difference in contact order shows too.
@@ -239,6 +242,13 @@ TEST(Determinism, EdgeAndSelfContactFoldHasTheSameHashAtAnyThreadCount)
 TEST(Determinism, Bdf2DropSceneHasTheSameHashAtAnyThreadCount)
 {
     expectSameAtEveryThreadCount("paper-drop.json", "48x2x48", bdf2DropSeconds, IntegratorKind::Bdf2);
+}
+
+// TR-BDF2: its two stages, each with its own factor, in the free fall, and BDF2's steps from the first contact on
+// (the block at 0.54 s), continuing from TR-BDF2's.
+TEST(Determinism, TrBdf2DropSceneHasTheSameHashAtAnyThreadCount)
+{
+    expectSameAtEveryThreadCount("paper-drop.json", "48x2x48", trBdf2DropSeconds, IntegratorKind::TrBdf2);
 }
 
 TEST(Determinism, RegressionScenesKeepTheirRecordedHashAtEveryThreadCount)

@@ -19,7 +19,8 @@ namespace masse::app
 {
 void addSceneOverrides(CLI::App& command, SceneOverrides& overrides)
 {
-    command.add_option("--integrator", overrides.integrator, "Override: euler, symplectic, verlet, implicit or bdf2");
+    command.add_option("--integrator", overrides.integrator,
+                       "Override: euler, symplectic, verlet, implicit, bdf2 or trbdf2");
     command.add_option("--dt", overrides.dt, "Override: step in seconds");
     command.add_option("--duration", overrides.duration, "Override: simulated seconds at most");
     command.add_option("--size", overrides.size, "Override: sheet size NxLxN");

@@ -21,6 +21,7 @@
 /// enters the history as it happened, once (see step()), and the contact's projection moves a mass by 2h/3 of the
 /// velocity it changes (StepContext::moveStep), as this step placed it.
 
+#include "Bdf2Integrator.h"
 #include "Forces.h"
 #include "ImplicitSolve.h"
 
@@ -36,7 +37,7 @@ constexpr int maxNewtonIterations = 4;
 /// m: Newton stops once the largest velocity correction would move a mass less than this over the step.
 constexpr Real newtonTolerance = 1e-6;
 
-class Bdf2 final : public Integrator
+class Bdf2 final : public Bdf2Integrator
 {
 public:
     // Speculative constraints as backward Euler's, friction capped at Coulomb's within each solve, and resting
@@ -60,12 +61,7 @@ public:
             stats = m_solve.solve(system, context.constraints, h, m_none, m_none);
             m_previousPosition = p.position; // sized once; later steps copy into the same storage
             m_previousVelocity = p.velocity;
-            m_offset.resize(n);
-            m_momentum.resize(n);
-            m_newtonOffset.resize(n);
-            m_newtonMomentum.resize(n);
-            m_newtonStart.resize(n);
-            m_solvedVelocity.resize(n);
+            resizeWork(n);
             for (std::size_t i = 0; i < n; ++i)
             {
                 p.velocity[i] += m_solve.deltaV(Index(i));
@@ -136,7 +132,27 @@ public:
     IntegratorKind kind() const override { return IntegratorKind::Bdf2; }
     bool honoursConstraints() const override { return true; }
 
+    void continueFrom(const MassSpringSystem& system, const std::vector<Vec3>& previousPosition,
+                      const std::vector<Vec3>& previousVelocity, Real h) override
+    {
+        resizeWork(system.particles.size());
+        m_previousPosition = previousPosition; // copies into the storage it has
+        m_previousVelocity = previousVelocity;
+        std::copy(system.particles.velocity.begin(), system.particles.velocity.end(), m_solvedVelocity.begin());
+        m_historySystem = &system;
+        m_previousStep = h;
+    }
+
 private:
+    void resizeWork(std::size_t n)
+    {
+        for (std::vector<Vec3>* v :
+             {&m_offset, &m_momentum, &m_newtonOffset, &m_newtonMomentum, &m_newtonStart, &m_solvedVelocity})
+        {
+            v->resize(n);
+        }
+    }
+
     /// Adds the last solve's velocity change to p and places the masses from it.
     void applyCorrection(Particles& p, Real h, Real a) const
     {
@@ -186,8 +202,13 @@ private:
 };
 } // namespace
 
-std::unique_ptr<Integrator> makeBdf2(const ImplicitSettings& settings)
+std::unique_ptr<Bdf2Integrator> makeBdf2Integrator(const ImplicitSettings& settings)
 {
     return std::make_unique<Bdf2>(settings);
+}
+
+std::unique_ptr<Integrator> makeBdf2(const ImplicitSettings& settings)
+{
+    return makeBdf2Integrator(settings);
 }
 } // namespace masse

@@ -244,11 +244,6 @@ namespace
 /// The most energy one contact pass may add and have it counted as put in, in units of the sheet's energy scale.
 constexpr Real contactCreditLimit = 5;
 
-bool isImplicit(IntegratorKind kind)
-{
-    return kind == IntegratorKind::ImplicitEuler || kind == IntegratorKind::Bdf2;
-}
-
 /// Two figures from one spring pass after an implicit substep, each summed in the chunks and order it would have
 /// alone (the gap's chunk sums kept in `gapPartial`, whose capacity is kept).
 struct SpringPass
@@ -285,7 +280,7 @@ SpringPass springEnergyAndGap(const MassSpringSystem& system, const std::vector<
 
 void DivergenceGuard::beforeSubstep(const MassSpringSystem& system, IntegratorKind integrator)
 {
-    if (m_settings.enabled && m_settings.checkEnergy && isImplicit(integrator))
+    if (m_settings.enabled && m_settings.checkEnergy && !isExplicit(integrator))
     {
         m_substepStart = system.particles.position;
     }
@@ -293,7 +288,7 @@ void DivergenceGuard::beforeSubstep(const MassSpringSystem& system, IntegratorKi
 
 void DivergenceGuard::afterIntegrator(const MassSpringSystem& system, IntegratorKind integrator)
 {
-    if (m_settings.enabled && m_settings.checkEnergy && isImplicit(integrator) &&
+    if (m_settings.enabled && m_settings.checkEnergy && !isExplicit(integrator) &&
         m_substepStart.size() == system.particles.size())
     {
         if (m_settings.account == EnergyAccount::Mechanical)
@@ -315,7 +310,7 @@ void DivergenceGuard::afterIntegrator(const MassSpringSystem& system, Integrator
 
 void DivergenceGuard::afterContact(const MassSpringSystem& system, IntegratorKind integrator)
 {
-    if (!m_settings.enabled || !m_settings.checkEnergy || !isImplicit(integrator) ||
+    if (!m_settings.enabled || !m_settings.checkEnergy || isExplicit(integrator) ||
         m_contactStart.size() != system.particles.size() || m_substepStart.size() != system.particles.size())
     {
         return;

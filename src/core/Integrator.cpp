@@ -14,6 +14,7 @@ constexpr EnumName<IntegratorKind> integratorNames[] = {
     {IntegratorKind::VelocityVerlet, "verlet"},
     {IntegratorKind::ImplicitEuler, "implicit"},
     {IntegratorKind::Bdf2, "bdf2"},
+    {IntegratorKind::TrBdf2, "trbdf2"},
 };
 constexpr EnumName<PreconditionerKind> preconditionerNames[] = {
     {PreconditionerKind::Multigrid, "multigrid"},
@@ -44,7 +45,7 @@ std::string_view integratorName(IntegratorKind kind)
 
 bool isExplicit(IntegratorKind kind)
 {
-    return kind != IntegratorKind::ImplicitEuler && kind != IntegratorKind::Bdf2;
+    return kind != IntegratorKind::ImplicitEuler && kind != IntegratorKind::Bdf2 && kind != IntegratorKind::TrBdf2;
 }
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSettings& implicit)
@@ -61,6 +62,8 @@ std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSe
         return makeImplicitEuler(implicit);
     case IntegratorKind::Bdf2:
         return makeBdf2(implicit);
+    case IntegratorKind::TrBdf2:
+        return makeTrBdf2(implicit);
     }
     return nullptr;
 }

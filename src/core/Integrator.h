@@ -1,6 +1,6 @@
 #pragma once
 /// Time integrators. The three explicit ones are conditionally stable and are substepped by the Simulator from a
-/// stability estimate; implicit Euler and BDF2 are stable at any step.
+/// stability estimate; implicit Euler, BDF2 and TR-BDF2 are stable at any step.
 
 #include "MassSpringSystem.h"
 #include "StepContext.h"
@@ -17,9 +17,10 @@ enum class IntegratorKind
     VelocityVerlet,  ///< second order; forces re-evaluated at the new positions
     ImplicitEuler,   ///< backward Euler, linearised (Baraff and Witkin 1998), solved by conjugate gradient
     Bdf2,            ///< second-order backward differentiation, linearised (Choi and Ko 2002); little numerical damping
+    TrBdf2,          ///< trapezoidal rule then BDF2 in each step (TR-BDF2), BDF2 steps in contact; keeps slow motion best
 };
 
-/// Parses "euler", "symplectic", "verlet", "implicit" or "bdf2"; throws InputError naming the allowed names.
+/// Parses "euler", "symplectic", "verlet", "implicit", "bdf2" or "trbdf2"; throws InputError naming the allowed names.
 IntegratorKind parseIntegrator(std::string_view name);
 std::string_view integratorName(IntegratorKind kind);
 bool isExplicit(IntegratorKind kind);
@@ -89,4 +90,5 @@ std::unique_ptr<Integrator> makeSymplecticEuler();
 std::unique_ptr<Integrator> makeVelocityVerlet();
 std::unique_ptr<Integrator> makeImplicitEuler(const ImplicitSettings& settings);
 std::unique_ptr<Integrator> makeBdf2(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeTrBdf2(const ImplicitSettings& settings);
 } // namespace masse

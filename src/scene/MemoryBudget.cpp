@@ -36,7 +36,9 @@ std::size_t massCountOf(const LatticeSpec& spec)
 
 double estimatedBytes(const LatticeSpec& spec, IntegratorKind integrator)
 {
-    const double perMass = integrator == IntegratorKind::ImplicitEuler ? implicitBytesPerMass : explicitBytesPerMass;
+    // TR-BDF2 keeps a solve (matrix and factor) for each of its two stages and BDF2's for its steps with contact.
+    const double solves = isExplicit(integrator) ? 0.0 : integrator == IntegratorKind::TrBdf2 ? 3.0 : 1.0;
+    const double perMass = explicitBytesPerMass + solves * (implicitBytesPerMass - explicitBytesPerMass);
     return fixedBytes + perMass * double(massCountOf(spec));
 }
 

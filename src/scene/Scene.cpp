@@ -44,6 +44,7 @@ void Scene::build()
     tearDown();
     try
     {
+        requireIntegratorForSheetContact(m_spec); // again: --integrator may have changed the scene's
         // A sheet that cannot fit in memory is refused before anything is allocated for it.
         checkUnder("sheet", latticeKeys, [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
         m_lattice = buildSheetLattice();
@@ -228,7 +229,6 @@ void Scene::addHooks()
     {
         // Right after the script, so that it runs after the obstacle contact of every substep and before the models
         // that read the positions.
-        requireIntegratorForSheetContact(m_spec); // again: --integrator may have changed the scene's
         SelfContactSettings self;
         self.radius = m_spec.contact.radius;
         self.friction = m_spec.selfFriction;
@@ -240,7 +240,6 @@ void Scene::addHooks()
     if (m_spec.edgeCollision)
     {
         // After the self-contact, so that in every substep the obstacles have the last word.
-        requireIntegratorForSheetContact(m_spec); // again: --integrator may have changed the scene's
         m_edgeContactPairs = std::make_unique<bridge::SheetEdgeTree>(*m_environment);
         m_edgeContact = std::make_unique<EdgeContact>(m_lattice, *m_edgeContactPairs, m_contact->settings());
         m_simulator->addHook(m_edgeContact.get());

@@ -1,0 +1,23 @@
+#pragma once
+/// BDF2 (Bdf2.cpp) as a part of another integrator: TR-BDF2 hands it the steps that have contact, and BDF2 needs the
+/// state one step back, which TR-BDF2's steps made.
+
+#include "Integrator.h"
+
+#include <memory>
+#include <vector>
+
+namespace masse
+{
+class Bdf2Integrator : public Integrator
+{
+public:
+    /// The next step continues from a step of h that went from (previousPosition, previousVelocity) to the system's
+    /// state now, whose velocities are what that step left (a change to them before the next step enters the history
+    /// once, as after BDF2's own steps).
+    virtual void continueFrom(const MassSpringSystem& system, const std::vector<Vec3>& previousPosition,
+                              const std::vector<Vec3>& previousVelocity, Real h) = 0;
+};
+
+std::unique_ptr<Bdf2Integrator> makeBdf2Integrator(const ImplicitSettings& settings);
+} // namespace masse
