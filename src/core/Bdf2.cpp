@@ -99,15 +99,8 @@ public:
                 evaluateForces(system, p.position, p.velocity, p.force);
                 const IntegratorStats more = m_solve.solve(system, context.constraints, a, m_newtonOffset,
                                                            m_newtonMomentum, {h, &m_newtonStart});
-                stats.solverIterations += more.solverIterations;
-                stats.solverResidual = more.solverResidual;
-                stats.hitIterationCap = stats.hitIterationCap || more.hitIterationCap;
-                stats.refactorisations += more.refactorisations;
-                Real next = 0;
-                for (std::size_t i = 0; i < n; ++i)
-                {
-                    next = std::max(next, m_solve.deltaV(Index(i)).norm());
-                }
+                stats.add(more);
+                const Real next = m_solve.largestDeltaV();
                 if (!(next < correction))
                 {
                     break; // not converging (contact changing under the iteration): keep the last iterate

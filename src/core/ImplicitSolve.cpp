@@ -40,11 +40,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
         assemble(system, a, roundOffset, momentum);
         const bool constrained = applyConstraints(system, constraints, a);
         m_tolerance = solverTolerance(system, a);
-        const IntegratorStats solved = runSolver();
-        stats.solverIterations += solved.solverIterations;
-        stats.solverResidual = solved.solverResidual;
-        stats.hitIterationCap = stats.hitIterationCap || solved.hitIterationCap;
-        stats.refactorisations += solved.refactorisations;
+        stats.add(runSolver());
         if (constrained)
         {
             for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
@@ -174,6 +170,16 @@ bool ImplicitSolve::capFriction(const MassSpringSystem& system, std::vector<Velo
         }
     }
     return changed;
+}
+
+Real ImplicitSolve::largestDeltaV() const
+{
+    Real largest = 0;
+    for (Eigen::Index i = 0; i + 2 < m_deltaV.size(); i += 3)
+    {
+        largest = std::max(largest, m_deltaV.segment<3>(i).norm());
+    }
+    return largest;
 }
 
 Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) const

@@ -76,6 +76,8 @@ public:
 
     /// The velocity change of mass i from the last solve.
     Vec3 deltaV(Index i) const { return m_deltaV.segment<3>(Eigen::Index(3 * i)); }
+    /// The largest velocity change of a mass in the last solve (m/s): how far a Newton iteration still moves.
+    Real largestDeltaV() const;
     /// I - S of mass i in the last solve (the projection onto its constrained directions), zero if it had none.
     Mat3 held(Index i) const
     {

@@ -17,7 +17,7 @@ enum class IntegratorKind
     VelocityVerlet,  ///< second order; forces re-evaluated at the new positions
     ImplicitEuler,   ///< backward Euler, linearised (Baraff and Witkin 1998), solved by conjugate gradient
     Bdf2,            ///< second-order backward differentiation, linearised (Choi and Ko 2002); little numerical damping
-    TrBdf2,          ///< trapezoidal rule then BDF2 in each step (TR-BDF2), BDF2 steps in contact; keeps slow motion best
+    TrBdf2, ///< trapezoidal rule then BDF2 in each step (TR-BDF2), BDF2 steps in contact; keeps slow motion best
 };
 
 /// Parses "euler", "symplectic", "verlet", "implicit", "bdf2" or "trbdf2"; throws InputError naming the allowed names.
@@ -62,6 +62,15 @@ struct IntegratorStats
     Real solverResidual = 0;      ///< relative residual reached (implicit only)
     bool hitIterationCap = false; ///< the solve stopped at maxIterations short of the tolerance
     int refactorisations = 0;     ///< preconditioner rebuilds (implicit with a refreshed preconditioner only)
+
+    /// Counts a later solve of the same step in: its iterations and rebuilds added, its residual the step's.
+    void add(const IntegratorStats& later)
+    {
+        solverIterations += later.solverIterations;
+        solverResidual = later.solverResidual;
+        hitIterationCap = hitIterationCap || later.hitIterationCap;
+        refactorisations += later.refactorisations;
+    }
 };
 
 class Integrator

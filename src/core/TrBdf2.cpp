@@ -102,10 +102,7 @@ public:
         }
         evaluateForces(system, p.position, p.velocity, p.force);
         const IntegratorStats second = stage(system, m_bdf2, bdf2A, (1 - gamma) * h, m_stagePosition);
-        stats.solverIterations += second.solverIterations;
-        stats.solverResidual = second.solverResidual;
-        stats.hitIterationCap = stats.hitIterationCap || second.hitIterationCap;
-        stats.refactorisations += second.refactorisations;
+        stats.add(second);
         m_contactSteps->continueFrom(system, m_startPosition, m_startVelocity, h);
         return stats;
     }
@@ -144,15 +141,8 @@ private:
                 m_momentum[i] = m_baseVelocity[i] - p.velocity[i];
             }
             const IntegratorStats solved = solve.solve(system, m_noConstraints, a, m_offset, m_momentum);
-            stats.solverIterations += solved.solverIterations;
-            stats.solverResidual = solved.solverResidual;
-            stats.hitIterationCap = stats.hitIterationCap || solved.hitIterationCap;
-            stats.refactorisations += solved.refactorisations;
-            Real next = 0;
-            for (std::size_t i = 0; i < n; ++i)
-            {
-                next = std::max(next, solve.deltaV(Index(i)).norm());
-            }
+            stats.add(solved);
+            const Real next = solve.largestDeltaV();
             if (!(next < correction))
             {
                 break; // not converging: keep the last iterate
