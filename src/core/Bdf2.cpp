@@ -32,11 +32,6 @@ namespace masse
 {
 namespace
 {
-/// Newton corrections after the first solve, at most: a tumbling sheet's step converges in two.
-constexpr int maxNewtonIterations = 4;
-/// m: Newton stops once the largest velocity correction would move a mass less than this over the step.
-constexpr Real newtonTolerance = 1e-6;
-
 class Bdf2 final : public Bdf2Integrator
 {
 public:

@@ -9,6 +9,12 @@
 
 namespace masse
 {
+/// Newton corrections after a step's first solve (a TR-BDF2 stage's too), at most: a tumbling sheet's step converges in
+/// two.
+constexpr int maxNewtonIterations = 4;
+/// m: Newton stops once the largest velocity correction would move a mass less than this over the step.
+constexpr Real newtonTolerance = 1e-6;
+
 class Bdf2Integrator : public Integrator
 {
 public:

@@ -1,4 +1,4 @@
-/// TR-BDF2 (Bank et al. 1985; Hosea and Shampine 1996): each step is the trapezoidal rule over the first gamma h, then
+/// TR-BDF2 (Bank et al. 1985; Hosea and Shampine 1996): each step is the trapezoidal rule over the first g h, then
 /// BDF2 through the step's start, that point and its end:
 ///     x_g = x_n + (g h / 2)(v_n + v_g),                 v_g = v_n + (g h / 2) M^-1 (f_n + f_g)
 ///     x_n+1 = x_g + c (x_g - x_n) + a v_n+1,           v_n+1 = v_g + c (v_g - v_n) + a M^-1 f_n+1
@@ -45,12 +45,8 @@ namespace masse
 {
 namespace
 {
-/// The fraction of the step taken by the trapezoidal rule (see the file comment).
-constexpr Real gamma = 0.82;
-/// Newton corrections after each stage's first solve, at most (as Bdf2.cpp).
-constexpr int maxNewtonIterations = 4;
-/// m: a stage's Newton stops once the largest velocity correction would move a mass less than this over the step.
-constexpr Real newtonTolerance = 1e-6;
+/// g, the fraction of the step taken by the trapezoidal rule (see the file comment).
+constexpr Real trapezoidFraction = 0.82;
 /// Steps taken by BDF2 after the last with contact constraints, that one included (see the file comment): five BDF2
 /// steps leave 3% of a mode at w h = 9 (the Table 1 sheet's stretching), which the contact's impulses excite.
 constexpr int bdf2StepsAfterContact = 5;
@@ -77,9 +73,10 @@ public:
         Particles& p = system.particles;
         const std::size_t n = p.size();
         resize(n);
-        const Real trapezoidA = gamma * h / 2;
-        const Real bdf2A = (1 - gamma) / (2 - gamma) * h;
-        const Real c = (1 - gamma) * (1 - gamma) / (gamma * (2 - gamma));
+        const Real g = trapezoidFraction; // the file comment's g
+        const Real trapezoidA = g * h / 2;
+        const Real bdf2A = (1 - g) / (2 - g) * h;
+        const Real c = (1 - g) * (1 - g) / (g * (2 - g));
 
         // Trapezoidal stage, from (x_n, v_n).
         evaluateForces(system, p.position, p.velocity, p.force);
@@ -91,7 +88,7 @@ public:
             m_baseVelocity[i] =
                 m_startVelocity[i] + (p.pinned[i] ? Vec3(Vec3::Zero()) : Vec3(trapezoidA / p.mass[i] * p.force[i]));
         }
-        IntegratorStats stats = stage(system, m_trapezoid, trapezoidA, gamma * h, m_startPosition);
+        IntegratorStats stats = stage(system, m_trapezoid, trapezoidA, g * h, m_startPosition);
 
         // BDF2 stage, from (x_g, v_g) with (x_n, v_n) behind it.
         std::copy(p.position.begin(), p.position.end(), m_stagePosition.begin());
@@ -101,7 +98,7 @@ public:
             m_baseVelocity[i] = p.velocity[i] + c * (p.velocity[i] - m_startVelocity[i]);
         }
         evaluateForces(system, p.position, p.velocity, p.force);
-        const IntegratorStats second = stage(system, m_bdf2, bdf2A, (1 - gamma) * h, m_stagePosition);
+        const IntegratorStats second = stage(system, m_bdf2, bdf2A, (1 - g) * h, m_stagePosition);
         stats.add(second);
         m_contactSteps->continueFrom(system, m_startPosition, m_startVelocity, h);
         return stats;
