@@ -19,8 +19,9 @@ constexpr float hudLines = 11;
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
 constexpr std::array<Structure, 4> structures{Structure::Square2D, Structure::SaMM, Structure::SLaMM, Structure::TRiMM};
-constexpr std::array<IntegratorKind, 4> integrators{IntegratorKind::ExplicitEuler, IntegratorKind::SymplecticEuler,
-                                                    IntegratorKind::VelocityVerlet, IntegratorKind::ImplicitEuler};
+constexpr std::array<IntegratorKind, 6> integrators{IntegratorKind::ExplicitEuler,  IntegratorKind::SymplecticEuler,
+                                                    IntegratorKind::VelocityVerlet, IntegratorKind::ImplicitEuler,
+                                                    IntegratorKind::Bdf2,           IntegratorKind::TrBdf2};
 constexpr std::array<ContactResponse, 3> responses{ContactResponse::Sticky, ContactResponse::Friction,
                                                    ContactResponse::Frictionless};
 constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
