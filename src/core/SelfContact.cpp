@@ -47,6 +47,7 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleHigh.resize(m_triangles.size());
     m_triangleMoved.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
+    m_moved.assign(n, 0);
     m_broadphase.setTriangles(m_triangles);
     listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
 }
@@ -282,48 +283,44 @@ bool SelfContact::outgrewPairs(const std::vector<Vec3>& x) const
     return false;
 }
 
-void SelfContact::detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const
+void SelfContact::detectPair(const std::vector<Vec3>& x, std::size_t k, std::vector<Touch>& out) const
 {
     const Real radius = m_settings.radius;
-    const Real radiusSquared = radius * radius;
-    for (std::size_t k = begin; k < end; ++k)
+    const SelfContactPair& pair = m_pairs[k];
+    const Vec3& v = x[pair.vertex];
+    // Most listed pairs are a skin away: the triangle's box, grown by the radius, turns them away with six
+    // comparisons before the closest point is sought.
+    const Vec3& low = m_triangleLow[pair.triangle];
+    const Vec3& high = m_triangleHigh[pair.triangle];
+    const auto outsideBox = [&](Real grown)
     {
-        const SelfContactPair& pair = m_pairs[k];
-        const Vec3& v = x[pair.vertex];
-        // Most listed pairs are a skin away: the triangle's box, grown by the radius, turns them away with six
-        // comparisons before the closest point is sought.
-        const Vec3& low = m_triangleLow[pair.triangle];
-        const Vec3& high = m_triangleHigh[pair.triangle];
-        const auto outsideBox = [&](Real margin)
-        {
-            return v.x() < low.x() - margin || v.y() < low.y() - margin || v.z() < low.z() - margin ||
-                   v.x() > high.x() + margin || v.y() > high.y() + margin || v.z() > high.z() + margin;
-        };
-        Touch touch{std::uint32_t(k), Vec3::Zero()};
-        if (outsideBox(radius))
-        {
-            // Passing through needs the vertex within the radius of the triangle at some moment of the substep, so
-            // now within the radius plus how far each moved (along any axis) of the triangle's box: most are not.
-            const Real vertexMoved = (v - m_substepStart[pair.vertex]).cwiseAbs().maxCoeff();
-            const Real reach = radius + vertexMoved + m_triangleMoved[pair.triangle];
-            if (!outsideBox(reach) && crossed(x, k, touch))
-            {
-                out.push_back(touch);
-            }
-            continue;
-        }
-        const Triangle& t = m_triangles[pair.triangle];
-        const Vec3 weights = closestPointWeights(v, x[t[0]], x[t[1]], x[t[2]]);
-        const Vec3 closest = weights[0] * x[t[0]] + weights[1] * x[t[1]] + weights[2] * x[t[2]];
-        if ((v - closest).squaredNorm() < radiusSquared)
-        {
-            touch.weights = weights;
-            out.push_back(touch);
-        }
-        else if (crossed(x, k, touch))
+        return v.x() < low.x() - grown || v.y() < low.y() - grown || v.z() < low.z() - grown ||
+               v.x() > high.x() + grown || v.y() > high.y() + grown || v.z() > high.z() + grown;
+    };
+    Touch touch{std::uint32_t(k), Vec3::Zero()};
+    if (outsideBox(radius))
+    {
+        // Passing through needs the vertex within the radius of the triangle at some moment of the substep, so
+        // now within the radius plus how far each moved (along any axis) of the triangle's box: most are not.
+        const Real vertexMoved = (v - m_substepStart[pair.vertex]).cwiseAbs().maxCoeff();
+        const Real reach = radius + vertexMoved + m_triangleMoved[pair.triangle];
+        if (!outsideBox(reach) && crossed(x, k, touch))
         {
             out.push_back(touch);
         }
+        return;
+    }
+    const Triangle& t = m_triangles[pair.triangle];
+    const Vec3 weights = closestPointWeights(v, x[t[0]], x[t[1]], x[t[2]]);
+    const Vec3 closest = weights[0] * x[t[0]] + weights[1] * x[t[1]] + weights[2] * x[t[2]];
+    if ((v - closest).squaredNorm() < radius * radius)
+    {
+        touch.weights = weights;
+        out.push_back(touch);
+    }
+    else if (crossed(x, k, touch))
+    {
+        out.push_back(touch);
     }
 }
 
@@ -506,7 +503,7 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
     const StageScope stage(m_observer, Stage::SelfContactSolve);
     // The explicit integrators' substeps are short: one pass of responses a substep, and the next substep's pass
     // takes what a mass pushed by several pairs was left with.
-    const std::size_t touches = detectAndRespond(p, h, time).touches;
+    const std::size_t touches = detectAndRespond(p, h, time, false).touches;
     m_report.lastSubstep = touches;
     m_report.lastFrame += touches;
     m_report.total += touches;
@@ -556,10 +553,15 @@ void SelfContact::afterImplicitSolve(MassSpringSystem& system, StepContext& cont
 
 std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time)
 {
+    // With one solve a frame the pairs are listed over the whole step's motion (150,000 to 2.7 million on the 64x2x64
+    // fold) and the passes often go on to the last: measuring every pair at every pass was half that fold's run. A
+    // pass after the first measures only the pairs a response of the pass before was given a mass of (a tenth of
+    // the masses there): a pair none of whose masses moved since it was last measured would be found as it was then,
+    // not touching, so the passes respond as before, bit for bit.
     std::size_t firstPass = 0;
     for (int pass = 0; pass < selfResponsePasses; ++pass)
     {
-        const Passed passed = detectAndRespond(p, h, time);
+        const Passed passed = detectAndRespond(p, h, time, pass > 0);
         firstPass = pass == 0 ? passed.touches : firstPass;
         if (passed.moved == 0)
         {
@@ -569,35 +571,62 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time)
     return firstPass;
 }
 
-SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real time)
+SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved)
 {
     const std::vector<Vec3>& x = p.position;
     measureTriangleBoxes(x);
+    const auto moved = [&](const SelfContactPair& pair)
+    {
+        const Triangle& t = m_triangles[pair.triangle];
+        return (m_moved[pair.vertex] | m_moved[t[0]] | m_moved[t[1]] | m_moved[t[2]]) != 0;
+    };
     parallelFor(m_pairs.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     std::vector<Touch>& touches = m_touches[begin / selfPairChunkSize];
                     touches.clear();
-                    detect(x, begin, end, touches);
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        if (!onlyMoved || moved(m_pairs[k]))
+                        {
+                            detectPair(x, k, touches);
+                        }
+                    }
                 });
+    for (const Index i : m_movedMasses)
+    {
+        m_moved[i] = 0;
+    }
+    m_movedMasses.clear();
     // The responses in pair order, one after the other: touching pairs share masses.
     std::size_t count = 0;
-    std::size_t moved = 0;
+    std::size_t movedCount = 0;
     const std::size_t ranges = chunkCount(m_pairs.size(), selfPairChunkSize);
     for (std::size_t range = 0; range < ranges; ++range)
     {
         for (const Touch& touch : m_touches[range])
         {
+            // Every mass a response may change, whether or not it moves them beyond rounding.
+            const SelfContactPair& pair = m_pairs[touch.pair];
+            const Triangle& t = m_triangles[pair.triangle];
+            for (const Index i : {pair.vertex, t[0], t[1], t[2]})
+            {
+                if (!m_moved[i])
+                {
+                    m_moved[i] = 1;
+                    m_movedMasses.push_back(i);
+                }
+            }
             if (m_report.firstTime < 0)
             {
                 m_report.firstTime = time;
                 m_report.firstVertex = m_pairs[touch.pair].vertex;
                 m_report.firstPosition = p.position[m_report.firstVertex];
             }
-            moved += respond(p, touch, h) ? 1 : 0;
+            movedCount += respond(p, touch, h) ? 1 : 0;
         }
         count += m_touches[range].size();
     }
-    return {count, moved};
+    return {count, movedCount};
 }
 } // namespace masse

@@ -124,12 +124,16 @@ private:
         std::size_t touches = 0; ///< pairs found closer than the radius (or passed through)
         std::size_t moved = 0;   ///< of those, the ones whose response moved the masses
     };
-    /// Measures every listed pair at the current positions and responds to those that touch, in pair order.
-    Passed detectAndRespond(Particles& p, Real h, Real time);
+    /// Measures the listed pairs at the current positions and responds to those that touch, in pair order; with
+    /// `onlyMoved`, only the pairs a response of the pass before was given a mass of (m_moved).
+    Passed detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved);
     /// detectAndRespond again and again until no response moves a mass (at most selfResponsePasses); returns the
-    /// first pass's touches.
+    /// first pass's touches. The first pass measures every pair, the ones after it only the pairs a response of the
+    /// pass before was given a mass of: a pair none of whose masses a response touched would be found as it was, not
+    /// touching.
     std::size_t respondUntilSettled(Particles& p, Real h, Real time);
-    void detect(const std::vector<Vec3>& x, std::size_t begin, std::size_t end, std::vector<Touch>& out) const;
+    /// Measures pair k at positions x and appends it to `out` if it touches.
+    void detectPair(const std::vector<Vec3>& x, std::size_t k, std::vector<Touch>& out) const;
     /// The swept test of pair k over the substep from m_substepStart to x: whether the vertex crossed the triangle's
     /// plane inside the triangle, as all four masses moved in straight lines.
     bool crossed(const std::vector<Vec3>& x, std::size_t k, Touch& touch) const;
@@ -166,6 +170,8 @@ private:
     /// pair of such a mass is not held this frame, only one that would come within the radius.
     std::vector<std::uint8_t> m_leaving;
     PerChunk<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
+    std::vector<std::uint8_t> m_moved;      ///< per mass: a response of the last pass was given a pair of it
+    std::vector<Index> m_movedMasses;       ///< the masses m_moved marks
     SelfContactReport m_report;
     StageObserver* m_observer = nullptr;
 };
