@@ -429,9 +429,12 @@ bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
 
     const Vec3 relative = p.velocity[v] - (w[0] * p.velocity[t[0]] + w[1] * p.velocity[t[1]] + w[2] * p.velocity[t[2]]);
     const Real normalSpeed = relative.dot(normal);
-    // Whether this response changed anything beyond rounding: a pair put a radius apart by an earlier pass can be
-    // found again a few ulps inside it, and its push and impulse are then of that size.
-    const Real settled = Real(1e-6) * m_settings.radius;
+    // Whether this response moved the pair by more than a thousandth of the radius (or stopped an approach that would
+    // have, over the step): the passes after an implicit step go on until none does. A pair pushed apart by an
+    // earlier pass is often found again a little inside the radius, its neighbours' pushes having moved it; with
+    // rounding as the bound (a millionth of the radius) most frames of the 64x2x64 fold took all 128 passes, and the
+    // run 31.4 s against 24.4 s with this bound; the halves keep the radius to 0.1% all the same (SelfContactTest).
+    const Real settled = Real(1e-3) * m_settings.radius;
     const bool moved = m_settings.radius - distance > settled || -normalSpeed * h > settled;
     if (normalSpeed >= 0)
     {
