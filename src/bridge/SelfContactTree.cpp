@@ -77,7 +77,8 @@ void SelfContactTree::setTriangles(const std::vector<Triangle>& triangles)
     m_high.assign(triangles.size(), Vec3::Zero());
 }
 
-void SelfContactTree::refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius)
+void SelfContactTree::refit(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
+                            Real radius)
 {
     // A leaf's box is the triangle's box grown by the farthest its masses may move this frame plus the radius. A leaf
     // whose stored box still holds that stays as it is; one that does not (or has grown past twice the box it needs,
@@ -86,8 +87,13 @@ void SelfContactTree::refit(const std::vector<Vec3>& x, const std::vector<Real>&
     for (std::size_t k = 0; k < m_triangles.size(); ++k)
     {
         const Triangle& t = m_triangles[k];
-        const Vec3 low = x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]);
-        const Vec3 high = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
+        Vec3 low = from[t[0]].cwiseMin(from[t[1]]).cwiseMin(from[t[2]]);
+        Vec3 high = from[t[0]].cwiseMax(from[t[1]]).cwiseMax(from[t[2]]);
+        if (&to != &from)
+        {
+            low = low.cwiseMin(to[t[0]]).cwiseMin(to[t[1]]).cwiseMin(to[t[2]]);
+            high = high.cwiseMax(to[t[0]]).cwiseMax(to[t[1]]).cwiseMax(to[t[2]]);
+        }
         m_low[k] = low;
         m_high[k] = high;
         const Real margin = std::max({reach[t[0]], reach[t[1]], reach[t[2]]}) + radius;
@@ -169,11 +175,10 @@ void SelfContactTree::flatten()
     }
 }
 
-void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
-                                const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
-                                std::vector<SelfContactPair>& out)
+template <class BoxOf, class Accept>
+void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                                   const BoxOf& boxOf, const Accept& accept, std::vector<SelfContactPair>& out)
 {
-    refit(x, reach, radius);
     // The walks run on the flattened copy: btDbvt's nodes are scattered in memory, each a likely cache miss, where
     // the copy is read front to back.
     flatten();
@@ -194,8 +199,7 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
                         const std::size_t count = std::min(selfQueryGroupSize, end - first);
                         for (std::size_t g = 0; g < count; ++g)
                         {
-                            const Index v = vertices[first + g];
-                            boxes[g] = selfContactBox(x[v], x[v], reach[v]);
+                            boxes[g] = boxOf(vertices[first + g]);
                         }
                         btDbvtVolume group = boxes[0];
                         for (std::size_t g = 1; g < count; ++g)
@@ -229,7 +233,7 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
                             {
                                 const Index triangle = Index(m_flat[k].triangle);
                                 if (overlaps(m_flat[k], boxes[g]) && !marks.marked(triangle) &&
-                                    withinReach(x, reach, radius, v, triangle))
+                                    accept(v, boxes[g], triangle))
                                 {
                                     pairs.push_back({v, triangle});
                                 }
@@ -242,5 +246,36 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
     {
         out.insert(out.end(), m_rangePairs[range].begin(), m_rangePairs[range].end());
     }
+}
+
+void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
+                                const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                                std::vector<SelfContactPair>& out)
+{
+    refit(x, x, reach, radius);
+    collectPairs(
+        vertices, excluded, [&](Index v) { return selfContactBox(x[v], x[v], reach[v]); },
+        [&](Index v, const btDbvtVolume& /*box*/, Index triangle)
+        { return withinReach(x, reach, radius, v, triangle); },
+        out);
+}
+
+void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
+                                     const std::vector<Real>& reach, Real radius, const std::vector<Index>& vertices,
+                                     const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out)
+{
+    refit(from, to, reach, radius);
+    // The leaves are fat boxes: a pair is kept only if the vertex's box overlaps the triangle's own, grown by the
+    // radius and its masses' largest reach.
+    collectPairs(
+        vertices, excluded,
+        [&](Index v) { return selfContactBox(from[v].cwiseMin(to[v]), from[v].cwiseMax(to[v]), reach[v]); },
+        [&](Index /*v*/, const btDbvtVolume& box, Index triangle)
+        {
+            const Triangle& t = m_triangles[triangle];
+            const Real margin = radius + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
+            return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), box);
+        },
+        out);
 }
 } // namespace masse::bridge

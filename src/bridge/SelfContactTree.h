@@ -30,6 +30,9 @@ public:
     void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                    const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                    std::vector<SelfContactPair>& out) override;
+    void findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
+                        Real radius, const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                        std::vector<SelfContactPair>& out) override;
 
     /// A node of the tree copied into one array in the order a walk visits it.
     struct FlatNode
@@ -46,7 +49,14 @@ private:
     /// Whether vertex v is closer to the triangle than the radius plus v's reach plus its masses' largest.
     bool withinReach(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Index v,
                      Index triangle) const;
-    void refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius);
+    /// Each triangle's box over its masses at `from` and `to` (the same positions for a list at one moment), into
+    /// m_low and m_high, and the tree's leaves grown to hold it plus the radius and its masses' largest reach.
+    void refit(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach, Real radius);
+    /// The walks of findPairs and findSweptPairs: each vertex's box (boxOf) against the tree, and the pairs of the
+    /// leaves it overlaps that the exclusions leave and `accept` takes, in vertex order.
+    template <class BoxOf, class Accept>
+    void collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded, const BoxOf& boxOf,
+                      const Accept& accept, std::vector<SelfContactPair>& out);
 
     std::unique_ptr<btDbvt> m_tree;
     std::vector<Triangle> m_triangles;

@@ -22,16 +22,18 @@
 /// with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one), the flat sheet
 /// would otherwise touch itself everywhere.
 ///
-/// Runs as a StepHook, after the obstacle contact of every substep. With backward Euler (`implicit`), which takes a
-/// frame in one solve, four things change (StepContext::oneSolveAFrame): at the frame's start each surface vertex
-/// whose pair the step would carry within the radius at its present velocity, or which rests within a quarter radius
-/// of touching (unless the solve had to pull it back last frame: it was leaving), gets a velocity constraint along the
-/// pair's normal, so the solve stops it together with the springs behind it (the inelastic outcome of its most urgent
-/// pair: the pair's common normal speed, plus its share of closing the gap to the radius); after the solve the pairs
-/// are listed again over the whole step's motion, since no substep follows to list them; the responses are repeated
-/// until none moves a mass (at most 128 passes); and they run both before the obstacle contact (afterImplicitSolve)
-/// and after it. Known limit: the 64x2x64 fold over the rod ends frames up to 6.8 mm inside the rod. BDF2 with
-/// self-collision diverged where the fold's halves meet: the scene refuses that combination.
+/// Runs as a StepHook, after the obstacle contact of every substep. With the integrators that take a frame in one
+/// solve (`implicit`, `bdf2`, `trbdf2`: StepContext::oneSolveAFrame), four things change. The pairs are listed by
+/// boxes over each mass's motion in the step (swept, SelfContactBroadphase::findSweptPairs), not spheres about it: at
+/// the frame's start from where each mass is to where its velocity would carry it, after the solve over the motion it
+/// made. At the frame's start each surface vertex whose pair the step would carry within the radius at its present
+/// velocity, or which rests within a quarter radius of touching (unless the solve had to pull it back last frame: it
+/// was leaving), gets a velocity constraint along the pair's normal, so the solve stops it together with the springs
+/// behind it (the inelastic outcome of its most urgent pair: the pair's common normal speed, plus its share of
+/// closing the gap to the radius). The responses are repeated until none moves a mass (at most 128 passes), and they
+/// run both before the obstacle contact (afterImplicitSolve) and after it. Known limits: the 64x2x64 fold over the
+/// rod ends frames up to 7 mm inside the rod; at 128x2x128 and dt 0.03 the fold's halves, meeting at 2 m/s, crumple
+/// through each other within one step and the run diverges (at dt 0.015 it does not).
 /// Detection runs over ranges of pairs on every thread, each range listing its touches; the responses are applied in
 /// one pass in pair order, so the result is the same bit for bit at any thread count. Buffers are sized when the
 /// pairs are listed, so a substep that keeps its list allocates nothing.
@@ -113,6 +115,8 @@ private:
     void constrainArrivals(const Particles& p, Real dt, std::vector<VelocityConstraint>& constraints);
     /// Asks the broadphase for the pairs within reach of the masses' skins now.
     void listPairs(const std::vector<Vec3>& x);
+    /// After a list: where the masses were (x), and the detection's buffers sized for it.
+    void pairsListed(const std::vector<Vec3>& x);
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
     /// pairs were listed (the list may then miss a pair).
     bool outgrewPairs(const std::vector<Vec3>& x) const;
@@ -153,6 +157,7 @@ private:
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;     ///< per mass, its velocity at the last frame's start
     std::vector<Vec3> m_substepStart;     ///< per mass, its position when the current substep began
+    std::vector<Vec3> m_predicted;        ///< per surface mass, where one solve a frame would carry it unhindered
     std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
     std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
     /// Per mass, the pair that constrains it this frame (constrainArrivals).

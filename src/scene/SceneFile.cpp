@@ -732,13 +732,6 @@ void requireIntegratorForSheetContact(const SceneSpec& scene)
             "measured only at the step's end); use \"integrator\": {\"type\": \"symplectic\"} or turn "
             "edge_collision off");
     }
-    // bdf2: on the fold-over-rod scene its step diverged where the halves meet. trbdf2 hands its contact steps to bdf2.
-    if (scene.selfCollision &&
-        (scene.time.integrator == IntegratorKind::Bdf2 || scene.time.integrator == IntegratorKind::TrBdf2))
-    {
-        throw InputError("contact.self_collision: works with euler, symplectic, verlet and implicit, not with " +
-                         integrator + "; use \"integrator\": {\"type\": \"implicit\"} or turn self_collision off");
-    }
 }
 
 void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey)
