@@ -27,8 +27,7 @@ constexpr Real maxContactRadius = 0.1; ///< m: a mass's sphere, far below the sh
 constexpr Real maxRepulsion = 1;       ///< N m^2
 } // namespace limits
 
-/// Throws InputError naming contact.edge_collision when it is on with an implicit integrator, or
-/// contact.self_collision when it is on with bdf2 (neither built for them).
+/// Throws InputError naming contact.edge_collision when it is on with an implicit integrator (not built for them).
 void requireIntegratorForSheetContact(const SceneSpec& scene);
 
 /// Throws InputError naming `stepKey` and `durationKey` when duration / dt is more than limits::maxSteps steps.
