@@ -139,16 +139,15 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
         // fold then diverged where they met, pushed back by up to 6.5 cm after the solve). The constraints are then
         // set from the present velocities: from the velocities plus their last change (backward Euler moves a mass
         // by its velocity at the step's end), the 64x2x64 fold diverged where its halves met.
-        m_predicted.resize(p.size());
+        m_sweptEnd.resize(p.size());
         for (const Index i : m_vertices)
         {
             const Vec3 change = p.velocity[i] - m_lastVelocity[i];
             m_skin[i] = 2 * (change - meanChange).norm() * dt + Real(0.25) * m_settings.radius;
-            m_predicted[i] = p.position[i] + (p.velocity[i] + meanChange) * dt;
+            m_sweptEnd[i] = p.position[i] + (p.velocity[i] + meanChange) * dt;
             m_lastVelocity[i] = p.velocity[i];
         }
-        m_broadphase.findSweptPairs(p.position, m_predicted, m_skin, m_settings.radius, m_vertices, m_excluded,
-                                    m_pairs);
+        m_broadphase.findSweptPairs(p.position, m_sweptEnd, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
         pairsListed(p.position);
     }
     else
@@ -179,7 +178,6 @@ void SelfContact::constrainArrivals(const Particles& p, Real dt, std::vector<Vel
     // constrained by its most urgent pair (the one its step would carry deepest, the first in pair order on a tie:
     // the same at any thread count), unless the obstacle contact holds it; the triangle's masses are vertices of
     // their own pairs across the fold, so both sides are stopped.
-    const std::vector<Vec3>& x = p.position;
     const std::vector<Vec3>& v = p.velocity;
     m_arrival.assign(p.size(), Arrival{});
     m_leaving.resize(p.size(), 0);
@@ -188,44 +186,26 @@ void SelfContact::constrainArrivals(const Particles& p, Real dt, std::vector<Vel
     {
         m_arrival[c.mass].held = true;
     }
-    for (const SelfContactPair& pair : m_pairs)
+    // Over ranges of pairs on every thread: the pairs come by vertex, and each range takes the vertices whose first
+    // pair lies in it, whole, so each vertex's pairs are weighed on one thread in pair order.
+    const std::size_t count = m_pairs.size();
+    const auto runStart = [&](std::size_t k)
     {
-        Arrival& arrival = m_arrival[pair.vertex];
-        if (arrival.held || p.pinned[pair.vertex])
+        while (k > 0 && k < count && m_pairs[k].vertex == m_pairs[k - 1].vertex)
         {
-            continue;
+            ++k;
         }
-        const Triangle& t = m_triangles[pair.triangle];
-        const Vec3 w = closestPointWeights(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]]);
-        Vec3 normal = x[pair.vertex] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]]);
-        const Real distance = normal.norm();
-        if (!(distance > Real(1e-9) * m_settings.radius))
-        {
-            continue; // no direction to part along; the responses after the solve take it
-        }
-        normal /= distance;
-        const Real vertexSpeed = normal.dot(v[pair.vertex]);
-        const Real triangleSpeed = normal.dot(w[0] * v[t[0]] + w[1] * v[t[1]] + w[2] * v[t[2]]);
-        const Real gap = distance - m_settings.radius;
-        // At the present speeds; a pair resting within a quarter radius of touching counts as arriving unless its
-        // vertex was leaving, so that the step's forces cannot press it in.
-        const bool resting = gap < Real(0.25) * m_settings.radius && !m_leaving[pair.vertex];
-        const Real endGap = std::min(gap + dt * (vertexSpeed - triangleSpeed), resting ? Real(-1e-12) : Real(0));
-        if (endGap >= 0 || endGap >= arrival.endGap)
-        {
-            continue;
-        }
-        // Inelastic: the vertex takes the pair's common normal speed (the vertex and the triangle's point weighted
-        // by their masses), plus its share of what closes the gap to the radius (or opens it, if already inside).
-        const Real vertexInverse = p.inverseMass[pair.vertex];
-        const Real triangleInverse =
-            w[0] * w[0] * p.inverseMass[t[0]] + w[1] * w[1] * p.inverseMass[t[1]] + w[2] * w[2] * p.inverseMass[t[2]];
-        const Real inverseSum = vertexInverse + triangleInverse;
-        const Real common = (triangleInverse * vertexSpeed + vertexInverse * triangleSpeed) / inverseSum;
-        arrival.endGap = endGap;
-        arrival.normal = normal;
-        arrival.speed = common + (vertexInverse / inverseSum) * (-gap / dt);
-    }
+        return k;
+    };
+    parallelFor(count, selfPairChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    const std::size_t last = runStart(end);
+                    for (std::size_t k = runStart(begin); k < last; ++k)
+                    {
+                        weighArrival(p, dt, m_pairs[k]);
+                    }
+                });
     for (const Index i : m_vertices)
     {
         const Arrival& arrival = m_arrival[i];
@@ -240,6 +220,47 @@ void SelfContact::constrainArrivals(const Particles& p, Real dt, std::vector<Vel
         m_constraints.emplace_back(i, constraints.size());
         constraints.push_back(c);
     }
+}
+
+void SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPair& pair)
+{
+    Arrival& arrival = m_arrival[pair.vertex];
+    if (arrival.held || p.pinned[pair.vertex])
+    {
+        return;
+    }
+    const std::vector<Vec3>& x = p.position;
+    const std::vector<Vec3>& v = p.velocity;
+    const Triangle& t = m_triangles[pair.triangle];
+    const Vec3 w = closestPointWeights(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]]);
+    Vec3 normal = x[pair.vertex] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]]);
+    const Real distance = normal.norm();
+    if (!(distance > Real(1e-9) * m_settings.radius))
+    {
+        return; // no direction to part along; the responses after the solve take it
+    }
+    normal /= distance;
+    const Real vertexSpeed = normal.dot(v[pair.vertex]);
+    const Real triangleSpeed = normal.dot(w[0] * v[t[0]] + w[1] * v[t[1]] + w[2] * v[t[2]]);
+    const Real gap = distance - m_settings.radius;
+    // At the present speeds; a pair resting within a quarter radius of touching counts as arriving unless its
+    // vertex was leaving, so that the step's forces cannot press it in.
+    const bool resting = gap < Real(0.25) * m_settings.radius && !m_leaving[pair.vertex];
+    const Real endGap = std::min(gap + dt * (vertexSpeed - triangleSpeed), resting ? Real(-1e-12) : Real(0));
+    if (endGap >= 0 || endGap >= arrival.endGap)
+    {
+        return;
+    }
+    // Inelastic: the vertex takes the pair's common normal speed (the vertex and the triangle's point weighted
+    // by their masses), plus its share of what closes the gap to the radius (or opens it, if already inside).
+    const Real vertexInverse = p.inverseMass[pair.vertex];
+    const Real triangleInverse =
+        w[0] * w[0] * p.inverseMass[t[0]] + w[1] * w[1] * p.inverseMass[t[1]] + w[2] * w[2] * p.inverseMass[t[2]];
+    const Real inverseSum = vertexInverse + triangleInverse;
+    const Real common = (triangleInverse * vertexSpeed + vertexInverse * triangleSpeed) / inverseSum;
+    arrival.endGap = endGap;
+    arrival.normal = normal;
+    arrival.speed = common + (vertexInverse / inverseSum) * (-gap / dt);
 }
 
 void SelfContact::listPairs(const std::vector<Vec3>& x)

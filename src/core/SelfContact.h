@@ -113,6 +113,9 @@ private:
     /// within the radius at its masses' present velocities, or that rests within a quarter radius of it, gets a
     /// normal velocity constraint on its vertex.
     void constrainArrivals(const Particles& p, Real dt, std::vector<VelocityConstraint>& constraints);
+    /// Whether the pair would carry its vertex deeper within the radius over the step than its most urgent pair so
+    /// far (m_arrival); if so, the pair becomes that.
+    void weighArrival(const Particles& p, Real dt, const SelfContactPair& pair);
     /// Asks the broadphase for the pairs within reach of the masses' skins now.
     void listPairs(const std::vector<Vec3>& x);
     /// After a list: where the masses were (x), and the detection's buffers sized for it.
@@ -157,7 +160,7 @@ private:
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;     ///< per mass, its velocity at the last frame's start
     std::vector<Vec3> m_substepStart;     ///< per mass, its position when the current substep began
-    std::vector<Vec3> m_predicted;        ///< per surface mass, where one solve a frame would carry it unhindered
+    std::vector<Vec3> m_sweptEnd;         ///< per surface mass, where one solve a frame would carry it unhindered
     std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
     std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
     /// Per mass, the pair that constrains it this frame (constrainArrivals).
