@@ -69,6 +69,23 @@ private:
     std::size_t m_count = 0;
 };
 
+/// A broadphase's pairs as (vertex, triangle), sorted, after checking that they come by vertex, in the vertices'
+/// order, and each once.
+std::vector<std::pair<Index, Index>> checkedPairs(const std::vector<SelfContactPair>& found)
+{
+    std::vector<std::pair<Index, Index>> listed;
+    for (const SelfContactPair& pair : found)
+    {
+        listed.emplace_back(pair.vertex, pair.triangle);
+    }
+    EXPECT_TRUE(
+        std::is_sorted(listed.begin(), listed.end(), [](const auto& a, const auto& b) { return a.first < b.first; }))
+        << "pairs come by vertex, in the vertices' order";
+    std::sort(listed.begin(), listed.end());
+    EXPECT_EQ(std::adjacent_find(listed.begin(), listed.end()), listed.end()) << "a pair listed twice";
+    return listed;
+}
+
 Vec3 momentum(const Particles& p)
 {
     Vec3 sum = Vec3::Zero();
@@ -288,16 +305,7 @@ TEST(SelfContact, BroadphaseListsEveryPairWithinReachOnce)
         }
         std::vector<SelfContactPair> found;
         tree.findPairs(x, reach, radius, vertices, excluded, found);
-        std::vector<std::pair<Index, Index>> listed;
-        for (const SelfContactPair& pair : found)
-        {
-            listed.emplace_back(pair.vertex, pair.triangle);
-        }
-        ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end(),
-                                   [](const auto& a, const auto& b) { return a.first < b.first; }))
-            << "pairs come by vertex, in the vertices' order";
-        std::sort(listed.begin(), listed.end());
-        EXPECT_EQ(std::adjacent_find(listed.begin(), listed.end()), listed.end()) << "a pair listed twice";
+        const std::vector<std::pair<Index, Index>> listed = checkedPairs(found);
         std::size_t near = 0;
         for (const Index v : vertices)
         {
@@ -373,16 +381,7 @@ TEST(SelfContact, SweptBroadphaseListsEveryPairWhoseBoxesOverTheMotionOverlap)
         }
         std::vector<SelfContactPair> found;
         tree.findSweptPairs(from, to, reach, radius, surface.vertices, excluded, found);
-        std::vector<std::pair<Index, Index>> listed;
-        for (const SelfContactPair& pair : found)
-        {
-            listed.emplace_back(pair.vertex, pair.triangle);
-        }
-        ASSERT_TRUE(std::is_sorted(listed.begin(), listed.end(),
-                                   [](const auto& a, const auto& b) { return a.first < b.first; }))
-            << "pairs come by vertex, in the vertices' order";
-        std::sort(listed.begin(), listed.end());
-        EXPECT_EQ(std::adjacent_find(listed.begin(), listed.end()), listed.end()) << "a pair listed twice";
+        const std::vector<std::pair<Index, Index>> listed = checkedPairs(found);
         std::size_t overlapping = 0;
         for (const Index v : surface.vertices)
         {
