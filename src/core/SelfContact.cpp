@@ -112,14 +112,15 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
 {
     const StageScope stage(m_observer, Stage::SelfContactPairs);
     const Particles& p = system.particles;
-    // Each mass's skin for this frame: how far it may move relative to the surface's mean motion, twice what its
-    // velocity and the change of its velocity over the last frame (its observed acceleration, the contact's and the
-    // springs' included) relative to the surface's mean would carry it, and at least a quarter radius. Relative to
-    // the mean, because a pair's distance does not change when the whole sheet moves: a falling sheet needs no more
-    // pairs than a resting one. Not the force of the last evaluation: a mass resting on an obstacle carries the
-    // springs' and gravity's pull that the contact cancels. At most the radius: two halves of a fold swinging past
-    // each other at metres per second would otherwise list every pair within a frame's swing (millions on a
-    // 48x2x48 sheet); with the cap they are listed again every few substeps while they move that fast.
+    // With the explicit integrators, each mass's skin for this frame: how far it may move relative to the surface's
+    // mean motion before the pairs are listed again, twice what its velocity and the change of its velocity over the
+    // last frame (its observed acceleration, the contact's and the springs' included) relative to the surface's mean
+    // would carry it, and at least a quarter radius. Relative to the mean, because a pair's distance does not change
+    // when the whole sheet moves: a falling sheet needs no more pairs than a resting one. Not the force of the last
+    // evaluation: a mass resting on an obstacle carries the springs' and gravity's pull that the contact cancels. At
+    // most the radius: two halves of a fold swinging past each other at metres per second would otherwise list every
+    // pair within a frame's swing (millions on a 48x2x48 sheet); with the cap they are listed again every few
+    // substeps while they move that fast.
     Vec3 meanVelocity = Vec3::Zero();
     Vec3 meanChange = Vec3::Zero();
     for (const Index i : m_vertices)

@@ -113,8 +113,8 @@ private:
     /// within the radius at its masses' present velocities, or that rests within a quarter radius of it, gets a
     /// normal velocity constraint on its vertex.
     void constrainArrivals(const Particles& p, Real dt, std::vector<VelocityConstraint>& constraints);
-    /// Whether the pair would carry its vertex deeper within the radius over the step than its most urgent pair so
-    /// far (m_arrival); if so, the pair becomes that.
+    /// Makes the pair its vertex's most urgent (m_arrival) if the step would carry the vertex deeper within the
+    /// radius through it than through the most urgent so far.
     void weighArrival(const Particles& p, Real dt, const SelfContactPair& pair);
     /// Asks the broadphase for the pairs within reach of the masses' skins now.
     void listPairs(const std::vector<Vec3>& x);
