@@ -62,7 +62,7 @@ public:
                         Real radius, const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                         std::vector<SelfContactPair>& out) override
     {
-        findPairs(from, reach, radius, vertices, excluded, out);
+        findPairs(from, reach, radius, vertices, excluded, out); // every pair wherever the masses are
     }
 
 private:

@@ -80,7 +80,8 @@ void SelfContactTree::setTriangles(const std::vector<Triangle>& triangles)
 void SelfContactTree::refit(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
                             Real radius)
 {
-    // A leaf's box is the triangle's box grown by the farthest its masses may move this frame plus the radius. A leaf
+    // A leaf's box is the triangle's box (over `from` and `to` for a swept list) grown by the farthest its masses
+    // may move beyond that plus the radius. A leaf
     // whose stored box still holds that stays as it is; one that does not (or has grown past twice the box it needs,
     // after the sheet slowed down) is reinserted with a fat box, grown by another quarter radius, so a sheet in slow
     // motion rebuilds little of the tree from list to list.
