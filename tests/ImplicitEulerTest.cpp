@@ -348,3 +348,70 @@ TEST(ImplicitSpringTerms, AreEigensExpressionsBitForBitOnEveryPath)
         EXPECT_GT(compressed, 0);
     }
 }
+
+namespace
+{
+/// Asks for every frame to be taken as `solves` and notes the frames it is given.
+class SplitAsker final : public StepHook
+{
+public:
+    explicit SplitAsker(int solves) : m_solves(solves) {}
+    int solvesFor(MassSpringSystem& /*system*/, Real /*dt*/) override
+    {
+        ++asked;
+        return m_solves;
+    }
+    void beginFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real time, Real dt) override
+    {
+        frames.emplace_back(time, dt);
+    }
+    int asked = 0;
+    std::vector<std::pair<Real, Real>> frames; ///< (start, length) of each frame begun
+
+private:
+    int m_solves;
+};
+} // namespace
+
+// A hook that asks for a frame to be taken as three solves gets three frames of a third of dt, each begun at its own
+// time, and the sheet ends with the bits of three steps of dt / 3 taken without the hook; the report sums their
+// substeps. An explicit integrator is never asked (it substeps by its stability).
+TEST(ImplicitEuler, AFrameAHookAsksToSplitIsTakenAsThatManySolves)
+{
+    const Real dt = paperTimeStep;
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::ImplicitEuler;
+    Simulator split(paperSheet(8), settings);
+    SplitAsker asker(3);
+    split.addHook(&asker);
+    const StepReport report = split.step(dt);
+    EXPECT_EQ(asker.asked, 1);
+    ASSERT_EQ(asker.frames.size(), 3u);
+    for (std::size_t k = 0; k < 3; ++k)
+    {
+        EXPECT_DOUBLE_EQ(asker.frames[k].second, dt / 3);
+        EXPECT_NEAR(asker.frames[k].first, Real(k) * dt / 3, 1e-15);
+    }
+    EXPECT_EQ(report.substeps, 3);
+    EXPECT_DOUBLE_EQ(report.substep, dt / 3);
+    EXPECT_GT(report.solverIterations, 0);
+
+    Simulator byThirds(paperSheet(8), settings);
+    for (int k = 0; k < 3; ++k)
+    {
+        byThirds.step(dt / 3);
+    }
+    EXPECT_TRUE(sameBits(split.system().particles.position, byThirds.system().particles.position));
+    EXPECT_TRUE(sameBits(split.system().particles.velocity, byThirds.system().particles.velocity));
+    Simulator whole(paperSheet(8), settings);
+    whole.step(dt);
+    EXPECT_FALSE(sameBits(split.system().particles.position, whole.system().particles.position));
+
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    Simulator explicitOne(paperSheet(8), settings);
+    SplitAsker ignored(3);
+    explicitOne.addHook(&ignored);
+    explicitOne.step(dt);
+    EXPECT_EQ(ignored.asked, 0);
+    EXPECT_EQ(ignored.frames.size(), 1u);
+}

@@ -219,6 +219,53 @@ TEST(SelfContact, AVertexPassingThroughATriangleInOneSubstepIsSentBack)
     EXPECT_EQ(beside.sheet.particles.position[7], Vec3(0.7, -2 * beside.radius, -0.005));
 }
 
+// With one solve a frame, a frame is split when a pair would close by more than six lattice spacings in one solve
+// (the touch's lattice has a spacing of 0.1 m): a vertex 2 radii above a triangle falling at 10 m/s closes 0.3 m in
+// 0.03 s, one solve; at 25 m/s 0.75 m, two; at 60 m/s 1.8 m, three; at 1 km/s, the most, eight. The pairs solvesFor
+// lists are the frame's: beginFrame of the same step lists none again and sets the constraint a frame begun without
+// solvesFor sets, bit for bit; one of another length lists them again.
+TEST(SelfContact, AFrameIsSplitWhereAPairWouldCloseMoreThanSixSpacingsInOneSolve)
+{
+    const Real dt = 0.03;
+    const auto solves = [&](Real speed)
+    {
+        OneTouch touch(Vec3(0, -speed, 0));
+        touch.sheet.particles.position[7] = Vec3(0.7, 2 * touch.radius, 0.3);
+        EveryPair pairs;
+        SelfContact self(touch.lattice, pairs, touch.settings(0));
+        return self.solvesFor(touch.sheet, dt);
+    };
+    EXPECT_EQ(solves(10), 1);
+    EXPECT_EQ(solves(25), 2);
+    EXPECT_EQ(solves(60), 3);
+    EXPECT_EQ(solves(1000), 8);
+    EXPECT_EQ(solves(-10), 1); // leaving
+
+    OneTouch touch(Vec3(0, -25, 0));
+    touch.sheet.particles.position[7] = Vec3(0.7, 2 * touch.radius, 0.3);
+    EveryPair pairs;
+    SelfContact prepared(touch.lattice, pairs, touch.settings(0));
+    SelfContact unprepared(touch.lattice, pairs, touch.settings(0));
+    StepContext context;
+    context.oneSolveAFrame = true;
+    ASSERT_EQ(prepared.solvesFor(touch.sheet, dt), 2);
+    EXPECT_EQ(prepared.report().queries, 1u);
+    prepared.beginFrame(touch.sheet, context, 0, dt);
+    EXPECT_EQ(prepared.report().queries, 1u);
+    ASSERT_EQ(context.constraints.size(), 1u);
+    const VelocityConstraint kept = context.constraints[0];
+    context.constraints.clear();
+    unprepared.beginFrame(touch.sheet, context, 0, dt);
+    ASSERT_EQ(context.constraints.size(), 1u);
+    EXPECT_EQ(context.constraints[0].mass, kept.mass);
+    EXPECT_EQ(context.constraints[0].normal, kept.normal);
+    EXPECT_EQ(context.constraints[0].velocity, kept.velocity);
+    prepared.solvesFor(touch.sheet, dt);
+    context.constraints.clear();
+    prepared.beginFrame(touch.sheet, context, 0, dt / 2);
+    EXPECT_EQ(prepared.report().queries, 3u);
+}
+
 // Sheet-on-sheet Coulomb friction: a vertex arriving at 1 m/s down and 3 m/s along the triangle with mu = 0.5 loses
 // mu times the normal relative speed it lost (1 m/s) of its relative sliding speed (3 m/s -> 2.5 m/s), to 1e-12;
 // with mu = 5 it stops sliding on the triangle altogether (the impulse never exceeds what stops it).

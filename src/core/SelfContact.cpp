@@ -17,6 +17,11 @@ namespace
 constexpr std::size_t selfPairChunkSize = 2048;
 /// Passes of detection and responses after an implicit integrator's step, at most (see afterImplicitSolve).
 constexpr int selfResponsePasses = 128;
+/// With one solve a frame: the most a pair may close in one solve, in lattice spacings, before the frame is split
+/// (solvesFor).
+constexpr Real closingPerSolve = 6;
+/// The most solves a frame is split into.
+constexpr int maxSolvesAFrame = 8;
 } // namespace
 
 void validate(const SelfContactSettings& settings)
@@ -43,6 +48,8 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_skin.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
     m_restPosition = lattice.position;
+    m_spacing = std::min(lattice.spacingX, lattice.spacingZ) > 0 ? std::min(lattice.spacingX, lattice.spacingZ)
+                                                                 : m_settings.radius;
     m_triangleLow.resize(m_triangles.size());
     m_triangleHigh.resize(m_triangles.size());
     m_triangleMoved.resize(m_triangles.size());
@@ -112,6 +119,23 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
 {
     const StageScope stage(m_observer, Stage::SelfContactPairs);
     const Particles& p = system.particles;
+    if (context.oneSolveAFrame)
+    {
+        if (!preparedFor(p, dt))
+        {
+            listSweptPairs(p, dt);
+            weighArrivals(p, dt);
+        }
+        m_prepared = false;
+        for (const Index i : m_vertices)
+        {
+            m_lastVelocity[i] = p.velocity[i];
+        }
+        m_substepStart = p.position;
+        m_report.lastFrame = 0;
+        constrainArrivals(p, context.constraints);
+        return;
+    }
     // With the explicit integrators, each mass's skin for this frame: how far it may move relative to the surface's
     // mean motion before the pairs are listed again, twice what its velocity and the change of its velocity over the
     // last frame (its observed acceleration, the contact's and the springs' included) relative to the surface's mean
@@ -130,65 +154,79 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
     }
     meanVelocity /= Real(m_vertices.size());
     meanChange /= Real(m_vertices.size());
-    if (context.oneSolveAFrame)
+    for (const Index i : m_vertices)
     {
-        // One solve takes the frame: the pairs are the ones that may meet during it, each mass moving from where it is
-        // along its velocity and the surface's mean change of velocity over the last frame, within twice its own
-        // change's difference from that mean plus a quarter radius (swept boxes, not spheres about each mass: two
-        // halves of a fold swinging towards each other at metres per second come centimetres closer in a step, more
-        // than a skin capped at the radius covered, and crossed each other unseen by the constraints; the 96x2x96
-        // fold then diverged where they met, pushed back by up to 6.5 cm after the solve). The constraints are then
-        // set from the present velocities: from the velocities plus their last change (backward Euler moves a mass
-        // by its velocity at the step's end), the 64x2x64 fold diverged where its halves met.
-        m_sweptEnd.resize(p.size());
-        for (const Index i : m_vertices)
-        {
-            const Vec3 change = p.velocity[i] - m_lastVelocity[i];
-            m_skin[i] = 2 * (change - meanChange).norm() * dt + Real(0.25) * m_settings.radius;
-            m_sweptEnd[i] = p.position[i] + (p.velocity[i] + meanChange) * dt;
-            m_lastVelocity[i] = p.velocity[i];
-        }
-        m_broadphase.findSweptPairs(p.position, m_sweptEnd, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
-        pairsListed(p.position);
+        const Real speed = (p.velocity[i] - meanVelocity).norm();
+        const Real change = (p.velocity[i] - m_lastVelocity[i] - meanChange).norm();
+        m_skin[i] = std::min(2 * (speed + change) * dt + Real(0.25) * m_settings.radius, m_settings.radius);
+        m_lastVelocity[i] = p.velocity[i];
     }
-    else
-    {
-        for (const Index i : m_vertices)
-        {
-            const Real speed = (p.velocity[i] - meanVelocity).norm();
-            const Real change = (p.velocity[i] - m_lastVelocity[i] - meanChange).norm();
-            m_skin[i] = std::min(2 * (speed + change) * dt + Real(0.25) * m_settings.radius, m_settings.radius);
-            m_lastVelocity[i] = p.velocity[i];
-        }
-        listPairs(p.position);
-    }
+    listPairs(p.position);
     m_substepStart = p.position;
     m_report.lastFrame = 0;
-    if (context.oneSolveAFrame)
-    {
-        constrainArrivals(p, dt, context.constraints);
-    }
 }
 
-void SelfContact::constrainArrivals(const Particles& p, Real dt, std::vector<VelocityConstraint>& constraints)
+void SelfContact::listSweptPairs(const Particles& p, Real dt)
 {
-    // A pair that the frame's step would carry within the radius is stopped inside the solve, where the springs
-    // behind its masses are stopped with them; the responses after the solve only correct what is left. Stopped
-    // after the solve alone, the 48x2x48 fold over the rod had its meeting layers pushed back by centimetres while
-    // the layers behind them moved on, and the springs between took 24 J in two steps. Each surface vertex is
-    // constrained by its most urgent pair (the one its step would carry deepest, the first in pair order on a tie:
-    // the same at any thread count), unless the obstacle contact holds it; the triangle's masses are vertices of
-    // their own pairs across the fold, so both sides are stopped.
-    const std::vector<Vec3>& v = p.velocity;
+    // One solve takes the frame: the pairs are the ones that may meet during it, each mass moving from where it is
+    // along its velocity and the surface's mean change of velocity over the last frame, within twice its own
+    // change's difference from that mean plus a quarter radius (swept boxes, not spheres about each mass: two
+    // halves of a fold swinging towards each other at metres per second come centimetres closer in a step, more
+    // than a skin capped at the radius covered, and crossed each other unseen by the constraints; the 96x2x96
+    // fold then diverged where they met, pushed back by up to 6.5 cm after the solve). The constraints are then
+    // set from the present velocities: from the velocities plus their last change (backward Euler moves a mass
+    // by its velocity at the step's end), the 64x2x64 fold diverged where its halves met.
+    Vec3 meanChange = Vec3::Zero();
+    for (const Index i : m_vertices)
+    {
+        meanChange += p.velocity[i] - m_lastVelocity[i];
+    }
+    meanChange /= Real(m_vertices.size());
+    m_sweptEnd.resize(p.size());
+    for (const Index i : m_vertices)
+    {
+        const Vec3 change = p.velocity[i] - m_lastVelocity[i];
+        m_skin[i] = 2 * (change - meanChange).norm() * dt + Real(0.25) * m_settings.radius;
+        m_sweptEnd[i] = p.position[i] + (p.velocity[i] + meanChange) * dt;
+    }
+    m_broadphase.findSweptPairs(p.position, m_sweptEnd, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
+    pairsListed(p.position);
+}
+
+bool SelfContact::preparedFor(const Particles& p, Real dt) const
+{
+    return m_prepared && m_preparedDt == dt && m_preparedPosition == p.position && m_preparedVelocity == p.velocity;
+}
+
+int SelfContact::solvesFor(MassSpringSystem& system, Real dt)
+{
+    // The frame's pairs are listed and weighed now, as beginFrame would (it keeps them unless a stage before it has
+    // moved a mass), and the frame is split when some pair would close by more than closingPerSolve lattice spacings
+    // in one solve: the constraints are set once a solve, along each pair's normal at its start, and where a fold
+    // meets faster the sheet between crumples through itself within the solve. The 128x2x128 fold over the rod at
+    // dt 0.03 diverged so at 0.63 s, its fastest pair closing 15 spacings (12 cm) in one solve; at dt 0.015 it ran,
+    // and so did the 64x2x64 fold at dt 0.03 (7.7 spacings). With the split at 6, the 128x2x128
+    // fold runs its 3 s in 105 solves for 100 frames, the 64x2x64 one in 101; the 16x2x16 fold and the wrap never
+    // split.
+    const StageScope stage(m_observer, Stage::SelfContactPairs);
+    const Particles& p = system.particles;
+    listSweptPairs(p, dt);
+    const Real closing = weighArrivals(p, dt);
+    m_prepared = true;
+    m_preparedDt = dt;
+    m_preparedPosition = p.position;
+    m_preparedVelocity = p.velocity;
+    const Real solves = std::ceil(closing / (closingPerSolve * m_spacing));
+    return solves > 1 ? int(std::min(solves, Real(maxSolvesAFrame))) : 1;
+}
+
+Real SelfContact::weighArrivals(const Particles& p, Real dt)
+{
     m_arrival.assign(p.size(), Arrival{});
     m_leaving.resize(p.size(), 0);
-    m_constraints.clear();
-    for (const VelocityConstraint& c : constraints)
-    {
-        m_arrival[c.mass].held = true;
-    }
     // Over ranges of pairs on every thread: the pairs come by vertex, and each range takes the vertices whose first
-    // pair lies in it, whole, so each vertex's pairs are weighed on one thread in pair order.
+    // pair lies in it, whole, so each vertex's pairs are weighed on one thread in pair order. The fastest closing is
+    // each range's maximum and then theirs: a maximum does not depend on the order it is taken in.
     const std::size_t count = m_pairs.size();
     const auto runStart = [&](std::size_t k)
     {
@@ -198,19 +236,45 @@ void SelfContact::constrainArrivals(const Particles& p, Real dt, std::vector<Vel
         }
         return k;
     };
+    m_rangeClosing.assign(chunkCount(count, selfPairChunkSize), 0);
     parallelFor(count, selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
+                    Real closing = 0;
                     const std::size_t last = runStart(end);
                     for (std::size_t k = runStart(begin); k < last; ++k)
                     {
-                        weighArrival(p, dt, m_pairs[k]);
+                        closing = std::max(closing, weighArrival(p, dt, m_pairs[k]));
                     }
+                    m_rangeClosing[begin / selfPairChunkSize] = closing;
                 });
+    Real closing = 0;
+    for (const Real c : m_rangeClosing)
+    {
+        closing = std::max(closing, c);
+    }
+    return closing;
+}
+
+void SelfContact::constrainArrivals(const Particles& p, std::vector<VelocityConstraint>& constraints)
+{
+    // A pair that the frame's step would carry within the radius is stopped inside the solve, where the springs
+    // behind its masses are stopped with them; the responses after the solve only correct what is left. Stopped
+    // after the solve alone, the 48x2x48 fold over the rod had its meeting layers pushed back by centimetres while
+    // the layers behind them moved on, and the springs between took 24 J in two steps. Each surface vertex is
+    // constrained by its most urgent pair (the one its step would carry deepest, the first in pair order on a tie:
+    // the same at any thread count), unless the obstacle contact holds it or it is pinned; the triangle's masses are
+    // vertices of their own pairs across the fold, so both sides are stopped.
+    const std::vector<Vec3>& v = p.velocity;
+    m_constraints.clear();
+    for (const VelocityConstraint& c : constraints)
+    {
+        m_arrival[c.mass].held = true;
+    }
     for (const Index i : m_vertices)
     {
         const Arrival& arrival = m_arrival[i];
-        if (arrival.held || !(arrival.endGap < 0))
+        if (arrival.held || p.pinned[i] || !(arrival.endGap < 0))
         {
             continue;
         }
@@ -223,13 +287,9 @@ void SelfContact::constrainArrivals(const Particles& p, Real dt, std::vector<Vel
     }
 }
 
-void SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPair& pair)
+Real SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPair& pair)
 {
     Arrival& arrival = m_arrival[pair.vertex];
-    if (arrival.held || p.pinned[pair.vertex])
-    {
-        return;
-    }
     const std::vector<Vec3>& x = p.position;
     const std::vector<Vec3>& v = p.velocity;
     const Triangle& t = m_triangles[pair.triangle];
@@ -238,7 +298,7 @@ void SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     const Real distance = normal.norm();
     if (!(distance > Real(1e-9) * m_settings.radius))
     {
-        return; // no direction to part along; the responses after the solve take it
+        return 0; // no direction to part along; the responses after the solve take it
     }
     normal /= distance;
     const Real vertexSpeed = normal.dot(v[pair.vertex]);
@@ -247,10 +307,12 @@ void SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     // At the present speeds; a pair resting within a quarter radius of touching counts as arriving unless its
     // vertex was leaving, so that the step's forces cannot press it in.
     const bool resting = gap < Real(0.25) * m_settings.radius && !m_leaving[pair.vertex];
-    const Real endGap = std::min(gap + dt * (vertexSpeed - triangleSpeed), resting ? Real(-1e-12) : Real(0));
+    const Real closes = dt * (triangleSpeed - vertexSpeed);
+    const Real closing = gap < closes ? closes : 0;
+    const Real endGap = std::min(gap - closes, resting ? Real(-1e-12) : Real(0));
     if (endGap >= 0 || endGap >= arrival.endGap)
     {
-        return;
+        return closing;
     }
     // Inelastic: the vertex takes the pair's common normal speed (the vertex and the triangle's point weighted
     // by their masses), plus its share of what closes the gap to the radius (or opens it, if already inside).
@@ -258,10 +320,15 @@ void SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     const Real triangleInverse =
         w[0] * w[0] * p.inverseMass[t[0]] + w[1] * w[1] * p.inverseMass[t[1]] + w[2] * w[2] * p.inverseMass[t[2]];
     const Real inverseSum = vertexInverse + triangleInverse;
+    if (!(inverseSum > 0))
+    {
+        return closing; // all four pinned
+    }
     const Real common = (triangleInverse * vertexSpeed + vertexInverse * triangleSpeed) / inverseSum;
     arrival.endGap = endGap;
     arrival.normal = normal;
     arrival.speed = common + (vertexInverse / inverseSum) * (-gap / dt);
+    return closing;
 }
 
 void SelfContact::listPairs(const std::vector<Vec3>& x)

@@ -31,9 +31,11 @@
 /// was leaving), gets a velocity constraint along the pair's normal, so the solve stops it together with the springs
 /// behind it (the inelastic outcome of its most urgent pair: the pair's common normal speed, plus its share of
 /// closing the gap to the radius). The responses are repeated until none moves a mass (at most 128 passes), and they
-/// run both before the obstacle contact (afterImplicitSolve) and after it. Known limits: the 64x2x64 fold over the
-/// rod ends frames up to 7 mm inside the rod; at 128x2x128 and dt 0.03 the fold's halves, meeting at 2 m/s, crumple
-/// through each other within one step and the run diverges (at dt 0.015 it does not).
+/// run both before the obstacle contact (afterImplicitSolve) and after it. Before a frame the pairs are listed and
+/// weighed once (solvesFor), and a frame in which some pair would close by more than six lattice spacings in one
+/// solve is taken as several, each with its own list and constraints: the 128x2x128 fold's halves, meeting at 2 m/s,
+/// otherwise crumpled through each other within one step at dt 0.03 and the run diverged. Known limit: the 64x2x64
+/// fold over the rod ends frames up to 7 mm inside the rod.
 /// Detection runs over ranges of pairs on every thread, each range listing its touches; the responses are applied in
 /// one pass in pair order, so the result is the same bit for bit at any thread count. Buffers are sized when the
 /// pairs are listed, so a substep that keeps its list allocates nothing.
@@ -78,6 +80,9 @@ class SelfContact final : public StepHook
 public:
     SelfContact(const Lattice& lattice, SelfContactBroadphase& broadphase, const SelfContactSettings& settings);
 
+    /// With one solve a frame: lists the frame's pairs (kept for beginFrame) and asks for the frame to be split when
+    /// some pair would close by more than a few radii in one solve.
+    int solvesFor(MassSpringSystem& system, Real dt) override;
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
     void afterImplicitSolve(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
@@ -109,13 +114,20 @@ private:
     /// Lists, once, the triangles each vertex is never tested against: those holding it or a spring neighbour of it,
     /// and those within twice the radius of it at rest.
     void listExclusions(const SpringAdjacency& springsAt);
-    /// For an integrator that takes the frame in one solve: each listed pair that the step of length dt would carry
-    /// within the radius at its masses' present velocities, or that rests within a quarter radius of it, gets a
-    /// normal velocity constraint on its vertex.
-    void constrainArrivals(const Particles& p, Real dt, std::vector<VelocityConstraint>& constraints);
-    /// Makes the pair its vertex's most urgent (m_arrival) if the step would carry the vertex deeper within the
-    /// radius through it than through the most urgent so far.
-    void weighArrival(const Particles& p, Real dt, const SelfContactPair& pair);
+    /// With one solve a frame: lists the pairs that may meet during a step of dt (swept boxes).
+    void listSweptPairs(const Particles& p, Real dt);
+    /// Whether solvesFor listed the pairs for this state and step (nothing has moved a mass since).
+    bool preparedFor(const Particles& p, Real dt) const;
+    /// For an integrator that takes the frame in one solve: weighs every listed pair (weighArrival) and returns how
+    /// far the fastest closing pair that the step of length dt would carry within the radius closes in it.
+    Real weighArrivals(const Particles& p, Real dt);
+    /// Makes the pair its vertex's most urgent (m_arrival) if the step of length dt would carry the vertex deeper
+    /// within the radius through it than through the most urgent so far, or if it rests within a quarter radius of
+    /// that; returns how far the pair closes in the step if it comes within the radius, else 0.
+    Real weighArrival(const Particles& p, Real dt, const SelfContactPair& pair);
+    /// Gives each surface vertex with an arrival a normal velocity constraint, unless the obstacle contact holds it
+    /// (its constraint is already in `constraints`) or it is pinned.
+    void constrainArrivals(const Particles& p, std::vector<VelocityConstraint>& constraints);
     /// Asks the broadphase for the pairs within reach of the masses' skins now.
     void listPairs(const std::vector<Vec3>& x);
     /// After a list: where the masses were (x), and the detection's buffers sized for it.
@@ -156,6 +168,7 @@ private:
     std::vector<Real> m_skin;         ///< per mass, m: how far it may move before the pairs are listed again
     std::vector<Vec3> m_listedAt;     ///< per mass, where it was when the pairs were listed
     std::vector<Vec3> m_restPosition; ///< the lattice's
+    Real m_spacing = 0;               ///< m, the lattice's smaller spacing (its columns' or its rows')
     std::vector<Vec3> m_triangleLow;  ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;     ///< per mass, its velocity at the last frame's start
@@ -163,6 +176,12 @@ private:
     std::vector<Vec3> m_sweptEnd;         ///< per surface mass, where one solve a frame would carry it unhindered
     std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
     std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
+    /// What solvesFor listed the pairs for, so beginFrame keeps them if nothing has moved since.
+    bool m_prepared = false;
+    Real m_preparedDt = 0;
+    std::vector<Vec3> m_preparedPosition;
+    std::vector<Vec3> m_preparedVelocity;
+    std::vector<Real> m_rangeClosing; ///< per range of pairs, the fastest closing (solvesFor)
     /// Per mass, the pair that constrains it this frame (constrainArrivals).
     struct Arrival
     {

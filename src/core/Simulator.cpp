@@ -61,6 +61,35 @@ int Simulator::substepsFor(Real dt) const
 
 StepReport Simulator::step(Real dt)
 {
+    if (isExplicit(m_settings.integrator))
+    {
+        return stepFrame(dt);
+    }
+    substepsFor(dt); // a bad dt is refused before a hook is asked about it
+    int solves = 1;
+    for (StepHook* hook : m_hooks)
+    {
+        solves = std::max(solves, hook->solvesFor(m_system, dt));
+    }
+    if (solves == 1)
+    {
+        return stepFrame(dt);
+    }
+    StepReport report;
+    for (int k = 0; k < solves; ++k)
+    {
+        const StepReport part = stepFrame(dt / Real(solves));
+        report.substeps += part.substeps;
+        report.substep = part.substep;
+        report.solverIterations += part.solverIterations;
+        report.solverResidual = std::max(report.solverResidual, part.solverResidual);
+        report.solverCapHits += part.solverCapHits;
+    }
+    return report;
+}
+
+StepReport Simulator::stepFrame(Real dt)
+{
     // Every stage of the hooks, in the order added; the guard accounts for the energy they put in or take out.
     const auto runHooks = [this](const auto& stage)
     {

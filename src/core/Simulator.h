@@ -39,7 +39,9 @@ public:
     Simulator(MassSpringSystem system, const SimulatorSettings& settings);
 
     /// Advances by dt seconds (dt > 0). Throws InputError for a bad dt or one that would need more than maxSubsteps,
-    /// NumericalError if the guard finds the state unsound (non-finite, too fast, energy from nowhere).
+    /// NumericalError if the guard finds the state unsound (non-finite, too fast, energy from nowhere). With one
+    /// solve a frame, a hook may ask for the frame to be taken as several (StepHook::solvesFor); the report then
+    /// sums their substeps and iterations.
     StepReport step(Real dt);
 
     /// Number of substeps step(dt) would take now.
@@ -64,6 +66,8 @@ public:
     const SolverTally& solverTally() const { return m_solverTally; }
 
 private:
+    /// One frame of dt with every stage: what step does when no hook asks for more solves.
+    StepReport stepFrame(Real dt);
     void checkFinite() const;
     void publishContact();
     /// The stability estimate, recomputed only when the system changed (its revision) or the repulsion makes it

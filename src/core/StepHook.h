@@ -16,6 +16,10 @@ public:
     /// At a frame's very start, before the stability estimate and contact detection, so that what it changes (a pin
     /// released, a grab's spring, an obstacle moved) is seen by both in this frame: the place for script actions.
     virtual void beforeFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/) {}
+    /// With one solve a frame (StepContext::oneSolveAFrame), before anything else of a frame of length dt: into how
+    /// many frames of dt / n, each with all its stages, the hook asks the Simulator to split it (the largest ask
+    /// wins). For motion that one solve of dt cannot follow: the self-contact asks when its pairs close fast.
+    virtual int solvesFor(MassSpringSystem& /*system*/, Real /*dt*/) { return 1; }
     /// Before the first substep of a frame from `time` to `time + dt`.
     virtual void beginFrame(MassSpringSystem& /*system*/, StepContext& /*context*/, Real /*time*/, Real /*dt*/) {}
     /// With an implicit integrator (one solve a frame), after the solve and before the obstacle contact's
