@@ -135,9 +135,9 @@ private:
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
     /// pairs were listed (the list may then miss a pair).
     bool outgrewPairs(const std::vector<Vec3>& x) const;
-    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh, and how far its masses moved along
-    /// an axis since m_substepStart, into m_triangleMoved.
-    void measureTriangleBoxes(const std::vector<Vec3>& x);
+    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh, and with `withMotion` how far its
+    /// masses moved along an axis since m_substepStart, into m_triangleMoved.
+    void measureTriangleBoxes(const std::vector<Vec3>& x, bool withMotion);
     struct Passed
     {
         std::size_t touches = 0; ///< pairs found closer than the radius (or passed through)
