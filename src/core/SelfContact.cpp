@@ -305,8 +305,8 @@ Real SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     const Real slack = Real(1e-6) * m_settings.radius;
     if (boxGap > Real(0.25) * m_settings.radius + slack)
     {
-        const Real relativeSpeed = std::max({(v[t[0]] - v[pair.vertex]).norm(), (v[t[1]] - v[pair.vertex]).norm(),
-                                             (v[t[2]] - v[pair.vertex]).norm()});
+        const Real relativeSpeed = std::max(
+            {(v[t[0]] - v[pair.vertex]).norm(), (v[t[1]] - v[pair.vertex]).norm(), (v[t[2]] - v[pair.vertex]).norm()});
         if (boxGap > dt * relativeSpeed + slack)
         {
             return 0;
