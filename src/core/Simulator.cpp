@@ -35,12 +35,20 @@ const StabilityEstimate& Simulator::stability() const
     return m_stability;
 }
 
-int Simulator::substepsFor(Real dt) const
+namespace
+{
+void requirePositiveStep(Real dt)
 {
     if (!(dt > 0) || !std::isfinite(dt))
     {
         throw InputError("dt", "must be a positive number of seconds (got " + formatNumber(dt) + ")");
     }
+}
+} // namespace
+
+int Simulator::substepsFor(Real dt) const
+{
+    requirePositiveStep(dt);
     const StabilityEstimate& estimate = stability();
     if (!std::isfinite(estimate.stableStep))
     {
@@ -65,7 +73,7 @@ StepReport Simulator::step(Real dt)
     {
         return stepFrame(dt);
     }
-    substepsFor(dt); // a bad dt is refused before a hook is asked about it
+    requirePositiveStep(dt); // a bad dt is refused before a hook is asked about it
     int solves = 1;
     for (StepHook* hook : m_hooks)
     {
