@@ -80,8 +80,8 @@ class SelfContact final : public StepHook
 public:
     SelfContact(const Lattice& lattice, SelfContactBroadphase& broadphase, const SelfContactSettings& settings);
 
-    /// With one solve a frame: lists the frame's pairs (kept for beginFrame) and asks for the frame to be split when
-    /// some pair would close by more than a few radii in one solve.
+    /// With one solve a frame: lists and weighs the frame's pairs (kept for beginFrame) and asks for the frame to be
+    /// split when some pair would close by more than six lattice spacings in one solve.
     int solvesFor(MassSpringSystem& system, Real dt) override;
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
