@@ -241,6 +241,14 @@ TEST(Determinism, ImplicitSelfContactFoldHasTheSameHashAtAnyThreadCount)
 // ranges of pairs, and the split, and all after it, are the same at every thread count.
 TEST(Determinism, ImplicitSelfContactSplitFrameHasTheSameHashAtAnyThreadCount)
 {
+    if (sanitizingThreads)
+    {
+        // 460 s under the thread sanitizer. Its threaded parts are all in the 48x2x48 implicit fold above, which asks
+        // the self-contact for its solves every frame (the closing is weighed over ranges there too); what this adds,
+        // taking a frame as two, runs on the calling thread.
+        GTEST_SKIP()
+            << "the thread sanitizer's races are sought by ImplicitSelfContactFoldHasTheSameHashAtAnyThreadCount";
+    }
     const RunOutcome reference =
         expectSameAtEveryThreadCount("fold-over-rod.json", "64x2x64", 0.54, IntegratorKind::ImplicitEuler);
     EXPECT_GT(reference.substeps, reference.frames); // a frame was split
