@@ -48,8 +48,8 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_skin.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
     m_restPosition = lattice.position;
-    m_spacing = std::min(lattice.spacingX, lattice.spacingZ) > 0 ? std::min(lattice.spacingX, lattice.spacingZ)
-                                                                 : m_settings.radius;
+    const Real spacing = std::min(lattice.spacingX, lattice.spacingZ);
+    m_spacing = spacing > 0 ? spacing : m_settings.radius; // a lattice one mass wide has no spacing along that side
     m_triangleLow.resize(m_triangles.size());
     m_triangleHigh.resize(m_triangles.size());
     m_triangleMoved.resize(m_triangles.size());
