@@ -55,6 +55,28 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleMoved.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_moved.assign(n, 0);
+    m_triangleHasMoved.assign(m_triangles.size(), 0);
+    m_trianglesOfStart.assign(n + 1, 0);
+    for (const Triangle& t : m_triangles)
+    {
+        for (const Index i : t)
+        {
+            ++m_trianglesOfStart[i + 1];
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        m_trianglesOfStart[i + 1] += m_trianglesOfStart[i];
+    }
+    m_trianglesOf.resize(m_trianglesOfStart[n]);
+    std::vector<std::size_t> filled(m_trianglesOfStart.begin(), m_trianglesOfStart.end() - 1);
+    for (std::size_t k = 0; k < m_triangles.size(); ++k)
+    {
+        for (const Index i : m_triangles[k])
+        {
+            m_trianglesOf[filled[i]++] = Index(k);
+        }
+    }
     m_broadphase.setTriangles(m_triangles);
     listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
 }
@@ -606,8 +628,26 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
         // 0.01 mm of each other and 11.7% of the 16x2x16 fold's left half ended past its mirror. Both: the 16x2x16
         // checks hold, and the 64x2x64 fold still ends frames up to 6.8 mm inside the rod (the two would need one
         // loop, the obstacle planes inside the passes).
+        // The passes of afterImplicitSolve left each pair measured since its masses last moved, apart from those of
+        // their last pass's responses (m_moved); since then only the obstacle contact has moved masses. So the first
+        // pass here, too, measures only the pairs of those masses, and finds what measuring every pair would, bit
+        // for bit: a pair none of whose masses moved is found as it was, not touching, and has not crossed (its
+        // substep began where it is). One full measure a frame instead of two.
         const StageScope stage(m_observer, Stage::SelfContactSolve);
-        respondUntilSettled(p, h, time);
+        const bool settled = m_settledAfterSolve;
+        m_settledAfterSolve = false;
+        if (settled)
+        {
+            for (const Index i : m_vertices)
+            {
+                if (!m_moved[i] && p.position[i] != m_substepStart[i])
+                {
+                    m_moved[i] = 1;
+                    m_movedMasses.push_back(i);
+                }
+            }
+        }
+        respondUntilSettled(p, h, time, settled);
         m_substepStart = p.position;
         return;
     }
@@ -663,14 +703,15 @@ void SelfContact::afterImplicitSolve(MassSpringSystem& system, StepContext& cont
     // frames with its halves 0.2 mm apart with one pass and a radius apart from 8 on; the wrap's flaps, pressed
     // together between the grabs and the box, came to 1.7 mm with 32 and kept the radius with 128 (some frames take
     // 100; the run 1.07 s against 0.79 s).
-    const std::size_t firstPass = respondUntilSettled(p, h, time);
+    const std::size_t firstPass = respondUntilSettled(p, h, time, false);
     m_report.lastSubstep = firstPass;
     m_report.lastFrame += firstPass;
     m_report.total += firstPass;
     m_substepStart = p.position;
+    m_settledAfterSolve = true;
 }
 
-std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time)
+std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved)
 {
     // With one solve a frame the pairs are listed over the whole step's motion (150,000 to 2.7 million on the 64x2x64
     // fold) and the passes often go on to the last: measuring every pair at every pass was half that fold's run. A
@@ -680,7 +721,7 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time)
     std::size_t firstPass = 0;
     for (int pass = 0; pass < selfResponsePasses; ++pass)
     {
-        const Passed passed = detectAndRespond(p, h, time, pass > 0);
+        const Passed passed = detectAndRespond(p, h, time, firstOnlyMoved || pass > 0);
         firstPass = pass == 0 ? passed.touches : firstPass;
         if (passed.moved == 0)
         {
@@ -694,11 +735,14 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
 {
     const std::vector<Vec3>& x = p.position;
     measureTriangleBoxes(x, true);
-    const auto moved = [&](const SelfContactPair& pair)
+    // A pass after the first looks at every pair for whether a mass of it moved: by triangle, one load a pair for
+    // its triangle's three masses.
+    if (onlyMoved)
     {
-        const Triangle& t = m_triangles[pair.triangle];
-        return (m_moved[pair.vertex] | m_moved[t[0]] | m_moved[t[1]] | m_moved[t[2]]) != 0;
-    };
+        setTrianglesHaveMoved(1);
+    }
+    const auto moved = [&](const SelfContactPair& pair)
+    { return (m_moved[pair.vertex] | m_triangleHasMoved[pair.triangle]) != 0; };
     parallelFor(m_pairs.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
@@ -712,6 +756,10 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
                         }
                     }
                 });
+    if (onlyMoved)
+    {
+        setTrianglesHaveMoved(0);
+    }
     for (const Index i : m_movedMasses)
     {
         m_moved[i] = 0;
@@ -747,5 +795,15 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
         count += m_touches[range].size();
     }
     return {count, movedCount};
+}
+void SelfContact::setTrianglesHaveMoved(std::uint8_t flag)
+{
+    for (const Index i : m_movedMasses)
+    {
+        for (std::size_t k = m_trianglesOfStart[i]; k < m_trianglesOfStart[i + 1]; ++k)
+        {
+            m_triangleHasMoved[m_trianglesOf[k]] = flag;
+        }
+    }
 }
 } // namespace masse

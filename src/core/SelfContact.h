@@ -148,10 +148,12 @@ private:
     /// `onlyMoved`, only the pairs a response of the pass before was given a mass of (m_moved).
     Passed detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved);
     /// detectAndRespond again and again until no response moves a mass (at most selfResponsePasses); returns the
-    /// first pass's touches. The first pass measures every pair, the ones after it only the pairs a response of the
-    /// pass before was given a mass of: a pair none of whose masses a response touched would be found as it was, not
-    /// touching.
-    std::size_t respondUntilSettled(Particles& p, Real h, Real time);
+    /// first pass's touches. The first pass measures every pair (with `firstOnlyMoved`, only those of the masses
+    /// m_moved marks), the ones after it only the pairs a response of the pass before was given a mass of: a pair
+    /// none of whose masses a response touched would be found as it was, not touching.
+    std::size_t respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved);
+    /// Sets m_triangleHasMoved to `flag` for every triangle of a mass in m_movedMasses.
+    void setTrianglesHaveMoved(std::uint8_t flag);
     /// Measures pair k at positions x and appends it to `out` if it touches.
     void detectPair(const std::vector<Vec3>& x, std::size_t k, std::vector<Touch>& out) const;
     /// The swept test of pair k over the substep from m_substepStart to x: whether the vertex crossed the triangle's
@@ -197,9 +199,14 @@ private:
     /// Per mass, whether its constraint of the last frame pulled it towards the triangle (it was leaving): a resting
     /// pair of such a mass is not held this frame, only one that would come within the radius.
     std::vector<std::uint8_t> m_leaving;
-    PerChunk<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
-    std::vector<std::uint8_t> m_moved;      ///< per mass: a response of the last pass was given a pair of it
-    std::vector<Index> m_movedMasses;       ///< the masses m_moved marks
+    PerChunk<std::vector<Touch>> m_touches;       ///< per range of pairs, sized at the frame's start
+    std::vector<std::uint8_t> m_moved;            ///< per mass: a response of the last pass was given a pair of it
+    std::vector<Index> m_movedMasses;             ///< the masses m_moved marks
+    std::vector<std::uint8_t> m_triangleHasMoved; ///< per triangle: m_moved marks one of its masses (in a pass)
+    std::vector<std::size_t> m_trianglesOfStart;  ///< mass i's triangles are m_trianglesOf[start[i], start[i + 1])
+    std::vector<Index> m_trianglesOf;
+    /// afterImplicitSolve's passes have measured every pair since its masses last moved, but for m_moved's.
+    bool m_settledAfterSolve = false;
     SelfContactReport m_report;
     StageObserver* m_observer = nullptr;
 };
