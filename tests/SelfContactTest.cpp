@@ -65,13 +65,6 @@ public:
         findPairs(from, reach, radius, vertices, excluded, out); // every pair wherever the masses are
     }
 
-    void findArrivingPairs(const std::vector<Vec3>& x, const std::vector<Vec3>& /*v*/, Real /*dt*/, Real radius,
-                           Real /*rest*/, const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
-                           std::vector<SelfContactPair>& out) override
-    {
-        findPairs(x, {}, radius, vertices, excluded, out);
-    }
-
 private:
     std::size_t m_count = 0;
 };
@@ -477,87 +470,6 @@ TEST(SelfContact, SweptBroadphaseListsEveryPairWhoseBoxesOverTheMotionOverlap)
             }
         }
         EXPECT_GT(overlapping, 1000u) << "the moving sheet's boxes should overlap widely";
-    }
-}
-
-// The list for the arrivals (one solve a frame): exactly the pairs mayArrive takes, each once, in vertex order; and,
-// checked apart from mayArrive, every pair whose vertex comes within the radius of the triangle at some moment of the
-// step, the four masses moving in straight lines at their velocities (sampled at 65 moments), is among them. The
-// crumpled 12x2x12 sheet, its masses given random velocities of up to 2 m/s about a common 5 m/s, for a step of
-// 0.03 s: each mass moves up to 6 cm (a spacing and a half) relative to the others, so the list must follow the
-// relative motion, and the common motion (15 cm) must not swell it. Listed twice so the second refits the tree.
-TEST(SelfContact, ArrivingBroadphaseListsThePairsTheStepMayBringWithinTheRadius)
-{
-    const Lattice lattice = slammSheet(12, 0.55, 0.03);
-    const SheetSurface surface = sheetSurface(lattice);
-    const std::size_t n = lattice.massCount();
-    SelfContactExclusions excluded; // every mass excludes the triangles whose index has its parity
-    excluded.start.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        for (std::size_t t = i % 2; t < surface.triangles.size(); t += 2)
-        {
-            excluded.triangles.push_back(Index(t));
-        }
-        excluded.start[i + 1] = excluded.triangles.size();
-    }
-    bridge::SelfContactTree tree;
-    tree.setTriangles(surface.triangles);
-    const Real radius = 0.02;
-    const Real rest = 0.25 * radius;
-    const Real dt = 0.03;
-    std::uint32_t seed = 4242;
-    const auto random = [&seed]
-    {
-        seed = seed * 1664525u + 1013904223u;
-        return Real(seed >> 8) / Real(1 << 24) * 2 - 1;
-    };
-    std::vector<Vec3> x = lattice.position;
-    std::vector<Vec3> v(n);
-    for (int list = 0; list < 2; ++list)
-    {
-        for (std::size_t i = 0; i < n; ++i)
-        {
-            x[i] += 0.05 * Vec3(random(), random(), random());
-            v[i] = Vec3(5, 0, 0) + 2 * Vec3(random(), random(), random()).normalized() * std::abs(random());
-        }
-        std::vector<SelfContactPair> found;
-        tree.findArrivingPairs(x, v, dt, radius, rest, surface.vertices, excluded, found);
-        const std::vector<std::pair<Index, Index>> listed = checkedPairs(found);
-        std::size_t arriving = 0;
-        for (const Index i : surface.vertices)
-        {
-            for (std::size_t t = 0; t < surface.triangles.size(); ++t)
-            {
-                const Triangle& tri = surface.triangles[t];
-                const bool isListed = std::binary_search(listed.begin(), listed.end(), std::make_pair(i, Index(t)));
-                if (excluded.excludes(i, Index(t)))
-                {
-                    EXPECT_FALSE(isListed) << "excluded pair " << i << ", " << t;
-                    continue;
-                }
-                const Vec3 low = x[tri[0]].cwiseMin(x[tri[1]]).cwiseMin(x[tri[2]]);
-                const Vec3 high = x[tri[0]].cwiseMax(x[tri[1]]).cwiseMax(x[tri[2]]);
-                EXPECT_EQ(isListed, mayArrive(x, v, i, tri, low, high, dt, radius, rest))
-                    << "list " << list << ", vertex " << i << ", triangle " << t;
-                bool comesWithin = false;
-                for (int k = 0; k <= 64 && !comesWithin; ++k)
-                {
-                    const Real s = dt * k / 64;
-                    const auto at = [&](Index m) { return Vec3(x[m] + s * v[m]); };
-                    const Vec3 p = at(i);
-                    comesWithin = (p - closestPointOnTriangle(p, at(tri[0]), at(tri[1]), at(tri[2]))).norm() <
-                                  radius * (1 - 1e-9);
-                }
-                if (comesWithin)
-                {
-                    ++arriving;
-                    EXPECT_TRUE(isListed) << "list " << list << " misses vertex " << i << ", triangle " << t;
-                }
-            }
-        }
-        EXPECT_GT(arriving, 500u) << "the moving sheet should come within the radius of itself widely";
-        EXPECT_LT(listed.size(), 4 * arriving) << "the common motion should not swell the list";
     }
 }
 

@@ -176,44 +176,13 @@ void SelfContactTree::flatten()
     }
 }
 
-void SelfContactTree::boundMotion(const std::vector<Vec3>& v)
-{
-    // Each node's box shrunk to its triangles' own boxes (m_low, m_high: the fat leaves are grown by the radius
-    // and more, for the other lists), and its velocity bounds. Back to front: in the walk's order a node's children
-    // follow it, the first at the next index and the second past the first's subtree, so both are bounded before it.
-    m_velocityLow.resize(m_flat.size());
-    m_velocityHigh.resize(m_flat.size());
-    for (std::size_t k = m_flat.size(); k-- > 0;)
-    {
-        FlatNode& node = m_flat[k];
-        if (node.triangle >= 0)
-        {
-            const std::size_t triangle = std::size_t(node.triangle);
-            const Triangle& t = m_triangles[triangle];
-            const Vec3 low = v[t[0]].cwiseMin(v[t[1]]).cwiseMin(v[t[2]]);
-            const Vec3 high = v[t[0]].cwiseMax(v[t[1]]).cwiseMax(v[t[2]]);
-            node.low = {m_low[triangle].x(), m_low[triangle].y(), m_low[triangle].z()};
-            node.high = {m_high[triangle].x(), m_high[triangle].y(), m_high[triangle].z()};
-            m_velocityLow[k] = {low.x(), low.y(), low.z()};
-            m_velocityHigh[k] = {high.x(), high.y(), high.z()};
-            continue;
-        }
-        const std::size_t first = k + 1;
-        const std::size_t second = m_flat[first].skip;
-        for (std::size_t a = 0; a < 3; ++a)
-        {
-            node.low[a] = std::min(m_flat[first].low[a], m_flat[second].low[a]);
-            node.high[a] = std::max(m_flat[first].high[a], m_flat[second].high[a]);
-            m_velocityLow[k][a] = std::min(m_velocityLow[first][a], m_velocityLow[second][a]);
-            m_velocityHigh[k][a] = std::max(m_velocityHigh[first][a], m_velocityHigh[second][a]);
-        }
-    }
-}
-
-template <class Walk>
+template <class BoxOf, class Accept>
 void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
-                                   const Walk& walk, std::vector<SelfContactPair>& out)
+                                   const BoxOf& boxOf, const Accept& accept, std::vector<SelfContactPair>& out)
 {
+    // The walks run on the flattened copy: btDbvt's nodes are scattered in memory, each a likely cache miss, where
+    // the copy is read front to back.
+    flatten();
     const std::size_t ranges = chunkCount(vertices.size(), selfQueryChunkSize);
     m_rangePairs.reserveChunks(ranges);
     const std::size_t triangleCount = m_triangles.size();
@@ -225,24 +194,24 @@ void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const Sel
                     pairs.clear();
                     thread_local ExclusionMarks marks;
                     std::vector<std::uint32_t> leaves; // into m_flat
-                    std::array<typename Walk::Query, selfQueryGroupSize> queries;
+                    std::array<btDbvtVolume, selfQueryGroupSize> boxes;
                     for (std::size_t first = begin; first < end; first += selfQueryGroupSize)
                     {
                         const std::size_t count = std::min(selfQueryGroupSize, end - first);
                         for (std::size_t g = 0; g < count; ++g)
                         {
-                            queries[g] = walk.of(vertices[first + g]);
+                            boxes[g] = boxOf(vertices[first + g]);
                         }
-                        typename Walk::Query group = queries[0];
+                        btDbvtVolume group = boxes[0];
                         for (std::size_t g = 1; g < count; ++g)
                         {
-                            walk.merge(group, queries[g]);
+                            Merge(group, boxes[g], group);
                         }
                         leaves.clear();
                         for (std::uint32_t k = 0; k < m_flat.size();)
                         {
                             const FlatNode& node = m_flat[k];
-                            if (!walk.reaches(k, group))
+                            if (!overlaps(node, group))
                             {
                                 k = node.skip;
                                 continue;
@@ -264,7 +233,8 @@ void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const Sel
                             for (const std::uint32_t k : leaves)
                             {
                                 const Index triangle = Index(m_flat[k].triangle);
-                                if (walk.reaches(k, queries[g]) && !marks.marked(triangle) && walk.accept(v, triangle))
+                                if (overlaps(m_flat[k], boxes[g]) && !marks.marked(triangle) &&
+                                    accept(v, boxes[g], triangle))
                                 {
                                     pairs.push_back({v, triangle});
                                 }
@@ -279,37 +249,16 @@ void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const Sel
     }
 }
 
-namespace
-{
-/// The walk of findPairs and findSweptPairs: each vertex's box (boxOf) against the nodes' fat boxes, and `accept`
-/// on the pairs of the leaves it overlaps.
-template <class BoxOf, class Accept> struct BoxWalk
-{
-    using Query = btDbvtVolume;
-    const std::vector<SelfContactTree::FlatNode>& flat;
-    BoxOf boxOf;
-    Accept accept;
-
-    Query of(Index v) const { return boxOf(v); }
-    static void merge(Query& group, const Query& box) { Merge(group, box, group); }
-    bool reaches(std::uint32_t k, const Query& box) const { return overlaps(flat[k], box); }
-};
-template <class BoxOf, class Accept>
-BoxWalk(const std::vector<SelfContactTree::FlatNode>&, BoxOf, Accept) -> BoxWalk<BoxOf, Accept>;
-} // namespace
-
 void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                                 const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                                 std::vector<SelfContactPair>& out)
 {
     refit(x, x, reach, radius);
-    // The walks run on the flattened copy: btDbvt's nodes are scattered in memory, each a likely cache miss, where
-    // the copy is read front to back.
-    flatten();
-    collectPairs(vertices, excluded,
-                 BoxWalk{m_flat, [&](Index v) { return selfContactBox(x[v], x[v], reach[v]); },
-                         [&](Index v, Index triangle) { return withinReach(x, reach, radius, v, triangle); }},
-                 out);
+    collectPairs(
+        vertices, excluded, [&](Index v) { return selfContactBox(x[v], x[v], reach[v]); },
+        [&](Index v, const btDbvtVolume& /*box*/, Index triangle)
+        { return withinReach(x, reach, radius, v, triangle); },
+        out);
 }
 
 void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
@@ -317,82 +266,17 @@ void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::v
                                      const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out)
 {
     refit(from, to, reach, radius);
-    flatten();
     // The leaves are fat boxes: a pair is kept only if the vertex's box overlaps the triangle's own, grown by the
     // radius and its masses' largest reach.
-    const auto boxOf = [&](Index v)
-    { return selfContactBox(from[v].cwiseMin(to[v]), from[v].cwiseMax(to[v]), reach[v]); };
-    collectPairs(vertices, excluded,
-                 BoxWalk{m_flat, boxOf,
-                         [&](Index v, Index triangle)
-                         {
-                             const Triangle& t = m_triangles[triangle];
-                             const Real margin = radius + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
-                             return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), boxOf(v));
-                         }},
-                 out);
-}
-
-void SelfContactTree::findArrivingPairs(const std::vector<Vec3>& x, const std::vector<Vec3>& v, Real dt, Real radius,
-                                        Real rest, const std::vector<Index>& vertices,
-                                        const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out)
-{
-    // The tree over the triangles where they are, each node also bounding its masses' velocities: a node is walked
-    // into when the vertices' box comes within the radius plus `rest` of the node's box stretched, as mayArrive
-    // stretches a triangle's, by the least and the most its velocities may move relative to theirs in dt; each pair
-    // is then taken by mayArrive itself. A node's box holds its triangles' boxes and its bounds their velocities, so
-    // it passes wherever one of its pairs would (twice the rounding slack of mayArrive to spare).
-    m_noReach.assign(x.size(), 0);
-    refit(x, x, m_noReach, radius);
-    flatten();
-    boundMotion(v);
-    struct ArrivalQuery
-    {
-        Vec3 low;
-        Vec3 high;
-        Vec3 velocityLow;
-        Vec3 velocityHigh;
-    };
-    struct ArrivalWalk
-    {
-        using Query = ArrivalQuery;
-        const SelfContactTree& tree;
-        const std::vector<Vec3>& x;
-        const std::vector<Vec3>& v;
-        Real dt;
-        Real radius;
-        Real rest;
-
-        Query of(Index i) const { return {x[i], x[i], v[i], v[i]}; }
-        static void merge(Query& group, const Query& q)
+    collectPairs(
+        vertices, excluded,
+        [&](Index v) { return selfContactBox(from[v].cwiseMin(to[v]), from[v].cwiseMax(to[v]), reach[v]); },
+        [&](Index /*v*/, const btDbvtVolume& box, Index triangle)
         {
-            group.low = group.low.cwiseMin(q.low);
-            group.high = group.high.cwiseMax(q.high);
-            group.velocityLow = group.velocityLow.cwiseMin(q.velocityLow);
-            group.velocityHigh = group.velocityHigh.cwiseMax(q.velocityHigh);
-        }
-        bool reaches(std::uint32_t k, const Query& q) const
-        {
-            const FlatNode& node = tree.m_flat[k];
-            const std::array<Real, 3>& velocityLow = tree.m_velocityLow[k];
-            const std::array<Real, 3>& velocityHigh = tree.m_velocityHigh[k];
-            Real gap = 0; // squared
-            for (std::size_t a = 0; a < 3; ++a)
-            {
-                const Real sweptLow = node.low[a] + std::min((velocityLow[a] - q.velocityHigh[a]) * dt, Real(0));
-                const Real sweptHigh = node.high[a] + std::max((velocityHigh[a] - q.velocityLow[a]) * dt, Real(0));
-                const Real apart = std::max({sweptLow - q.high[a], q.low[a] - sweptHigh, Real(0)});
-                gap += apart * apart;
-            }
-            const Real reach = radius + rest + Real(2e-6) * radius;
-            return gap <= reach * reach;
-        }
-        bool accept(Index i, Index triangle) const
-        {
-            return mayArrive(x, v, i, tree.m_triangles[triangle], tree.m_low[triangle], tree.m_high[triangle], dt,
-                             radius, rest);
-        }
-    };
-    collectPairs(vertices, excluded, ArrivalWalk{*this, x, v, dt, radius, rest}, out);
+            const Triangle& t = m_triangles[triangle];
+            const Real margin = radius + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
+            return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), box);
+        },
+        out);
 }
 } // namespace masse::bridge

@@ -34,9 +34,6 @@ public:
     void findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
                         Real radius, const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                         std::vector<SelfContactPair>& out) override;
-    void findArrivingPairs(const std::vector<Vec3>& x, const std::vector<Vec3>& v, Real dt, Real radius, Real rest,
-                           const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
-                           std::vector<SelfContactPair>& out) override;
 
     /// A node of the tree copied into one array in the order a walk visits it.
     struct FlatNode
@@ -56,25 +53,18 @@ private:
     /// Each triangle's box over its masses at `from` and `to` (the same positions for a list at one moment), into
     /// m_low and m_high, and the tree's leaves grown to hold it plus the radius and its masses' largest reach.
     void refit(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach, Real radius);
-    /// Each flattened node's box shrunk to hold its triangles' boxes (m_low, m_high) and no more, and its bounds on
-    /// their masses' velocities v, into m_velocityLow and m_velocityHigh.
-    void boundMotion(const std::vector<Vec3>& v);
-    /// The walks of the three lists: each vertex's query (walk.of) against the tree, the nodes it may reach
-    /// (walk.reaches, merged over a few vertices with walk.merge), and the pairs of the leaves it reaches that the
-    /// exclusions leave and walk.accept takes, in vertex order.
-    template <class Walk>
-    void collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded, const Walk& walk,
-                      std::vector<SelfContactPair>& out);
+    /// The walks of findPairs and findSweptPairs: each vertex's box (boxOf) against the tree, and the pairs of the
+    /// leaves it overlaps that the exclusions leave and `accept` takes, in vertex order.
+    template <class BoxOf, class Accept>
+    void collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded, const BoxOf& boxOf,
+                      const Accept& accept, std::vector<SelfContactPair>& out);
 
     std::unique_ptr<btDbvt> m_tree;
     std::vector<Triangle> m_triangles;
     std::vector<btDbvtNode*> m_leaves; ///< per triangle
     std::vector<Vec3> m_low;           ///< per triangle, its vertices' box at the last refit
     std::vector<Vec3> m_high;
-    std::vector<FlatNode> m_flat;                   ///< the tree, flattened at every list
-    std::vector<std::array<Real, 3>> m_velocityLow; ///< per flattened node, for findArrivingPairs
-    std::vector<std::array<Real, 3>> m_velocityHigh;
-    std::vector<Real> m_noReach;                         ///< zeros, per mass
+    std::vector<FlatNode> m_flat;                        ///< the tree, flattened at every list
     std::vector<const btDbvtNode*> m_walk;               ///< flatten's stack
     PerChunk<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
 };

@@ -145,10 +145,14 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
     {
         if (!preparedFor(p, dt))
         {
-            listArrivingPairs(p, dt);
+            listSweptPairs(p, dt);
             weighArrivals(p, dt);
         }
         m_prepared = false;
+        for (const Index i : m_vertices)
+        {
+            m_lastVelocity[i] = p.velocity[i];
+        }
         m_substepStart = p.position;
         m_report.lastFrame = 0;
         constrainArrivals(p, context.constraints);
@@ -184,16 +188,30 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
     m_report.lastFrame = 0;
 }
 
-void SelfContact::listArrivingPairs(const Particles& p, Real dt)
+void SelfContact::listSweptPairs(const Particles& p, Real dt)
 {
-    // One solve takes the frame, and the list is for the arrivals alone (weighArrival): the pairs the step would
-    // carry within the radius at the present velocities, or that rest within a quarter radius of it. A pair's
-    // relative motion decides, not each mass's own: two halves of a fold swinging towards each other at metres per
-    // second come centimetres closer in a step and are listed, a falling sheet's neighbours are not. The lists by
-    // each mass's own swept box, grown by twice its last change of velocity, held 14 to 17 million pairs a frame
-    // on the 128x2x128 fold once it lay on the rod, nearly all of which weighArrival then turned away.
-    m_broadphase.findArrivingPairs(p.position, p.velocity, dt, m_settings.radius, Real(0.25) * m_settings.radius,
-                                   m_vertices, m_excluded, m_pairs);
+    // One solve takes the frame: the pairs are the ones that may meet during it, each mass moving from where it is
+    // along its velocity and the surface's mean change of velocity over the last frame, within twice its own
+    // change's difference from that mean plus a quarter radius (swept boxes, not spheres about each mass: two
+    // halves of a fold swinging towards each other at metres per second come centimetres closer in a step, more
+    // than a skin capped at the radius covered, and crossed each other unseen by the constraints; the 96x2x96
+    // fold then diverged where they met, pushed back by up to 6.5 cm after the solve). The constraints are then
+    // set from the present velocities: from the velocities plus their last change (backward Euler moves a mass
+    // by its velocity at the step's end), the 64x2x64 fold diverged where its halves met.
+    Vec3 meanChange = Vec3::Zero();
+    for (const Index i : m_vertices)
+    {
+        meanChange += p.velocity[i] - m_lastVelocity[i];
+    }
+    meanChange /= Real(m_vertices.size());
+    m_sweptEnd.resize(p.size());
+    for (const Index i : m_vertices)
+    {
+        const Vec3 change = p.velocity[i] - m_lastVelocity[i];
+        m_skin[i] = 2 * (change - meanChange).norm() * dt + Real(0.25) * m_settings.radius;
+        m_sweptEnd[i] = p.position[i] + (p.velocity[i] + meanChange) * dt;
+    }
+    m_broadphase.findSweptPairs(p.position, m_sweptEnd, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
     pairsListed(p.position);
 }
 
@@ -214,7 +232,7 @@ int SelfContact::solvesFor(MassSpringSystem& system, Real dt)
     // split.
     const StageScope stage(m_observer, Stage::SelfContactPairs);
     const Particles& p = system.particles;
-    listArrivingPairs(p, dt);
+    listSweptPairs(p, dt);
     const Real closing = weighArrivals(p, dt);
     m_prepared = true;
     m_preparedDt = dt;
@@ -267,9 +285,9 @@ void SelfContact::constrainArrivals(const Particles& p, std::vector<VelocityCons
     // behind its masses are stopped with them; the responses after the solve only correct what is left. Stopped
     // after the solve alone, the 48x2x48 fold over the rod had its meeting layers pushed back by centimetres while
     // the layers behind them moved on, and the springs between took 24 J in two steps. Each surface vertex is
-    // constrained by its most urgent pair (the one its step would carry deepest, the lowest triangle index on a tie:
-    // the same at any thread count and in any list order), unless the obstacle contact holds it or it is pinned; the
-    // triangle's masses are vertices of their own pairs across the fold, so both sides are stopped.
+    // constrained by its most urgent pair (the one its step would carry deepest, the first in pair order on a tie:
+    // the same at any thread count), unless the obstacle contact holds it or it is pinned; the triangle's masses are
+    // vertices of their own pairs across the fold, so both sides are stopped.
     const std::vector<Vec3>& v = p.velocity;
     m_constraints.clear();
     for (const VelocityConstraint& c : constraints)
@@ -298,13 +316,23 @@ Real SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     const std::vector<Vec3>& x = p.position;
     const std::vector<Vec3>& v = p.velocity;
     const Triangle& t = m_triangles[pair.triangle];
-    // The broadphase lists by this test, but a caller's broadphase may list more: those are turned away here by the
-    // same test, before the closest point is sought.
-    const Real rest = Real(0.25) * m_settings.radius;
-    if (!mayArrive(x, v, pair.vertex, t, m_triangleLow[pair.triangle], m_triangleHigh[pair.triangle], dt,
-                   m_settings.radius, rest))
+    // Most listed pairs are a flat sheet's neighbours moving together: their distance, at least the vertex's from
+    // the triangle's box, leaves them more than a quarter radius from touching and more than the step's relative
+    // motion (the triangle's point moves as a weighted mean of its masses, so the pair closes at most as fast as
+    // the vertex moves towards the fastest of them), so the closest point need not be sought. The slack of a
+    // millionth of the radius keeps rounding from deciding a pair the closest point would weigh.
+    const Vec3 outside =
+        (m_triangleLow[pair.triangle] - x[pair.vertex]).cwiseMax(x[pair.vertex] - m_triangleHigh[pair.triangle]);
+    const Real boxGap = outside.cwiseMax(Vec3::Zero()).norm() - m_settings.radius;
+    const Real slack = Real(1e-6) * m_settings.radius;
+    if (boxGap > Real(0.25) * m_settings.radius + slack)
     {
-        return 0;
+        const Real relativeSpeed = std::max(
+            {(v[t[0]] - v[pair.vertex]).norm(), (v[t[1]] - v[pair.vertex]).norm(), (v[t[2]] - v[pair.vertex]).norm()});
+        if (boxGap > dt * relativeSpeed + slack)
+        {
+            return 0;
+        }
     }
     const Vec3 w = closestPointWeights(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]]);
     Vec3 normal = x[pair.vertex] - (w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]]);
@@ -319,13 +347,11 @@ Real SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     const Real gap = distance - m_settings.radius;
     // At the present speeds; a pair resting within a quarter radius of touching counts as arriving unless its
     // vertex was leaving, so that the step's forces cannot press it in.
-    const bool resting = gap < rest && !m_leaving[pair.vertex];
+    const bool resting = gap < Real(0.25) * m_settings.radius && !m_leaving[pair.vertex];
     const Real closes = dt * (triangleSpeed - vertexSpeed);
     const Real closing = gap < closes ? closes : 0;
     const Real endGap = std::min(gap - closes, resting ? Real(-1e-12) : Real(0));
-    // The most urgent pair is the deepest, and of equally deep ones (resting pairs all count as just touching) the
-    // one with the lowest triangle index: the choice does not depend on the order the broadphase lists them in.
-    if (endGap >= 0 || endGap > arrival.endGap || (endGap == arrival.endGap && pair.triangle > arrival.triangle))
+    if (endGap >= 0 || endGap >= arrival.endGap)
     {
         return closing;
     }
@@ -341,7 +367,6 @@ Real SelfContact::weighArrival(const Particles& p, Real dt, const SelfContactPai
     }
     const Real common = (triangleInverse * vertexSpeed + vertexInverse * triangleSpeed) / inverseSum;
     arrival.endGap = endGap;
-    arrival.triangle = pair.triangle;
     arrival.normal = normal;
     arrival.speed = common + (vertexInverse / inverseSum) * (-gap / dt);
     return closing;
@@ -684,10 +709,7 @@ void SelfContact::afterImplicitSolve(MassSpringSystem& system, StepContext& cont
     {
         // One solve took the whole frame: list the pairs again over its motion, so that every pair that came within
         // the radius at some moment of the step, its masses moving in straight lines, is listed for the swept test.
-        // Swept boxes: spheres of each mass's move about it listed 27 to 34 million pairs a frame at 128x2x128. Not
-        // by the pairs' relative motion, as at the frame's start: those lists leave out the neighbours moving
-        // together, which the passes after the obstacle contact push into each other, and the wrap's flaps came to
-        // 3.4 mm of each other under bdf2 (with a whole radius to spare, 9.8 mm, but the 128x2x128 fold ran slower).
+        // Swept boxes: spheres of each mass's move about it listed 27 to 34 million pairs a frame at 128x2x128.
         const StageScope stage(m_observer, Stage::SelfContactPairs);
         for (const Index i : m_vertices)
         {

@@ -23,11 +23,10 @@
 /// would otherwise touch itself everywhere.
 ///
 /// Runs as a StepHook, after the obstacle contact of every substep. With the integrators that take a frame in one
-/// solve (`implicit`, `bdf2`, `trbdf2`: StepContext::oneSolveAFrame), four things change. At the frame's start the
-/// pairs listed are those the step may bring within the radius by their relative motion at the present velocities, or
-/// that rest within a quarter radius of it (SelfContactBroadphase::findArrivingPairs, mayArrive); after the solve,
-/// those whose boxes over each mass's motion in the step overlap (swept, findSweptPairs), not spheres about it. At the
-/// frame's start each surface vertex whose pair the step would carry within the radius at its present
+/// solve (`implicit`, `bdf2`, `trbdf2`: StepContext::oneSolveAFrame), four things change. The pairs are listed by
+/// boxes over each mass's motion in the step (swept, SelfContactBroadphase::findSweptPairs), not spheres about it: at
+/// the frame's start from where each mass is to where its velocity would carry it, after the solve over the motion it
+/// made. At the frame's start each surface vertex whose pair the step would carry within the radius at its present
 /// velocity, or which rests within a quarter radius of touching (unless the solve had to pull it back last frame: it
 /// was leaving), gets a velocity constraint along the pair's normal, so the solve stops it together with the springs
 /// behind it (the inelastic outcome of its most urgent pair: the pair's common normal speed, plus its share of
@@ -115,8 +114,8 @@ private:
     /// Lists, once, the triangles each vertex is never tested against: those holding it or a spring neighbour of it,
     /// and those within twice the radius of it at rest.
     void listExclusions(const SpringAdjacency& springsAt);
-    /// With one solve a frame: lists the pairs the arrivals weigh for a step of dt (mayArrive).
-    void listArrivingPairs(const Particles& p, Real dt);
+    /// With one solve a frame: lists the pairs that may meet during a step of dt (swept boxes).
+    void listSweptPairs(const Particles& p, Real dt);
     /// Whether solvesFor listed the pairs for this state and step (nothing has moved a mass since).
     bool preparedFor(const Particles& p, Real dt) const;
     /// For an integrator that takes the frame in one solve: weighs every listed pair (weighArrival) and returns how
@@ -176,6 +175,7 @@ private:
     std::vector<Vec3> m_triangleHigh;
     std::vector<Vec3> m_lastVelocity;     ///< per mass, its velocity at the last frame's start
     std::vector<Vec3> m_substepStart;     ///< per mass, its position when the current substep began
+    std::vector<Vec3> m_sweptEnd;         ///< per surface mass, where one solve a frame would carry it unhindered
     std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
     std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
     /// What solvesFor listed the pairs for, so beginFrame keeps them if nothing has moved since.
@@ -187,9 +187,8 @@ private:
     /// Per mass, the pair that constrains it this frame (constrainArrivals).
     struct Arrival
     {
-        bool held = false;  ///< by the obstacle contact's constraint
-        Real endGap = 0;    ///< m, below 0: how far within the radius the step would carry it
-        Index triangle = 0; ///< the pair's triangle
+        bool held = false; ///< by the obstacle contact's constraint
+        Real endGap = 0;   ///< m, below 0: how far within the radius the step would carry it
         Vec3 normal = Vec3::Zero();
         Real speed = 0; ///< m/s, the normal speed it is given
     };

@@ -33,26 +33,6 @@ struct SelfContactExclusions
     }
 };
 
-/// Whether vertex i may come within `radius` of triangle t in a step of dt, all four masses moving on at their
-/// velocities v, or lies within `rest` of that now. In the vertex's frame each of the triangle's masses moves by its
-/// velocity relative to the vertex's times dt, so the triangle stays inside its box (low..high, its masses' box at x)
-/// stretched along each axis by the least and the most of those moves; the test is the vertex's distance from that
-/// box against the radius plus `rest`, with a millionth of the radius to spare for rounding. Two masses moving
-/// together pass it only where they are close, however fast they move. The self-contact's arrivals and the
-/// broadphase's list of them share this one test, so the list holds exactly the pairs the arrivals weigh.
-inline bool mayArrive(const std::vector<Vec3>& x, const std::vector<Vec3>& v, Index i, const Triangle& t,
-                      const Vec3& low, const Vec3& high, Real dt, Real radius, Real rest)
-{
-    const Vec3 move0 = (v[t[0]] - v[i]) * dt;
-    const Vec3 move1 = (v[t[1]] - v[i]) * dt;
-    const Vec3 move2 = (v[t[2]] - v[i]) * dt;
-    const Vec3 sweptLow = low + move0.cwiseMin(move1).cwiseMin(move2).cwiseMin(Vec3::Zero());
-    const Vec3 sweptHigh = high + move0.cwiseMax(move1).cwiseMax(move2).cwiseMax(Vec3::Zero());
-    const Vec3 outside = (sweptLow - x[i]).cwiseMax(x[i] - sweptHigh).cwiseMax(Vec3::Zero());
-    const Real reach = radius + rest + Real(1e-6) * radius;
-    return !(outside.squaredNorm() > reach * reach);
-}
-
 class SelfContactBroadphase
 {
 public:
@@ -77,11 +57,5 @@ public:
     virtual void findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
                                 const std::vector<Real>& reach, Real radius, const std::vector<Index>& vertices,
                                 const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out) = 0;
-    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle that passes mayArrive at positions x,
-    /// velocities v and step dt: the pairs a step of one solve may carry within the radius at the present velocities,
-    /// or that rest within `rest` of it. Pairs in the order and with the exclusions of findPairs.
-    virtual void findArrivingPairs(const std::vector<Vec3>& x, const std::vector<Vec3>& v, Real dt, Real radius,
-                                   Real rest, const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
-                                   std::vector<SelfContactPair>& out) = 0;
 };
 } // namespace masse
