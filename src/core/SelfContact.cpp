@@ -757,8 +757,8 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
 {
     const std::vector<Vec3>& x = p.position;
     measureTriangleBoxes(x, true);
-    // A pass after the first looks at every pair for whether a mass of it moved: by triangle, one load a pair for
-    // its triangle's three masses.
+    // A pass of only the moved masses' pairs still looks at every pair for whether a mass of it moved: by
+    // triangle, one load a pair for its triangle's three masses.
     if (onlyMoved)
     {
         setTrianglesHaveMoved(1);
@@ -818,6 +818,7 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
     }
     return {count, movedCount};
 }
+
 void SelfContact::setTrianglesHaveMoved(std::uint8_t flag)
 {
     for (const Index i : m_movedMasses)
