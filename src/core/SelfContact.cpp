@@ -56,27 +56,7 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_lastVelocity.assign(n, Vec3::Zero());
     m_moved.assign(n, 0);
     m_triangleHasMoved.assign(m_triangles.size(), 0);
-    m_trianglesOfStart.assign(n + 1, 0);
-    for (const Triangle& t : m_triangles)
-    {
-        for (const Index i : t)
-        {
-            ++m_trianglesOfStart[i + 1];
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        m_trianglesOfStart[i + 1] += m_trianglesOfStart[i];
-    }
-    m_trianglesOf.resize(m_trianglesOfStart[n]);
-    std::vector<std::size_t> filled(m_trianglesOfStart.begin(), m_trianglesOfStart.end() - 1);
-    for (std::size_t k = 0; k < m_triangles.size(); ++k)
-    {
-        for (const Index i : m_triangles[k])
-        {
-            m_trianglesOf[filled[i]++] = Index(k);
-        }
-    }
+    listTrianglesOfMasses(n);
     m_broadphase.setTriangles(m_triangles);
     listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
 }
@@ -817,6 +797,32 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
         count += m_touches[range].size();
     }
     return {count, movedCount};
+}
+
+void SelfContact::listTrianglesOfMasses(std::size_t n)
+{
+    // Counted, summed into starts, then filled: each mass's triangles in increasing order.
+    m_trianglesOfStart.assign(n + 1, 0);
+    for (const Triangle& t : m_triangles)
+    {
+        for (const Index i : t)
+        {
+            ++m_trianglesOfStart[i + 1];
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        m_trianglesOfStart[i + 1] += m_trianglesOfStart[i];
+    }
+    m_trianglesOf.resize(m_trianglesOfStart[n]);
+    std::vector<std::size_t> filled(m_trianglesOfStart.begin(), m_trianglesOfStart.end() - 1);
+    for (std::size_t k = 0; k < m_triangles.size(); ++k)
+    {
+        for (const Index i : m_triangles[k])
+        {
+            m_trianglesOf[filled[i]++] = Index(k);
+        }
+    }
 }
 
 void SelfContact::setTrianglesHaveMoved(std::uint8_t flag)

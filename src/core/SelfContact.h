@@ -151,6 +151,8 @@ private:
     /// m_moved marks), the ones after it only the pairs a response of the pass before was given a mass of: a pair
     /// none of whose masses a response touched would be found as it was, not touching.
     std::size_t respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved);
+    /// Lists, once, the surface triangles each of the n masses belongs to (m_trianglesOfStart, m_trianglesOf).
+    void listTrianglesOfMasses(std::size_t n);
     /// Sets m_triangleHasMoved to `flag` for every triangle of a mass in m_movedMasses.
     void setTrianglesHaveMoved(std::uint8_t flag);
     /// Measures pair k at positions x and appends it to `out` if it touches.
