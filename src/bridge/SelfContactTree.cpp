@@ -55,6 +55,17 @@ btDbvtVolume selfContactBox(const Vec3& low, const Vec3& high, Real margin)
 }
 
 /// btDbvt's own overlap test (Intersect), on a flattened node's box.
+/// Vertex v's box over its motion from `from` to `to`, grown by its reach.
+btDbvtVolume sweptBox(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
+                      Index v)
+{
+    return selfContactBox(from[v].cwiseMin(to[v]), from[v].cwiseMax(to[v]), reach[v]);
+}
+
+/// For the lists that walk every node a group's box overlaps: no other bound.
+constexpr auto everyNode = [](const Index* /*group*/, std::size_t /*count*/)
+{ return [](std::uint32_t /*node*/) { return true; }; };
+
 bool overlaps(const SelfContactTree::FlatNode& node, const btDbvtVolume& box)
 {
     const btVector3& low = box.Mins();
@@ -176,13 +187,39 @@ void SelfContactTree::flatten()
     }
 }
 
-template <class BoxOf, class Accept>
-void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
-                                   const BoxOf& boxOf, const Accept& accept, std::vector<SelfContactPair>& out)
+void SelfContactTree::boundArrivals(const std::vector<Vec3>& from, const std::vector<Vec3>& velocity)
 {
-    // The walks run on the flattened copy: btDbvt's nodes are scattered in memory, each a likely cache miss, where
-    // the copy is read front to back.
-    flatten();
+    // Children come after their node in the flattened order, so one pass from the back has both of a node's children
+    // bounded before it: the first at k + 1, the second where the first's subtree ends.
+    m_nodeLow.resize(m_flat.size());
+    m_nodeHigh.resize(m_flat.size());
+    m_nodeVelocityLow.resize(m_flat.size());
+    m_nodeVelocityHigh.resize(m_flat.size());
+    for (std::size_t k = m_flat.size(); k-- > 0;)
+    {
+        if (m_flat[k].triangle >= 0)
+        {
+            const Triangle& t = m_triangles[std::size_t(m_flat[k].triangle)];
+            m_nodeLow[k] = from[t[0]].cwiseMin(from[t[1]]).cwiseMin(from[t[2]]);
+            m_nodeHigh[k] = from[t[0]].cwiseMax(from[t[1]]).cwiseMax(from[t[2]]);
+            m_nodeVelocityLow[k] = velocity[t[0]].cwiseMin(velocity[t[1]]).cwiseMin(velocity[t[2]]);
+            m_nodeVelocityHigh[k] = velocity[t[0]].cwiseMax(velocity[t[1]]).cwiseMax(velocity[t[2]]);
+            continue;
+        }
+        const std::size_t first = k + 1;
+        const std::size_t second = m_flat[first].skip;
+        m_nodeLow[k] = m_nodeLow[first].cwiseMin(m_nodeLow[second]);
+        m_nodeHigh[k] = m_nodeHigh[first].cwiseMax(m_nodeHigh[second]);
+        m_nodeVelocityLow[k] = m_nodeVelocityLow[first].cwiseMin(m_nodeVelocityLow[second]);
+        m_nodeVelocityHigh[k] = m_nodeVelocityHigh[first].cwiseMax(m_nodeVelocityHigh[second]);
+    }
+}
+
+template <class BoxOf, class GroupReach, class Accept>
+void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                                   const BoxOf& boxOf, const GroupReach& groupReach, const Accept& accept,
+                                   std::vector<SelfContactPair>& out)
+{
     const std::size_t ranges = chunkCount(vertices.size(), selfQueryChunkSize);
     m_rangePairs.reserveChunks(ranges);
     const std::size_t triangleCount = m_triangles.size();
@@ -207,11 +244,12 @@ void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const Sel
                         {
                             Merge(group, boxes[g], group);
                         }
+                        const auto reaches = groupReach(&vertices[first], count);
                         leaves.clear();
                         for (std::uint32_t k = 0; k < m_flat.size();)
                         {
                             const FlatNode& node = m_flat[k];
-                            if (!overlaps(node, group))
+                            if (!overlaps(node, group) || !reaches(k))
                             {
                                 k = node.skip;
                                 continue;
@@ -249,13 +287,23 @@ void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const Sel
     }
 }
 
+inline bool SelfContactTree::sweptBoxesOverlap(const std::vector<Real>& reach, Real radius,
+                                               const btDbvtVolume& vertexBox, Index triangle) const
+{
+    // The leaves are fat boxes: a pair is kept only if the vertex's box overlaps the triangle's own, grown by the
+    // radius and its masses' largest reach.
+    const Triangle& t = m_triangles[triangle];
+    const Real margin = radius + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
+    return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), vertexBox);
+}
 void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                                 const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                                 std::vector<SelfContactPair>& out)
 {
     refit(x, x, reach, radius);
+    flatten();
     collectPairs(
-        vertices, excluded, [&](Index v) { return selfContactBox(x[v], x[v], reach[v]); },
+        vertices, excluded, [&](Index v) { return selfContactBox(x[v], x[v], reach[v]); }, everyNode,
         [&](Index v, const btDbvtVolume& /*box*/, Index triangle)
         { return withinReach(x, reach, radius, v, triangle); },
         out);
@@ -266,17 +314,62 @@ void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::v
                                      const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out)
 {
     refit(from, to, reach, radius);
-    // The leaves are fat boxes: a pair is kept only if the vertex's box overlaps the triangle's own, grown by the
-    // radius and its masses' largest reach.
+    flatten();
     collectPairs(
-        vertices, excluded,
-        [&](Index v) { return selfContactBox(from[v].cwiseMin(to[v]), from[v].cwiseMax(to[v]), reach[v]); },
+        vertices, excluded, [&](Index v) { return sweptBox(from, to, reach, v); }, everyNode,
         [&](Index /*v*/, const btDbvtVolume& box, Index triangle)
+        { return sweptBoxesOverlap(reach, radius, box, triangle); },
+        out);
+}
+
+void SelfContactTree::findSweptArrivingPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
+                                             const std::vector<Real>& reach, Real radius,
+                                             const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
+                                             const ArrivalTest& arrival, std::vector<SelfContactPair>& out)
+{
+    refit(from, to, reach, radius);
+    flatten();
+    const std::vector<Vec3>& v = *arrival.velocity;
+    boundArrivals(from, v);
+    // A group of vertices skips a subtree when even the nearest of its boxes and the fastest of its velocities,
+    // against the group's, would leave no pair the arrivals take: then none of its triangles' pairs passes the exact
+    // test below. A billionth to spare, so that rounding in the bounds' different sums decides nothing.
+    const Real spare = Real(1e-9);
+    const auto groupReach = [&](const Index* group, std::size_t count)
+    {
+        Vec3 low = from[group[0]];
+        Vec3 high = low;
+        Vec3 velocityLow = v[group[0]];
+        Vec3 velocityHigh = velocityLow;
+        for (std::size_t g = 1; g < count; ++g)
         {
+            low = low.cwiseMin(from[group[g]]);
+            high = high.cwiseMax(from[group[g]]);
+            velocityLow = velocityLow.cwiseMin(v[group[g]]);
+            velocityHigh = velocityHigh.cwiseMax(v[group[g]]);
+        }
+        return [&, low, high, velocityLow, velocityHigh](std::uint32_t k)
+        {
+            const Vec3 outside = (m_nodeLow[k] - high).cwiseMax(low - m_nodeHigh[k]).cwiseMax(Vec3::Zero());
+            const Vec3 apart = (m_nodeVelocityHigh[k] - velocityLow).cwiseMax(velocityHigh - m_nodeVelocityLow[k]);
+            return arrival.mayArrive(outside.norm() - radius - spare * radius, apart.norm() * (1 + spare));
+        };
+    };
+    collectPairs(
+        vertices, excluded, [&](Index i) { return sweptBox(from, to, reach, i); }, groupReach,
+        [&](Index i, const btDbvtVolume& box, Index triangle)
+        {
+            if (!sweptBoxesOverlap(reach, radius, box, triangle))
+            {
+                return false;
+            }
+            // The arrivals' own test, on the triangle's box at `from` as they measure it.
             const Triangle& t = m_triangles[triangle];
-            const Real margin = radius + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
-            return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), box);
+            const Vec3 low = from[t[0]].cwiseMin(from[t[1]]).cwiseMin(from[t[2]]);
+            const Vec3 high = from[t[0]].cwiseMax(from[t[1]]).cwiseMax(from[t[2]]);
+            return arrival.mayArrive(gapToBox(from[i], low, high, radius), arrival.relativeSpeed(i, t));
         },
         out);
 }
+
 } // namespace masse::bridge

@@ -15,6 +15,7 @@
 #include <vector>
 
 class btDbvt;
+struct btDbvtAabbMm;
 struct btDbvtNode;
 
 namespace masse::bridge
@@ -34,6 +35,10 @@ public:
     void findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
                         Real radius, const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                         std::vector<SelfContactPair>& out) override;
+    void findSweptArrivingPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
+                                const std::vector<Real>& reach, Real radius, const std::vector<Index>& vertices,
+                                const SelfContactExclusions& excluded, const ArrivalTest& arrival,
+                                std::vector<SelfContactPair>& out) override;
 
     /// A node of the tree copied into one array in the order a walk visits it.
     struct FlatNode
@@ -53,18 +58,30 @@ private:
     /// Each triangle's box over its masses at `from` and `to` (the same positions for a list at one moment), into
     /// m_low and m_high, and the tree's leaves grown to hold it plus the radius and its masses' largest reach.
     void refit(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach, Real radius);
-    /// The walks of findPairs and findSweptPairs: each vertex's box (boxOf) against the tree, and the pairs of the
+    /// Each flattened node's bounds for findSweptArrivingPairs: the box of its triangles' masses at `from` and the box
+    /// of their velocities.
+    void boundArrivals(const std::vector<Vec3>& from, const std::vector<Vec3>& velocity);
+    /// Whether a vertex's swept box overlaps the triangle's own (m_low, m_high), grown by the radius and its masses'
+    /// largest reach.
+    bool sweptBoxesOverlap(const std::vector<Real>& reach, Real radius, const btDbvtAabbMm& vertexBox,
+                           Index triangle) const;
+    /// The walks of the lists, over the flattened tree: each vertex's box (boxOf) against the tree, merged over a few
+    /// vertices, down the nodes the merged box overlaps and groupReach(group, count) takes, and the pairs of the
     /// leaves it overlaps that the exclusions leave and `accept` takes, in vertex order.
-    template <class BoxOf, class Accept>
+    template <class BoxOf, class GroupReach, class Accept>
     void collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded, const BoxOf& boxOf,
-                      const Accept& accept, std::vector<SelfContactPair>& out);
+                      const GroupReach& groupReach, const Accept& accept, std::vector<SelfContactPair>& out);
 
     std::unique_ptr<btDbvt> m_tree;
     std::vector<Triangle> m_triangles;
     std::vector<btDbvtNode*> m_leaves; ///< per triangle
     std::vector<Vec3> m_low;           ///< per triangle, its vertices' box at the last refit
     std::vector<Vec3> m_high;
-    std::vector<FlatNode> m_flat;                        ///< the tree, flattened at every list
+    std::vector<FlatNode> m_flat; ///< the tree, flattened at every list
+    std::vector<Vec3> m_nodeLow;  ///< per flattened node, boundArrivals' boxes
+    std::vector<Vec3> m_nodeHigh;
+    std::vector<Vec3> m_nodeVelocityLow;
+    std::vector<Vec3> m_nodeVelocityHigh;
     std::vector<const btDbvtNode*> m_walk;               ///< flatten's stack
     PerChunk<std::vector<SelfContactPair>> m_rangePairs; ///< per range of vertices, reused frame to frame
 };

@@ -25,20 +25,22 @@
 /// Runs as a StepHook, after the obstacle contact of every substep. With the integrators that take a frame in one
 /// solve (`implicit`, `bdf2`, `trbdf2`: StepContext::oneSolveAFrame), four things change. The pairs are listed by
 /// boxes over each mass's motion in the step (swept, SelfContactBroadphase::findSweptPairs), not spheres about it: at
-/// the frame's start from where each mass is to where its velocity would carry it, after the solve over the motion it
-/// made. At the frame's start each surface vertex whose pair the step would carry within the radius at its present
-/// velocity, or which rests within a quarter radius of touching (unless the solve had to pull it back last frame: it
-/// was leaving), gets a velocity constraint along the pair's normal, so the solve stops it together with the springs
-/// behind it (the inelastic outcome of its most urgent pair: the pair's common normal speed, plus its share of
-/// closing the gap to the radius). The responses are repeated until none moves a mass (at most 128 passes), and they
-/// run both before the obstacle contact (afterImplicitSolve) and after it. Before a frame the pairs are listed and
-/// weighed once (solvesFor), and a frame in which some pair would close by more than six lattice spacings in one
-/// solve is taken as several, each with its own list and constraints: the 128x2x128 fold's halves, meeting at 2 m/s,
-/// otherwise crumpled through each other within one step at dt 0.03 and the run diverged. Known limit: the 64x2x64
-/// fold over the rod ends frames up to 7 mm inside the rod.
-/// Detection runs over ranges of pairs on every thread, each range listing its touches; the responses are applied in
-/// one pass in pair order, so the result is the same bit for bit at any thread count. Buffers are sized when the
-/// pairs are listed, so a substep that keeps its list allocates nothing.
+/// the frame's start from where each mass is to where its velocity would carry it, keeping only the pairs the
+/// arrivals below may take (findSweptArrivingPairs), after the solve over the motion it made. At the frame's start each
+/// surface vertex whose pair the step would carry within the radius at its present velocity, or which rests within a
+/// quarter radius of touching (unless the solve had to pull it back last frame: it was leaving), gets a velocity
+/// constraint along the pair's normal, so the solve stops it together with the springs behind it (the inelastic outcome
+/// of its most urgent pair: the pair's common normal speed, plus its share of closing the gap to the radius). The
+/// responses are repeated until none moves a mass (at most 128 passes), and they run both before the obstacle contact
+/// (afterImplicitSolve) and after it. Before a frame the pairs are listed and weighed once (solvesFor), and a frame in
+/// which some pair would close by more than six lattice spacings in one solve is taken as several, each with its own
+/// list and constraints: the 128x2x128 fold's halves, meeting at 2 m/s, otherwise crumpled through each other within
+/// one step at dt 0.03 and the run diverged. Known limit: the 64x2x64 fold over the rod ends frames up to 7 mm inside
+/// the rod.
+///
+/// Detection runs over ranges of pairs on every thread, each range listing its touches; the responses are
+/// applied in one pass in pair order, so the result is the same bit for bit at any thread count. Buffers are sized when
+/// the pairs are listed, so a substep that keeps its list allocates nothing.
 
 #include "Lattice.h"
 #include "LatticeSurface.h"
@@ -121,10 +123,12 @@ private:
     /// For an integrator that takes the frame in one solve: weighs every listed pair (weighArrival) and returns how
     /// far the fastest closing pair that the step of length dt would carry within the radius closes in it.
     Real weighArrivals(const Particles& p, Real dt);
-    /// Makes the pair its vertex's most urgent (m_arrival) if the step of length dt would carry the vertex deeper
+    /// Makes the pair its vertex's most urgent (m_arrival) if the step of length test.dt would carry the vertex deeper
     /// within the radius through it than through the most urgent so far, or if it rests within a quarter radius of
     /// that; returns how far the pair closes in the step if it comes within the radius, else 0.
-    Real weighArrival(const Particles& p, Real dt, const SelfContactPair& pair);
+    Real weighArrival(const Particles& p, const ArrivalTest& test, const SelfContactPair& pair);
+    /// Which pairs the arrivals of a step of length dt may take, at the masses' present velocities.
+    ArrivalTest arrivalTest(const Particles& p, Real dt) const;
     /// Gives each surface vertex with an arrival a normal velocity constraint, unless the obstacle contact holds it
     /// (its constraint is already in `constraints`) or it is pinned.
     void constrainArrivals(const Particles& p, std::vector<VelocityConstraint>& constraints);

@@ -33,6 +33,42 @@ struct SelfContactExclusions
     }
 };
 
+/// The distance from point x to the box low..high, less the radius: how far x is from touching anything the box
+/// holds. Never more than from a smaller box inside it (each step rounds monotonically), so a box over many
+/// triangles bounds the gap of each from below.
+inline Real gapToBox(const Vec3& x, const Vec3& low, const Vec3& high, Real radius)
+{
+    const Vec3 outside = (low - x).cwiseMax(x - high);
+    return outside.cwiseMax(Vec3::Zero()).norm() - radius;
+}
+
+/// Which pairs the arrivals of a frame's one solve (SelfContact::weighArrival) may take: a pair is turned away when
+/// its vertex is farther from touching the triangle's box (gapToBox, the triangle's masses at the step's start) than
+/// both `rest` and the step's length times the fastest of the triangle's masses relative to the vertex, each with
+/// `slack` to spare. Most pairs of the swept boxes are turned away: a tilted sheet's neighbours moving together. The
+/// weighing and the broadphase's list for it share this one test, so the list holds every pair the weighing takes.
+struct ArrivalTest
+{
+    const std::vector<Vec3>* velocity = nullptr; ///< per mass, m/s
+    Real dt = 0;                                 ///< s, the step
+    Real radius = 0;                             ///< m, the contact radius
+    Real rest = 0;                               ///< m, how near touching a resting pair counts as arriving
+    Real slack = 0;                              ///< m, so that rounding decides no pair the closest point would weigh
+
+    /// `gap` as gapToBox gives it, `relativeSpeed` the fastest of the triangle's masses relative to the vertex. Also
+    /// true of a group of triangles whose gap is bounded from below and speed from above by those given.
+    bool mayArrive(Real gap, Real relativeSpeed) const
+    {
+        return !(gap > rest + slack) || !(gap > dt * relativeSpeed + slack);
+    }
+    /// The fastest of triangle t's masses relative to vertex i.
+    Real relativeSpeed(Index i, const Triangle& t) const
+    {
+        const std::vector<Vec3>& v = *velocity;
+        return std::max({(v[t[0]] - v[i]).norm(), (v[t[1]] - v[i]).norm(), (v[t[2]] - v[i]).norm()});
+    }
+};
+
 class SelfContactBroadphase
 {
 public:
@@ -57,5 +93,12 @@ public:
     virtual void findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
                                 const std::vector<Real>& reach, Real radius, const std::vector<Index>& vertices,
                                 const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out) = 0;
+    /// The pairs findSweptPairs would list that `arrival` also takes (ArrivalTest::mayArrive, the triangle's box at
+    /// `from` and the velocities it names), in the same order: the list of a frame's start, which feeds only the
+    /// arrivals. An implementation may skip whole groups of triangles by bounds on their gap and relative speed.
+    virtual void findSweptArrivingPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
+                                        const std::vector<Real>& reach, Real radius, const std::vector<Index>& vertices,
+                                        const SelfContactExclusions& excluded, const ArrivalTest& arrival,
+                                        std::vector<SelfContactPair>& out) = 0;
 };
 } // namespace masse
