@@ -52,7 +52,8 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_spacing = spacing > 0 ? spacing : m_settings.radius; // a lattice one mass wide has no spacing along that side
     m_triangleLow.resize(m_triangles.size());
     m_triangleHigh.resize(m_triangles.size());
-    m_triangleMoved.resize(m_triangles.size());
+    m_triangleMotionLow.resize(m_triangles.size());
+    m_triangleMotionHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_moved.assign(n, 0);
     m_triangleHasMoved.assign(m_triangles.size(), 0);
@@ -450,10 +451,16 @@ void SelfContact::detectPair(const std::vector<Vec3>& x, std::size_t k, std::vec
     Touch touch{std::uint32_t(k), Vec3::Zero()};
     if (outsideBox(radius))
     {
-        // Passing through needs the vertex within the radius of the triangle at some moment of the substep, so
-        // now within the radius plus how far each moved (along any axis) of the triangle's box: most are not.
-        const Real vertexMoved = (v - m_substepStart[pair.vertex]).cwiseAbs().maxCoeff();
-        const Real reach = radius + vertexMoved + m_triangleMoved[pair.triangle];
+        // Passing through needs the vertex within the radius of the triangle at some moment of the substep. In the
+        // vertex's frame each of the triangle's masses has moved by its own displacement less the vertex's, so the
+        // vertex must now be within the radius plus the most of those along any axis of the triangle's box. Most
+        // listed pairs are not: neighbours in a sheet that moves as one, however fast. A billionth of the radius to
+        // spare, so that rounding never turns away a pair the swept test would take.
+        const Vec3 vertexMoved = v - m_substepStart[pair.vertex];
+        const Real relativeMotion = (m_triangleMotionHigh[pair.triangle] - vertexMoved)
+                                        .cwiseMax(vertexMoved - m_triangleMotionLow[pair.triangle])
+                                        .maxCoeff();
+        const Real reach = radius + relativeMotion + Real(1e-9) * radius;
         if (!outsideBox(reach) && crossed(x, k, touch))
         {
             out.push_back(touch);
@@ -622,12 +629,11 @@ void SelfContact::measureTriangleBoxes(const std::vector<Vec3>& x, bool withMoti
                         {
                             continue;
                         }
-                        Real moved = 0;
-                        for (const Index i : t)
-                        {
-                            moved = std::max(moved, (x[i] - m_substepStart[i]).cwiseAbs().maxCoeff());
-                        }
-                        m_triangleMoved[k] = moved;
+                        const Vec3 moved0 = x[t[0]] - m_substepStart[t[0]];
+                        const Vec3 moved1 = x[t[1]] - m_substepStart[t[1]];
+                        const Vec3 moved2 = x[t[2]] - m_substepStart[t[2]];
+                        m_triangleMotionLow[k] = moved0.cwiseMin(moved1).cwiseMin(moved2);
+                        m_triangleMotionHigh[k] = moved0.cwiseMax(moved1).cwiseMax(moved2);
                     }
                 });
 }

@@ -139,8 +139,8 @@ private:
     /// Whether some mass has moved farther than its skin, relative to the surface's mean displacement, since the
     /// pairs were listed (the list may then miss a pair).
     bool outgrewPairs(const std::vector<Vec3>& x) const;
-    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh, and with `withMotion` how far its
-    /// masses moved along an axis since m_substepStart, into m_triangleMoved.
+    /// Each triangle's box at positions x, into m_triangleLow and m_triangleHigh, and with `withMotion` the box of its
+    /// masses' moves since m_substepStart, into m_triangleMotionLow and m_triangleMotionHigh.
     void measureTriangleBoxes(const std::vector<Vec3>& x, bool withMotion);
     struct Passed
     {
@@ -179,10 +179,11 @@ private:
     Real m_spacing = 0;               ///< m, the lattice's smaller spacing (its columns' or its rows')
     std::vector<Vec3> m_triangleLow;  ///< per triangle, its box at this substep
     std::vector<Vec3> m_triangleHigh;
-    std::vector<Vec3> m_lastVelocity;     ///< per mass, its velocity at the last frame's start
-    std::vector<Vec3> m_substepStart;     ///< per mass, its position when the current substep began
-    std::vector<Vec3> m_sweptEnd;         ///< per surface mass, where one solve a frame would carry it unhindered
-    std::vector<Real> m_triangleMoved;    ///< per triangle, the most any of its masses moved along an axis this substep
+    std::vector<Vec3> m_lastVelocity;      ///< per mass, its velocity at the last frame's start
+    std::vector<Vec3> m_substepStart;      ///< per mass, its position when the current substep began
+    std::vector<Vec3> m_sweptEnd;          ///< per surface mass, where one solve a frame would carry it unhindered
+    std::vector<Vec3> m_triangleMotionLow; ///< per triangle, the box of its masses' moves this substep
+    std::vector<Vec3> m_triangleMotionHigh;
     std::vector<SelfContactPair> m_pairs; ///< this frame's pairs
     /// What solvesFor listed the pairs for, so beginFrame keeps them if nothing has moved since.
     bool m_prepared = false;
