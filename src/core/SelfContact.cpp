@@ -15,6 +15,7 @@ namespace
 {
 /// Pairs per range of the substep's detection: enough work to pay for waking a thread.
 constexpr std::size_t selfPairChunkSize = 2048;
+static_assert(selfPairChunkSize % 64 == 0, "a range of pairs starts on a word of the pass's bitmap");
 /// Passes of detection and responses after an implicit integrator's step, at most (see afterImplicitSolve).
 constexpr int selfResponsePasses = 128;
 /// With one solve a frame: the most a pair may close in one solve, in lattice spacings, before the frame is split
@@ -56,7 +57,6 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleMotionHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
     m_moved.assign(n, 0);
-    m_triangleHasMoved.assign(m_triangles.size(), 0);
     listTrianglesOfMasses(n);
     m_broadphase.setTriangles(m_triangles);
     listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
@@ -386,6 +386,7 @@ void SelfContact::pairsListed(const std::vector<Vec3>& x)
         m_touches[range].clear(); // they name pairs of the old list
         m_touches[range].reserve(selfPairChunkSize);
     }
+    m_pairsIndexed = false;
     m_report.pairs = m_pairs.size();
     ++m_report.queries;
 }
@@ -622,20 +623,24 @@ void SelfContact::measureTriangleBoxes(const std::vector<Vec3>& x, bool withMoti
                 {
                     for (std::size_t k = begin; k < end; ++k)
                     {
-                        const Triangle& t = m_triangles[k];
-                        m_triangleLow[k] = x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]);
-                        m_triangleHigh[k] = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
-                        if (!withMotion)
-                        {
-                            continue;
-                        }
-                        const Vec3 moved0 = x[t[0]] - m_substepStart[t[0]];
-                        const Vec3 moved1 = x[t[1]] - m_substepStart[t[1]];
-                        const Vec3 moved2 = x[t[2]] - m_substepStart[t[2]];
-                        m_triangleMotionLow[k] = moved0.cwiseMin(moved1).cwiseMin(moved2);
-                        m_triangleMotionHigh[k] = moved0.cwiseMax(moved1).cwiseMax(moved2);
+                        measureTriangle(x, k, withMotion);
                     }
                 });
+}
+
+void SelfContact::measureTriangle(const std::vector<Vec3>& x, std::size_t k, bool withMotion)
+{
+    const Triangle& t = m_triangles[k];
+    m_triangleLow[k] = x[t[0]].cwiseMin(x[t[1]]).cwiseMin(x[t[2]]);
+    m_triangleHigh[k] = x[t[0]].cwiseMax(x[t[1]]).cwiseMax(x[t[2]]);
+    if (withMotion)
+    {
+        const Vec3 moved0 = x[t[0]] - m_substepStart[t[0]];
+        const Vec3 moved1 = x[t[1]] - m_substepStart[t[1]];
+        const Vec3 moved2 = x[t[2]] - m_substepStart[t[2]];
+        m_triangleMotionLow[k] = moved0.cwiseMin(moved1).cwiseMin(moved2);
+        m_triangleMotionHigh[k] = moved0.cwiseMax(moved1).cwiseMax(moved2);
+    }
 }
 
 void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time)
@@ -684,6 +689,7 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
     const StageScope stage(m_observer, Stage::SelfContactSolve);
     // The explicit integrators' substeps are short: one pass of responses a substep, and the next substep's pass
     // takes what a mass pushed by several pairs was left with.
+    measureTriangleBoxes(p.position, true);
     const std::size_t touches = detectAndRespond(p, h, time, false).touches;
     m_report.lastSubstep = touches;
     m_report.lastFrame += touches;
@@ -739,6 +745,22 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bo
     std::size_t firstPass = 0;
     for (int pass = 0; pass < selfResponsePasses; ++pass)
     {
+        // Between passes only the responses move masses, and m_movedMasses names them: only their triangles' boxes
+        // change.
+        if (pass == 0)
+        {
+            measureTriangleBoxes(p.position, true);
+        }
+        else
+        {
+            for (const Index i : m_movedMasses)
+            {
+                for (std::size_t k = m_trianglesOfStart[i]; k < m_trianglesOfStart[i + 1]; ++k)
+                {
+                    measureTriangle(p.position, m_trianglesOf[k], true);
+                }
+            }
+        }
         const Passed passed = detectAndRespond(p, h, time, firstOnlyMoved || pass > 0);
         firstPass = pass == 0 ? passed.touches : firstPass;
         if (passed.moved == 0)
@@ -752,32 +774,40 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bo
 SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved)
 {
     const std::vector<Vec3>& x = p.position;
-    measureTriangleBoxes(x, true);
-    // A pass of only the moved masses' pairs still looks at every pair for whether a mass of it moved: by
-    // triangle, one load a pair for its triangle's three masses.
+    // A pass of only the moved masses' pairs marks them in a bitmap over the list, from each moved mass's own pairs
+    // and its triangles' (indexPairs), and each range of pairs measures its marked ones in pair order: a scan of
+    // every pair for whether a mass of it moved took as long as the measures, the passes being up to 128 a frame
+    // over lists of millions of pairs.
     if (onlyMoved)
     {
-        setTrianglesHaveMoved(1);
+        markPairsOfMovedMasses();
     }
-    const auto moved = [&](const SelfContactPair& pair)
-    { return (m_moved[pair.vertex] | m_triangleHasMoved[pair.triangle]) != 0; };
     parallelFor(m_pairs.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     std::vector<Touch>& touches = m_touches[begin / selfPairChunkSize];
                     touches.clear();
-                    for (std::size_t k = begin; k < end; ++k)
+                    if (!onlyMoved)
                     {
-                        if (!onlyMoved || moved(m_pairs[k]))
+                        for (std::size_t k = begin; k < end; ++k)
                         {
                             detectPair(x, k, touches);
                         }
+                        return;
+                    }
+                    // A range starts on a word of the bitmap (selfPairChunkSize is a multiple of 64) and clears the
+                    // words it reads for the next pass.
+                    for (std::size_t word = begin / 64; word * 64 < end; ++word)
+                    {
+                        std::uint64_t bits = m_pairMarks[word];
+                        m_pairMarks[word] = 0;
+                        while (bits != 0)
+                        {
+                            detectPair(x, word * 64 + std::size_t(__builtin_ctzll(bits)), touches);
+                            bits &= bits - 1;
+                        }
                     }
                 });
-    if (onlyMoved)
-    {
-        setTrianglesHaveMoved(0);
-    }
     for (const Index i : m_movedMasses)
     {
         m_moved[i] = 0;
@@ -841,13 +871,55 @@ void SelfContact::listTrianglesOfMasses(std::size_t n)
     }
 }
 
-void SelfContact::setTrianglesHaveMoved(std::uint8_t flag)
+void SelfContact::indexPairs()
 {
+    // The list comes by vertex, in increasing order: each mass's own pairs are one run. Each triangle's pairs are
+    // counted, summed into starts, then filled in increasing order.
+    m_pairsOfVertexStart.assign(m_moved.size() + 1, 0);
+    m_pairsOfTriangleStart.assign(m_triangles.size() + 1, 0);
+    for (const SelfContactPair& pair : m_pairs)
+    {
+        ++m_pairsOfVertexStart[pair.vertex + 1];
+        ++m_pairsOfTriangleStart[pair.triangle + 1];
+    }
+    for (std::size_t i = 0; i + 1 < m_pairsOfVertexStart.size(); ++i)
+    {
+        m_pairsOfVertexStart[i + 1] += m_pairsOfVertexStart[i];
+    }
+    for (std::size_t t = 0; t + 1 < m_pairsOfTriangleStart.size(); ++t)
+    {
+        m_pairsOfTriangleStart[t + 1] += m_pairsOfTriangleStart[t];
+    }
+    m_pairsOfTriangle.resize(m_pairs.size());
+    m_pairsFilled.assign(m_pairsOfTriangleStart.begin(), m_pairsOfTriangleStart.end() - 1);
+    for (std::size_t k = 0; k < m_pairs.size(); ++k)
+    {
+        m_pairsOfTriangle[m_pairsFilled[m_pairs[k].triangle]++] = std::uint32_t(k);
+    }
+    m_pairMarks.assign((m_pairs.size() + 63) / 64, 0);
+    m_pairsIndexed = true;
+}
+
+void SelfContact::markPairsOfMovedMasses()
+{
+    if (!m_pairsIndexed)
+    {
+        indexPairs();
+    }
+    const auto mark = [&](std::size_t k) { m_pairMarks[k / 64] |= std::uint64_t(1) << (k % 64); };
     for (const Index i : m_movedMasses)
     {
-        for (std::size_t k = m_trianglesOfStart[i]; k < m_trianglesOfStart[i + 1]; ++k)
+        for (std::size_t k = m_pairsOfVertexStart[i]; k < m_pairsOfVertexStart[i + 1]; ++k)
         {
-            m_triangleHasMoved[m_trianglesOf[k]] = flag;
+            mark(k);
+        }
+        for (std::size_t j = m_trianglesOfStart[i]; j < m_trianglesOfStart[i + 1]; ++j)
+        {
+            const Index t = m_trianglesOf[j];
+            for (std::size_t e = m_pairsOfTriangleStart[t]; e < m_pairsOfTriangleStart[t + 1]; ++e)
+            {
+                mark(m_pairsOfTriangle[e]);
+            }
         }
     }
 }

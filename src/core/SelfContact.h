@@ -147,8 +147,9 @@ private:
         std::size_t touches = 0; ///< pairs found closer than the radius (or passed through)
         std::size_t moved = 0;   ///< of those, the ones whose response moved the masses
     };
-    /// Measures the listed pairs at the current positions and responds to those that touch, in pair order; with
-    /// `onlyMoved`, only the pairs a response of the pass before was given a mass of (m_moved).
+    /// Measures the listed pairs at the current positions (the triangles' boxes measured for them) and responds to
+    /// those that touch, in pair order; with `onlyMoved`, only the pairs of the masses m_movedMasses names (those a
+    /// response of the pass before was given a pair of).
     Passed detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved);
     /// detectAndRespond again and again until no response moves a mass (at most selfResponsePasses); returns the
     /// first pass's touches. The first pass measures every pair (with `firstOnlyMoved`, only those of the masses
@@ -157,8 +158,12 @@ private:
     std::size_t respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved);
     /// Lists, once, the surface triangles each of the n masses belongs to (m_trianglesOfStart, m_trianglesOf).
     void listTrianglesOfMasses(std::size_t n);
-    /// Sets m_triangleHasMoved to `flag` for every triangle of a mass in m_movedMasses.
-    void setTrianglesHaveMoved(std::uint8_t flag);
+    /// Lists, for the present pairs, each mass's own (a run of the list) and each triangle's (m_pairsOfTriangle).
+    void indexPairs();
+    /// Marks in m_pairMarks every pair of a mass in m_movedMasses, as its vertex or one of its triangle's masses.
+    void markPairsOfMovedMasses();
+    /// Triangle k's box at positions x, and with `withMotion` the box of its masses' moves (measureTriangleBoxes).
+    void measureTriangle(const std::vector<Vec3>& x, std::size_t k, bool withMotion);
     /// Measures pair k at positions x and appends it to `out` if it touches.
     void detectPair(const std::vector<Vec3>& x, std::size_t k, std::vector<Touch>& out) const;
     /// The swept test of pair k over the substep from m_substepStart to x: whether the vertex crossed the triangle's
@@ -205,11 +210,18 @@ private:
     /// Per mass, whether its constraint of the last frame pulled it towards the triangle (it was leaving): a resting
     /// pair of such a mass is not held this frame, only one that would come within the radius.
     std::vector<std::uint8_t> m_leaving;
-    PerChunk<std::vector<Touch>> m_touches;       ///< per range of pairs, sized at the frame's start
-    std::vector<std::uint8_t> m_moved;            ///< per mass: a response of the last pass was given a pair of it
-    std::vector<Index> m_movedMasses;             ///< the masses m_moved marks
-    std::vector<std::uint8_t> m_triangleHasMoved; ///< per triangle: m_moved marks one of its masses (in a pass)
-    std::vector<std::size_t> m_trianglesOfStart;  ///< mass i's triangles are m_trianglesOf[start[i], start[i + 1])
+    PerChunk<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
+    std::vector<std::uint8_t> m_moved;      ///< per mass: a response of the last pass was given a pair of it
+    std::vector<Index> m_movedMasses;       ///< the masses m_moved marks
+    /// Per mass, its own pairs are m_pairs[start[i], start[i + 1]); per triangle, its pairs are listed in
+    /// m_pairsOfTriangle[start[t], start[t + 1]), increasing. Built for a list when a pass first needs them.
+    std::vector<std::size_t> m_pairsOfVertexStart;
+    std::vector<std::size_t> m_pairsOfTriangleStart;
+    std::vector<std::uint32_t> m_pairsOfTriangle;
+    std::vector<std::size_t> m_pairsFilled; ///< indexPairs' scratch
+    bool m_pairsIndexed = false;
+    std::vector<std::uint64_t> m_pairMarks;      ///< one bit per pair: to be measured in this pass (all clear between)
+    std::vector<std::size_t> m_trianglesOfStart; ///< mass i's triangles are m_trianglesOf[start[i], start[i + 1])
     std::vector<Index> m_trianglesOf;
     /// afterImplicitSolve's passes have measured every pair since its masses last moved, but for m_moved's.
     bool m_settledAfterSolve = false;
