@@ -317,6 +317,57 @@ TEST(SelfContact, NeighbouringTrianglesAreNeverTested)
     EXPECT_EQ(sheet.particles.position, before);
 }
 
+namespace
+{
+/// Each mass's own triangles as its exclusions: a broadphase given them lists every other pair.
+SelfContactExclusions ownTriangles(const SheetSurface& surface, std::size_t n)
+{
+    SelfContactExclusions excluded;
+    excluded.start.assign(n + 1, 0);
+    std::vector<std::vector<Index>> own(n);
+    for (std::size_t t = 0; t < surface.triangles.size(); ++t)
+    {
+        for (const Index i : surface.triangles[t])
+        {
+            own[i].push_back(Index(t));
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        excluded.triangles.insert(excluded.triangles.end(), own[i].begin(), own[i].end());
+        excluded.start[i + 1] = excluded.triangles.size();
+    }
+    return excluded;
+}
+
+/// The 12x2x12 sheet the swept lists' tests crumple: its surface, each mass's own triangles as exclusions, and a tree
+/// over its triangles.
+struct SweptListSheet
+{
+    Lattice lattice = slammSheet(12, 0.55, 0.03);
+    SheetSurface surface = sheetSurface(lattice);
+    SelfContactExclusions excluded = ownTriangles(surface, lattice.massCount());
+    bridge::SelfContactTree tree;
+
+    SweptListSheet() { tree.setTriangles(surface.triangles); }
+};
+
+/// Numbers in [-1, 1) from a linear congruential generator: the same on every platform.
+class UniformNumbers
+{
+public:
+    explicit UniformNumbers(std::uint32_t seed) : m_seed(seed) {}
+    Real operator()()
+    {
+        m_seed = m_seed * 1664525u + 1013904223u;
+        return Real(m_seed >> 8) / Real(1 << 24) * 2 - 1;
+    }
+
+private:
+    std::uint32_t m_seed;
+};
+} // namespace
+
 // The Bullet broadphase (a btDbvt walked as a flattened copy, four vertices a walk) lists every pair closer than the
 // radius plus the vertex's and the triangle's reach and that the exclusions do not name, and no other, each once, in
 // vertex order: checked against every pair tested by hand,
@@ -343,12 +394,7 @@ TEST(SelfContact, BroadphaseListsEveryPairWithinReachOnce)
     bridge::SelfContactTree tree;
     tree.setTriangles(triangles);
     const Real radius = 0.02;
-    std::uint32_t seed = 12345;
-    const auto random = [&seed]
-    {
-        seed = seed * 1664525u + 1013904223u; // the same numbers on every platform
-        return Real(seed >> 8) / Real(1 << 24) * 2 - 1;
-    };
+    UniformNumbers random(12345);
     std::vector<Vec3> x = lattice.position;
     std::vector<Real> reach(n);
     for (int list = 0; list < 2; ++list)
@@ -396,34 +442,11 @@ TEST(SelfContact, BroadphaseListsEveryPairWithinReachOnce)
 // two spacings in a random direction, listed twice so the second refits the tree.
 TEST(SelfContact, SweptBroadphaseListsEveryPairWhoseBoxesOverTheMotionOverlap)
 {
-    const Lattice lattice = slammSheet(12, 0.55, 0.03);
-    const SheetSurface surface = sheetSurface(lattice);
-    const std::size_t n = lattice.massCount();
-    SelfContactExclusions excluded; // the masses' own triangles
-    excluded.start.assign(n + 1, 0);
-    std::vector<std::vector<Index>> own(n);
-    for (std::size_t t = 0; t < surface.triangles.size(); ++t)
-    {
-        for (const Index i : surface.triangles[t])
-        {
-            own[i].push_back(Index(t));
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        excluded.triangles.insert(excluded.triangles.end(), own[i].begin(), own[i].end());
-        excluded.start[i + 1] = excluded.triangles.size();
-    }
-    bridge::SelfContactTree tree;
-    tree.setTriangles(surface.triangles);
+    SweptListSheet sheet;
+    const std::size_t n = sheet.lattice.massCount();
     const Real radius = 0.02;
-    std::uint32_t seed = 777;
-    const auto random = [&seed]
-    {
-        seed = seed * 1664525u + 1013904223u;
-        return Real(seed >> 8) / Real(1 << 24) * 2 - 1;
-    };
-    std::vector<Vec3> from = lattice.position;
+    UniformNumbers random(777);
+    std::vector<Vec3> from = sheet.lattice.position;
     std::vector<Vec3> to(n);
     std::vector<Real> reach(n);
     for (int list = 0; list < 2; ++list)
@@ -435,16 +458,16 @@ TEST(SelfContact, SweptBroadphaseListsEveryPairWhoseBoxesOverTheMotionOverlap)
             reach[i] = 0.005 * (1 + random());
         }
         std::vector<SelfContactPair> found;
-        tree.findSweptPairs(from, to, reach, radius, surface.vertices, excluded, found);
+        sheet.tree.findSweptPairs(from, to, reach, radius, sheet.surface.vertices, sheet.excluded, found);
         const std::vector<std::pair<Index, Index>> listed = checkedPairs(found);
         std::size_t overlapping = 0;
-        for (const Index v : surface.vertices)
+        for (const Index v : sheet.surface.vertices)
         {
             const Vec3 vertexLow = from[v].cwiseMin(to[v]) - Vec3::Constant(reach[v]);
             const Vec3 vertexHigh = from[v].cwiseMax(to[v]) + Vec3::Constant(reach[v]);
-            for (std::size_t t = 0; t < surface.triangles.size(); ++t)
+            for (std::size_t t = 0; t < sheet.surface.triangles.size(); ++t)
             {
-                const Triangle& tri = surface.triangles[t];
+                const Triangle& tri = sheet.surface.triangles[t];
                 const Real grow = radius + std::max({reach[tri[0]], reach[tri[1]], reach[tri[2]]});
                 Vec3 low = from[tri[0]];
                 Vec3 high = from[tri[0]];
@@ -462,7 +485,7 @@ TEST(SelfContact, SweptBroadphaseListsEveryPairWhoseBoxesOverTheMotionOverlap)
                 const bool clearlyApart = (vertexLow.array() > high.array() + margin).any() ||
                                           (low.array() > vertexHigh.array() + margin).any();
                 const bool isListed = std::binary_search(listed.begin(), listed.end(), std::make_pair(v, Index(t)));
-                if (excluded.excludes(v, Index(t)))
+                if (sheet.excluded.excludes(v, Index(t)))
                 {
                     EXPECT_FALSE(isListed) << "excluded pair " << v << ", " << t;
                 }
@@ -488,35 +511,12 @@ TEST(SelfContact, SweptBroadphaseListsEveryPairWhoseBoxesOverTheMotionOverlap)
 // a bound that ignored the velocities would miss them.
 TEST(SelfContact, SweptArrivingBroadphaseKeepsExactlyTheSweptPairsTheArrivalsTake)
 {
-    const Lattice lattice = slammSheet(12, 0.55, 0.03);
-    const SheetSurface surface = sheetSurface(lattice);
-    const std::size_t n = lattice.massCount();
-    SelfContactExclusions excluded; // the masses' own triangles
-    excluded.start.assign(n + 1, 0);
-    std::vector<std::vector<Index>> own(n);
-    for (std::size_t t = 0; t < surface.triangles.size(); ++t)
-    {
-        for (const Index i : surface.triangles[t])
-        {
-            own[i].push_back(Index(t));
-        }
-    }
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        excluded.triangles.insert(excluded.triangles.end(), own[i].begin(), own[i].end());
-        excluded.start[i + 1] = excluded.triangles.size();
-    }
-    bridge::SelfContactTree tree;
-    tree.setTriangles(surface.triangles);
+    SweptListSheet sheet;
+    const std::size_t n = sheet.lattice.massCount();
     const Real radius = 0.02;
     const Real dt = 0.03;
-    std::uint32_t seed = 4242;
-    const auto random = [&seed]
-    {
-        seed = seed * 1664525u + 1013904223u;
-        return Real(seed >> 8) / Real(1 << 24) * 2 - 1;
-    };
-    std::vector<Vec3> from = lattice.position;
+    UniformNumbers random(4242);
+    std::vector<Vec3> from = sheet.lattice.position;
     std::vector<Vec3> to(n);
     std::vector<Vec3> velocity(n);
     std::vector<Real> reach(n);
@@ -532,17 +532,17 @@ TEST(SelfContact, SweptArrivingBroadphaseKeepsExactlyTheSweptPairsTheArrivalsTak
         for (std::size_t i = 0; i < n; ++i)
         {
             from[i] += 0.05 * Vec3(random(), random(), random());
-            const Real towards = lattice.position[i].x() < 0.275 ? 2 : -2;
+            const Real towards = sheet.lattice.position[i].x() < 0.275 ? 2 : -2;
             velocity[i] = Vec3(towards, -1, 0.5) + 0.2 * Vec3(random(), random(), random());
             to[i] = from[i] + dt * velocity[i];
             reach[i] = 0.005 * (1 + random());
         }
         std::vector<SelfContactPair> swept;
-        tree.findSweptPairs(from, to, reach, radius, surface.vertices, excluded, swept);
+        sheet.tree.findSweptPairs(from, to, reach, radius, sheet.surface.vertices, sheet.excluded, swept);
         std::vector<SelfContactPair> expected;
         for (const SelfContactPair& pair : swept)
         {
-            const Triangle& t = surface.triangles[pair.triangle];
+            const Triangle& t = sheet.surface.triangles[pair.triangle];
             const Vec3 low = from[t[0]].cwiseMin(from[t[1]]).cwiseMin(from[t[2]]);
             const Vec3 high = from[t[0]].cwiseMax(from[t[1]]).cwiseMax(from[t[2]]);
             const Real gap = gapToBox(from[pair.vertex], low, high, radius);
@@ -553,7 +553,8 @@ TEST(SelfContact, SweptArrivingBroadphaseKeepsExactlyTheSweptPairsTheArrivalsTak
             }
         }
         std::vector<SelfContactPair> found;
-        tree.findSweptArrivingPairs(from, to, reach, radius, surface.vertices, excluded, arrival, found);
+        sheet.tree.findSweptArrivingPairs(from, to, reach, radius, sheet.surface.vertices, sheet.excluded, arrival,
+                                          found);
         ASSERT_EQ(found.size(), expected.size()) << "list " << list;
         for (std::size_t k = 0; k < found.size(); ++k)
         {
