@@ -53,7 +53,6 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_spacing = spacing > 0 ? spacing : m_settings.radius; // a lattice one mass wide has no spacing along that side
     m_triangleLow.resize(m_triangles.size());
     m_triangleHigh.resize(m_triangles.size());
-    m_triangleMarkedIn.assign(m_triangles.size(), 0);
     m_triangleMotionLow.resize(m_triangles.size());
     m_triangleMotionHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
@@ -908,13 +907,6 @@ void SelfContact::markPairsOfMovedMasses()
         indexPairs();
     }
     const auto mark = [&](std::size_t k) { m_pairMarks[k / 64] |= std::uint64_t(1) << (k % 64); };
-    // A response moves a vertex and a triangle's three masses, so most triangles of the moved masses hold two or
-    // three of them: each triangle's pairs are marked once a pass (m_triangleMarkedIn holds the pass that did).
-    if (++m_markingPass == 0)
-    {
-        std::fill(m_triangleMarkedIn.begin(), m_triangleMarkedIn.end(), 0);
-        m_markingPass = 1;
-    }
     for (const Index i : m_movedMasses)
     {
         for (std::size_t k = m_pairsOfVertexStart[i]; k < m_pairsOfVertexStart[i + 1]; ++k)
@@ -924,11 +916,6 @@ void SelfContact::markPairsOfMovedMasses()
         for (std::size_t j = m_trianglesOfStart[i]; j < m_trianglesOfStart[i + 1]; ++j)
         {
             const Index t = m_trianglesOf[j];
-            if (m_triangleMarkedIn[t] == m_markingPass)
-            {
-                continue;
-            }
-            m_triangleMarkedIn[t] = m_markingPass;
             for (std::size_t e = m_pairsOfTriangleStart[t]; e < m_pairsOfTriangleStart[t + 1]; ++e)
             {
                 mark(m_pairsOfTriangle[e]);

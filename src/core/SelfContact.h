@@ -220,9 +220,7 @@ private:
     std::vector<std::uint32_t> m_pairsOfTriangle;
     std::vector<std::size_t> m_pairsFilled; ///< indexPairs' scratch
     bool m_pairsIndexed = false;
-    std::vector<std::uint64_t> m_pairMarks; ///< one bit per pair: to be measured in this pass (all clear between)
-    std::vector<std::uint32_t> m_triangleMarkedIn; ///< per triangle, the last marking pass that marked its pairs
-    std::uint32_t m_markingPass = 0;
+    std::vector<std::uint64_t> m_pairMarks;      ///< one bit per pair: to be measured in this pass (all clear between)
     std::vector<std::size_t> m_trianglesOfStart; ///< mass i's triangles are m_trianglesOf[start[i], start[i + 1])
     std::vector<Index> m_trianglesOf;
     /// afterImplicitSolve's passes have measured every pair since its masses last moved, but for m_moved's.
