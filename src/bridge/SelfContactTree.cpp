@@ -54,7 +54,6 @@ btDbvtVolume selfContactBox(const Vec3& low, const Vec3& high, Real margin)
     return btDbvtVolume::FromMM(toBullet(low - grow), toBullet(high + grow));
 }
 
-/// btDbvt's own overlap test (Intersect), on a flattened node's box.
 /// Vertex v's box over its motion from `from` to `to`, grown by its reach.
 btDbvtVolume sweptBox(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
                       Index v)
@@ -66,6 +65,7 @@ btDbvtVolume sweptBox(const std::vector<Vec3>& from, const std::vector<Vec3>& to
 constexpr auto everyNode = [](const Index* /*group*/, std::size_t /*count*/)
 { return [](std::uint32_t /*node*/) { return true; }; };
 
+/// btDbvt's own overlap test (Intersect), on a flattened node's box.
 bool overlaps(const SelfContactTree::FlatNode& node, const btDbvtVolume& box)
 {
     const btVector3& low = box.Mins();
@@ -296,6 +296,7 @@ inline bool SelfContactTree::sweptBoxesOverlap(const std::vector<Real>& reach, R
     const Real margin = radius + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
     return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), vertexBox);
 }
+
 void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                                 const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                                 std::vector<SelfContactPair>& out)
@@ -371,5 +372,4 @@ void SelfContactTree::findSweptArrivingPairs(const std::vector<Vec3>& from, cons
         },
         out);
 }
-
 } // namespace masse::bridge
