@@ -523,7 +523,6 @@ TEST(SelfContact, SweptArrivingBroadphaseKeepsExactlyTheSweptPairsTheArrivalsTak
     ArrivalTest arrival;
     arrival.velocity = &velocity;
     arrival.dt = dt;
-    arrival.radius = radius;
     arrival.rest = 0.25 * radius;
     arrival.slack = 1e-6 * radius;
     std::size_t keptBySpeed = 0;

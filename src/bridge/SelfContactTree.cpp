@@ -272,7 +272,7 @@ void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const Sel
                             {
                                 const Index triangle = Index(m_flat[k].triangle);
                                 if (overlaps(m_flat[k], boxes[g]) && !marks.marked(triangle) &&
-                                    accept(v, boxes[g], triangle))
+                                    accept(v, boxes[g], triangle, k))
                                 {
                                     pairs.push_back({v, triangle});
                                 }
@@ -305,7 +305,7 @@ void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Re
     flatten();
     collectPairs(
         vertices, excluded, [&](Index v) { return selfContactBox(x[v], x[v], reach[v]); }, everyNode,
-        [&](Index v, const btDbvtVolume& /*box*/, Index triangle)
+        [&](Index v, const btDbvtVolume& /*box*/, Index triangle, std::uint32_t /*node*/)
         { return withinReach(x, reach, radius, v, triangle); },
         out);
 }
@@ -318,7 +318,7 @@ void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::v
     flatten();
     collectPairs(
         vertices, excluded, [&](Index v) { return sweptBox(from, to, reach, v); }, everyNode,
-        [&](Index /*v*/, const btDbvtVolume& box, Index triangle)
+        [&](Index /*v*/, const btDbvtVolume& box, Index triangle, std::uint32_t /*node*/)
         { return sweptBoxesOverlap(reach, radius, box, triangle); },
         out);
 }
@@ -358,17 +358,12 @@ void SelfContactTree::findSweptArrivingPairs(const std::vector<Vec3>& from, cons
     };
     collectPairs(
         vertices, excluded, [&](Index i) { return sweptBox(from, to, reach, i); }, groupReach,
-        [&](Index i, const btDbvtVolume& box, Index triangle)
+        [&](Index i, const btDbvtVolume& box, Index triangle, std::uint32_t node)
         {
-            if (!sweptBoxesOverlap(reach, radius, box, triangle))
-            {
-                return false;
-            }
-            // The arrivals' own test, on the triangle's box at `from` as they measure it.
-            const Triangle& t = m_triangles[triangle];
-            const Vec3 low = from[t[0]].cwiseMin(from[t[1]]).cwiseMin(from[t[2]]);
-            const Vec3 high = from[t[0]].cwiseMax(from[t[1]]).cwiseMax(from[t[2]]);
-            return arrival.mayArrive(gapToBox(from[i], low, high, radius), arrival.relativeSpeed(i, t));
+            // The arrivals' own test, on the triangle's box at `from` as they measure it (the leaf's, boundArrivals).
+            return sweptBoxesOverlap(reach, radius, box, triangle) &&
+                   arrival.mayArrive(gapToBox(from[i], m_nodeLow[node], m_nodeHigh[node], radius),
+                                     arrival.relativeSpeed(i, m_triangles[triangle]));
         },
         out);
 }

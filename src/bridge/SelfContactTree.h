@@ -67,7 +67,8 @@ private:
                            Index triangle) const;
     /// The walks of the lists, over the flattened tree: each vertex's box (boxOf) against the tree, merged over a few
     /// vertices, down the nodes the merged box overlaps and groupReach(group, count) takes, and the pairs of the
-    /// leaves it overlaps that the exclusions leave and `accept` takes, in vertex order.
+    /// leaves it overlaps that the exclusions leave and accept(vertex, its box, triangle, leaf's flattened index)
+    /// takes, in vertex order.
     template <class BoxOf, class GroupReach, class Accept>
     void collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded, const BoxOf& boxOf,
                       const GroupReach& groupReach, const Accept& accept, std::vector<SelfContactPair>& out);

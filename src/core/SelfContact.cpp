@@ -205,7 +205,6 @@ ArrivalTest SelfContact::arrivalTest(const Particles& p, Real dt) const
     ArrivalTest test;
     test.velocity = &p.velocity;
     test.dt = dt;
-    test.radius = m_settings.radius;
     test.rest = Real(0.25) * m_settings.radius;
     test.slack = Real(1e-6) * m_settings.radius;
     return test;

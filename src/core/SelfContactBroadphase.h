@@ -51,7 +51,6 @@ struct ArrivalTest
 {
     const std::vector<Vec3>* velocity = nullptr; ///< per mass, m/s
     Real dt = 0;                                 ///< s, the step
-    Real radius = 0;                             ///< m, the contact radius
     Real rest = 0;                               ///< m, how near touching a resting pair counts as arriving
     Real slack = 0;                              ///< m, so that rounding decides no pair the closest point would weigh
 
