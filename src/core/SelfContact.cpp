@@ -56,7 +56,9 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_triangleMotionLow.resize(m_triangles.size());
     m_triangleMotionHigh.resize(m_triangles.size());
     m_lastVelocity.assign(n, Vec3::Zero());
-    m_moved.assign(n, 0);
+    m_moved.has.assign(n, 0);
+    m_pushed.has.assign(n, 0);
+    m_waiting.has.assign(n, 0);
     listTrianglesOfMasses(n);
     m_broadphase.setTriangles(m_triangles);
     listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
@@ -519,7 +521,7 @@ bool SelfContact::crossed(const std::vector<Vec3>& x, std::size_t k, Touch& touc
     return true;
 }
 
-bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
+SelfContact::Responded SelfContact::respond(Particles& p, const Touch& touch, Real h) const
 {
     const SelfContactPair& pair = m_pairs[touch.pair];
     const Triangle& t = m_triangles[pair.triangle];
@@ -531,7 +533,7 @@ bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
                              w[2] * w[2] * p.inverseMass[t[2]];
     if (!(inverseMass > 0))
     {
-        return false; // all four pinned
+        return {}; // all four pinned
     }
     // Measured again here: an earlier response in this pass may have moved these masses.
     const Vec3 closest = w[0] * p.position[t[0]] + w[1] * p.position[t[1]] + w[2] * p.position[t[2]];
@@ -545,18 +547,18 @@ bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
         const Real length = normal.norm();
         if (!(length > 0))
         {
-            return false;
+            return {};
         }
         normal /= length;
         distance = normal.dot(p.position[v] - closest);
         if (distance >= m_settings.radius)
         {
-            return false;
+            return {};
         }
     }
     else if (distance >= m_settings.radius)
     {
-        return false;
+        return {};
     }
     else if (distance > Real(1e-9) * m_settings.radius)
     {
@@ -569,7 +571,7 @@ bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
         const Real length = normal.norm();
         if (!(length > 0))
         {
-            return false;
+            return {};
         }
         normal /= length;
     }
@@ -593,9 +595,13 @@ bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
     // run 31.4 s against 24.4 s with this bound; the halves keep the radius to 0.1% all the same (SelfContactTest).
     const Real settled = Real(1e-3) * m_settings.radius;
     const bool moved = m_settings.radius - distance > settled || -normalSpeed * h > settled;
+    // A mass's share of an impulse J moves it by at most the largest of these times J.
+    const Real mostMoved = std::max(
+        {p.inverseMass[v], w[0] * p.inverseMass[t[0]], w[1] * p.inverseMass[t[1]], w[2] * p.inverseMass[t[2]]});
+    const Real pushImpulse = (m_settings.radius - distance) / inverseMass;
     if (normalSpeed >= 0)
     {
-        return moved; // already parting
+        return {moved, mostMoved * pushImpulse > settled}; // already parting
     }
     // Inelastic: the impulse that stops the approach. Friction: at most mu times it, and never more than stops the
     // sliding, so both only take kinetic energy away.
@@ -612,7 +618,7 @@ bool SelfContact::respond(Particles& p, const Touch& touch, Real h) const
     // The integrator moved the masses with their velocities from before the impulse: move them by the friction's
     // change too, as the obstacle contact does, so a fold held by static friction does not creep.
     apply(p.position, h * frictionImpulse);
-    return moved;
+    return {moved, mostMoved * (pushImpulse + h * frictionImpulse.norm()) > settled};
 }
 
 void SelfContact::measureTriangleBoxes(const std::vector<Vec3>& x, bool withMotion)
@@ -654,10 +660,10 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
         // checks hold, and the 64x2x64 fold still ends frames up to 6.8 mm inside the rod (the two would need one
         // loop, the obstacle planes inside the passes).
         // The passes of afterImplicitSolve left each pair measured since its masses last moved, apart from those of
-        // their last pass's responses (m_moved); since then only the obstacle contact has moved masses. So the first
-        // pass here, too, measures only the pairs of those masses, and finds what measuring every pair would, bit
-        // for bit: a pair none of whose masses moved is found as it was, not touching, and has not crossed (its
-        // substep began where it is). One full measure a frame instead of two.
+        // their last pass's responses and those still waiting (m_moved); since then only the obstacle contact has
+        // moved masses. So the first pass here, too, measures only the pairs of those masses, and finds what
+        // measuring every pair would, bit for bit: a pair none of whose masses moved is found as it was, not
+        // touching, and has not crossed (its substep began where it is). One full measure a frame instead of two.
         const StageScope stage(m_observer, Stage::SelfContactSolve);
         const bool settled = m_settledAfterSolve;
         m_settledAfterSolve = false;
@@ -665,10 +671,9 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
         {
             for (const Index i : m_vertices)
             {
-                if (!m_moved[i] && p.position[i] != m_substepStart[i])
+                if (p.position[i] != m_substepStart[i])
                 {
-                    m_moved[i] = 1;
-                    m_movedMasses.push_back(i);
+                    m_moved.add(i);
                 }
             }
         }
@@ -689,7 +694,7 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
     // The explicit integrators' substeps are short: one pass of responses a substep, and the next substep's pass
     // takes what a mass pushed by several pairs was left with.
     measureTriangleBoxes(p.position, true);
-    const std::size_t touches = detectAndRespond(p, h, time, false).touches;
+    const std::size_t touches = detectAndRespond(p, h, time, nullptr).touches;
     m_report.lastSubstep = touches;
     m_report.lastFrame += touches;
     m_report.total += touches;
@@ -736,23 +741,33 @@ void SelfContact::afterImplicitSolve(MassSpringSystem& system, StepContext& cont
 
 std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved)
 {
-    // With one solve a frame the pairs are listed over the whole step's motion (150,000 to 2.7 million on the 64x2x64
-    // fold) and the passes often go on to the last: measuring every pair at every pass was half that fold's run. A
-    // pass after the first measures only the pairs a response of the pass before was given a mass of (a tenth of
-    // the masses there): a pair none of whose masses moved since it was last measured would be found as it was then,
-    // not touching, so the passes respond as before, bit for bit.
+    // With one solve a frame the pairs are listed over the whole step's motion (1 to 5 million on the 128x2x128 fold)
+    // and the passes often go on to the last: measuring every pair at every pass was half the 64x2x64 fold's run. A
+    // pass after the first measures only the pairs of the masses a response of the pass before moved by more than the
+    // settling bound (pushed or slid by friction). Most responses are pairs that already rest a radius apart and are
+    // put back to it by a hair (78% of them on the 128x2x128 fold's first second): their masses wait, and only when
+    // a pass moves nothing does one more pass measure the pairs of every mass changed since its pairs were last
+    // measured. The passes end when that pass moves nothing either, so they end as measuring every changed mass's
+    // pairs at every pass would: with no response beyond the bound. On that fold the passes' measures fell from 346
+    // to 145 million pairs, in 1,882 passes instead of 1,399.
     std::size_t firstPass = 0;
+    const std::vector<Index>* measured = nullptr;
+    if (firstOnlyMoved)
+    {
+        m_measuring = m_moved.masses;
+        measured = &m_measuring;
+    }
+    bool everyChanged = true; // the pass measures the pairs of every mass changed since its pairs were last measured
     for (int pass = 0; pass < selfResponsePasses; ++pass)
     {
-        // Between passes only the responses move masses, and m_movedMasses names them: only their triangles' boxes
-        // change.
+        // Between passes only the responses move masses, and m_moved holds them: only their triangles' boxes change.
         if (pass == 0)
         {
             measureTriangleBoxes(p.position, true);
         }
         else
         {
-            for (const Index i : m_movedMasses)
+            for (const Index i : m_moved.masses)
             {
                 for (std::size_t k = m_trianglesOfStart[i]; k < m_trianglesOfStart[i + 1]; ++k)
                 {
@@ -760,33 +775,65 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bo
                 }
             }
         }
-        const Passed passed = detectAndRespond(p, h, time, firstOnlyMoved || pass > 0);
+        const Passed passed = detectAndRespond(p, h, time, measured);
         firstPass = pass == 0 ? passed.touches : firstPass;
-        if (passed.moved == 0)
+        measured = &m_measuring;
+        if (passed.moved > 0)
+        {
+            m_measuring = m_pushed.masses;
+            everyChanged = false;
+            continue;
+        }
+        if (everyChanged)
         {
             break;
         }
+        m_measuring.clear();
+        for (const Index i : m_waiting.masses)
+        {
+            if (m_waiting.has[i])
+            {
+                m_waiting.has[i] = 0;
+                m_measuring.push_back(i);
+            }
+        }
+        m_waiting.masses.clear();
+        if (m_measuring.empty())
+        {
+            break;
+        }
+        everyChanged = true;
     }
+    // The masses still waiting have changed since their pairs were last measured, as the last pass's have: the next
+    // passes (afterSubstep's) begin with all their pairs.
+    for (const Index i : m_waiting.masses)
+    {
+        if (m_waiting.has[i])
+        {
+            m_moved.add(i);
+        }
+    }
+    m_waiting.clear();
     return firstPass;
 }
 
-SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved)
+SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real time, const std::vector<Index>* measured)
 {
     const std::vector<Vec3>& x = p.position;
-    // A pass of only the moved masses' pairs marks them in a bitmap over the list, from each moved mass's own pairs
-    // and its triangles' (indexPairs), and each range of pairs measures its marked ones in pair order: a scan of
-    // every pair for whether a mass of it moved took as long as the measures, the passes being up to 128 a frame
-    // over lists of millions of pairs.
-    if (onlyMoved)
+    // A pass of some masses' pairs marks them in a bitmap over the list, from each mass's own pairs and its
+    // triangles' (indexPairs), and each range of pairs measures its marked ones in pair order: a scan of every pair
+    // for whether a mass of it moved took as long as the measures, the passes being up to 128 a frame over lists of
+    // millions of pairs.
+    if (measured)
     {
-        markPairsOfMovedMasses();
+        markPairsOf(*measured);
     }
     parallelFor(m_pairs.size(), selfPairChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     std::vector<Touch>& touches = m_touches[begin / selfPairChunkSize];
                     touches.clear();
-                    if (!onlyMoved)
+                    if (!measured)
                     {
                         for (std::size_t k = begin; k < end; ++k)
                         {
@@ -807,11 +854,20 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
                         }
                     }
                 });
-    for (const Index i : m_movedMasses)
+    // The measured masses no longer wait (their flags lowered, their entries left for clear()).
+    if (!measured)
     {
-        m_moved[i] = 0;
+        m_waiting.clear();
     }
-    m_movedMasses.clear();
+    else
+    {
+        for (const Index i : *measured)
+        {
+            m_waiting.has[i] = 0;
+        }
+    }
+    m_moved.clear();
+    m_pushed.clear();
     // The responses in pair order, one after the other: touching pairs share masses.
     std::size_t count = 0;
     std::size_t movedCount = 0;
@@ -820,24 +876,22 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
     {
         for (const Touch& touch : m_touches[range])
         {
-            // Every mass a response may change, whether or not it moves them beyond rounding.
             const SelfContactPair& pair = m_pairs[touch.pair];
-            const Triangle& t = m_triangles[pair.triangle];
-            for (const Index i : {pair.vertex, t[0], t[1], t[2]})
-            {
-                if (!m_moved[i])
-                {
-                    m_moved[i] = 1;
-                    m_movedMasses.push_back(i);
-                }
-            }
             if (m_report.firstTime < 0)
             {
                 m_report.firstTime = time;
-                m_report.firstVertex = m_pairs[touch.pair].vertex;
+                m_report.firstVertex = pair.vertex;
                 m_report.firstPosition = p.position[m_report.firstVertex];
             }
-            movedCount += respond(p, touch, h) ? 1 : 0;
+            const Responded responded = respond(p, touch, h);
+            movedCount += responded.moved ? 1 : 0;
+            // Every mass a response may change, whether or not it moves them beyond rounding.
+            const Triangle& t = m_triangles[pair.triangle];
+            for (const Index i : {pair.vertex, t[0], t[1], t[2]})
+            {
+                m_moved.add(i);
+                (responded.displaced ? m_pushed : m_waiting).add(i);
+            }
         }
         count += m_touches[range].size();
     }
@@ -874,7 +928,7 @@ void SelfContact::indexPairs()
 {
     // The list comes by vertex, in increasing order: each mass's own pairs are one run. Each triangle's pairs are
     // counted, summed into starts, then filled in increasing order.
-    m_pairsOfVertexStart.assign(m_moved.size() + 1, 0);
+    m_pairsOfVertexStart.assign(m_moved.has.size() + 1, 0);
     m_pairsOfTriangleStart.assign(m_triangles.size() + 1, 0);
     for (const SelfContactPair& pair : m_pairs)
     {
@@ -899,14 +953,14 @@ void SelfContact::indexPairs()
     m_pairsIndexed = true;
 }
 
-void SelfContact::markPairsOfMovedMasses()
+void SelfContact::markPairsOf(const std::vector<Index>& masses)
 {
     if (!m_pairsIndexed)
     {
         indexPairs();
     }
     const auto mark = [&](std::size_t k) { m_pairMarks[k / 64] |= std::uint64_t(1) << (k % 64); };
-    for (const Index i : m_movedMasses)
+    for (const Index i : masses)
     {
         for (std::size_t k = m_pairsOfVertexStart[i]; k < m_pairsOfVertexStart[i + 1]; ++k)
         {

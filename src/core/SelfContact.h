@@ -148,20 +148,23 @@ private:
         std::size_t moved = 0;   ///< of those, the ones whose response moved the masses
     };
     /// Measures the listed pairs at the current positions (the triangles' boxes measured for them) and responds to
-    /// those that touch, in pair order; with `onlyMoved`, only the pairs of the masses m_movedMasses names (those a
-    /// response of the pass before was given a pair of).
-    Passed detectAndRespond(Particles& p, Real h, Real time, bool onlyMoved);
+    /// those that touch, in pair order; with `measured`, only the pairs of those masses. Every mass of a touching pair
+    /// goes into m_moved, and into m_pushed if its response moved the pair beyond the settling bound, else into
+    /// m_waiting.
+    Passed detectAndRespond(Particles& p, Real h, Real time, const std::vector<Index>* measured);
     /// detectAndRespond again and again until no response moves a mass (at most selfResponsePasses); returns the
     /// first pass's touches. The first pass measures every pair (with `firstOnlyMoved`, only those of the masses
-    /// m_moved marks), the ones after it only the pairs a response of the pass before was given a mass of: a pair
-    /// none of whose masses a response touched would be found as it was, not touching.
+    /// m_moved holds); a pass after a response moved a pair measures the pairs of the masses it moved (m_pushed);
+    /// one after a pass that moved nothing measures the pairs of every mass changed since its pairs were last
+    /// measured (m_waiting), and when that one moves nothing either the passes end. A pair none of whose masses
+    /// changed since it was last measured would be found as it was, not touching.
     std::size_t respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved);
     /// Lists, once, the surface triangles each of the n masses belongs to (m_trianglesOfStart, m_trianglesOf).
     void listTrianglesOfMasses(std::size_t n);
     /// Lists, for the present pairs, each mass's own (a run of the list) and each triangle's (m_pairsOfTriangle).
     void indexPairs();
-    /// Marks in m_pairMarks every pair of a mass in m_movedMasses, as its vertex or one of its triangle's masses.
-    void markPairsOfMovedMasses();
+    /// Marks in m_pairMarks every pair of one of the masses, as its vertex or one of its triangle's masses.
+    void markPairsOf(const std::vector<Index>& masses);
     /// Triangle k's box at positions x, and with `withMotion` the box of its masses' moves (measureTriangleBoxes).
     void measureTriangle(const std::vector<Vec3>& x, std::size_t k, bool withMotion);
     /// Measures pair k at positions x and appends it to `out` if it touches.
@@ -169,9 +172,16 @@ private:
     /// The swept test of pair k over the substep from m_substepStart to x: whether the vertex crossed the triangle's
     /// plane inside the triangle, as all four masses moved in straight lines.
     bool crossed(const std::vector<Vec3>& x, std::size_t k, Touch& touch) const;
-    /// Returns whether it moved the masses by more than rounding: not when an earlier pass has already put the pair
-    /// a radius apart and parting, nor when all four are pinned.
-    bool respond(Particles& p, const Touch& touch, Real h) const;
+    struct Responded
+    {
+        /// It pushed the pair apart, or stopped its approach, by more than the settling bound (a thousandth of the
+        /// radius): not when an earlier pass has already put the pair a radius apart and parting, nor when all four
+        /// are pinned. The passes go on while a response does.
+        bool moved = false;
+        /// It changed a mass's position by more than the settling bound (the push or the friction's slide).
+        bool displaced = false;
+    };
+    Responded respond(Particles& p, const Touch& touch, Real h) const;
 
     SelfContactBroadphase& m_broadphase;
     SelfContactSettings m_settings;
@@ -211,8 +221,36 @@ private:
     /// pair of such a mass is not held this frame, only one that would come within the radius.
     std::vector<std::uint8_t> m_leaving;
     PerChunk<std::vector<Touch>> m_touches; ///< per range of pairs, sized at the frame's start
-    std::vector<std::uint8_t> m_moved;      ///< per mass: a response of the last pass was given a pair of it
-    std::vector<Index> m_movedMasses;       ///< the masses m_moved marks
+    /// Some of the masses: a flag per mass and the flagged ones in the order added (a mass whose flag was lowered
+    /// by hand may stay listed, and may be listed twice once added again: clear() takes care of both).
+    struct MassSet
+    {
+        std::vector<std::uint8_t> has;
+        std::vector<Index> masses;
+
+        void add(Index i)
+        {
+            if (!has[i])
+            {
+                has[i] = 1;
+                masses.push_back(i);
+            }
+        }
+        void clear()
+        {
+            for (const Index i : masses)
+            {
+                has[i] = 0;
+            }
+            masses.clear();
+        }
+    };
+    /// A response of the last pass was given a pair of it (it may have changed); once the passes end, also every mass
+    /// still in m_waiting.
+    MassSet m_moved;
+    MassSet m_pushed;  ///< a response of the last pass moved a pair of it beyond the settling bound
+    MassSet m_waiting; ///< a response changed it by less than that, and its pairs have not been measured since
+    std::vector<Index> m_measuring; ///< the masses whose pairs the next pass measures
     /// Per mass, its own pairs are m_pairs[start[i], start[i + 1]); per triangle, its pairs are listed in
     /// m_pairsOfTriangle[start[t], start[t + 1]), increasing. Built for a list when a pass first needs them.
     std::vector<std::size_t> m_pairsOfVertexStart;
