@@ -215,6 +215,37 @@ void SelfContactTree::boundArrivals(const std::vector<Vec3>& from, const std::ve
     }
 }
 
+void SelfContactTree::boundMoves(const std::vector<Real>& reach)
+{
+    // As boundArrivals: one pass from the back, each node after both its children.
+    m_nodeEndLow.resize(m_flat.size());
+    m_nodeEndHigh.resize(m_flat.size());
+    m_nodeMoveLow.resize(m_flat.size());
+    m_nodeMoveHigh.resize(m_flat.size());
+    m_nodeReach.resize(m_flat.size());
+    for (std::size_t k = m_flat.size(); k-- > 0;)
+    {
+        if (m_flat[k].triangle >= 0)
+        {
+            const std::size_t triangle = std::size_t(m_flat[k].triangle);
+            const Triangle& t = m_triangles[triangle];
+            m_nodeEndLow[k] = m_endLow[triangle];
+            m_nodeEndHigh[k] = m_endHigh[triangle];
+            m_nodeMoveLow[k] = m_moveLow[triangle];
+            m_nodeMoveHigh[k] = m_moveHigh[triangle];
+            m_nodeReach[k] = std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
+            continue;
+        }
+        const std::size_t first = k + 1;
+        const std::size_t second = m_flat[first].skip;
+        m_nodeEndLow[k] = m_nodeEndLow[first].cwiseMin(m_nodeEndLow[second]);
+        m_nodeEndHigh[k] = m_nodeEndHigh[first].cwiseMax(m_nodeEndHigh[second]);
+        m_nodeMoveLow[k] = m_nodeMoveLow[first].cwiseMin(m_nodeMoveLow[second]);
+        m_nodeMoveHigh[k] = m_nodeMoveHigh[first].cwiseMax(m_nodeMoveHigh[second]);
+        m_nodeReach[k] = std::max(m_nodeReach[first], m_nodeReach[second]);
+    }
+}
+
 template <class BoxOf, class GroupReach, class Accept>
 void SelfContactTree::collectPairs(const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                                    const BoxOf& boxOf, const GroupReach& groupReach, const Accept& accept,
@@ -297,6 +328,45 @@ inline bool SelfContactTree::sweptBoxesOverlap(const std::vector<Real>& reach, R
     return Intersect(selfContactBox(m_low[triangle], m_high[triangle], margin), vertexBox);
 }
 
+void SelfContactTree::measureMoves(const std::vector<Vec3>& from, const std::vector<Vec3>& to)
+{
+    m_endLow.resize(m_triangles.size());
+    m_endHigh.resize(m_triangles.size());
+    m_moveLow.resize(m_triangles.size());
+    m_moveHigh.resize(m_triangles.size());
+    parallelFor(m_triangles.size(), selfQueryChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const Triangle& t = m_triangles[k];
+                        m_endLow[k] = to[t[0]].cwiseMin(to[t[1]]).cwiseMin(to[t[2]]);
+                        m_endHigh[k] = to[t[0]].cwiseMax(to[t[1]]).cwiseMax(to[t[2]]);
+                        const Vec3 move0 = to[t[0]] - from[t[0]];
+                        const Vec3 move1 = to[t[1]] - from[t[1]];
+                        const Vec3 move2 = to[t[2]] - from[t[2]];
+                        m_moveLow[k] = move0.cwiseMin(move1).cwiseMin(move2);
+                        m_moveHigh[k] = move0.cwiseMax(move1).cwiseMax(move2);
+                    }
+                });
+}
+
+inline bool SelfContactTree::mayComeNear(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
+                                         const std::vector<Real>& reach, Real radius, Index v, Index triangle) const
+{
+    // At a moment s of the motion the vertex is within the radius of a point of the triangle; from there to the
+    // motion's end each of the triangle's masses moves by (1 - s) times its move, the vertex by (1 - s) times its
+    // own, and each strays at most its reach from its line. So at `to`, along every axis, the vertex lies within the
+    // radius, the reaches and the largest difference of moves of the triangle's box. Two masses moving side by side or
+    // one behind the other never do, however fast; a billionth of the radius to spare for rounding.
+    const Triangle& t = m_triangles[triangle];
+    const Vec3 move = to[v] - from[v];
+    const Real gap = (m_endLow[triangle] - to[v]).cwiseMax(to[v] - m_endHigh[triangle]).maxCoeff();
+    const Real moves = (m_moveHigh[triangle] - move).cwiseMax(move - m_moveLow[triangle]).maxCoeff();
+    const Real reaches = reach[v] + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
+    return gap <= radius + reaches + moves + Real(1e-9) * radius;
+}
+
 void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                                 const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                                 std::vector<SelfContactPair>& out)
@@ -316,10 +386,39 @@ void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::v
 {
     refit(from, to, reach, radius);
     flatten();
+    measureMoves(from, to);
+    boundMoves(reach);
+    // A group of vertices skips a subtree when even the nearest of its boxes at `to` and the most different of its
+    // moves, against the group's, leave no pair that mayComeNear takes. The bound's sums are those of mayComeNear
+    // over boxes that hold the pairs' own, so rounding never lets it turn away a pair the exact test keeps.
+    const auto groupReach = [&](const Index* group, std::size_t count)
+    {
+        Vec3 low = to[group[0]];
+        Vec3 high = low;
+        Vec3 moveLow = to[group[0]] - from[group[0]];
+        Vec3 moveHigh = moveLow;
+        Real mostReach = reach[group[0]];
+        for (std::size_t g = 1; g < count; ++g)
+        {
+            const Index v = group[g];
+            low = low.cwiseMin(to[v]);
+            high = high.cwiseMax(to[v]);
+            moveLow = moveLow.cwiseMin(to[v] - from[v]);
+            moveHigh = moveHigh.cwiseMax(to[v] - from[v]);
+            mostReach = std::max(mostReach, reach[v]);
+        }
+        return [&, low, high, moveLow, moveHigh, mostReach](std::uint32_t k)
+        {
+            const Real gap = (m_nodeEndLow[k] - high).cwiseMax(low - m_nodeEndHigh[k]).maxCoeff();
+            const Real moves = (m_nodeMoveHigh[k] - moveLow).cwiseMax(moveHigh - m_nodeMoveLow[k]).maxCoeff();
+            return gap <= radius + (mostReach + m_nodeReach[k]) + moves + Real(1e-9) * radius;
+        };
+    };
     collectPairs(
-        vertices, excluded, [&](Index v) { return sweptBox(from, to, reach, v); }, everyNode,
-        [&](Index /*v*/, const btDbvtVolume& box, Index triangle, std::uint32_t /*node*/)
-        { return sweptBoxesOverlap(reach, radius, box, triangle); },
+        vertices, excluded, [&](Index v) { return sweptBox(from, to, reach, v); }, groupReach,
+        [&](Index v, const btDbvtVolume& box, Index triangle, std::uint32_t /*node*/) {
+            return sweptBoxesOverlap(reach, radius, box, triangle) && mayComeNear(from, to, reach, radius, v, triangle);
+        },
         out);
 }
 

@@ -65,6 +65,17 @@ private:
     /// largest reach.
     bool sweptBoxesOverlap(const std::vector<Real>& reach, Real radius, const btDbvtAabbMm& vertexBox,
                            Index triangle) const;
+    /// Each triangle's box at `to` and the box of its masses' moves from `from` to `to`, into m_endLow, m_endHigh,
+    /// m_moveLow and m_moveHigh.
+    void measureMoves(const std::vector<Vec3>& from, const std::vector<Vec3>& to);
+    /// Each flattened node's bounds for findSweptPairs: the box of its triangles' boxes at `to`, the box of their
+    /// masses' moves, and their masses' largest reach (after measureMoves).
+    void boundMoves(const std::vector<Real>& reach);
+    /// Whether vertex v, in its own frame of motion from `from` to `to`, may come within the radius of the triangle:
+    /// at `to` it lies within the radius, its own and the triangle's masses' largest reach, and the most the masses'
+    /// moves differ from its own along an axis, of the triangle's box (measureMoves).
+    bool mayComeNear(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
+                     Real radius, Index v, Index triangle) const;
     /// The walks of the lists, over the flattened tree: each vertex's box (boxOf) against the tree, merged over a few
     /// vertices, down the nodes the merged box overlaps and groupReach(group, count) takes, and the pairs of the
     /// leaves it overlaps that the exclusions leave and accept(vertex, its box, triangle, leaf's flattened index)
@@ -78,8 +89,17 @@ private:
     std::vector<btDbvtNode*> m_leaves; ///< per triangle
     std::vector<Vec3> m_low;           ///< per triangle, its vertices' box at the last refit
     std::vector<Vec3> m_high;
-    std::vector<FlatNode> m_flat; ///< the tree, flattened at every list
-    std::vector<Vec3> m_nodeLow;  ///< per flattened node, boundArrivals' boxes
+    std::vector<Vec3> m_endLow; ///< per triangle, its box at the swept list's `to` (measureMoves)
+    std::vector<Vec3> m_endHigh;
+    std::vector<Vec3> m_moveLow; ///< per triangle, the box of its masses' moves in the swept list's motion
+    std::vector<Vec3> m_moveHigh;
+    std::vector<FlatNode> m_flat;   ///< the tree, flattened at every list
+    std::vector<Vec3> m_nodeEndLow; ///< per flattened node, boundMoves' boxes and reach
+    std::vector<Vec3> m_nodeEndHigh;
+    std::vector<Vec3> m_nodeMoveLow;
+    std::vector<Vec3> m_nodeMoveHigh;
+    std::vector<Real> m_nodeReach;
+    std::vector<Vec3> m_nodeLow; ///< per flattened node, boundArrivals' boxes
     std::vector<Vec3> m_nodeHigh;
     std::vector<Vec3> m_nodeVelocityLow;
     std::vector<Vec3> m_nodeVelocityHigh;

@@ -84,11 +84,14 @@ public:
     virtual void findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
                            const std::vector<Index>& vertices, const SelfContactExclusions& excluded,
                            std::vector<SelfContactPair>& out) = 0;
-    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle whose boxes over a motion overlap: the
+    /// Replaces `out` by every pair of a vertex of `vertices` and a triangle whose boxes over a motion overlap (the
     /// vertex's box holds it at `from` and at `to`, grown by reach[v]; the triangle's holds its masses at both, grown
-    /// by `radius` plus their largest reach. So a pair whose masses each keep within their reach of the straight line
-    /// from `from` to `to`, and that comes within the radius at some moment, is listed; two masses moving side by
-    /// side are not, however fast. Pairs in the order and with the exclusions of findPairs.
+    /// by `radius` plus their largest reach) and which, in the vertex's own frame, may meet: at `to`, along every
+    /// axis, the vertex lies within the radius, reach[v], the triangle's masses' largest reach and the most their
+    /// moves differ from its own (along that axis) of the triangle's box. So a pair whose masses each keep within their
+    /// reach of the straight line from `from` to `to`, and that comes within the radius at some moment, is listed;
+    /// two masses moving side by side or one behind the other are not, however fast. Pairs in the order and with the
+    /// exclusions of findPairs.
     virtual void findSweptPairs(const std::vector<Vec3>& from, const std::vector<Vec3>& to,
                                 const std::vector<Real>& reach, Real radius, const std::vector<Index>& vertices,
                                 const SelfContactExclusions& excluded, std::vector<SelfContactPair>& out) = 0;
