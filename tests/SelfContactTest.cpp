@@ -394,9 +394,9 @@ int sweptBoxesMeet(const std::vector<Vec3>& from, const std::vector<Vec3>& to, c
     return apart ? -1 : 0;
 }
 
-/// How far, along its worst axis, vertex v ends beyond the triangle's box at `to` grown by the radius, both reaches
-/// and the largest difference between the triangle's masses' moves and its own: below 0 it may come within the
-/// radius during the motion (SelfContactBroadphase::findSweptPairs).
+/// How far, along its worst axis, vertex v ends beyond the triangle's box at `to` grown by the radius, both reaches,
+/// the largest difference between the triangle's masses' moves and its own, and the allowance for later moves: below 0
+/// it may come within the radius during the motion (SelfContactBroadphase::findSweptPairs).
 Real beyondReachInItsFrame(const std::vector<Vec3>& from, const std::vector<Vec3>& to, const std::vector<Real>& reach,
                            Real radius, Index v, const Triangle& t)
 {
@@ -414,7 +414,8 @@ Real beyondReachInItsFrame(const std::vector<Vec3>& from, const std::vector<Vec3
     const Vec3 vertexMove = to[v] - from[v];
     const Real gap = (endLow - to[v]).cwiseMax(to[v] - endHigh).maxCoeff();
     const Real moves = (moveHigh - vertexMove).cwiseMax(vertexMove - moveLow).maxCoeff();
-    return gap - (radius + reach[v] + std::max({reach[t[0]], reach[t[1]], reach[t[2]]}) + moves);
+    return gap -
+           ((1 + sweptFrameAllowance) * radius + reach[v] + std::max({reach[t[0]], reach[t[1]], reach[t[2]]}) + moves);
 }
 } // namespace
 
@@ -489,10 +490,10 @@ TEST(SelfContact, BroadphaseListsEveryPairWithinReachOnce)
 // The swept list (one solve a frame): every pair whose boxes over the motion overlap, the vertex's from its start to
 // its end grown by its reach, the triangle's over its three masses at both ends grown by the radius and their largest
 // reach, and which in the vertex's own frame may come within the radius (at the end, along every axis, the vertex lies
-// within the radius, the reaches and the largest difference of moves of the triangle's box), and no other, each
-// once, in vertex order. The same crumpled 12x2x12 sheet, each mass then moved by up to two spacings in a random
-// direction, listed twice so the second refits the tree; the second time the whole sheet also moves 0.6 m along x,
-// so that some 18,000 more pairs' boxes overlap and only the frame of motion turns them away: a list without it, or
+// within the radius, the reaches, the largest difference of moves and the allowance of the triangle's box), and no
+// other, each once, in vertex order. The same crumpled 12x2x12 sheet, each mass then moved by up to two spacings in a
+// random direction, listed twice so the second refits the tree; the second time the whole sheet also moves 0.6 m along
+// x, so that over 10,000 more pairs' boxes overlap that only the frame of motion turns away: a list without it, or
 // a walk whose bound on a subtree's moves turned away too much, fails.
 TEST(SelfContact, SweptBroadphaseListsEveryPairThatMayComeNearDuringTheMotion)
 {

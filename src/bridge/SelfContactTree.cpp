@@ -357,14 +357,15 @@ inline bool SelfContactTree::mayComeNear(const std::vector<Vec3>& from, const st
     // At a moment s of the motion the vertex is within the radius of a point of the triangle; from there to the
     // motion's end each of the triangle's masses moves by (1 - s) times its move, the vertex by (1 - s) times its
     // own, and each strays at most its reach from its line. So at `to`, along every axis, the vertex lies within the
-    // radius, the reaches and the largest difference of moves of the triangle's box. Two masses moving side by side or
-    // one behind the other never do, however fast; a billionth of the radius to spare for rounding.
+    // radius, the reaches and the largest difference of moves of the triangle's box; sweptFrameAllowance radii more
+    // for what moves the masses after the list. Two masses moving side by side or one behind the other are not
+    // listed, however fast; a billionth of the radius to spare for rounding.
     const Triangle& t = m_triangles[triangle];
     const Vec3 move = to[v] - from[v];
     const Real gap = (m_endLow[triangle] - to[v]).cwiseMax(to[v] - m_endHigh[triangle]).maxCoeff();
     const Real moves = (m_moveHigh[triangle] - move).cwiseMax(move - m_moveLow[triangle]).maxCoeff();
     const Real reaches = reach[v] + std::max({reach[t[0]], reach[t[1]], reach[t[2]]});
-    return gap <= radius + reaches + moves + Real(1e-9) * radius;
+    return gap <= (1 + sweptFrameAllowance) * radius + reaches + moves + Real(1e-9) * radius;
 }
 
 void SelfContactTree::findPairs(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius,
@@ -411,7 +412,8 @@ void SelfContactTree::findSweptPairs(const std::vector<Vec3>& from, const std::v
         {
             const Real gap = (m_nodeEndLow[k] - high).cwiseMax(low - m_nodeEndHigh[k]).maxCoeff();
             const Real moves = (m_nodeMoveHigh[k] - moveLow).cwiseMax(moveHigh - m_nodeMoveLow[k]).maxCoeff();
-            return gap <= radius + (mostReach + m_nodeReach[k]) + moves + Real(1e-9) * radius;
+            return gap <=
+                   (1 + sweptFrameAllowance) * radius + (mostReach + m_nodeReach[k]) + moves + Real(1e-9) * radius;
         };
     };
     collectPairs(
