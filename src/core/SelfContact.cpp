@@ -789,15 +789,7 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bo
             break;
         }
         m_measuring.clear();
-        for (const Index i : m_waiting.masses)
-        {
-            if (m_waiting.has[i])
-            {
-                m_waiting.has[i] = 0;
-                m_measuring.push_back(i);
-            }
-        }
-        m_waiting.masses.clear();
+        m_waiting.moveInto(m_measuring);
         if (m_measuring.empty())
         {
             break;
@@ -806,14 +798,12 @@ std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bo
     }
     // The masses still waiting have changed since their pairs were last measured, as the last pass's have: the next
     // passes (afterSubstep's) begin with all their pairs.
-    for (const Index i : m_waiting.masses)
+    m_measuring.clear();
+    m_waiting.moveInto(m_measuring);
+    for (const Index i : m_measuring)
     {
-        if (m_waiting.has[i])
-        {
-            m_moved.add(i);
-        }
+        m_moved.add(i);
     }
-    m_waiting.clear();
     return firstPass;
 }
 

@@ -244,6 +244,19 @@ private:
             }
             masses.clear();
         }
+        /// Appends the flagged masses to `out`, each once, and empties the set.
+        void moveInto(std::vector<Index>& out)
+        {
+            for (const Index i : masses)
+            {
+                if (has[i])
+                {
+                    has[i] = 0;
+                    out.push_back(i);
+                }
+            }
+            masses.clear();
+        }
     };
     /// A response of the last pass was given a pair of it (it may have changed); once the passes end, also every mass
     /// still in m_waiting.
