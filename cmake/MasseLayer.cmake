@@ -17,13 +17,18 @@ function(masse_layer target layer)
     target_compile_features(${target} PUBLIC cxx_std_20)
 endfunction()
 
-# Installs a layer's headers into include/masse/<layer>/, except the private ones named (their #includes name
-# third-party headers that the package does not promise, such as Bullet's).
+# Installs a layer's headers into include/masse/<layer>/, keeping their rooms (include/masse/core/lattice/...), except
+# the private ones named by their path inside the layer (their #includes name third-party headers that the package
+# does not promise, such as Bullet's).
 function(masse_install_headers layer)
     cmake_parse_arguments(PARSE_ARGV 1 arg "" "" "PRIVATE")
-    file(GLOB headers ${PROJECT_SOURCE_DIR}/src/${layer}/*.h)
+    set(base ${PROJECT_SOURCE_DIR}/src/${layer})
+    file(GLOB_RECURSE headers RELATIVE ${base} ${base}/*.h)
     foreach(private ${arg_PRIVATE})
-        list(REMOVE_ITEM headers ${PROJECT_SOURCE_DIR}/src/${layer}/${private})
+        list(REMOVE_ITEM headers ${private})
     endforeach()
-    install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/masse/${layer} COMPONENT ${layer})
+    foreach(header ${headers})
+        get_filename_component(room ${header} DIRECTORY)
+        install(FILES ${base}/${header} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/masse/${layer}/${room} COMPONENT ${layer})
+    endforeach()
 endfunction()

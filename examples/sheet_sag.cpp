@@ -1,8 +1,8 @@
 // Embedding MaSSE: a Table 1 TRiMM sheet (9x2x9, 1 m square) clamped along its two x edges sags under its weight.
-#include "core/Damping.h"
-#include "core/Lattice.h"
 #include "core/MassSpringSystem.h"
 #include "core/Simulator.h"
+#include "core/forces/Damping.h"
+#include "core/lattice/Lattice.h"
 
 #include <cstdio>
 

@@ -4,7 +4,7 @@
 #include "FuzzInput.h"
 
 #include "core/InputError.h"
-#include "scene/Study.h"
+#include "scene/study/Study.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

@@ -4,7 +4,7 @@
 #include "SceneOptions.h"
 
 #include "core/InputError.h"
-#include "scene/Regression.h"
+#include "scene/compare/Regression.h"
 
 #include <CLI/CLI.hpp>
 

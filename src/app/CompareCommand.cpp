@@ -5,10 +5,10 @@
 #include "SceneOptions.h"
 
 #include "core/InputError.h"
-#include "scene/Comparison.h"
-#include "scene/OutputFolder.h"
-#include "scene/Progress.h"
 #include "scene/SceneFile.h"
+#include "scene/compare/Comparison.h"
+#include "scene/output/OutputFolder.h"
+#include "scene/output/Progress.h"
 
 #include <CLI/CLI.hpp>
 

@@ -3,7 +3,7 @@
 #include "Commands.h"
 #include "SceneOptions.h"
 
-#include "core/Lattice.h"
+#include "core/lattice/Lattice.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -4,11 +4,11 @@
 #include "Commands.h"
 #include "SceneOptions.h"
 
-#include "scene/AtomicFile.h"
-#include "scene/OutputFolder.h"
 #include "scene/PaperExperiment.h"
-#include "scene/Plot.h"
 #include "scene/SceneFile.h"
+#include "scene/output/AtomicFile.h"
+#include "scene/output/OutputFolder.h"
+#include "scene/output/Plot.h"
 #include "viewer/Display.h"
 #include "viewer/ViewerApp.h"
 

@@ -4,9 +4,9 @@
 #include "SceneOptions.h"
 
 #include "core/InputError.h"
-#include "scene/OutputFolder.h"
 #include "scene/Runner.h"
 #include "scene/SceneFile.h"
+#include "scene/output/OutputFolder.h"
 
 #include <CLI/CLI.hpp>
 

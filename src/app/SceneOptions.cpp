@@ -2,7 +2,7 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
-#include "core/TaskPool.h"
+#include "core/parallel/TaskPool.h"
 #include "scene/SceneFile.h"
 
 #include <CLI/CLI.hpp>

@@ -6,13 +6,13 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
-#include "core/TaskPool.h"
-#include "scene/AtomicFile.h"
-#include "scene/Study.h"
-#include "scene/StudyFolder.h"
-#include "scene/StudyLocal.h"
-#include "scene/StudyResults.h"
-#include "scene/StudySlurm.h"
+#include "core/parallel/TaskPool.h"
+#include "scene/output/AtomicFile.h"
+#include "scene/study/Study.h"
+#include "scene/study/StudyFolder.h"
+#include "scene/study/StudyLocal.h"
+#include "scene/study/StudyResults.h"
+#include "scene/study/StudySlurm.h"
 
 #include <CLI/CLI.hpp>
 

@@ -5,9 +5,9 @@
 #include "FacePlanesOfEight.h"
 #include "NearestOnFrontFaces.h"
 
-#include "core/ClosestPointOnTriangle.h"
 #include "core/InputError.h"
-#include "core/TaskPool.h"
+#include "core/contact/ClosestPointOnTriangle.h"
+#include "core/parallel/TaskPool.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>

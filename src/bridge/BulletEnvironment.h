@@ -12,8 +12,8 @@
 #include "KinematicPath.h"
 #include "ObstacleGeometry.h"
 
-#include "core/Contact.h"
-#include "core/PerChunk.h"
+#include "core/contact/Contact.h"
+#include "core/parallel/PerChunk.h"
 
 #include <cstdint>
 #include <memory>

@@ -1,7 +1,7 @@
 #include "FacePlanesOfEight.h"
 
-#include "core/SimdColumns.h"
-#include "core/SimdPath.h"
+#include "core/forces/SimdColumns.h"
+#include "core/forces/SimdPath.h"
 
 #include <cassert>
 

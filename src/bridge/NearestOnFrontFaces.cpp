@@ -1,6 +1,6 @@
 #include "NearestOnFrontFaces.h"
 
-#include "core/ClosestPointOnTriangle.h"
+#include "core/contact/ClosestPointOnTriangle.h"
 
 #include <cmath>
 #include <limits>

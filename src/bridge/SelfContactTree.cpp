@@ -2,8 +2,8 @@
 
 #include "BulletMath.h"
 
-#include "core/ClosestPointOnTriangle.h"
-#include "core/TaskPool.h"
+#include "core/contact/ClosestPointOnTriangle.h"
+#include "core/parallel/TaskPool.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
 

@@ -6,8 +6,8 @@
 /// at the frame's start and after the solve). Not every substep: a query per vertex per substep cost 4.2 times the
 /// step; the core tests the listed pairs after every substep.
 
-#include "core/PerChunk.h"
-#include "core/SelfContactBroadphase.h"
+#include "core/contact/SelfContactBroadphase.h"
+#include "core/parallel/PerChunk.h"
 
 #include <array>
 #include <cstdint>

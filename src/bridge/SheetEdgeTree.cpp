@@ -2,9 +2,9 @@
 
 #include "BulletMath.h"
 
-#include "core/ClosestPointOnTriangle.h"
-#include "core/ClosestPointsOfSegments.h"
-#include "core/TaskPool.h"
+#include "core/contact/ClosestPointOnTriangle.h"
+#include "core/contact/ClosestPointsOfSegments.h"
+#include "core/parallel/TaskPool.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvt.h>
 

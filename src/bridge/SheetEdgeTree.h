@@ -16,8 +16,8 @@
 #include "BulletEnvironment.h"
 #include "ObstacleFeatures.h"
 
-#include "core/EdgeContactDetector.h"
-#include "core/PerChunk.h"
+#include "core/contact/EdgeContactDetector.h"
+#include "core/parallel/PerChunk.h"
 
 #include <memory>
 #include <vector>

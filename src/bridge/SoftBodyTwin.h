@@ -14,9 +14,9 @@
 #include "KinematicPath.h"
 #include "SoftBodyTwinSettings.h"
 
-#include "core/Contact.h"
 #include "core/MassSpringSystem.h"
 #include "core/NumericalError.h"
+#include "core/contact/Contact.h"
 
 #include <memory>
 #include <string>

@@ -25,12 +25,12 @@
 /// by its pinned masses (for example clamped on two edges), in MaSSE (implicit Euler) and in the twin, and
 /// bisects on one kLST for every link until the largest static sag is the same. When even rigid projection
 /// (kLST = 1) sags more than MaSSE, it says so (reachable = false): Bullet cannot be that stiff at that substep
-/// and iteration count. Measured figures are in tests/StiffnessCalibrationTest.cpp and the notes of the commit.
+/// and iteration count. Measured figures are in tests/bridge/StiffnessCalibrationTest.cpp and the notes of the commit.
 
 #include "SoftBodyTwinSettings.h"
 
-#include "core/Lattice.h"
 #include "core/MassSpringSystem.h"
+#include "core/lattice/Lattice.h"
 
 namespace masse::bridge
 {

@@ -1,11 +1,11 @@
-#include "DivergenceGuard.h"
+#include "core/DivergenceGuard.h"
 
-#include "ChunkedSum.h"
-#include "Energy.h"
-#include "Format.h"
-#include "NumericalError.h"
-#include "SimdPath.h"
-#include "SpringEnergyKernels.h"
+#include "core/Format.h"
+#include "core/NumericalError.h"
+#include "core/forces/Energy.h"
+#include "core/forces/SimdPath.h"
+#include "core/forces/SpringEnergyKernels.h"
+#include "core/parallel/ChunkedSum.h"
 
 #include <algorithm>
 #include <cmath>

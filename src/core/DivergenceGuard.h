@@ -20,9 +20,9 @@
 /// potential energy: no hook gives masses speed.
 /// A breach throws NumericalError with the time, the mass, the quantity and what to try instead.
 
-#include "Integrator.h"
-#include "MassSpringSystem.h"
-#include "NumericalError.h"
+#include "core/MassSpringSystem.h"
+#include "core/NumericalError.h"
+#include "core/integrate/Integrator.h"
 
 #include <limits>
 #include <stdexcept>

@@ -1,7 +1,7 @@
 #pragma once
 /// Numbers in messages and reports.
 
-#include "Types.h"
+#include "core/Types.h"
 
 #include <cstdio>
 #include <sstream>

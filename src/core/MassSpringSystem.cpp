@@ -1,8 +1,8 @@
-#include "MassSpringSystem.h"
+#include "core/MassSpringSystem.h"
 
-#include "Damping.h"
-#include "Format.h"
-#include "InputError.h"
+#include "core/Format.h"
+#include "core/InputError.h"
+#include "core/forces/Damping.h"
 
 #include <cmath>
 #include <string>

@@ -1,10 +1,10 @@
 #pragma once
 /// One sheet as the engine sees it: masses, springs, the dynamic springs of the user, and the force settings.
 
-#include "Lattice.h"
-#include "Particles.h"
-#include "SpringSet.h"
-#include "UserSprings.h"
+#include "core/forces/UserSprings.h"
+#include "core/lattice/Lattice.h"
+#include "core/lattice/Particles.h"
+#include "core/lattice/SpringSet.h"
 
 #include <array>
 

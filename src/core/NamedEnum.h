@@ -2,7 +2,7 @@
 /// Names of enum values for files and flags ("trimm", "implicit", "sticky"...): one table per enum, parsed and
 /// printed the same way everywhere, with the same message for a name that is not in the table.
 
-#include "InputError.h"
+#include "core/InputError.h"
 
 #include <algorithm>
 #include <cctype>

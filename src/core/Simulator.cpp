@@ -1,10 +1,10 @@
-#include "Simulator.h"
+#include "core/Simulator.h"
 
-#include "Forces.h"
-#include "Format.h"
-#include "InputError.h"
-#include "NumericalError.h"
-#include "TaskPool.h"
+#include "core/Format.h"
+#include "core/InputError.h"
+#include "core/NumericalError.h"
+#include "core/forces/Forces.h"
+#include "core/parallel/TaskPool.h"
 
 #include <algorithm>
 #include <cmath>

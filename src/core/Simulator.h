@@ -2,13 +2,13 @@
 /// Advances a sheet in time: splits each requested step into stable substeps for the explicit integrators, keeps the
 /// clock, and refuses to go on silently with a non-finite state.
 
-#include "ContactSolver.h"
-#include "DivergenceGuard.h"
-#include "Integrator.h"
-#include "NumericalError.h"
-#include "SolverTally.h"
-#include "StabilityEstimate.h"
-#include "StepHook.h"
+#include "core/DivergenceGuard.h"
+#include "core/NumericalError.h"
+#include "core/StepHook.h"
+#include "core/contact/ContactSolver.h"
+#include "core/integrate/Integrator.h"
+#include "core/integrate/SolverTally.h"
+#include "core/integrate/StabilityEstimate.h"
 
 #include <memory>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "StateHash.h"
+#include "core/StateHash.h"
 
 #include <cstring>
 

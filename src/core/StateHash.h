@@ -2,7 +2,7 @@
 /// A 64-bit fingerprint of every mass's position and velocity bits (FNV-1a), for determinism tests and golden
 /// results: two runs agree bit for bit exactly when their hashes do (up to hash collisions).
 
-#include "Particles.h"
+#include "core/lattice/Particles.h"
 
 namespace masse
 {

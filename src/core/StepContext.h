@@ -11,8 +11,8 @@
 ///   that owns a SheetThickness without a heat model sets `thickness` once), before the hooks added after it read
 ///   them.
 
-#include "Types.h"
-#include "VelocityConstraint.h"
+#include "core/Types.h"
+#include "core/integrate/VelocityConstraint.h"
 
 #include <span>
 #include <vector>

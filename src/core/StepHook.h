@@ -4,8 +4,8 @@
 /// hook needs from another stage it reads from the StepContext (StepContext.h says who publishes what), never through
 /// a pointer into another model.
 
-#include "MassSpringSystem.h"
-#include "StepContext.h"
+#include "core/MassSpringSystem.h"
+#include "core/StepContext.h"
 
 namespace masse
 {

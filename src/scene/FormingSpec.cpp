@@ -1,7 +1,7 @@
-#include "FormingSpec.h"
+#include "scene/FormingSpec.h"
 
-#include "FieldKeys.h"
-#include "JsonObject.h"
+#include "scene/json/FieldKeys.h"
+#include "scene/json/JsonObject.h"
 
 #include "core/InputError.h"
 

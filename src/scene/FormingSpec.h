@@ -3,7 +3,7 @@
 /// mould it seals against) and the forming reports under "report" (thickness and temperature maps, the per-mass CSV,
 /// the share of thin area). Keys, units and defaults: data/scenes/README.md.
 
-#include "core/PressureLoad.h"
+#include "core/material/PressureLoad.h"
 
 #include <string>
 

@@ -1,4 +1,4 @@
-#include "GuardBounds.h"
+#include "scene/GuardBounds.h"
 
 #include <algorithm>
 #include <cmath>

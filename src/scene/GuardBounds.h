@@ -2,7 +2,7 @@
 /// The divergence guard's bounds for a scene (see core/DivergenceGuard.h): how fast anything in it can sensibly
 /// move, from its gravity, air, room and script.
 
-#include "SceneSpec.h"
+#include "scene/SceneSpec.h"
 
 #include "core/DivergenceGuard.h"
 

@@ -1,6 +1,6 @@
-#include "MaterialFile.h"
+#include "scene/MaterialFile.h"
 
-#include "FieldKeys.h"
+#include "scene/json/FieldKeys.h"
 
 #include "core/InputError.h"
 

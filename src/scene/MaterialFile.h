@@ -12,9 +12,9 @@
 ///   forming_window: {set_c, lower_c, normal_c, upper_c}.
 /// Unknown keys are refused with the nearest known key suggested.
 
-#include "JsonObject.h"
+#include "scene/json/JsonObject.h"
 
-#include "core/Material.h"
+#include "core/material/Material.h"
 
 #include <string>
 

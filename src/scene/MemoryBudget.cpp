@@ -1,4 +1,4 @@
-#include "MemoryBudget.h"
+#include "scene/MemoryBudget.h"
 
 #include "core/Format.h"
 #include "core/InputError.h"

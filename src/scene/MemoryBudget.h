@@ -2,8 +2,8 @@
 /// What a sheet will cost in memory, known from its size before anything is built, so that a sheet that cannot fit
 /// is refused at once (exit code 2) instead of allocating for minutes and failing with std::bad_alloc.
 
-#include "core/Integrator.h"
-#include "core/Lattice.h"
+#include "core/integrate/Integrator.h"
+#include "core/lattice/Lattice.h"
 
 #include <cstddef>
 

@@ -1,4 +1,4 @@
-#include "ObstacleSpec.h"
+#include "scene/ObstacleSpec.h"
 
 #include "bridge/StlFile.h"
 

@@ -1,6 +1,6 @@
-#include "PaperExperiment.h"
+#include "scene/PaperExperiment.h"
 
-#include "Scene.h"
+#include "scene/Scene.h"
 
 #include "core/InputError.h"
 

@@ -2,7 +2,7 @@
 /// The paper's experiment (section 9, Figure 18): the drop scene run for the five sheet sizes of Table 2, timing
 /// each of the four stages in simulated and wall-clock time.
 
-#include "SceneSpec.h"
+#include "scene/SceneSpec.h"
 
 #include <functional>
 #include <string>

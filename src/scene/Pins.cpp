@@ -1,4 +1,4 @@
-#include "Pins.h"
+#include "scene/Pins.h"
 
 #include <algorithm>
 

@@ -1,7 +1,7 @@
 #pragma once
 /// Turning a PinSpec (indices, corners, edges) into mass indices of a lattice.
 
-#include "SceneSpec.h"
+#include "scene/SceneSpec.h"
 
 namespace masse::scene
 {

@@ -1,4 +1,4 @@
-#include "RestTracker.h"
+#include "scene/RestTracker.h"
 
 namespace masse::scene
 {

@@ -3,7 +3,7 @@
 /// y = 3.0. Each is a static box one metre thick lying outside the room, so masses meet its inner face. The scene
 /// file's "environment.room".
 
-#include "ObstacleSpec.h"
+#include "scene/ObstacleSpec.h"
 
 #include "bridge/BulletEnvironment.h"
 

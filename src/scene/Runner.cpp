@@ -1,18 +1,18 @@
-#include "Runner.h"
+#include "scene/Runner.h"
 
-#include "AtomicFile.h"
-#include "FiniteOutput.h"
-#include "FormingReports.h"
-#include "FrameOutput.h"
-#include "Plot.h"
-#include "Progress.h"
-#include "SheetReports.h"
-#include "WebbingReport.h"
+#include "scene/output/AtomicFile.h"
+#include "scene/output/FiniteOutput.h"
+#include "scene/output/FrameOutput.h"
+#include "scene/output/Plot.h"
+#include "scene/output/Progress.h"
+#include "scene/reports/FormingReports.h"
+#include "scene/reports/SheetReports.h"
+#include "scene/reports/WebbingReport.h"
 
 #include "core/Format.h"
-#include "core/SimdPath.h"
 #include "core/StateHash.h"
-#include "core/TaskPool.h"
+#include "core/forces/SimdPath.h"
+#include "core/parallel/TaskPool.h"
 
 #include <algorithm>
 #include <chrono>

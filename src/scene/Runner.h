@@ -2,7 +2,7 @@
 /// Runs a scene headless to its end and writes what it did: summary.json, events.csv and, when asked, frames of the
 /// sheet (VTK .vtp and .obj), every file written atomically.
 
-#include "Scene.h"
+#include "scene/Scene.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,20 +1,20 @@
-#include "Scene.h"
+#include "scene/Scene.h"
 
-#include "FieldKeys.h"
-#include "GuardBounds.h"
-#include "MemoryBudget.h"
-#include "Pins.h"
-#include "SceneFile.h"
+#include "scene/GuardBounds.h"
+#include "scene/MemoryBudget.h"
+#include "scene/Pins.h"
+#include "scene/SceneFile.h"
+#include "scene/json/FieldKeys.h"
 
 #include "bridge/MeshTopology.h"
 #include "bridge/SelfContactTree.h"
 #include "bridge/SheetEdgeTree.h"
 
-#include "core/Energy.h"
 #include "core/Format.h"
 #include "core/InputError.h"
-#include "core/MaterialSheet.h"
-#include "core/MembraneStiffness.h"
+#include "core/forces/Energy.h"
+#include "core/material/MaterialSheet.h"
+#include "core/material/MembraneStiffness.h"
 
 #include <algorithm>
 #include <limits>

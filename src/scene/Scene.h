@@ -2,19 +2,19 @@
 /// A running scene: the sheet, its obstacles in Bullet, contact, time stepping, the script, and the events so far.
 /// The headless runner, the viewer, the tests and the benchmarks all drive a scene through this class.
 
-#include "RestTracker.h"
-#include "SceneSpec.h"
-#include "ScriptRunner.h"
+#include "scene/RestTracker.h"
+#include "scene/SceneSpec.h"
+#include "scene/ScriptRunner.h"
 
 #include "bridge/BulletEnvironment.h"
 
-#include "core/ContactSolver.h"
-#include "core/EdgeContact.h"
-#include "core/PressureLoad.h"
-#include "core/SelfContact.h"
 #include "core/Simulator.h"
-#include "core/ThermalModel.h"
-#include "core/ViscoelasticSprings.h"
+#include "core/contact/ContactSolver.h"
+#include "core/contact/EdgeContact.h"
+#include "core/contact/SelfContact.h"
+#include "core/material/PressureLoad.h"
+#include "core/material/ThermalModel.h"
+#include "core/material/ViscoelasticSprings.h"
 
 #include <chrono>
 #include <memory>

@@ -1,13 +1,13 @@
-#include "SceneFile.h"
+#include "scene/SceneFile.h"
 
-#include "FieldKeys.h"
-#include "JsonObject.h"
-#include "MaterialFile.h"
-#include "MemoryBudget.h"
+#include "scene/MaterialFile.h"
+#include "scene/MemoryBudget.h"
+#include "scene/json/FieldKeys.h"
+#include "scene/json/JsonObject.h"
 
-#include "core/Damping.h"
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/forces/Damping.h"
 
 #include <cstdio>
 #include <filesystem>

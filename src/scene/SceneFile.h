@@ -1,7 +1,7 @@
 #pragma once
 /// Reading scene files (JSON) into a SceneSpec. Every key, its unit, default and range: data/scenes/README.md.
 
-#include "SceneSpec.h"
+#include "scene/SceneSpec.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,6 @@
-#include "SceneOverrides.h"
+#include "scene/SceneOverrides.h"
 
-#include "SceneFile.h"
+#include "scene/SceneFile.h"
 
 #include "core/InputError.h"
 

@@ -2,9 +2,9 @@
 /// `--set KEY=VALUE`: changes to a scene's keys from the command line or a study, applied to the scene document
 /// (after any "extends" is merged) before it is read, so a key set this way is checked like one in the file.
 
-#include "JsonPath.h"
-#include "SceneFile.h"
-#include "SceneSpec.h"
+#include "scene/SceneFile.h"
+#include "scene/SceneSpec.h"
+#include "scene/json/JsonPath.h"
 
 #include <nlohmann/json.hpp>
 

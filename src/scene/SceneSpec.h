@@ -3,19 +3,19 @@
 /// script. One description serves the headless runner, the viewer, the comparison with Bullet, the tests and the
 /// benchmarks. Keys, units, defaults and ranges: data/scenes/README.md.
 
-#include "FormingSpec.h"
-#include "ObstacleSpec.h"
-#include "Room.h"
+#include "scene/FormingSpec.h"
+#include "scene/ObstacleSpec.h"
+#include "scene/Room.h"
 
 #include "bridge/SoftBodyTwinSettings.h"
 
-#include "core/Contact.h"
-#include "core/Integrator.h"
-#include "core/Lattice.h"
 #include "core/MassSpringSystem.h"
-#include "core/Material.h"
-#include "core/ThermalModel.h"
-#include "core/ViscoelasticSprings.h"
+#include "core/contact/Contact.h"
+#include "core/integrate/Integrator.h"
+#include "core/lattice/Lattice.h"
+#include "core/material/Material.h"
+#include "core/material/ThermalModel.h"
+#include "core/material/ViscoelasticSprings.h"
 
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
-#include "ScriptRunner.h"
+#include "scene/ScriptRunner.h"
 
-#include "Pins.h"
+#include "scene/Pins.h"
 
 #include <algorithm>
 #include <limits>

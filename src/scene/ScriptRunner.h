@@ -2,7 +2,7 @@
 /// Plays a scene's script: each action fires at the start of the first frame at or after its time; a grab's target
 /// follows its path smoothly, updated every substep.
 
-#include "SceneSpec.h"
+#include "scene/SceneSpec.h"
 
 #include "bridge/BulletEnvironment.h"
 

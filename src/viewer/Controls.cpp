@@ -1,6 +1,6 @@
 #include "Controls.h"
 
-#include "core/HeatSources.h"
+#include "core/material/HeatSources.h"
 
 #include <cmath>
 #include <limits>

@@ -1,6 +1,6 @@
 #include "PickSpring.h"
 
-#include "core/StabilityEstimate.h"
+#include "core/integrate/StabilityEstimate.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,8 +2,8 @@
 /// The dynamic spring the mouse pulls a picked mass with (paper section 7: a spring from the nearest mass to the
 /// cursor, rather than moving the mass, so the simulation stays stable). Capped as Box2D caps its mouse joint.
 
-#include "core/Integrator.h"
 #include "core/MassSpringSystem.h"
+#include "core/integrate/Integrator.h"
 
 namespace masse::viewer
 {

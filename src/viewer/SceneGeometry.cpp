@@ -1,8 +1,8 @@
 #include "SceneGeometry.h"
 
-#include "core/HeatSources.h"
 #include "core/InputError.h"
-#include "core/LatticeSurface.h"
+#include "core/lattice/LatticeSurface.h"
+#include "core/material/HeatSources.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include "Palette.h"
 #include "SceneSnapshot.h"
 
-#include "core/Lattice.h"
+#include "core/lattice/Lattice.h"
 
 #include <cstdint>
 #include <optional>

@@ -2,7 +2,7 @@
 
 #include "GlHeaders.h"
 
-#include "scene/AtomicFile.h"
+#include "scene/output/AtomicFile.h"
 
 #include <stb_image_write.h>
 

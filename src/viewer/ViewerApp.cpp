@@ -15,7 +15,7 @@
 #include "ViewerSession.h"
 
 #include "core/InputError.h"
-#include "scene/AtomicFile.h"
+#include "scene/output/AtomicFile.h"
 
 #include <GL/freeglut.h>
 #include <imgui.h>

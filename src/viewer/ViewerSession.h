@@ -6,8 +6,8 @@
 #include "PickSpring.h"
 #include "StepScheduler.h"
 
-#include "scene/Comparison.h"
 #include "scene/Scene.h"
+#include "scene/compare/Comparison.h"
 
 #include <memory>
 #include <optional>

@@ -6,13 +6,13 @@
 #include "scene/Scene.h"
 #include "scene/SceneOverrides.h"
 
-#include "core/CholeskyPreconditioner.h"
-#include "core/ContactSolver.h"
-#include "core/Damping.h"
-#include "core/Forces.h"
-#include "core/Integrator.h"
-#include "core/NestedDissection.h"
-#include "core/SlotMatrix.h"
+#include "core/contact/ContactSolver.h"
+#include "core/forces/Damping.h"
+#include "core/forces/Forces.h"
+#include "core/integrate/Integrator.h"
+#include "core/linear/CholeskyPreconditioner.h"
+#include "core/linear/NestedDissection.h"
+#include "core/linear/SlotMatrix.h"
 
 #include <benchmark/benchmark.h>
 

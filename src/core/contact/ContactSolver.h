@@ -1,0 +1,86 @@
+#pragma once
+/// Keeps sheet masses out of obstacles and applies the contact response (sticky, Coulomb friction, frictionless).
+///
+/// Once per frame, the detector finds every obstacle a mass could reach within the frame and gives its supporting
+/// plane (speculative contacts, as Box2D and Jolt use). After every integrator substep each mass is projected out of
+/// its planes and its approach velocity removed: a few dot products per contact, so contact stays cheap however many
+/// substeps an explicit integrator takes. At the end of the frame, any mass that moved farther than its reach is
+/// checked by a swept test, so nothing tunnels through a thin obstacle.
+///
+/// Friction acts at the impulse level: the tangential velocity a contact may remove in one substep is mu times the
+/// normal velocity it removed, which reproduces Coulomb's law (a block on a slope of angle a slides with acceleration
+/// g (sin a - mu cos a), and stays when mu > tan a).
+
+#include "core/MassSpringSystem.h"
+#include "core/StageObserver.h"
+#include "core/StepContext.h"
+#include "core/contact/Contact.h"
+#include "core/contact/ContactConstraints.h"
+#include "core/contact/ContactPlanes.h"
+#include "core/contact/ContactReport.h"
+#include "core/contact/StuckContacts.h"
+#include "core/parallel/PerChunk.h"
+
+#include <utility>
+#include <vector>
+
+namespace masse
+{
+/// The frame's contact stages, in order: detection and the implicit integrator's constraints (beginFrame), the
+/// projection after every substep (afterSubstep, ContactProjection.h), the sweep and the report (endFrame). Each
+/// concept has its own file: the frame's planes indexed by mass (ContactPlanes.h), the masses held by sticky contact
+/// (StuckContacts.h), the constraint builder (ContactConstraints.h) and what the frame did (ContactReport.h).
+class ContactSolver
+{
+public:
+    ContactSolver(ContactDetector& detector, const ContactSettings& settings);
+
+    void setSettings(const ContactSettings& settings);
+    const ContactSettings& settings() const { return m_settings; }
+
+    /// Called by the Simulator around the substeps of every frame. With `constrain`, the integrator honours velocity
+    /// constraints, and stuck and resting masses are handed to it as such in context.constraints (see
+    /// VelocityConstraint.h), whose reactions afterSubstep reads; endFrame clears them.
+    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain);
+    void afterSubstep(MassSpringSystem& system, const StepContext& context, Real h);
+    void endFrame(MassSpringSystem& system, StepContext& context, Real time);
+
+    /// What the last frame and the run so far did (touches, forces, faces, first contacts).
+    const ContactReport& report() const { return m_report; }
+    /// Masses held by sticky contact.
+    const std::vector<std::uint8_t>& stuck() const { return m_stuck.stuck; }
+    /// Whether the next afterSubstep reads the substep's forces (particles.force): while a mass is stuck, whose pull
+    /// off its surface decides its release.
+    bool readsForces() const { return m_stuck.any; }
+    std::size_t planeCount() const { return m_planes.size(); }
+
+    /// Deepest penetration of any mass's sphere into an obstacle now (m, 0 if none), measured afresh by the detector.
+    Real maxPenetration(const MassSpringSystem& system);
+    /// Releases every stuck mass (for a reset or a change of response).
+    void releaseAll() { m_stuck.releaseAll(); }
+    /// Told when each contact stage begins and ends (nullptr: nobody); a profiler outside the core reads its clock.
+    void setStageObserver(StageObserver* observer) { m_observer = observer; }
+
+private:
+    /// Simulated time now: the frame's start plus the substeps taken in it.
+    Real now() const { return m_frameTime + m_elapsed; }
+    /// Sweeps mass i's path over the frame, which went beyond its reach: stopped before the first surface it crossed.
+    void sweep(Particles& p, std::size_t i);
+
+    ContactDetector& m_detector;
+    ContactSettings m_settings;
+    ContactPlanes m_planes;
+    StuckContacts m_stuck;
+    ContactConstraints m_constraints;
+    ContactReport m_report;
+    std::vector<Vec3> m_frameStart;                 ///< each mass's position at the frame's start (for the sweep)
+    std::vector<Real> m_reach;                      ///< m, how far each mass may get this frame
+    PerChunk<std::vector<int>> m_chunkFirstTouches; ///< per mass chunk, the obstacles first touched this substep
+    std::vector<std::uint8_t> m_chunkMadeStuck;     ///< per mass chunk, whether a mass stuck this substep
+    PerChunk<std::vector<Index>> m_chunkOutran;     ///< per mass chunk, the masses that went beyond their reach
+    Real m_frameTime = 0;
+    Real m_frameDt = 0;
+    Real m_elapsed = 0;
+    StageObserver* m_observer = nullptr;
+};
+} // namespace masse

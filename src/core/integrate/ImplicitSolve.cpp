@@ -1,0 +1,615 @@
+#include "core/integrate/ImplicitSolve.h"
+
+#include "core/InputError.h"
+#include "core/forces/Forces.h"
+#include "core/forces/SpringForce.h"
+#include "core/linear/NestedDissection.h"
+#include "core/parallel/TaskPool.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace masse
+{
+namespace
+{
+/// Springs per chunk of the assembly's spring pass: about a megabyte of terms.
+constexpr std::size_t springChunkSize = 8192;
+} // namespace
+
+IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
+                                     const std::vector<Vec3>& offset, const std::vector<Vec3>& momentum,
+                                     HeldPlacement held)
+{
+    const std::size_t n = system.particles.size();
+    if (m_patternSystem != &system || m_patternMasses != n || m_patternSprings != system.springs.size())
+    {
+        buildPattern(system);
+    }
+    for (VelocityConstraint& c : constraints)
+    {
+        c.engaged = false;
+        c.released = false;
+    }
+    IntegratorStats stats;
+    for (int round = 1;; ++round)
+    {
+        const std::vector<Vec3>& roundOffset = heldOffset(system.particles, constraints, a, offset, held);
+        assemble(system, a, roundOffset, momentum);
+        const bool constrained = applyConstraints(system, constraints, a);
+        m_tolerance = solverTolerance(system, a);
+        stats.add(runSolver());
+        if (constrained)
+        {
+            for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+            {
+                m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
+            }
+            writeReactions(constraints);
+        }
+        if (round == maxSpeculativeRounds)
+        {
+            return stats;
+        }
+        const bool capped = m_coulombCap && constrained && capFriction(system, constraints, a);
+        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, roundOffset);
+        const bool lifted = m_releaseLifting && constrained && releaseLifting(constraints);
+        if (!capped && !arrivals && !lifted)
+        {
+            return stats;
+        }
+    }
+}
+
+const std::vector<Vec3>& ImplicitSolve::heldOffset(const Particles& p,
+                                                   const std::vector<VelocityConstraint>& constraints, Real a,
+                                                   const std::vector<Vec3>& offset, HeldPlacement held)
+{
+    if (held.step <= 0 || offset.empty() || constraints.empty())
+    {
+        return offset;
+    }
+    m_heldOffset.resize(offset.size());
+    std::copy(offset.begin(), offset.end(), m_heldOffset.begin());
+    const bool fromStart = held.fromStart && !held.fromStart->empty();
+    for (const VelocityConstraint& c : constraints)
+    {
+        if (!c.honoured() || c.mass >= p.size() || p.pinned[c.mass])
+        {
+            continue;
+        }
+        const Vec3 start = fromStart ? (*held.fromStart)[c.mass] : Vec3(Vec3::Zero());
+        const Vec3 wanted = start + (held.step - a) * c.velocity;
+        Vec3& d = m_heldOffset[c.mass];
+        if (c.directions >= 3)
+        {
+            d = wanted;
+        }
+        else
+        {
+            d += c.normal * c.normal.dot(wanted - d);
+        }
+    }
+    return m_heldOffset;
+}
+
+bool ImplicitSolve::updateSpeculative(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints,
+                                      Real a, const std::vector<Vec3>& offset)
+{
+    const Particles& p = system.particles;
+    bool changed = false;
+    for (VelocityConstraint& c : constraints)
+    {
+        if (!c.speculative || c.released || c.mass >= p.size() || p.pinned[c.mass])
+        {
+            continue;
+        }
+        if (c.engaged)
+        {
+            // Stopped short of the surface by the masses it is joined to (the upper layer of a sheet whose lower
+            // layer lands): the surface would have to pull it there.
+            if (c.reaction.dot(c.normal) < 0)
+            {
+                c.engaged = false;
+                c.released = true;
+                c.reaction.setZero();
+                changed = true;
+            }
+            continue;
+        }
+        Vec3 move = a * (p.velocity[c.mass] + deltaV(c.mass));
+        if (!offset.empty())
+        {
+            move += offset[c.mass];
+        }
+        if (c.gap + c.normal.dot(move) < 0)
+        {
+            c.engaged = true;
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+bool ImplicitSolve::releaseLifting(std::vector<VelocityConstraint>& constraints)
+{
+    bool changed = false;
+    for (VelocityConstraint& c : constraints)
+    {
+        if (c.speculative || c.directions != 1 || !c.honoured() || c.reaction.dot(c.normal) >= 0)
+        {
+            continue;
+        }
+        c.released = true;
+        c.reaction.setZero();
+        changed = true;
+    }
+    return changed;
+}
+
+bool ImplicitSolve::capFriction(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a)
+{
+    const Particles& p = system.particles;
+    bool changed = false;
+    for (VelocityConstraint& c : constraints)
+    {
+        if (c.directions != 1 || !c.honoured() || c.tangentialDamping <= 0 || c.friction <= 0 || c.mass >= p.size() ||
+            p.pinned[c.mass])
+        {
+            continue;
+        }
+        const Vec3 relative = p.velocity[c.mass] + deltaV(c.mass) - c.velocity;
+        const Real slip = (relative - relative.dot(c.normal) * c.normal).norm();
+        const Real limit = c.friction * std::max(Real(0), c.reaction.dot(c.normal));
+        if (a * c.tangentialDamping * slip > limit * (Real(1) + Real(1e-6)))
+        {
+            c.tangentialDamping = limit / (a * slip);
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+Real ImplicitSolve::largestDeltaV() const
+{
+    Real largest = 0;
+    for (Eigen::Index i = 0; i + 2 < m_deltaV.size(); i += 3)
+    {
+        largest = std::max(largest, m_deltaV.segment<3>(i).norm());
+    }
+    return largest;
+}
+
+Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) const
+{
+    // The conjugate gradient stops at |r| <= tol |b|. With stiff material springs b is dominated by spring forces that
+    // nearly cancel in the sheet's slow motion (bending, sliding, falling), so a residual of tol |b| leaves an error in
+    // that motion larger than gravity's own impulse: energy appears, b grows with it, and so does the error allowed
+    // (a cold PET sheet over a pyramid reached 149 m/s). The residual is therefore held to tol times the smaller of
+    // |b| and the impulse of the sheet's weight over the step, a |g| sqrt(sum m_i^2).
+    const Real gravity = std::max(system.forces.gravity.norm(), standardGravity);
+    Real massSquares = 0;
+    for (Real m : system.particles.mass)
+    {
+        massSquares += m * m;
+    }
+    const Real weightImpulse = a * gravity * std::sqrt(massSquares);
+    const Real rhs = m_rhs.norm();
+    if (!(rhs > weightImpulse))
+    {
+        return m_settings.tolerance;
+    }
+    return std::max(m_settings.tolerance * weightImpulse / rhs, Real(4) * std::numeric_limits<Real>::epsilon());
+}
+
+IntegratorStats ImplicitSolve::runSolver()
+{
+    const int cap = m_settings.maxIterations;
+    SolveResult result;
+    int refactorisations = 0;
+    if (m_settings.preconditioner == PreconditionerKind::Jacobi)
+    {
+        m_jacobi.refresh(m_matrix.matrix());
+        result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_jacobi, m_tolerance, cap);
+    }
+    else
+    {
+        // Build the preconditioner only when the old one has drifted: first try it for a few iterations, and rebuild
+        // it from the current matrix (then finish) only if that was not enough.
+        RefreshedPreconditioner& recent = m_settings.preconditioner == PreconditionerKind::Multigrid
+                                              ? static_cast<RefreshedPreconditioner&>(m_multigrid)
+                                              : m_cholesky;
+        recent.setFilter(m_constrainedMasses, m_filters);
+        bool fresh = false;
+        if (!recent.ready())
+        {
+            ++refactorisations;
+            fresh = recent.refresh(m_matrix.matrix());
+        }
+        // A factor fresh from the matrix solves in one or two iterations, and is kept while the iterations it takes
+        // beyond that, summed since it was made, cost less than a refactorisation (RefreshBudget). A multigrid cycle
+        // takes several even when fresh (ten on a cold material sheet at its tight tolerance): it is rebuilt when a
+        // solve needs more than its allowance beyond what it took fresh.
+        const bool multigrid = m_settings.preconditioner == PreconditionerKind::Multigrid;
+        const int allowance =
+            multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
+                                 m_refreshBudget.freshIterations() + m_settings.multigridRefreshAfterIterations / 2)
+                      : std::min(m_refreshBudget.allowance(), cap / 2); // room left to finish after a refresh
+        const int firstTry = fresh ? cap : std::min(cap, allowance);
+        if (recent.ready())
+        {
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry);
+            if (fresh)
+            {
+                m_refreshBudget.refreshed(result.iterations);
+            }
+            else
+            {
+                m_refreshBudget.used(result.iterations);
+            }
+        }
+        const bool drifted = !result.converged && result.iterations < cap && !fresh;
+        if (drifted)
+        {
+            ++refactorisations;
+        }
+        if (drifted && recent.refresh(m_matrix.matrix()))
+        {
+            const int used = result.iterations;
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, cap - used);
+            m_refreshBudget.refreshed(result.iterations);
+            result.iterations += used;
+        }
+        if (!recent.ready()) // not positive definite to the factorisation: fall back to the diagonal
+        {
+            const int used = result.iterations;
+            m_jacobi.refresh(m_matrix.matrix());
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_jacobi, m_tolerance, cap - used);
+            result.iterations += used;
+        }
+    }
+    IntegratorStats stats;
+    stats.solverIterations = result.iterations;
+    stats.solverResidual = result.residual;
+    stats.hitIterationCap = !result.converged;
+    stats.refactorisations = refactorisations;
+    return stats;
+}
+
+void ImplicitSolve::buildPattern(const MassSpringSystem& system)
+{
+    const std::size_t n = system.massCount();
+    const SpringSet& springs = system.springs;
+    if (n > SlotMatrix<3>::maxMasses())
+    {
+        throw InputError("the sheet's " + std::to_string(n) +
+                         " masses are too many for the implicit solver's sparse matrix (at most " +
+                         std::to_string(SlotMatrix<3>::maxMasses()) + "); use an explicit integrator");
+    }
+    m_matrix.build(n, springs.ends());
+    // A spring's two off-diagonal blocks are shared with any other spring joining the same two masses; the block
+    // above the diagonal names the pair.
+    std::vector<OffDiagonal> offDiagonal(springs.size(), OffDiagonal::None);
+    std::vector<bool> pairSeen(std::size_t(m_matrix.matrix().nonZeros()), false);
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const SpringEnds& e = springs.ends()[s];
+        if (e.a == e.b)
+        {
+            continue;
+        }
+        const std::size_t upper = std::size_t(e.a < e.b ? m_matrix.ab(s)[0] : m_matrix.ba(s)[0]);
+        offDiagonal[s] = pairSeen[upper] ? OffDiagonal::Later : OffDiagonal::First;
+        pairSeen[upper] = true;
+    }
+    const SpringAdjacency& adjacency = springs.adjacency(n);
+    const auto* outer = m_matrix.matrix().outerIndexPtr();
+    m_columnEntries.resize(adjacency.entries.size());
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
+        {
+            const std::size_t s = std::size_t(adjacency.entries[e].spring);
+            const bool first = Index(i) == springs.ends()[s].a;
+            const SlotMatrix<3>::Slots& column = first ? m_matrix.ba(s) : m_matrix.ab(s);
+            const auto offset = column[0] - outer[3 * i];
+            if (column[1] - outer[3 * i + 1] != offset || column[2] - outer[3 * i + 2] != offset)
+            {
+                throw std::logic_error("ImplicitSolve: a block column whose three columns differ in pattern");
+            }
+            m_columnEntries[e] = {offset, offDiagonal[s], first};
+        }
+    }
+    const Eigen::Index size = m_matrix.matrix().rows();
+    m_rhs.setZero(size);
+    m_deltaV.setZero(size);
+    m_constraintOf.assign(n, -1);
+    if (m_settings.preconditioner == PreconditionerKind::Cholesky)
+    {
+        m_cholesky.analyse(m_matrix.matrix(),
+                           nestedDissection(system.particles.position, springs, CholeskyPreconditioner::parallelDepth));
+        m_refreshBudget = RefreshBudget(int(std::lround(m_cholesky.refreshCost())), m_settings.refreshAfterIterations);
+    }
+    else if (m_settings.preconditioner == PreconditionerKind::Multigrid)
+    {
+        m_multigrid.analyse(m_matrix.matrix(), springs, n);
+    }
+    m_patternSystem = &system;
+    m_patternMasses = n;
+    m_patternSprings = springs.size();
+}
+
+/// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.
+void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
+{
+    m_reaction.resize(m_constrainedMasses.size());
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        m_reaction[k] = m_rowDiagonal[k] * deltaV(m_constrainedMasses[k]) - m_rowRhs[k];
+    }
+    for (const NeighbourBlock& neighbour : m_rowNeighbours)
+    {
+        m_reaction[neighbour.row] += neighbour.block * deltaV(neighbour.mass);
+    }
+    for (VelocityConstraint& c : constraints)
+    {
+        c.reaction = c.honoured() && c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0
+                         ? m_reaction[std::size_t(m_constraintOf[c.mass])]
+                         : Vec3::Zero();
+    }
+}
+
+/// Applies the filter for the velocity constraints; returns false when there are none.
+bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints,
+                                     Real a)
+{
+    const Particles& p = system.particles;
+    for (Index i : m_constrainedMasses) // reset only what the last step set
+    {
+        m_constraintOf[i] = -1;
+    }
+    m_constrainedMasses.clear();
+    m_filters.clear();
+    m_prescribed.clear();
+    m_bases.clear();
+    m_rowNeighbours.clear();
+    if (constraints.empty())
+    {
+        return false;
+    }
+    for (const VelocityConstraint& c : constraints)
+    {
+        if (c.mass >= p.size() || p.pinned[c.mass] || !c.honoured())
+        {
+            continue;
+        }
+        int& k = m_constraintOf[c.mass];
+        if (k < 0)
+        {
+            k = int(m_constrainedMasses.size());
+            m_constrainedMasses.push_back(c.mass);
+            m_bases.emplace_back();
+            m_prescribed.push_back(c.velocity); // the target velocity for now; turned into a change below
+        }
+        Basis& basis = m_bases[std::size_t(k)];
+        const int candidates = c.directions >= 3 ? 3 : 1;
+        for (int j = 0; j < candidates; ++j)
+        {
+            Vec3 u = c.directions >= 3 ? Vec3(Vec3::Unit(j)) : c.normal;
+            for (int b = 0; b < basis.count; ++b)
+            {
+                u -= u.dot(basis.direction[std::size_t(b)]) * basis.direction[std::size_t(b)];
+            }
+            if (u.norm() > 1e-6 && basis.count < 3)
+            {
+                basis.direction[std::size_t(basis.count++)] = u.normalized();
+            }
+        }
+    }
+    if (m_constrainedMasses.empty())
+    {
+        return false;
+    }
+    // Friction as a tangential damping -c (I - n n^T)(v' - u), added like the air drag before the filter.
+    for (const VelocityConstraint& c : constraints)
+    {
+        if (c.tangentialDamping <= 0 || c.mass >= p.size() || p.pinned[c.mass] || !c.honoured())
+        {
+            continue;
+        }
+        const Mat3 tangential = Mat3::Identity() - c.normal * c.normal.transpose();
+        m_matrix.add(m_matrix.diagonal(c.mass), (a * c.tangentialDamping) * tangential);
+        m_rhs.segment<3>(Eigen::Index(3 * c.mass)) -=
+            (a * c.tangentialDamping) * (tangential * (p.velocity[c.mass] - c.velocity));
+    }
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        Mat3 held = Mat3::Zero(); // I - S: projection onto the constrained directions
+        for (int b = 0; b < m_bases[k].count; ++b)
+        {
+            held += m_bases[k].direction[std::size_t(b)] * m_bases[k].direction[std::size_t(b)].transpose();
+        }
+        m_filters.push_back(Mat3::Identity() - held);
+        m_prescribed[k] = held * (m_prescribed[k] - p.velocity[m_constrainedMasses[k]]);
+    }
+    auto filterOf = [&](Index i) -> const Mat3*
+    { return m_constraintOf[i] < 0 ? nullptr : &m_filters[std::size_t(m_constraintOf[i])]; };
+    auto changeOf = [&](Index i) { return m_prescribed[std::size_t(m_constraintOf[i])]; };
+
+    m_rowDiagonal.resize(m_constrainedMasses.size());
+    m_rowRhs.resize(m_constrainedMasses.size());
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        const Index i = m_constrainedMasses[k];
+        m_rowDiagonal[k] = m_matrix.read(m_matrix.diagonal(i));
+        m_rowRhs[k] = m_rhs.segment<3>(Eigen::Index(3 * i));
+    }
+    const SpringSet& springs = system.springs;
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Index ea = springs.ends()[s].a;
+        const Index eb = springs.ends()[s].b;
+        if (m_constraintOf[ea] >= 0)
+        {
+            m_rowNeighbours.push_back({std::size_t(m_constraintOf[ea]), eb, m_matrix.read(m_matrix.ab(s))});
+        }
+        if (m_constraintOf[eb] >= 0)
+        {
+            m_rowNeighbours.push_back({std::size_t(m_constraintOf[eb]), ea, m_matrix.read(m_matrix.ba(s))});
+        }
+    }
+
+    // b' = b - A c, before A is filtered.
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        const Index i = m_constrainedMasses[k];
+        m_rhs.segment<3>(Eigen::Index(3 * i)) -= m_matrix.read(m_matrix.diagonal(i)) * m_prescribed[k];
+    }
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Index ea = springs.ends()[s].a;
+        const Index eb = springs.ends()[s].b;
+        if (m_constraintOf[eb] >= 0)
+        {
+            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= m_matrix.read(m_matrix.ab(s)) * changeOf(eb);
+        }
+        if (m_constraintOf[ea] >= 0)
+        {
+            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= m_matrix.read(m_matrix.ba(s)) * changeOf(ea);
+        }
+    }
+    // Filter: rows and columns of constrained masses.
+    for (std::size_t s = 0; s < springs.size(); ++s)
+    {
+        const Mat3* filterA = filterOf(springs.ends()[s].a);
+        const Mat3* filterB = filterOf(springs.ends()[s].b);
+        if (!filterA && !filterB)
+        {
+            continue;
+        }
+        const Mat3 sa = filterA ? *filterA : Mat3::Identity();
+        const Mat3 sb = filterB ? *filterB : Mat3::Identity();
+        m_matrix.write(m_matrix.ab(s), sa * m_matrix.read(m_matrix.ab(s)) * sb);
+        m_matrix.write(m_matrix.ba(s), sb * m_matrix.read(m_matrix.ba(s)) * sa);
+    }
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        const Index i = m_constrainedMasses[k];
+        const Mat3& filter = m_filters[k];
+        m_matrix.write(m_matrix.diagonal(i),
+                       filter * m_matrix.read(m_matrix.diagonal(i)) * filter + (Mat3::Identity() - filter));
+        m_rhs.segment<3>(Eigen::Index(3 * i)) = filter * m_rhs.segment<3>(Eigen::Index(3 * i));
+    }
+    return true;
+}
+
+void ImplicitSolve::assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
+                             const std::vector<Vec3>& momentum)
+{
+    const Particles& p = system.particles;
+    const SpringSet& springs = system.springs;
+    const std::size_t n = p.size();
+    const Real a2 = a * a;
+    const bool hasOffset = !offset.empty();
+    const SpringAdjacency& adjacency = springs.adjacency(n); // built here, on one thread, if the springs changed
+
+    // Each spring's block and right-hand side term, once, over spring ranges.
+    m_springTerms.resize(springs.size());
+    m_springEngaged.resize(springs.size());
+    const SimdPath path = activeSimdPath();
+    SpringTermInputs inputs;
+    inputs.a = a;
+    inputs.offset = &offset;
+    parallelFor(springs.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end) {
+                    computeSpringTerms(path, system, inputs, begin, end, m_springTerms.data(), m_springEngaged.data());
+                });
+
+    const auto* outer = m_matrix.matrix().outerIndexPtr();
+    // Each mass gathers its row over mass ranges: its springs in increasing index, the order the serial scatter added
+    // them in, so the sums have the same bits at any thread count. Each mass is the only writer of its own block column
+    // (Eigen's storage is column-major), the diagonal block and one block per spring.
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const bool freeI = !p.pinned[i];
+                        Mat3 diagonal = Mat3::Zero();
+                        Vec3 rhs = a * p.force[i];
+                        if (!momentum.empty())
+                        {
+                            rhs += p.mass[i] * momentum[i];
+                        }
+                        if (freeI)
+                        {
+                            diagonal += (p.mass[i] * (Real(1) + a * system.forces.airDamping)) * Mat3::Identity();
+                        }
+                        // Mass i writes its own block column, so its writes stay in one place in memory.
+                        const SlotMatrix<3>::Slots columnTop = {outer[3 * i], outer[3 * i + 1], outer[3 * i + 2]};
+                        for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
+                        {
+                            const std::size_t s = std::size_t(adjacency.entries[e].spring);
+                            const Index other = adjacency.entries[e].other;
+                            const ColumnEntry& entry = m_columnEntries[e];
+                            const bool engaged = m_springEngaged[s] != 0;
+                            const bool couples = engaged && freeI && !p.pinned[other];
+                            const SpringTerm& term = m_springTerms[s];
+                            const Mat3 block = engaged ? term.block() : Mat3(Mat3::Zero());
+                            const SlotMatrix<3>::Slots column = {
+                                columnTop[0] + entry.offset, columnTop[1] + entry.offset, columnTop[2] + entry.offset};
+                            // 0 - B has the bits of 0 + (-B), the serial scatter's sum, signed zeros included.
+                            if (entry.kind == OffDiagonal::First)
+                            {
+                                m_matrix.write(column, couples ? Mat3(Mat3::Zero() - block) : Mat3(Mat3::Zero()));
+                            }
+                            else if (entry.kind == OffDiagonal::Later && couples)
+                            {
+                                m_matrix.add(column, -block);
+                            }
+                            if (!engaged || !freeI)
+                            {
+                                continue;
+                            }
+                            diagonal += block;
+                            if (entry.first)
+                            {
+                                rhs -= term.kv;
+                            }
+                            else
+                            {
+                                rhs += term.kv;
+                            }
+                        }
+                        if (!freeI) // an identity row and a zero right-hand side: dv = 0
+                        {
+                            diagonal += Mat3::Identity();
+                            rhs.setZero();
+                        }
+                        m_matrix.write(m_matrix.diagonal(i), diagonal);
+                        m_rhs.segment<3>(Eigen::Index(3 * i)) = rhs;
+                    }
+                });
+
+    for (const UserSpring& spring : system.userSprings.all())
+    {
+        const Index i = spring.mass;
+        if (p.pinned[i])
+        {
+            continue;
+        }
+        const UserSpringForce f = evaluateUserSpring(spring, p.position[i], p.velocity[i]);
+        const Real scale = spring.stiffness > 0 ? f.effectiveStiffness / spring.stiffness : Real(1);
+        const Real diagonal = a * spring.damping * scale + a2 * f.effectiveStiffness;
+        m_matrix.add(m_matrix.diagonal(i), diagonal * Mat3::Identity());
+        Vec3 move = a * (p.velocity[i] - spring.targetVelocity);
+        if (hasOffset)
+        {
+            move += offset[i];
+        }
+        m_rhs.segment<3>(Eigen::Index(3 * i)) -= a * f.effectiveStiffness * move;
+    }
+}
+} // namespace masse

@@ -1,0 +1,178 @@
+#include "core/linear/ConjugateGradient.h"
+
+#include "core/parallel/ChunkedSum.h"
+#include "core/parallel/TaskPool.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace masse
+{
+namespace
+{
+/// Rows per piece of a matrix-vector product: a task system hands out pieces of this many rows.
+constexpr Eigen::Index productChunk = 3 * 1024;
+
+void resizeIfNeeded(Vector& v, Eigen::Index size)
+{
+    if (v.size() != size)
+    {
+        v.resize(size);
+    }
+}
+
+// Element-wise updates as plain loops: Eigen's packet code would use fused multiply-adds on a build that targets
+// them, and the bits must not depend on the SIMD path.
+
+/// y += alpha x over entries [begin, end).
+void addScaled(Vector& y, Real alpha, const Vector& x, Eigen::Index begin, Eigen::Index end)
+{
+    for (Eigen::Index i = begin; i < end; ++i)
+    {
+        y[i] += alpha * x[i];
+    }
+}
+
+/// p = z + beta p over entries [begin, end).
+void updateDirection(Vector& p, const Vector& z, Real beta, Eigen::Index begin, Eigen::Index end)
+{
+    for (Eigen::Index i = begin; i < end; ++i)
+    {
+        p[i] = z[i] + beta * p[i];
+    }
+}
+} // namespace
+
+void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end)
+{
+    const auto* outer = a.outerIndexPtr();
+    const auto* inner = a.innerIndexPtr();
+    const Real* values = a.valuePtr();
+    const Real* in = x.data();
+    const auto sameColumns = [&](Eigen::Index first, Eigen::Index second)
+    {
+        return outer[first + 1] - outer[first] == outer[second + 1] - outer[second] &&
+               std::equal(inner + outer[first], inner + outer[first + 1], inner + outer[second]);
+    };
+    Eigen::Index row = begin;
+    while (row < end)
+    {
+        if (row + 2 < end && sameColumns(row, row + 1) && sameColumns(row, row + 2))
+        {
+            // A mass's three rows (the implicit matrix is in dense 3x3 blocks) share their columns: summed together,
+            // each in its own order as below, so the three running sums do not wait on one another and each x is
+            // read once. Each row's sum is the same as alone, bit for bit.
+            const auto count = outer[row + 1] - outer[row];
+            const Real* v0 = values + outer[row];
+            const Real* v1 = values + outer[row + 1];
+            const Real* v2 = values + outer[row + 2];
+            const auto* columns = inner + outer[row];
+            Real sum0 = 0;
+            Real sum1 = 0;
+            Real sum2 = 0;
+            for (std::ptrdiff_t k = 0; k < count; ++k)
+            {
+                const Real xk = in[columns[k]];
+                sum0 += v0[k] * xk;
+                sum1 += v1[k] * xk;
+                sum2 += v2[k] * xk;
+            }
+            y[row] = sum0;
+            y[row + 1] = sum1;
+            y[row + 2] = sum2;
+            row += 3;
+            continue;
+        }
+        Real sum = 0;
+        for (auto k = outer[row]; k < outer[row + 1]; ++k)
+        {
+            sum += values[k] * in[inner[k]];
+        }
+        y[row] = sum;
+        ++row;
+    }
+}
+
+void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector& y) const
+{
+    parallelFor(std::size_t(a.rows()), std::size_t(productChunk),
+                [&](std::size_t begin, std::size_t end)
+                { multiplySymmetricRows(a, x, y, Eigen::Index(begin), Eigen::Index(end)); });
+}
+
+Real ConjugateGradient::dot(const Vector& u, const Vector& v)
+{
+    return chunkedDot(u, v);
+}
+
+SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vector& x,
+                                     const Preconditioner& preconditioner, Real tolerance, int maxIterations)
+{
+    const Eigen::Index n = a.rows();
+    resizeIfNeeded(m_residual, n);
+    resizeIfNeeded(m_direction, n);
+    resizeIfNeeded(m_preconditioned, n);
+    resizeIfNeeded(m_product, n);
+    SolveResult result;
+
+    const Real rhsNorm2 = dot(b, b);
+    if (rhsNorm2 == 0)
+    {
+        x.setZero();
+        result.converged = true;
+        return result;
+    }
+    if (!std::isfinite(rhsNorm2))
+    {
+        // A non-finite right-hand side (an infinite force) would meet the threshold of infinity at once and leave x
+        // as it was: pass it through instead, so the simulator's finite check stops the run.
+        x = b;
+        return result;
+    }
+    const Real threshold = tolerance * tolerance * rhsNorm2;
+
+    multiply(a, x, m_product);
+    for (Eigen::Index k = 0; k < n; ++k)
+    {
+        m_residual[k] = b[k] - m_product[k];
+    }
+    Real residualNorm2 = dot(m_residual, m_residual);
+    if (residualNorm2 <= threshold)
+    {
+        result.residual = std::sqrt(residualNorm2 / rhsNorm2);
+        result.converged = true;
+        return result;
+    }
+    preconditioner.apply(m_residual, m_direction);
+    Real absNew = dot(m_residual, m_direction);
+    int i = 0;
+    while (i < maxIterations)
+    {
+        multiply(a, m_direction, m_product);
+        const Real alpha = absNew / dot(m_direction, m_product);
+        parallelFor(std::size_t(n), std::size_t(productChunk),
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        addScaled(x, alpha, m_direction, Eigen::Index(begin), Eigen::Index(end));
+                        addScaled(m_residual, -alpha, m_product, Eigen::Index(begin), Eigen::Index(end));
+                    });
+        residualNorm2 = dot(m_residual, m_residual);
+        ++i;
+        if (residualNorm2 <= threshold)
+        {
+            break;
+        }
+        preconditioner.apply(m_residual, m_preconditioned);
+        const Real absOld = absNew;
+        absNew = dot(m_residual, m_preconditioned);
+        const Real beta = absNew / absOld;
+        parallelFor(std::size_t(n), std::size_t(productChunk),
+                    [&](std::size_t begin, std::size_t end)
+                    { updateDirection(m_direction, m_preconditioned, beta, Eigen::Index(begin), Eigen::Index(end)); });
+    }
+    result.iterations = i;
+    result.residual = std::sqrt(residualNorm2 / rhsNorm2);
+    result.converged = residualNorm2 <= threshold;
+    return result;
+}
+} // namespace masse

@@ -1,0 +1,53 @@
+#pragma once
+/// Preconditioned conjugate gradient for the implicit step's symmetric positive definite matrix, with its work vectors
+/// kept between solves (no allocation once sized) and every reduction summed in fixed chunks (ChunkedSum.h), so the
+/// iterates are the same bit for bit however the kernels are shared among threads.
+///
+/// The stopping rule is Eigen's: |b - A x| <= tolerance |b|, so results compare with Eigen::ConjugateGradient's.
+
+#include "core/Types.h"
+
+#include <Eigen/SparseCore>
+
+namespace masse
+{
+using SparseMatrix = Eigen::SparseMatrix<Real>;
+using Vector = Eigen::VectorX<Real>;
+
+/// z = P^-1 r for a symmetric positive definite P close to the matrix.
+class Preconditioner
+{
+public:
+    virtual ~Preconditioner() = default;
+    virtual void apply(const Vector& r, Vector& z) const = 0;
+};
+
+/// What one solve did.
+struct SolveResult
+{
+    int iterations = 0;
+    Real residual = 0; ///< |b - A x| / |b| at the end
+    bool converged = false;
+};
+
+/// y = A x for a symmetric A stored by columns, computed row by row over rows [begin, end): column j of a symmetric
+/// matrix is its row j, so each output entry is a gather and row ranges are independent.
+void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end);
+
+class ConjugateGradient
+{
+public:
+    /// Improves x (the first guess) until the stopping rule holds or maxIterations have run.
+    SolveResult solve(const SparseMatrix& a, const Vector& b, Vector& x, const Preconditioner& preconditioner,
+                      Real tolerance, int maxIterations);
+
+private:
+    void multiply(const SparseMatrix& a, const Vector& x, Vector& y) const;
+    Real dot(const Vector& u, const Vector& v);
+
+    Vector m_residual;
+    Vector m_direction;
+    Vector m_preconditioned;
+    Vector m_product;
+};
+} // namespace masse

@@ -1,0 +1,633 @@
+#include "core/linear/StagedLdlt.h"
+
+#include "core/forces/SimdPath.h"
+#include "core/linear/PermutedValues.h"
+#include "core/parallel/TaskPool.h"
+
+#include <algorithm>
+#include <atomic>
+
+namespace masse
+{
+using StorageIndex = StagedLdlt::StorageIndex;
+
+namespace
+{
+/// Numbers every factorisation in the process, so that a thread's visit marks (see RowWorkspace) left by one
+/// factorisation, of this factor or another of the same size, never match another's.
+std::atomic<long long> factorisations{0};
+
+/// One thread's scratch for the rows it factors: kept from call to call (no allocation per refresh).
+struct RowWorkspace
+{
+    std::vector<Real> y;               ///< the row being solved for, scattered; all zero between rows
+    std::vector<StorageIndex> pattern; ///< the row's pattern, as a stack in topological order
+    std::vector<long long> mark;       ///< generation * n + row of the row that last visited each row
+
+    void fit(std::size_t n)
+    {
+        if (y.size() != n)
+        {
+            y.assign(n, 0);
+            pattern.assign(n, 0);
+            mark.assign(n, -1);
+        }
+    }
+};
+/// One block of separator rows' entries (StagedLdlt::Blocks' arrays from the block's first entry): `count` columns
+/// below the separator, each with where its entries below the separator and in the separator's rows end, and the
+/// block's y (`lanes` to a column).
+struct BlockColumns
+{
+    std::size_t count;
+    const StorageIndex* column;
+    const StorageIndex* belowEnd;
+    const StorageIndex* separatorEnd;
+    Real* y;
+};
+
+constexpr std::size_t lanes = StagedLdlt::lanes;
+
+/// A block's lanes as one value: GCC's vector extension, one AVX-512 register on that path and split into the
+/// path's registers on the others; each lane's arithmetic is the scalar operation.
+using LaneValues = Real __attribute__((vector_size(lanes * sizeof(Real)), aligned(sizeof(Real))));
+
+// One copy of the blocks' kernels per SIMD path: only the instruction set differs (each lane's arithmetic is the
+// scalar code's, in the same order, so the bits do not).
+#define MASSE_BLOCK_KERNELS(suffix, targetAttribute)                                                                   \
+    /* Step 1 for a block: each column below in increasing order takes its y from the block's scratch `y` (lanes       \
+       values per row, cleared as it goes), keeps it, and updates the y of its entries below the separator and the     \
+       block's pivots d. */                                                                                            \
+    targetAttribute void eliminateBelow##suffix(const BlockColumns& block, const StorageIndex* start,                  \
+                                                const StorageIndex* rows, const Real* values, const Real* diagonal,    \
+                                                Real* y, Real* d)                                                      \
+    {                                                                                                                  \
+        LaneValues pivots = *reinterpret_cast<const LaneValues*>(d);                                                   \
+        for (std::size_t j = 0; j < block.count; ++j)                                                                  \
+        {                                                                                                              \
+            const StorageIndex c = block.column[j];                                                                    \
+            LaneValues* yc = reinterpret_cast<LaneValues*>(y + std::size_t(c) * lanes);                                \
+            const LaneValues yv = *yc;                                                                                 \
+            *reinterpret_cast<LaneValues*>(block.y + j * lanes) = yv;                                                  \
+            *yc = LaneValues{};                                                                                        \
+            pivots -= (yv / diagonal[c]) * yv;                                                                         \
+            for (StorageIndex p = start[c]; p < block.belowEnd[j]; ++p)                                                \
+            {                                                                                                          \
+                LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rows[p]) * lanes);                  \
+                *target -= values[p] * yv;                                                                             \
+            }                                                                                                          \
+        }                                                                                                              \
+        *reinterpret_cast<LaneValues*>(d) = pivots;                                                                    \
+    }                                                                                                                  \
+    /* Step 2 for a block: each column below subtracts its entries in the separator's rows before `lastRow` times      \
+       the block's y from `z` (lanes values per separator row from `begin`). */                                        \
+    targetAttribute void schurBlock##suffix(const BlockColumns& block, const StorageIndex* rows, const Real* values,   \
+                                            StorageIndex begin, StorageIndex lastRow, Real* z)                         \
+    {                                                                                                                  \
+        for (std::size_t j = 0; j < block.count; ++j)                                                                  \
+        {                                                                                                              \
+            const LaneValues yc = *reinterpret_cast<const LaneValues*>(block.y + j * lanes);                           \
+            for (StorageIndex p = block.belowEnd[j]; p < block.separatorEnd[j] && rows[p] < lastRow; ++p)              \
+            {                                                                                                          \
+                LaneValues* target = reinterpret_cast<LaneValues*>(z + std::size_t(rows[p] - begin) * lanes);          \
+                *target -= values[p] * yc;                                                                             \
+            }                                                                                                          \
+        }                                                                                                              \
+    }
+
+MASSE_BLOCK_KERNELS(Default, )
+#if defined(__x86_64__) && defined(__GNUC__)
+MASSE_BLOCK_KERNELS(Avx2, __attribute__((target("avx2"))))
+MASSE_BLOCK_KERNELS(Avx512, __attribute__((target("avx512f"))))
+#endif
+#undef MASSE_BLOCK_KERNELS
+
+void eliminateBelowOn(SimdPath path, const BlockColumns& block, const StorageIndex* start, const StorageIndex* rows,
+                      const Real* values, const Real* diagonal, Real* y, Real* d)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return eliminateBelowAvx512(block, start, rows, values, diagonal, y, d);
+    case SimdPath::Avx2:
+        return eliminateBelowAvx2(block, start, rows, values, diagonal, y, d);
+#endif
+    default:
+        return eliminateBelowDefault(block, start, rows, values, diagonal, y, d);
+    }
+}
+
+void schurBlockOn(SimdPath path, const BlockColumns& block, const StorageIndex* rows, const Real* values,
+                  StorageIndex begin, StorageIndex lastRow, Real* z)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return schurBlockAvx512(block, rows, values, begin, lastRow, z);
+    case SimdPath::Avx2:
+        return schurBlockAvx2(block, rows, values, begin, lastRow, z);
+#endif
+    default:
+        return schurBlockDefault(block, rows, values, begin, lastRow, z);
+    }
+}
+} // namespace
+
+void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::vector<OrderRange>>& stages)
+{
+    m_stages = stages;
+    m_upperSources.clear(); // a new pattern
+    const StorageIndex n = StorageIndex(permuted.rows());
+    // Eigen's factorisation reads the upper triangle it makes from the full matrix; the same expression here gives
+    // the same entries in the same order, which fixes the order of each row's updates and so the bits.
+    assignUpper(permuted);
+    // The elimination tree and L's column counts (Eigen's analyzePattern_preordered).
+    m_parent.assign(std::size_t(n), -1);
+    m_columnCount.assign(std::size_t(n), 0);
+    std::vector<StorageIndex> tags(std::size_t(n), 0);
+    for (StorageIndex k = 0; k < n; ++k)
+    {
+        tags[std::size_t(k)] = k;
+        for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+        {
+            StorageIndex i = StorageIndex(it.index());
+            for (; i < k && tags[std::size_t(i)] != k; i = m_parent[std::size_t(i)])
+            {
+                if (m_parent[std::size_t(i)] == -1)
+                {
+                    m_parent[std::size_t(i)] = k;
+                }
+                ++m_columnCount[std::size_t(i)];
+                tags[std::size_t(i)] = k;
+            }
+        }
+    }
+    m_updates = 0;
+    for (const StorageIndex count : m_columnCount)
+    {
+        m_updates += 0.5 * double(count) * double(count - 1);
+    }
+    m_lower.resize(n, n);
+    StorageIndex* start = m_lower.outerIndexPtr();
+    start[0] = 0;
+    for (StorageIndex k = 0; k < n; ++k)
+    {
+        start[k + 1] = start[k] + m_columnCount[std::size_t(k)];
+    }
+    m_lower.resizeNonZeros(start[n]);
+    m_diagonal.resize(n);
+    analyseSeparators();
+}
+
+void StagedLdlt::analyseSeparators()
+{
+    const StorageIndex n = StorageIndex(m_upper.rows());
+    const StorageIndex* start = m_lower.outerIndexPtr();
+    m_separators.clear();
+    m_blocks = Blocks{};
+    m_blocks.start.push_back(0);
+    m_stageSeparators.assign(1, 0);
+    std::vector<std::ptrdiff_t> separatorOf(std::size_t(n), -1);
+    for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
+    {
+        for (const OrderRange& range : m_stages[stage])
+        {
+            if (stage > 0 && range.end > range.begin)
+            {
+                for (std::size_t k = range.begin; k < range.end; ++k)
+                {
+                    separatorOf[k] = std::ptrdiff_t(m_separators.size());
+                }
+                Separator& separator = m_separators.emplace_back();
+                separator.begin = StorageIndex(range.begin);
+                separator.end = StorageIndex(range.end);
+            }
+        }
+        m_stageSeparators.push_back(m_separators.size());
+    }
+    m_stageBlocks.assign(m_stages.size(), {});
+    if (m_separators.empty())
+    {
+        return;
+    }
+    // Every row's pattern in elimination order, to find where each of its entries goes in L (a column's entries come
+    // in increasing row), keeping the separators' rows' entries; a separator's rows are consecutive, and each is
+    // blocked once its last row is reached.
+    std::vector<StorageIndex> filled(std::size_t(n), 0);
+    std::vector<long long> mark(std::size_t(n), -1);
+    std::vector<StorageIndex> pattern(static_cast<std::size_t>(n));
+    std::vector<StorageIndex> firstInSeparator(std::size_t(n), -1); // per column: its first entry in the separator
+    std::vector<StorageIndex> lastInSeparator(std::size_t(n), -1);
+    std::vector<std::size_t> belowStart{0};  // per row of the separator and one past: its entries in columns below
+    std::vector<StorageIndex> belowColumn;   // those columns
+    std::vector<StorageIndex> belowPosition; // and where each entry goes
+    std::vector<StorageIndex> slot(std::size_t(n), -1); // per column: its entry in the block being built
+    for (StorageIndex k = 0; k < n; ++k)
+    {
+        const std::ptrdiff_t which = separatorOf[std::size_t(k)];
+        Separator* separator = which < 0 ? nullptr : &m_separators[std::size_t(which)];
+        if (separator && k == separator->begin)
+        {
+            separator->ownStart.assign(1, 0);
+            belowStart.assign(1, 0);
+            belowColumn.clear();
+            belowPosition.clear();
+        }
+        for (StorageIndex t = rowPattern(k, k, mark.data(), pattern.data()); t < n; ++t)
+        {
+            const StorageIndex column = pattern[std::size_t(t)];
+            const StorageIndex position = start[column] + filled[std::size_t(column)]++;
+            if (!separator)
+            {
+                continue;
+            }
+            if (column < separator->begin)
+            {
+                belowColumn.push_back(column);
+                belowPosition.push_back(position);
+                if (firstInSeparator[std::size_t(column)] < 0)
+                {
+                    firstInSeparator[std::size_t(column)] = position;
+                }
+                lastInSeparator[std::size_t(column)] = position;
+            }
+            else
+            {
+                separator->ownColumn.push_back(column);
+            }
+        }
+        if (!separator)
+        {
+            continue;
+        }
+        belowStart.push_back(belowColumn.size());
+        separator->ownStart.push_back(separator->ownColumn.size());
+        if (k + 1 < separator->end)
+        {
+            continue;
+        }
+        // The separator's blocks: each block's columns below in increasing order (the elimination tree's parents
+        // come after their children, so that is a topological order for every row), with the rows that have each.
+        const std::size_t rows = std::size_t(separator->end - separator->begin);
+        separator->firstBlock = m_blocks.separator.size();
+        for (std::size_t first = 0; first < rows; first += lanes)
+        {
+            const std::size_t blockBegin = m_blocks.column.size();
+            const std::size_t last = std::min(rows, first + lanes);
+            std::vector<StorageIndex> columns;
+            for (std::size_t e = belowStart[first]; e < belowStart[last]; ++e)
+            {
+                if (slot[std::size_t(belowColumn[e])] < 0)
+                {
+                    slot[std::size_t(belowColumn[e])] = 0;
+                    columns.push_back(belowColumn[e]);
+                }
+            }
+            std::sort(columns.begin(), columns.end());
+            for (std::size_t j = 0; j < columns.size(); ++j)
+            {
+                const StorageIndex c = columns[j];
+                slot[std::size_t(c)] = StorageIndex(j);
+                m_blocks.column.push_back(c);
+                m_blocks.belowEnd.push_back(firstInSeparator[std::size_t(c)]);
+                m_blocks.separatorEnd.push_back(lastInSeparator[std::size_t(c)] + 1);
+            }
+            m_blocks.rows.resize(m_blocks.column.size(), 0);
+            m_blocks.position.resize(m_blocks.column.size() * lanes, -1);
+            for (std::size_t r = first; r < last; ++r)
+            {
+                for (std::size_t e = belowStart[r]; e < belowStart[r + 1]; ++e)
+                {
+                    const std::size_t entry = blockBegin + std::size_t(slot[std::size_t(belowColumn[e])]);
+                    m_blocks.rows[entry] |= 1u << (r - first);
+                    m_blocks.position[entry * lanes + (r - first)] = belowPosition[e];
+                }
+            }
+            for (StorageIndex c : columns)
+            {
+                slot[std::size_t(c)] = -1;
+            }
+            m_blocks.separator.push_back(std::size_t(which));
+            m_blocks.firstRow.push_back(separator->begin + StorageIndex(first));
+            m_blocks.start.push_back(m_blocks.column.size());
+        }
+        for (std::size_t e = 0; e < belowColumn.size(); ++e)
+        {
+            firstInSeparator[std::size_t(belowColumn[e])] = -1;
+        }
+        separator->endBlock = m_blocks.separator.size();
+        separator->partialPivot.resize(rows);
+        separator->schur.resize(rows * (rows - 1) / 2);
+    }
+    m_blocks.y.resize(m_blocks.column.size() * lanes);
+    for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
+    {
+        for (std::size_t k = m_stageSeparators[stage]; k < m_stageSeparators[stage + 1]; ++k)
+        {
+            for (std::size_t b = m_separators[k].firstBlock; b < m_separators[k].endBlock; ++b)
+            {
+                m_stageBlocks[stage].push_back(b);
+            }
+        }
+    }
+}
+
+StorageIndex StagedLdlt::rowPattern(StorageIndex k, long long visit, long long* mark, StorageIndex* pattern) const
+{
+    // Eigen's walk: from each entry i <= k of A's column k up the elimination tree until a row already reached; each
+    // path is stacked above the ones before it, so the rows come out children first.
+    StorageIndex top = StorageIndex(m_upper.rows());
+    mark[k] = visit;
+    for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+    {
+        StorageIndex i = StorageIndex(it.index());
+        if (i <= k)
+        {
+            StorageIndex length = 0;
+            for (; mark[i] != visit; i = m_parent[std::size_t(i)])
+            {
+                pattern[length++] = i;
+                mark[i] = visit;
+            }
+            while (length > 0)
+            {
+                pattern[--top] = pattern[--length];
+            }
+        }
+    }
+    return top;
+}
+
+void StagedLdlt::assignUpper(const SparseMatrix& permuted)
+{
+    // Eigen's expression, with its identity permutation: the same entries in the same order as Eigen's factorisation
+    // reads (see analyse). Found once; each factorisation gathers the values.
+    if (m_upperSources.empty())
+    {
+        const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
+        m_upperSources = findPermutedSources(
+            permuted,
+            [&](const SparseMatrix& m)
+            {
+                SparseMatrix upper(m.rows(), m.cols());
+                upper.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>().twistedBy(identity);
+                return upper;
+            },
+            m_upper);
+    }
+    gatherPermutedValues(permuted, m_upperSources, m_upper);
+}
+
+bool StagedLdlt::factorize(const SparseMatrix& permuted)
+{
+    assignUpper(permuted);
+    m_generation = ++factorisations;
+    std::atomic<bool> ok{true};
+    for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
+    {
+        if (stage > 0)
+        {
+            if (!factorSeparators(stage))
+            {
+                return false;
+            }
+            continue;
+        }
+        const std::vector<OrderRange>& ranges = m_stages[stage];
+        sharedPool().run(ranges.size(),
+                         [&](std::size_t r)
+                         {
+                             if (!factorRows(StorageIndex(ranges[r].begin), StorageIndex(ranges[r].end)))
+                             {
+                                 ok = false;
+                             }
+                         });
+        if (!ok)
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+Real StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Real* y, StorageIndex offset)
+{
+    const StorageIndex* start = m_lower.outerIndexPtr();
+    StorageIndex* rows = m_lower.innerIndexPtr();
+    Real* values = m_lower.valuePtr();
+    const Real yi = y[i - offset];
+    y[i - offset] = 0;
+    const Real lki = yi / m_diagonal[i];
+    const StorageIndex last = start[i] + m_columnCount[std::size_t(i)];
+    StorageIndex p = start[i];
+    for (; p < last; ++p)
+    {
+        y[rows[p] - offset] -= values[p] * yi;
+    }
+    rows[p] = k;
+    values[p] = lki;
+    ++m_columnCount[std::size_t(i)];
+    return lki * yi;
+}
+
+bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
+{
+    // Eigen's factorize_preordered<true> over rows [begin, end), with this thread's scratch.
+    thread_local RowWorkspace work;
+    const std::size_t n = std::size_t(m_upper.rows());
+    work.fit(n);
+    Real* y = work.y.data();
+    StorageIndex* pattern = work.pattern.data();
+    long long* mark = work.mark.data();
+    const long long base = m_generation * (long long)(n);
+    for (StorageIndex k = begin; k < end; ++k)
+    {
+        // The pattern of row k of L, in topological order: every row the etree reaches from A's column k above k.
+        y[k] = 0;
+        m_columnCount[std::size_t(k)] = 0;
+        StorageIndex top = rowPattern(k, base + k, mark, pattern);
+        for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+        {
+            if (StorageIndex(it.index()) <= k)
+            {
+                y[it.index()] += it.value();
+            }
+        }
+        // Row k's values: a sparse triangular solve with the rows above.
+        Real d = y[k];
+        y[k] = 0;
+        for (; top < StorageIndex(n); ++top)
+        {
+            d -= appendToColumn(pattern[top], k, y, 0);
+        }
+        m_diagonal[k] = d;
+        if (d == 0)
+        {
+            work.y.assign(n, 0); // a row left half solved: clear it for the next factorisation
+            return false;
+        }
+    }
+    return true;
+}
+bool StagedLdlt::factorSeparators(std::size_t stage)
+{
+    const std::size_t firstSeparator = m_stageSeparators[stage];
+    const std::size_t endSeparator = m_stageSeparators[stage + 1];
+    if (firstSeparator == endSeparator)
+    {
+        return true;
+    }
+    const std::vector<std::size_t>& blocks = m_stageBlocks[stage];
+    const StorageIndex* start = m_lower.outerIndexPtr();
+    StorageIndex* rows = m_lower.innerIndexPtr();
+    Real* values = m_lower.valuePtr();
+    const std::size_t n = std::size_t(m_upper.rows());
+    const SimdPath path = activeSimdPath();
+    // Row r's column of the Schur complement holds its r entries above it, packed after those of the rows before.
+    auto schurOffset = [](std::size_t r) { return r == 0 ? std::size_t(0) : r * (r - 1) / 2; };
+    auto blockColumns = [&](std::size_t b)
+    {
+        const std::size_t first = m_blocks.start[b];
+        return BlockColumns{m_blocks.start[b + 1] - first, m_blocks.column.data() + first,
+                            m_blocks.belowEnd.data() + first, m_blocks.separatorEnd.data() + first,
+                            m_blocks.y.data() + first * lanes};
+    };
+
+    // 1. Each row's entries in the columns below the separator: a sparse triangular solve with those columns alone
+    // (their entries so far are all in rows below the separator), for a block of rows at once: each column's entries
+    // are read once for the block rather than once a row (row by row, these reads were most of a refactorisation).
+    // The block's columns come in increasing order; where a row has no entry its y is zero, and its lane's
+    // arithmetic changes nothing.
+    sharedPool().run(blocks.size(),
+                     [&](std::size_t task)
+                     {
+                         const std::size_t b = blocks[task];
+                         Separator& separator = m_separators[m_blocks.separator[b]];
+                         const StorageIndex firstRow = m_blocks.firstRow[b];
+                         const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
+                         thread_local std::vector<Real> scratch; // lanes values per row, all zero between blocks
+                         if (scratch.size() != n * lanes)
+                         {
+                             scratch.assign(n * lanes, 0);
+                         }
+                         Real* y = scratch.data();
+                         alignas(64) Real d[lanes] = {};
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             const StorageIndex k = firstRow + StorageIndex(lane);
+                             for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+                             {
+                                 const StorageIndex i = StorageIndex(it.index());
+                                 if (i < separator.begin)
+                                 {
+                                     y[std::size_t(i) * lanes + lane] += it.value();
+                                 }
+                                 else if (i == k)
+                                 {
+                                     d[lane] += it.value();
+                                 }
+                             }
+                         }
+                         const BlockColumns block = blockColumns(b);
+                         eliminateBelowOn(path, block, start, rows, values, m_diagonal.data(), y, d);
+                         const std::size_t firstEntry = m_blocks.start[b];
+                         for (std::size_t j = 0; j < block.count; ++j)
+                         {
+                             const StorageIndex* position = m_blocks.position.data() + (firstEntry + j) * lanes;
+                             const Real* yc = block.y + j * lanes;
+                             for (unsigned set = m_blocks.rows[firstEntry + j]; set != 0; set &= set - 1)
+                             {
+                                 const int lane = __builtin_ctz(set);
+                                 rows[position[lane]] = firstRow + StorageIndex(lane);
+                                 values[position[lane]] = yc[lane] / m_diagonal[block.column[j]];
+                             }
+                         }
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             separator.partialPivot[std::size_t(firstRow - separator.begin) + lane] = d[lane];
+                         }
+                     });
+
+    // 2. Each row's column of the Schur complement: A's entries above it in the separator, less what the columns
+    // below give them (their entries in the separator's rows above this one, written in step 1), a block of rows at
+    // once as in step 1.
+    sharedPool().run(blocks.size(),
+                     [&](std::size_t task)
+                     {
+                         const std::size_t b = blocks[task];
+                         Separator& separator = m_separators[m_blocks.separator[b]];
+                         const StorageIndex firstRow = m_blocks.firstRow[b];
+                         const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
+                         const std::size_t first = std::size_t(firstRow - separator.begin);
+                         thread_local std::vector<Real> scratch; // lanes values per separator row
+                         const std::size_t needed = (first + count) * lanes;
+                         if (scratch.size() < needed)
+                         {
+                             scratch.resize(needed, 0);
+                         }
+                         Real* z = scratch.data();
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             const StorageIndex k = firstRow + StorageIndex(lane);
+                             for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+                             {
+                                 const StorageIndex i = StorageIndex(it.index());
+                                 if (i >= separator.begin && i < k)
+                                 {
+                                     z[std::size_t(i - separator.begin) * lanes + lane] += it.value();
+                                 }
+                             }
+                         }
+                         const StorageIndex lastRow = firstRow + StorageIndex(count) - 1;
+                         schurBlockOn(path, blockColumns(b), rows, values, separator.begin, lastRow, z);
+                         // Each row takes the rows above it in its lane; the block's rows before its last were
+                         // written for the lanes below them, and all are cleared for the next block.
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             const std::size_t r = first + lane;
+                             Real* packed = separator.schur.data() + schurOffset(r);
+                             for (std::size_t j = 0; j < r; ++j)
+                             {
+                                 packed[j] = z[j * lanes + lane];
+                             }
+                         }
+                         std::fill(z, z + (first + count - 1) * lanes, Real(0));
+                     });
+
+    // 3. Each separator's own block, row by row as Eigen does, from the Schur complement.
+    std::atomic<bool> ok{true};
+    sharedPool().run(endSeparator - firstSeparator,
+                     [&](std::size_t task)
+                     {
+                         Separator& separator = m_separators[firstSeparator + task];
+                         const std::size_t count = std::size_t(separator.end - separator.begin);
+                         thread_local std::vector<Real> row; // the row being finished, over the separator
+                         if (row.size() < count)
+                         {
+                             row.resize(count, 0);
+                         }
+                         Real* y = row.data();
+                         for (std::size_t r = 0; r < count; ++r)
+                         {
+                             const StorageIndex k = separator.begin + StorageIndex(r);
+                             const Real* z = separator.schur.data() + schurOffset(r);
+                             std::copy(z, z + r, y);
+                             Real d = separator.partialPivot[r];
+                             m_columnCount[std::size_t(k)] = 0;
+                             for (std::size_t e = separator.ownStart[r]; e < separator.ownStart[r + 1]; ++e)
+                             {
+                                 d -= appendToColumn(separator.ownColumn[e], k, y, separator.begin);
+                             }
+                             m_diagonal[k] = d;
+                             if (d == 0)
+                             {
+                                 ok = false;
+                                 return;
+                             }
+                         }
+                     });
+    return ok;
+}
+} // namespace masse

@@ -1,0 +1,116 @@
+#pragma once
+/// A sparse LDL^T factorisation whose rows are computed over the nested dissection's stages on all cores, giving
+/// Eigen's SimplicialLDLT factor to rounding.
+///
+/// The factorisation is up-looking, as Eigen's: row k of L comes from a sparse triangular solve with the rows above it
+/// that k's elimination-tree subtree holds. The ranges of one dissection stage are separate subtrees (see
+/// DissectionOrder), so their rows read and write disjoint columns of L and can be computed at once. Eigen's
+/// factorisation runs on one core and was most of a refresh (4.6 s of 5.4 at 128x2x128).
+///
+/// The first stage's ranges (the dissection's parts) are factored row by row with Eigen's arithmetic. The later
+/// stages' ranges are separators, whose rows hold most of the arithmetic (at 128x2x128 the top one alone, 765 rows,
+/// 1.4 G of the 5 G updates): row by row, each row would stream all the columns below it from memory again. A
+/// separator's rows' entries in the columns below it depend only on those columns, so they are computed for `lanes`
+/// rows at once, each column's entries read once for the block and applied to its rows in one vector operation (step
+/// 1); then each row's updates of the separator's own entries (its column of the Schur complement), the same way (step
+/// 2); then the separator's dense block, row by row (step 3). Each entry of a separator's rows sums the columns below
+/// in increasing order (Eigen sums in each row's own topological order), so it may differ from Eigen's in its last
+/// bits; the order is fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
+/// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount). At 128x2x128 a refactorisation took 0.8-0.9
+/// s this way against 2.8-3.3 s row by row (choleskyRefresh in masse_benchmarks).
+
+#include "core/Types.h"
+#include "core/linear/NestedDissection.h"
+
+#include <Eigen/SparseCore>
+
+#include <vector>
+
+namespace masse
+{
+class StagedLdlt
+{
+public:
+    using SparseMatrix = Eigen::SparseMatrix<Real>;
+    using Vector = Eigen::VectorX<Real>;
+    using StorageIndex = SparseMatrix::StorageIndex;
+    /// A separator's rows taken at once in the steps over its columns below (one AVX-512 register of doubles).
+    static constexpr std::size_t lanes = 8;
+
+    /// The elimination tree and L's pattern of `permuted` (a symmetric matrix stored in full, already in elimination
+    /// order), whose rows `stages` split as DissectionOrder::stages does (in rows, not masses).
+    void analyse(const SparseMatrix& permuted, const std::vector<std::vector<OrderRange>>& stages);
+    /// Factors `permuted` (the analysed pattern); false if a pivot is zero.
+    bool factorize(const SparseMatrix& permuted);
+
+    /// L's strictly lower part, column-major, each column's rows increasing (unit diagonal not stored).
+    const SparseMatrix& lower() const { return m_lower; }
+    const Vector& diagonal() const { return m_diagonal; }
+    /// The multiply-adds of a factorisation, from the analysed pattern: a column's entries update each other's rows,
+    /// sum over the columns of count (count - 1) / 2.
+    double updates() const { return m_updates; }
+
+private:
+    /// m_upper = the upper triangle of `permuted` (stored in full).
+    void assignUpper(const SparseMatrix& permuted);
+    /// Rows [begin, end) of L and D; false if a pivot is zero.
+    bool factorRows(StorageIndex begin, StorageIndex end);
+    /// One step of row k's sparse triangular solve, Eigen's: y_i (held at y[i - offset]) gives l_ki = y_i / d_i,
+    /// appended to column i; column i's entries so far update y. Returns l_ki y_i, the step's part of the pivot.
+    [[gnu::always_inline]] inline Real appendToColumn(StorageIndex i, StorageIndex k, Real* y, StorageIndex offset);
+    /// The separators of stage `stage` (see the file comment); false if a pivot is zero.
+    bool factorSeparators(std::size_t stage);
+    /// The separators' patterns and blocks, after the elimination tree and L's column starts.
+    void analyseSeparators();
+    /// Row k's pattern in topological order, Eigen's way (an elimination-tree walk from each entry of A's column
+    /// k): written to pattern[top, n), top returned. `mark` holds `visit` for the rows reached.
+    StorageIndex rowPattern(StorageIndex k, long long visit, long long* mark, StorageIndex* pattern) const;
+
+    SparseMatrix m_upper;                     ///< the matrix's upper triangle, as Eigen's factorisation reads it
+    std::vector<StorageIndex> m_upperSources; ///< per value of m_upper, the permuted matrix's it copies
+    SparseMatrix m_lower;
+    Vector m_diagonal;
+    std::vector<StorageIndex> m_parent;      ///< elimination tree: parent of each row, -1 for a root
+    std::vector<StorageIndex> m_columnCount; ///< entries of each column of L so far
+    std::vector<std::vector<OrderRange>> m_stages;
+    double m_updates = 0;
+    long long m_generation = 0; ///< this factorisation's number in the process (tells its visit marks from others')
+
+    /// A separator: a range of a stage after the first, rows [begin, end), with its pattern from analyse.
+    struct Separator
+    {
+        StorageIndex begin = 0;
+        StorageIndex end = 0;
+        std::size_t firstBlock = 0; ///< its blocks of rows (see Blocks): [firstBlock, endBlock)
+        std::size_t endBlock = 0;
+        std::vector<std::size_t> ownStart;   ///< per row and one past: its entries in the separator's columns
+        std::vector<StorageIndex> ownColumn; ///< those columns, in topological order
+        // Per factorisation:
+        std::vector<Real> partialPivot; ///< per row: a_kk - sum over the columns below of l_kc y_c
+        std::vector<Real> schur;        ///< per row k, packed: a_jk - sum over the columns below of l_jc y_c, j < k
+    };
+    std::vector<Separator> m_separators;
+    std::vector<std::size_t> m_stageSeparators; ///< per stage and one past: its first separator (none in stage 0)
+    std::vector<std::vector<std::size_t>> m_stageBlocks; ///< per stage: its separators' blocks
+
+    /// The separators' rows, `lanes` at a time (each separator's from its first row, the last block of each maybe
+    /// short), for the steps over the columns below. Per block and one past, its entries; per entry, a column below
+    /// its separator that one of the block's rows has (a block's columns in increasing order), which rows have it
+    /// (bit r for the block's r-th row), where each such row's entry goes in L's arrays (`lanes` slots an entry, -1
+    /// where the row has none), and where the column's entries in rows below the separator and in its rows end.
+    struct Blocks
+    {
+        std::vector<std::size_t> separator; ///< per block
+        std::vector<StorageIndex> firstRow; ///< per block
+        std::vector<std::size_t> start;
+        std::vector<StorageIndex> column;
+        std::vector<unsigned> rows;
+        std::vector<StorageIndex> position;
+        std::vector<StorageIndex> belowEnd;
+        std::vector<StorageIndex> separatorEnd;
+        // Per factorisation:
+        std::vector<Real> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
+    };
+    Blocks m_blocks;
+};
+} // namespace masse

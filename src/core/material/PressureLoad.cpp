@@ -1,0 +1,165 @@
+#include "core/material/PressureLoad.h"
+
+#include "core/Format.h"
+#include "core/InputError.h"
+
+#include <cmath>
+#include <string>
+
+namespace masse
+{
+PressureSchedule::PressureSchedule(std::vector<PressureKey> keys) : m_keys(std::move(keys))
+{
+    for (std::size_t k = 0; k < m_keys.size(); ++k)
+    {
+        const std::string key = "keys[" + std::to_string(k) + "]";
+        if (!std::isfinite(m_keys[k].time) || m_keys[k].time < 0)
+        {
+            throw InputError(key + ".time", "must be a finite number of seconds >= 0");
+        }
+        if (!std::isfinite(m_keys[k].pressure))
+        {
+            throw InputError(key + ".pressure", "must be a finite number of Pa");
+        }
+        if (k > 0 && !(m_keys[k].time > m_keys[k - 1].time))
+        {
+            throw InputError(key + ".time", "the keys must be in increasing time (" + formatNumber(m_keys[k].time) +
+                                                " s follows " + formatNumber(m_keys[k - 1].time) + " s)");
+        }
+    }
+}
+
+Real PressureSchedule::at(Real time) const
+{
+    if (m_keys.empty())
+    {
+        return 0;
+    }
+    if (time <= m_keys.front().time)
+    {
+        return m_keys.front().pressure;
+    }
+    for (std::size_t k = 1; k < m_keys.size(); ++k)
+    {
+        if (time < m_keys[k].time)
+        {
+            const PressureKey& a = m_keys[k - 1];
+            const PressureKey& b = m_keys[k];
+            const Real s = (time - a.time) / (b.time - a.time);
+            return a.pressure + s * (b.pressure - a.pressure);
+        }
+    }
+    return m_keys.back().pressure;
+}
+
+PressureLoad::PressureLoad(const Lattice& lattice, PressureSchedule schedule)
+    : m_schedule(std::move(schedule)), m_below(lattice.massCount()), m_applied(lattice.massCount(), Vec3::Zero()),
+      m_next(lattice.massCount(), Vec3::Zero())
+{
+    const int layers = lattice.spec.layers;
+    for (int layer = 0; layer < layers; ++layer)
+    {
+        for (const Triangle& t : layerTriangles(lattice, layer))
+        {
+            m_triangles.push_back(t);
+            m_triangleShare.push_back(Real(1) / Real(layers));
+            m_bottom.push_back(layer == 0 ? 1 : 0);
+        }
+    }
+    std::vector<int> layerOf(lattice.massCount(), 0);
+    for (std::size_t i = 0; i < lattice.massCount(); ++i)
+    {
+        layerOf[i] = lattice.coord[i].layer;
+    }
+    for (std::size_t s = 0; s < lattice.springCount(); ++s)
+    {
+        if (lattice.springs.classes()[s] != SpringClass::InterLayer)
+        {
+            continue;
+        }
+        const Index a = lattice.springs.ends()[s].a;
+        const Index b = lattice.springs.ends()[s].b;
+        if (layerOf[a] == layerOf[b] + 1)
+        {
+            m_below[a].push_back(b);
+        }
+        else if (layerOf[b] == layerOf[a] + 1)
+        {
+            m_below[b].push_back(a);
+        }
+    }
+}
+
+void PressureLoad::computeLoad(const std::vector<Vec3>& x, Real pressure, std::vector<Vec3>& force) const
+{
+    force.assign(x.size(), Vec3::Zero());
+    m_sealedArea = 0;
+    const bool sealing = m_sealed.size() == x.size();
+    // -(p / L) A n / 3 per corner, with A n = (b - a) x (c - a) / 2 (triangles are wound so n is the top side).
+    for (std::size_t k = 0; k < m_triangles.size(); ++k)
+    {
+        const Triangle& t = m_triangles[k];
+        const Vec3 doubleArea = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+        if (sealing && m_sealed[t[0]] && m_sealed[t[1]] && m_sealed[t[2]])
+        {
+            if (m_bottom[k])
+            {
+                m_sealedArea += Real(0.5) * doubleArea.norm();
+            }
+            continue;
+        }
+        const Vec3 share = (-pressure * m_triangleShare[k] / Real(6)) * doubleArea;
+        force[t[0]] += share;
+        force[t[1]] += share;
+        force[t[2]] += share;
+    }
+}
+
+void PressureLoad::apply(MassSpringSystem& system, Real pressure)
+{
+    Particles& p = system.particles;
+    m_pressure = pressure;
+    computeLoad(p.position, pressure, m_next);
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        p.externalForce[i] += m_next[i] - m_applied[i];
+    }
+    m_applied.swap(m_next);
+}
+
+void PressureLoad::beginFrame(MassSpringSystem& system, StepContext& /*context*/, Real time, Real dt)
+{
+    apply(system, m_schedule.at(time + dt));
+}
+
+void PressureLoad::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
+{
+    apply(system, m_schedule.at(time + h));
+}
+
+void PressureLoad::endFrame(MassSpringSystem& /*system*/, StepContext& context, Real /*time*/)
+{
+    const std::span<const int> touching = context.touchingObstacle;
+    if (!m_sealing || touching.empty())
+    {
+        m_sealed.clear();
+        return;
+    }
+    m_sealed.resize(touching.size());
+    // Masses are numbered layer by layer from the bottom, so the layer below is decided before the one above.
+    for (std::size_t i = 0; i < m_sealed.size(); ++i)
+    {
+        if (m_below[i].empty())
+        {
+            m_sealed[i] = touching[i] >= 0 ? 1 : 0;
+            continue;
+        }
+        bool sealed = true;
+        for (Index j : m_below[i])
+        {
+            sealed = sealed && m_sealed[j];
+        }
+        m_sealed[i] = sealed ? 1 : 0;
+    }
+}
+} // namespace masse

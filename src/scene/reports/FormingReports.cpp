@@ -1,0 +1,281 @@
+#include "scene/reports/FormingReports.h"
+
+#include "scene/output/AtomicFile.h"
+#include "scene/output/Plot.h"
+
+#include "core/Format.h"
+#include "core/lattice/LatticeSurface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+namespace masse::scene
+{
+namespace
+{
+constexpr Real kelvinAtZeroCelsius = 273.15;
+
+} // namespace
+
+TopViewMap topViewMap(const Scene& scene, const std::vector<Real>& perMass, int width)
+{
+    const std::vector<Vec3>& x = scene.system().particles.position;
+    const Lattice& lattice = scene.lattice();
+    TopViewMap map;
+    map.minX = map.minZ = std::numeric_limits<Real>::infinity();
+    map.maxX = map.maxZ = -std::numeric_limits<Real>::infinity();
+    for (Index i = lattice.layerStart[0]; i < lattice.layerStart[1]; ++i)
+    {
+        map.minX = std::min(map.minX, x[i].x());
+        map.maxX = std::max(map.maxX, x[i].x());
+        map.minZ = std::min(map.minZ, x[i].z());
+        map.maxZ = std::max(map.maxZ, x[i].z());
+    }
+    const Real spanX = std::max(map.maxX - map.minX, Real(1e-9));
+    const Real spanZ = std::max(map.maxZ - map.minZ, Real(1e-9));
+    map.width = std::max(width, 2);
+    map.height = std::max(2, int(std::lround(Real(map.width) * spanZ / spanX)));
+    const Real pixelX = spanX / Real(map.width - 1);
+    const Real pixelZ = spanZ / Real(map.height - 1);
+    map.value.assign(std::size_t(map.width) * std::size_t(map.height), std::numeric_limits<Real>::quiet_NaN());
+    std::vector<Real> top(map.value.size(), -std::numeric_limits<Real>::infinity());
+    for (const Triangle& t : layerTriangles(lattice, 0))
+    {
+        const Vec3& a = x[t[0]];
+        const Vec3& b = x[t[1]];
+        const Vec3& c = x[t[2]];
+        const Real det = (b.x() - a.x()) * (c.z() - a.z()) - (c.x() - a.x()) * (b.z() - a.z());
+        if (std::abs(det) < 1e-18)
+        {
+            continue; // seen edge-on from above
+        }
+        const int x0 = std::max(0, int(std::floor((std::min({a.x(), b.x(), c.x()}) - map.minX) / pixelX)));
+        const int x1 = std::min(map.width - 1, int(std::ceil((std::max({a.x(), b.x(), c.x()}) - map.minX) / pixelX)));
+        const int z0 = std::max(0, int(std::floor((std::min({a.z(), b.z(), c.z()}) - map.minZ) / pixelZ)));
+        const int z1 = std::min(map.height - 1, int(std::ceil((std::max({a.z(), b.z(), c.z()}) - map.minZ) / pixelZ)));
+        for (int row = z0; row <= z1; ++row)
+        {
+            const Real pz = map.minZ + Real(row) * pixelZ;
+            for (int column = x0; column <= x1; ++column)
+            {
+                const Real px = map.minX + Real(column) * pixelX;
+                // Barycentric coordinates of the pixel's centre in the projected triangle.
+                const Real u = ((px - a.x()) * (c.z() - a.z()) - (c.x() - a.x()) * (pz - a.z())) / det;
+                const Real v = ((b.x() - a.x()) * (pz - a.z()) - (px - a.x()) * (b.z() - a.z())) / det;
+                const Real w = 1 - u - v;
+                const Real slack = -1e-9;
+                if (u < slack || v < slack || w < slack)
+                {
+                    continue;
+                }
+                const std::size_t pixel = std::size_t(row) * std::size_t(map.width) + std::size_t(column);
+                const Real height = w * a.y() + u * b.y() + v * c.y();
+                if (height > top[pixel])
+                {
+                    top[pixel] = height;
+                    map.value[pixel] = w * perMass[t[0]] + u * perMass[t[1]] + v * perMass[t[2]];
+                }
+            }
+        }
+    }
+    return map;
+}
+
+std::string mapData(const TopViewMap& map)
+{
+    std::ostringstream out;
+    const Real pixelX = (map.maxX - map.minX) / Real(map.width - 1);
+    const Real pixelZ = (map.maxZ - map.minZ) / Real(map.height - 1);
+    char line[96];
+    for (int row = 0; row < map.height; ++row)
+    {
+        for (int column = 0; column < map.width; ++column)
+        {
+            const Real value = map.value[std::size_t(row) * std::size_t(map.width) + std::size_t(column)];
+            if (std::isnan(value))
+            {
+                std::snprintf(line, sizeof(line), "%.6f %.6f NaN\n", map.minX + column * pixelX,
+                              map.minZ + row * pixelZ);
+            }
+            else
+            {
+                std::snprintf(line, sizeof(line), "%.6f %.6f %.6g\n", map.minX + column * pixelX,
+                              map.minZ + row * pixelZ, value);
+            }
+            out << line;
+        }
+        out << '\n';
+    }
+    return out.str();
+}
+
+std::string mapPlotScript(const std::string& dataPath, const std::string& title, const std::string& subtitle,
+                          const std::string& unitLabel, const std::string& palette)
+{
+    // Pixels off the sheet are NaN, which gnuplot's image leaves blank. They must not be declared missing data
+    // (`set datafile missing 'NaN'`): image then drops them from their scan lines, the grid no longer lines up, and
+    // every row shifts by the pixels dropped before it; the cup's cavity came out as a sheared ellipse 5 cm off
+    // centre (FormingReports.MapsStayOnTheSheetsOwnGrid).
+    return "set title \"" + title + "\\n{/*0.8 " + subtitle +
+           "}\" enhanced\n"
+           "set xlabel 'x (m)'\n"
+           "set ylabel 'z (m)'\n"
+           "set yrange [*:*] reverse\n" // seen from above (+y) with x to the right, z grows down the page
+           "set size ratio -1\n"
+           "set cblabel '" +
+           unitLabel +
+           "'\n"
+           "set palette " +
+           palette +
+           "\n"
+           "set tics out\n"
+           "unset key\n"
+           "plot '" +
+           dataPath + "' using 1:2:3 with image\n";
+}
+
+Real thinAreaShare(const SheetThickness& thickness, Real ratio)
+{
+    Real thin = 0;
+    Real total = 0;
+    const Real limit = ratio * thickness.initialThickness();
+    for (std::size_t i = 0; i < thickness.area().size(); ++i)
+    {
+        if (thickness.layer()[i] != 0)
+        {
+            continue;
+        }
+        total += thickness.area()[i];
+        if (thickness.thickness()[i] < limit)
+        {
+            thin += thickness.area()[i];
+        }
+    }
+    return total > 0 ? thin / total : 0;
+}
+
+std::string massesCsv(Scene& scene)
+{
+    const Particles& p = scene.system().particles;
+    const SheetThickness* thickness = scene.thickness();
+    const ThermalModel* thermal = scene.thermal();
+    const std::vector<int>& touching = scene.contact().report().touchingObstacle();
+    std::ostringstream out;
+    out << "mass,layer,x_m,y_m,z_m,thickness_m,thickness_ratio,temperature_c,contact\n";
+    char line[256];
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        const Vec3& x = p.position[i];
+        std::snprintf(line, sizeof(line), "%zu,%d,%.6f,%.6f,%.6f,", i, scene.lattice().coord[i].layer, x.x(), x.y(),
+                      x.z());
+        out << line;
+        if (thickness)
+        {
+            std::snprintf(line, sizeof(line), "%.6e,%.5f,", thickness->thickness()[i],
+                          thickness->thickness()[i] / thickness->initialThickness());
+            out << line;
+        }
+        else
+        {
+            out << ",,";
+        }
+        if (thermal)
+        {
+            std::snprintf(line, sizeof(line), "%.3f,", thermal->temperature()[i] - kelvinAtZeroCelsius);
+            out << line;
+        }
+        else
+        {
+            out << ',';
+        }
+        const int obstacle = i < touching.size() ? touching[i] : -1;
+        if (obstacle >= 0)
+        {
+            out << '"' << scene.environment().obstacle(obstacle).name << '"';
+        }
+        out << '\n';
+    }
+    return out.str();
+}
+
+nlohmann::json formingSummary(const Scene& scene)
+{
+    nlohmann::json out = nlohmann::json::object();
+    if (const PressureLoad* pressure = scene.pressure())
+    {
+        out["pressure_pa"] = pressure->currentPressure();
+        out["sealed_area_m2"] = pressure->sealedArea();
+    }
+    if (const SheetThickness* thickness = scene.thickness())
+    {
+        const Real below = scene.spec().formingReport.thinBelow;
+        out["thin_below_ratio"] = below;
+        out["thin_area_share"] = thinAreaShare(*thickness, below);
+    }
+    return out;
+}
+
+void writeFormingReports(Scene& scene, const std::string& directory)
+{
+    const FormingReportSpec& report = scene.spec().formingReport;
+    const std::string title = scene.spec().name;
+    if (report.massesCsv)
+    {
+        writeFileAtomically(directory + "/masses.csv", massesCsv(scene));
+    }
+    auto drawMap = [&](const std::string& stem, const std::vector<Real>& perMass, const std::string& heading,
+                       const std::string& subtitle, const std::string& unit, const std::string& palette)
+    {
+        const TopViewMap map = topViewMap(scene, perMass, report.mapPixels / 3);
+        const std::string dataPath = directory + "/" + stem + ".dat.tmp";
+        writeFileAtomically(dataPath, mapData(map));
+        try
+        {
+            plotPng(mapPlotScript(dataPath, title + ": " + heading, subtitle, unit, palette),
+                    directory + "/" + stem + ".png", report.mapPixels, report.mapPixels * 4 / 5);
+        }
+        catch (...)
+        {
+            std::filesystem::remove(dataPath);
+            throw;
+        }
+        std::filesystem::remove(dataPath);
+    };
+    const SheetThickness* thickness = scene.thickness();
+    if (report.thicknessMap && thickness)
+    {
+        std::vector<Real> millimetres;
+        for (Real h : thickness->thickness())
+        {
+            millimetres.push_back(1000 * h);
+        }
+        const Vec3& thinnest = scene.system().particles.position[thickness->thinnestMass()];
+        const std::string subtitle =
+            "thinnest " + formatNumber("%.3f mm", 1000 * thickness->minimumThickness()) + " (" +
+            formatNumber("%.0f%%", 100 * thickness->minimumThickness() / thickness->initialThickness()) + " of " +
+            formatNumber("%.2f mm", 1000 * thickness->initialThickness()) + ") at (" +
+            formatNumber("%.3f", thinnest.x()) + ", " + formatNumber("%.3f", thinnest.y()) + ", " +
+            formatNumber("%.3f", thinnest.z()) + ") m; " +
+            formatNumber("%.1f%%", 100 * thinAreaShare(*thickness, report.thinBelow)) + " of the area below " +
+            formatNumber("%.0f%%", 100 * report.thinBelow) + " of h0";
+        drawMap("thickness_map", millimetres, "wall thickness, top view", subtitle, "thickness (mm)",
+                "defined (0 '#3b0f70', 0.25 '#8c2981', 0.5 '#de4968', 0.75 '#fe9f6d', 1 '#fcfdbf')");
+    }
+    if (report.temperatureMap && scene.thermal())
+    {
+        std::vector<Real> celsius;
+        for (Real kelvin : scene.thermal()->temperature())
+        {
+            celsius.push_back(kelvin - kelvinAtZeroCelsius);
+        }
+        const auto [lo, hi] = std::minmax_element(celsius.begin(), celsius.end());
+        drawMap("temperature_map", celsius, "temperature, top view",
+                "from " + formatNumber("%.1f", *lo) + " to " + formatNumber("%.1f", *hi) + " C", "temperature (C)",
+                "rgb 33,13,10");
+    }
+}
+} // namespace masse::scene

@@ -1,0 +1,402 @@
+// The masse program as a user meets it: output formats, exit codes, and what a run leaves on disk.
+
+#include "support/MasseCommand.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace
+{
+const std::string source = MASSE_SOURCE_DIR;
+
+std::filesystem::path freshFolder(const std::string& name)
+{
+    const std::filesystem::path folder = std::filesystem::path(testing::TempDir()) / name;
+    std::filesystem::remove_all(folder);
+    return folder;
+}
+} // namespace
+
+TEST(CommandLine, LatticeJsonGivesTableTwoCounts)
+{
+    const Outcome o = runMasse("lattice --structure trimm --size 12x2x12 --json");
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    const nlohmann::json j = nlohmann::json::parse(o.output);
+    EXPECT_EQ(j["structure"], "trimm");
+    EXPECT_EQ(j["masses"], 265);
+    EXPECT_EQ(j["springs"], 1068);
+    EXPECT_EQ(j["layers"], 2);
+}
+
+TEST(CommandLine, BadFlagsExitWithTwoAndSayWhy)
+{
+    const Outcome small = runMasse("lattice --size 1x2x1");
+    EXPECT_EQ(small.exitCode, 2);
+    EXPECT_NE(small.output.find("--size: expected NxLxN with N >= 2"), std::string::npos) << small.output;
+    const Outcome structure = runMasse("lattice --structure cube");
+    EXPECT_EQ(structure.exitCode, 2);
+    EXPECT_NE(structure.output.find("--structure: unknown structure 'cube'"), std::string::npos) << structure.output;
+    EXPECT_EQ(runMasse("--bogus").exitCode, 2);
+    EXPECT_EQ(runMasse("bench --steps 0").exitCode, 2);
+    EXPECT_EQ(runMasse("bench --integrator rk4").exitCode, 2);
+    EXPECT_EQ(runMasse("run").exitCode, 2); // the scene argument is required
+    const Outcome help = runMasse("--help");
+    EXPECT_EQ(help.exitCode, 0);
+    for (const char* command : {"lattice", "bench", "demo", "run", "paper", "check", "compare"})
+    {
+        EXPECT_NE(help.output.find(command), std::string::npos) << command;
+    }
+}
+
+TEST(CommandLine, BadSceneLeavesNoOutputFolder)
+{
+    const std::filesystem::path out = freshFolder("bad-run");
+    const Outcome o = runMasse("run " + source + "/tests/bad-scenes/unknown-key.json --out " + out.string());
+    EXPECT_EQ(o.exitCode, 2);
+    EXPECT_NE(o.output.find("sheet.stifness: unknown key"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+TEST(CommandLine, RunWritesSummaryEventsAndFrames)
+{
+    const std::filesystem::path out = freshFolder("slope-run");
+    const Outcome o = runMasse("run " + source + "/data/scenes/slope.json --out " + out.string() +
+                               " --frames-every 50 --format vtp,obj --quiet");
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+
+    std::ifstream in(out / "summary.json");
+    const nlohmann::json s = nlohmann::json::parse(in);
+    for (const char* key : {"scene", "masses", "springs", "dt", "steps", "sim_seconds", "wall_seconds",
+                            "realtime_factor", "events", "final"})
+    {
+        EXPECT_TRUE(s.contains(key)) << key;
+    }
+    for (const char* key : {"max_penetration", "kinetic_energy", "bbox_min", "bbox_max", "state_hash"})
+    {
+        EXPECT_TRUE(s["final"].contains(key)) << key;
+    }
+    EXPECT_EQ(s["masses"], 25);
+    bool stopper = false;
+    for (const auto& e : s["events"])
+    {
+        for (const char* key : {"name", "object", "sim_time", "wall_time"})
+        {
+            EXPECT_TRUE(e.contains(key)) << key;
+        }
+        stopper = stopper || (e["name"] == "contact" && e["object"] == "stopper");
+    }
+    EXPECT_TRUE(stopper);
+
+    std::ifstream csv(out / "events.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "name,object,sim_time_s,wall_time_s");
+
+    int vtp = 0;
+    int obj = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(out / "frames"))
+    {
+        // The sheet's frames; the obstacles' own VTP files (for ParaView) sit beside them.
+        const bool sheetFrame = entry.path().filename().string().rfind("frame_", 0) == 0;
+        vtp += sheetFrame && entry.path().extension() == ".vtp" ? 1 : 0;
+        obj += sheetFrame && entry.path().extension() == ".obj" ? 1 : 0;
+        EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left over: " << entry.path();
+    }
+    EXPECT_GE(vtp, 3);
+    EXPECT_EQ(vtp, obj);
+    std::ifstream frame(out / "frames" / "frame_000000.vtp");
+    std::stringstream text;
+    text << frame.rdbuf();
+    EXPECT_NE(text.str().find("<VTKFile type=\"PolyData\""), std::string::npos);
+    EXPECT_NE(text.str().find("NumberOfPoints=\"25\""), std::string::npos);
+}
+
+TEST(CommandLine, BenchPrintsOneJsonLine)
+{
+    const Outcome o = runMasse("bench --structure trimm --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    const nlohmann::json j = nlohmann::json::parse(o.output);
+    for (const char* key : {"masses", "springs", "steps", "wall_seconds", "spring_steps_per_second"})
+    {
+        EXPECT_TRUE(j.contains(key)) << key;
+    }
+    EXPECT_EQ(j["masses"], 113);
+    EXPECT_GT(j["spring_steps_per_second"].get<double>(), 0.0);
+}
+
+// `masse bench` times a scene file: by default data/scenes/bench-free-fall.json, with --contact bench-contact.json (the
+// sheet resting on two boxes, so it reports contact figures with masses touching), or the file given, whose
+// obstacles it times too; a file and --contact together are refused.
+TEST(CommandLine, BenchTimesTheSceneItIsGiven)
+{
+    const Outcome freeFall = runMasse("bench --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(freeFall.exitCode, 0) << freeFall.output;
+    const nlohmann::json f = nlohmann::json::parse(freeFall.output);
+    EXPECT_NE(f["scene"].get<std::string>().find("bench-free-fall.json"), std::string::npos) << f["scene"];
+    EXPECT_FALSE(f.contains("contact"));
+
+    const Outcome resting = runMasse("bench --contact --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(resting.exitCode, 0) << resting.output;
+    const nlohmann::json c = nlohmann::json::parse(resting.output);
+    EXPECT_NE(c["scene"].get<std::string>().find("bench-contact.json"), std::string::npos) << c["scene"];
+    ASSERT_TRUE(c.contains("contact"));
+    EXPECT_GT(c["contact"]["touching_masses"].get<int>(), 0);
+
+    const Outcome drop = runMasse("bench " + source + "/data/scenes/paper-drop.json --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(drop.exitCode, 0) << drop.output;
+    const nlohmann::json d = nlohmann::json::parse(drop.output);
+    EXPECT_NE(d["scene"].get<std::string>().find("paper-drop.json"), std::string::npos) << d["scene"];
+    EXPECT_TRUE(d.contains("contact"));
+    EXPECT_EQ(d["masses"], 113);
+
+    const Outcome both = runMasse("bench " + source + "/data/scenes/paper-drop.json --contact --steps 1");
+    EXPECT_EQ(both.exitCode, 2);
+    EXPECT_NE(both.output.find("--contact"), std::string::npos) << both.output;
+}
+
+// `masse compare` on the reference landing (the 8 x 2 x 8 Table 1 sheet onto a box at dt = 0.03 s), cut to 2 s:
+// compare.json holds, for MaSSE and for each Bullet run asked, its events, penetration, tunnelled nodes, kinetic
+// energy and wall time, and for each Bullet run its distance to MaSSE; the plots and the series are written whole;
+// the table names every run. And, through compare.json: MaSSE's deepest penetration is no larger than Bullet's at the
+// same step (measured: MaSSE about 1e-13 m, Bullet 0.026 m with 1 pass and 0.028 m with 4).
+TEST(CommandLine, CompareWritesBothEnginesFiguresAndPlots)
+{
+    const std::filesystem::path out = freshFolder("compare-landing");
+    const Outcome o = runMasse("compare " + source + "/data/scenes/box-landing.json --out " + out.string() +
+                               " --duration 2 --bullet-iterations 1,4 --quiet");
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    for (const char* header : {"MaSSE (symplectic)", "Bullet (piterations=1)", "Bullet (piterations=4)",
+                               "max penetration (mm)", "tunnelled nodes", "wall ms per simulated s", "Approximations"})
+    {
+        EXPECT_NE(o.output.find(header), std::string::npos) << header;
+    }
+    for (const char* file : {"compare.json", "series.csv", "penetration.png", "kinetic_energy.png", "distance.png"})
+    {
+        EXPECT_GT(std::filesystem::file_size(out / file), 100u) << file;
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+    {
+        EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << "left over: " << entry.path();
+    }
+
+    std::ifstream in(out / "compare.json");
+    const nlohmann::json c = nlohmann::json::parse(in);
+    for (const char* key :
+         {"scene", "masses", "springs", "dt", "frames", "sim_seconds", "contact_radius", "engines", "approximations"})
+    {
+        EXPECT_TRUE(c.contains(key)) << key;
+    }
+    EXPECT_EQ(c["masses"], 113);
+    EXPECT_NEAR(c["sim_seconds"].get<double>(), 2.0, 1e-9); // 66 steps of 0.03 s and a last one shortened to end on 2 s
+    const nlohmann::json& engines = c["engines"];
+    ASSERT_EQ(engines.size(), 3u);
+    EXPECT_EQ(engines[0]["engine"], "masse");
+    for (const nlohmann::json& e : engines)
+    {
+        for (const char* key : {"label", "settings", "events", "penetration", "tunnelled", "kinetic_energy",
+                                "wall_ms_per_simulated_second", "frames"})
+        {
+            EXPECT_TRUE(e.contains(key)) << e["label"] << " " << key;
+        }
+        for (const char* key : {"max", "mean"})
+        {
+            EXPECT_TRUE(e["penetration"].contains(key)) << key;
+        }
+        EXPECT_TRUE(e["tunnelled"].contains("count"));
+        EXPECT_GT(e["wall_ms_per_simulated_second"].get<double>(), 0.0) << e["label"];
+        EXPECT_EQ(e["frames"], 67);
+        bool box = false;
+        for (const nlohmann::json& event : e["events"])
+        {
+            box = box || (event["name"] == "contact" && event["object"] == "box");
+        }
+        EXPECT_TRUE(box) << e["label"];
+        if (e["engine"] == "bullet")
+        {
+            EXPECT_TRUE(e["distance_to_masse"]["final"].contains("rms"));
+            EXPECT_TRUE(e["distance_to_masse"]["final"].contains("max"));
+            EXPECT_FALSE(e["distance_to_masse"]["events"].empty());
+            EXPECT_LE(engines[0]["penetration"]["max"].get<double>(), e["penetration"]["max"].get<double>())
+                << e["label"];
+            EXPECT_GT(e["penetration"]["max"].get<double>(), 0.01) << e["label"];
+        }
+    }
+    EXPECT_EQ(engines[1]["settings"]["piterations"], 1);
+    EXPECT_EQ(engines[2]["settings"]["piterations"], 4);
+    ASSERT_FALSE(c["approximations"].empty());
+    for (const nlohmann::json& a : c["approximations"])
+    {
+        EXPECT_TRUE(a["subject"].is_string());
+        EXPECT_FALSE(a["message"].get<std::string>().empty());
+    }
+}
+
+// A bad "bullet" key, or a bad flag, stops `masse compare` with exit code 2 and a message naming it, before the
+// output folder is made.
+// As `masse run` does, `masse compare` says before it starts that a step will take over a thousand substeps: the
+// comparison's sheet stiffened 2,000-fold (2e5 N/m) needs about 1,350 symplectic substeps a step.
+TEST(CommandLine, CompareSaysWhenAStepNeedsOverAThousandSubsteps)
+{
+    const std::filesystem::path out = freshFolder("compare-stiff");
+    const Outcome o =
+        runMasse("compare " + source + "/data/scenes/box-landing.json --duration 0.03 --quiet" +
+                 " --set sheet.stiffness.planar=2e5 --set sheet.stiffness.inter_layer=2e5 --out " + out.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    EXPECT_NE(o.output.find("warning: the symplectic integrator needs"), std::string::npos) << o.output;
+    const Outcome soft = runMasse(
+        "compare " + source + "/data/scenes/box-landing.json --duration 0.03 --quiet --force --out " + out.string());
+    ASSERT_EQ(soft.exitCode, 0) << soft.output;
+    EXPECT_EQ(soft.output.find("warning:"), std::string::npos) << soft.output;
+}
+
+TEST(CommandLine, CompareRefusesBadBulletSettingsBeforeWriting)
+{
+    const std::filesystem::path out = freshFolder("compare-bad");
+    const std::pair<std::string, std::string> cases[] = {
+        {source + "/tests/bad-scenes/bullet-klst.json", "bullet.kLST: must be in (0, 1] (got 1.5)"},
+        {source + "/tests/bad-scenes/bullet-unknown-key.json", "bullet.kLTS: unknown key (did you mean 'kLST'?)"},
+        {source + "/data/scenes/box-landing.json --bullet-iterations 0",
+         "--bullet-iterations: each count must be a whole number in [1, 1000] (got 0)"},
+        {source + "/data/scenes/box-landing.json --bullet-substeps 0",
+         "--bullet-substeps: must be a whole number in [1, 10000] (got 0)"},
+    };
+    for (const auto& [arguments, expected] : cases)
+    {
+        const Outcome o = runMasse("compare " + arguments + " --out " + out.string() + " --quiet");
+        EXPECT_EQ(o.exitCode, 2) << arguments << ": " << o.output;
+        EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << arguments;
+    }
+}
+
+// `masse demo --headless --out DIR` prints the Figure 18 table and plots it, as the README says.
+TEST(CommandLine, DemoHeadlessPlotsFigure18)
+{
+    const std::filesystem::path folder = freshFolder("demo-headless");
+    const Outcome o = runMasse("demo --headless --out " + folder.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    EXPECT_NE(o.output.find("12x2x12"), std::string::npos) << o.output;
+    EXPECT_TRUE(std::filesystem::exists(folder / "figure18.csv"));
+    ASSERT_TRUE(std::filesystem::exists(folder / "figure18.png"));
+    EXPECT_GT(std::filesystem::file_size(folder / "figure18.png"), 1000u);
+}
+
+// Issue 16, rows 6 and 11: flags out of range, and steps the integrator cannot take, exit with 2 naming the flag and
+// the range before the output folder exists.
+TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)
+{
+    const std::filesystem::path out = freshFolder("bad-steps");
+    const std::pair<std::string, std::string> cases[] = {
+        {"--dt 0", "--dt: must be a number of seconds in [1e-06, 1] (got '0')"},
+        {"--dt inf", "--dt: must be a number of seconds in [1e-06, 1] (got 'inf')"},
+        {"--dt 1000", "--dt: must be a number of seconds in [1e-06, 1] (got '1000')"},
+        {"--duration 0", "--duration: must be a number of seconds in (0, 1e+06] (got '0')"},
+        {"--duration inf", "--duration: must be a number of seconds in (0, 1e+06] (got 'inf')"},
+        {"--dt 1e-6 --duration 1e6", "--duration / --dt: 1e+06 s in steps of 1e-06 s is 1e+12 steps"},
+        {"--frames-every -5", "--frames-every: must be a whole number of steps in [0, 1000000] (got -5)"},
+    };
+    for (const auto& [flags, expected] : cases)
+    {
+        const Outcome o = runMasse("run " + source + "/data/scenes/slope.json " + flags + " --out " + out.string());
+        EXPECT_EQ(o.exitCode, 2) << flags << ": " << o.output;
+        EXPECT_NE(o.output.find(expected), std::string::npos) << o.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << flags;
+    }
+    const Outcome stiff =
+        runMasse("run " + source + "/tests/bad-scenes/stiff-explicit-step.json --frames-every 1 --out " + out.string());
+    EXPECT_EQ(stiff.exitCode, 2) << stiff.output;
+    EXPECT_NE(stiff.output.find("integrator.dt: the symplectic integrator needs"), std::string::npos) << stiff.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << "the first frame was written before the step was refused";
+}
+
+// Issue 16, row 7: a second run into a folder holding a run is refused; with --force it replaces it whole, so no
+// frame of the first run stays beside the second's summary.
+TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
+{
+    const std::filesystem::path out = freshFolder("mixed");
+    const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.3 --quiet --out " + out.string();
+    ASSERT_EQ(runMasse(run + " --frames-every 5").exitCode, 0);
+    ASSERT_TRUE(std::filesystem::exists(out / "frames" / "frame_000005.vtp"));
+    const Outcome again = runMasse(run);
+    EXPECT_EQ(again.exitCode, 2) << again.output;
+    EXPECT_NE(again.output.find("already holds a run (summary.json)"), std::string::npos) << again.output;
+    const Outcome forced = runMasse(run + " --frames-every 0 --force");
+    ASSERT_EQ(forced.exitCode, 0) << forced.output;
+    EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
+    EXPECT_FALSE(std::filesystem::exists(out / "frames")) << "frames of the first run kept beside the second's";
+    for (const auto& entry : std::filesystem::directory_iterator(out.parent_path()))
+    {
+        EXPECT_EQ(entry.path().filename().string().find(".mixed."), std::string::npos) << entry.path();
+    }
+}
+
+// Issue 16, row 3: a run whose speeds overflow stops with exit code 1 and writes nothing (it wrote speed = inf in
+// its frames and "kinetic_energy": null in summary.json, and exited with 0).
+TEST(CommandLine, ARunBeyondDoubleRangeExitsWithOneAndWritesNothing)
+{
+    const std::filesystem::path out = freshFolder("beyond-range");
+    const Outcome o = runMasse(
+        "run " + source + "/tests/bad-scenes/gravity-beyond-range.json --frames-every 1 --quiet --out " + out.string());
+    EXPECT_EQ(o.exitCode, 1) << o.output;
+    EXPECT_NE(o.output.find("is not a finite number"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// Issue 16, row 12: output paths that cannot be written are refused before the experiment runs (masse paper ran all
+// five sizes, then failed on a file given as --out).
+TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)
+{
+    const std::filesystem::path folder = freshFolder("unwritable");
+    std::filesystem::create_directories(folder);
+    {
+        std::ofstream(folder / "file") << "a file";
+    }
+    const Outcome paper = runMasse("paper --out " + (folder / "file").string());
+    EXPECT_EQ(paper.exitCode, 2) << paper.output;
+    EXPECT_NE(paper.output.find("--out: '" + (folder / "file").string() + "' exists and is not a folder"),
+              std::string::npos)
+        << paper.output;
+    EXPECT_EQ(paper.output.find("done"), std::string::npos) << "the experiment ran before the output was checked";
+    const Outcome longName =
+        runMasse("run " + source + "/data/scenes/slope.json --out " + (folder / std::string(300, 'x')).string());
+    EXPECT_EQ(longName.exitCode, 2) << longName.output;
+    EXPECT_NE(longName.output.find("has a name of 300 bytes"), std::string::npos) << longName.output;
+}
+
+// Issue 16, row 12: a read-only --out (the folder itself, its parent, or a missing parent inside a read-only one) is
+// refused with exit code 2 and one line naming the path, before the scene runs. The suite runs as root in CI, where
+// permission bits stop no write (CAP_DAC_OVERRIDE), so the read-only folder is one where no one, root included, can
+// create anything: the masse process's own folder in procfs, /proc/self. Nothing can be written there, so what this
+// checks is when and how the run is refused: with every frame written (--frames-every 1), a check left to the first
+// write or to the end would stop the run with exit code 1 and another message, after it had started.
+TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
+{
+    const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.3 --frames-every 1 --out ";
+    for (const std::string out : {"/proc/self", "/proc/self/masse-out", "/proc/self/masse-out/run"})
+    {
+        const Outcome o = runMasse(run + out);
+        EXPECT_EQ(o.exitCode, 2) << out << ":\n" << o.output;
+        EXPECT_EQ(o.output.rfind("masse: --out: '" + out + "' cannot be ", 0), 0u) << o.output;
+        EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << "the run started:\n" << o.output;
+    }
+    // masse paper ran all five sheet sizes before it failed on its --out.
+    const Outcome paper = runMasse("paper --out /proc/self/masse-paper");
+    EXPECT_EQ(paper.exitCode, 2) << paper.output;
+    EXPECT_EQ(paper.output.rfind("masse: --out: '/proc/self/masse-paper' cannot be ", 0), 0u) << paper.output;
+    EXPECT_EQ(std::count(paper.output.begin(), paper.output.end(), '\n'), 1) << "the experiment started:\n"
+                                                                             << paper.output;
+    // masse sweep stopped with exit code 1 and the library's "filesystem error: cannot create directories".
+    const Outcome sweep =
+        runMasse("sweep " + source + "/tests/studies/slope-friction.json --out /proc/self/masse-sweep");
+    EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
+    EXPECT_EQ(sweep.output.rfind("masse: --out: '/proc/self/masse-sweep' cannot be written (", 0), 0u) << sweep.output;
+    EXPECT_EQ(std::count(sweep.output.begin(), sweep.output.end(), '\n'), 1) << "the study started:\n" << sweep.output;
+}

@@ -1,0 +1,501 @@
+// The dissection's stages (which parts of the Cholesky factor's triangular solves may run at once) and the staged
+// solve's bits at any thread count.
+
+#include "support/TestSystems.h"
+
+#include "core/forces/SimdPath.h"
+#include "core/linear/CholeskyPreconditioner.h"
+#include "core/linear/NestedDissection.h"
+#include "core/linear/PermutedValues.h"
+#include "core/linear/RunLengthRows.h"
+#include "core/linear/StagedLdlt.h"
+#include "core/parallel/TaskPool.h"
+
+#include <Eigen/OrderingMethods>
+#include <Eigen/SparseCholesky>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+using namespace masse;
+using namespace masse::test;
+
+namespace
+{
+/// A symmetric positive definite matrix with `dof` rows per mass and the springs' pattern: each spring adds the
+/// block [I -I; -I I] times a stiffness that varies from spring to spring, each mass a diagonal of its mass.
+SparseMatrix springMatrix(const MassSpringSystem& system, int dof)
+{
+    std::vector<Eigen::Triplet<Real, SparseMatrix::StorageIndex>> triplets;
+    auto add = [&](Index row, Index column, Real value)
+    {
+        for (int c = 0; c < dof; ++c)
+        {
+            triplets.emplace_back(int(dof * row) + c, int(dof * column) + c, value);
+        }
+    };
+    for (Index i = 0; i < system.massCount(); ++i)
+    {
+        add(i, i, Real(1) + Real(i % 7) / 7);
+    }
+    for (std::size_t s = 0; s < system.springs.size(); ++s)
+    {
+        const Real k = Real(10) + Real(s % 13);
+        add(system.springs.ends()[s].a, system.springs.ends()[s].a, k);
+        add(system.springs.ends()[s].b, system.springs.ends()[s].b, k);
+        add(system.springs.ends()[s].a, system.springs.ends()[s].b, -k);
+        add(system.springs.ends()[s].b, system.springs.ends()[s].a, -k);
+    }
+    const Eigen::Index size = Eigen::Index(dof) * Eigen::Index(system.massCount());
+    SparseMatrix a(size, size);
+    a.setFromTriplets(triplets.begin(), triplets.end());
+    a.makeCompressed();
+    return a;
+}
+
+using RowPermutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
+
+/// The permutation that puts the rows of a matrix with `dof` rows per mass in the dissection's order.
+RowPermutation rowPermutation(const DissectionOrder& dissection, int dof)
+{
+    RowPermutation permutation{Eigen::Index(dof) * Eigen::Index(dissection.order.size())};
+    for (std::size_t position = 0; position < dissection.order.size(); ++position)
+    {
+        for (int c = 0; c < dof; ++c)
+        {
+            permutation.indices()[Eigen::Index(dof) * Eigen::Index(dissection.order[position]) + c] =
+                SparseMatrix::StorageIndex(std::size_t(dof) * position) + c;
+        }
+    }
+    return permutation;
+}
+} // namespace
+
+// Every position of the order lies in exactly one range, and the factor of the sheet's matrix in that order never
+// joins two ranges of one stage, nor reaches from a later stage's column into an earlier stage's row: what the staged
+// triangular solves rely on. Exact (a pattern), on a 40x2x40 Table 1 sheet (3,281 masses) cut 3 levels deep.
+TEST(NestedDissection, StagesAreIndependentInTheFactor)
+{
+    const MassSpringSystem sheet = paperSheet(40);
+    const int depth = 3;
+    const DissectionOrder dissection = nestedDissection(sheet.particles.position, sheet.springs, depth);
+    const std::size_t n = sheet.massCount();
+    ASSERT_EQ(dissection.order.size(), n);
+    ASSERT_EQ(dissection.stages.size(), std::size_t(depth + 1));
+    std::vector<int> stageOf(n, -1);
+    std::vector<int> rangeOf(n, -1);
+    int ranges = 0;
+    for (std::size_t s = 0; s < dissection.stages.size(); ++s)
+    {
+        for (const OrderRange& range : dissection.stages[s])
+        {
+            for (std::size_t position = range.begin; position < range.end; ++position)
+            {
+                ASSERT_LT(position, n);
+                ASSERT_EQ(stageOf[position], -1) << "position " << position << " in two ranges";
+                stageOf[position] = int(s);
+                rangeOf[position] = ranges;
+            }
+            ++ranges;
+        }
+    }
+    for (std::size_t position = 0; position < n; ++position)
+    {
+        ASSERT_GE(stageOf[position], 0) << "position " << position << " in no range";
+    }
+    EXPECT_EQ(dissection.stages[0].size(), std::size_t(1) << depth);
+
+    // The factor's pattern, one row per mass, in the dissection's order.
+    const SparseMatrix a = springMatrix(sheet, 1);
+    const RowPermutation permutation = rowPermutation(dissection, 1);
+    SparseMatrix permuted;
+    permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> factor(
+        permuted);
+    ASSERT_EQ(factor.info(), Eigen::Success);
+    const SparseMatrix& lower = factor.matrixL().nestedExpression();
+    int violations = 0;
+    for (Eigen::Index column = 0; column < lower.outerSize(); ++column)
+    {
+        for (SparseMatrix::InnerIterator it(lower, column); it; ++it)
+        {
+            const std::size_t row = std::size_t(it.row());
+            const std::size_t col = std::size_t(column);
+            const bool sameRange = rangeOf[row] == rangeOf[col];
+            if (!sameRange && stageOf[row] <= stageOf[col])
+            {
+                ++violations;
+            }
+        }
+    }
+    EXPECT_EQ(violations, 0);
+}
+
+// The preconditioner's staged solve gives what Eigen's own triangular solves give on Eigen's factor with its values
+// rounded to half precision, as the preconditioner keeps them (the staged factor is Eigen's to rounding, and here
+// every value rounds to the same half; halfFromReal is tested against IEEE's rounding in RunLengthRowsTest), to the
+// rounding of single
+// precision, in which the preconditioner solves (1e-6 of the largest component is the bound; 1.8e-7 measured); the
+// same bits at 1, 2 and 3 threads and on every SIMD path; and the exact factor's solve to 1e-3 of the largest
+// component (the half-precision rounding, 4.9e-4 of an entry at most, left 2.4e-4 here).
+TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
+{
+    const MassSpringSystem sheet = paperSheet(24);
+    const SparseMatrix a = springMatrix(sheet, 3);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    CholeskyPreconditioner preconditioner;
+    preconditioner.analyse(a, dissection);
+    ASSERT_TRUE(preconditioner.refresh(a));
+
+    const RowPermutation permutation = rowPermutation(dissection, 3);
+    SparseMatrix permuted;
+    permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> factor(
+        permuted);
+    ASSERT_EQ(factor.info(), Eigen::Success);
+
+    Vector r(a.rows());
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+    // Eigen's triangular solves, with a division by D between (SimplicialLDLT::solve multiplies by 1/D instead).
+    const auto solveWith = [&](const SparseMatrix& lower)
+    {
+        Vector permutedR = permutation * r;
+        lower.triangularView<Eigen::UnitLower>().solveInPlace(permutedR);
+        permutedR = permutedR.cwiseQuotient(factor.vectorD());
+        lower.transpose().triangularView<Eigen::UnitUpper>().solveInPlace(permutedR);
+        return Vector(permutation.transpose() * permutedR);
+    };
+    SparseMatrix rounded = factor.matrixL().nestedExpression();
+    for (Eigen::Index k = 0; k < rounded.nonZeros(); ++k)
+    {
+        rounded.valuePtr()[k] = Real(floatFromHalf(halfFromReal(rounded.valuePtr()[k])));
+    }
+    const Vector expected = solveWith(rounded);
+    const Vector exact = solveWith(factor.matrixL().nestedExpression());
+
+    const ThreadCountGuard guard;
+    setThreadCount(1);
+    Vector oneThread(a.rows());
+    preconditioner.apply(r, oneThread);
+    const Real bound = 1e-6 * expected.cwiseAbs().maxCoeff();
+    for (Eigen::Index i = 0; i < oneThread.size(); ++i)
+    {
+        ASSERT_NEAR(oneThread[i], expected[i], bound) << "row " << i;
+    }
+    const Real exactBound = 1e-3 * exact.cwiseAbs().maxCoeff();
+    for (Eigen::Index i = 0; i < oneThread.size(); ++i)
+    {
+        ASSERT_NEAR(oneThread[i], exact[i], exactBound) << "row " << i;
+    }
+    const SimdPathGuard simdGuard;
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        setSimdPath(path);
+        for (const int threads : {1, 2, 3})
+        {
+            setThreadCount(threads);
+            Vector z(a.rows());
+            preconditioner.apply(r, z);
+            for (Eigen::Index i = 0; i < z.size(); ++i)
+            {
+                ASSERT_EQ(z[i], oneThread[i])
+                    << "row " << i << " at " << threads << " threads on the " << simdPathName(path) << " path";
+            }
+        }
+    }
+}
+
+// The solves run in single precision, whose range is far narrower than double's: a residual of 1e-42 or 1e30 (times
+// an ordinary one) must be solved as the ordinary one and scaled, exactly (the solve scales by a power of two), not
+// flushed to zero or overflowed to infinity.
+TEST(CholeskyPreconditioner, ResidualsOutsideTheFloatRangeAreSolvedExactlyScaled)
+{
+    const MassSpringSystem sheet = paperSheet(8);
+    const SparseMatrix a = springMatrix(sheet, 3);
+    CholeskyPreconditioner preconditioner;
+    preconditioner.analyse(
+        a, nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
+    ASSERT_TRUE(preconditioner.refresh(a));
+    Vector r(a.rows());
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+    Vector z(a.rows());
+    preconditioner.apply(r, z);
+    ASSERT_GT(z.cwiseAbs().maxCoeff(), 0.0);
+    for (const int exponent : {-140, 100})
+    {
+        Vector scaledZ(a.rows());
+        preconditioner.apply(r * std::ldexp(1.0, exponent), scaledZ);
+        for (Eigen::Index i = 0; i < z.size(); ++i)
+        {
+            ASSERT_EQ(scaledZ[i], std::ldexp(z[i], exponent)) << "row " << i << ", r scaled by 2^" << exponent;
+        }
+    }
+    Vector zero = Vector::Constant(a.rows(), 1.0);
+    preconditioner.apply(Vector::Zero(a.rows()), zero);
+    EXPECT_EQ(zero.cwiseAbs().maxCoeff(), 0.0);
+}
+
+// The staged factorisation gives Eigen's SimplicialLDLT factor, the same pattern and each value to rounding, on a
+// sheet whose dissection has several ranges in every stage below the top separator: the parts are factored row by row
+// as Eigen does, the separators a block of rows at once with their columns below in increasing order (Eigen's order is
+// each row's own topological one), so a value may differ from Eigen's in its last bits: by at most 1e-13 of L's
+// largest entry and 1e-13 of each pivot (measured: 9.2e-16 and 2.0e-15 at 24x2x24). The factor has the same bits at
+// 1, 2 and 3 threads and on every SIMD path. A matrix with a zero pivot, in the first row or in the top separator's
+// last, is refused, and the next factorisation works.
+TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
+{
+    const MassSpringSystem sheet = paperSheet(24);
+    const SparseMatrix a = springMatrix(sheet, 3);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    ASSERT_GT(dissection.stages[0].size(), 4u);
+    const RowPermutation permutation = rowPermutation(dissection, 3);
+    std::vector<std::vector<OrderRange>> rowStages;
+    for (const std::vector<OrderRange>& stage : dissection.stages)
+    {
+        rowStages.emplace_back();
+        for (const OrderRange& range : stage)
+        {
+            rowStages.back().push_back({3 * range.begin, 3 * range.end});
+        }
+    }
+    ASSERT_GT(rowStages.size(), 2u) << "separators at several levels";
+    SparseMatrix permuted;
+    permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+    Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<SparseMatrix::StorageIndex>> eigen(
+        permuted);
+    ASSERT_EQ(eigen.info(), Eigen::Success);
+    const SparseMatrix& expected = eigen.matrixL().nestedExpression();
+    const Vector expectedD = eigen.vectorD();
+    const Real bound = 1e-13 * Eigen::Map<const Vector>(expected.valuePtr(), expected.nonZeros()).cwiseAbs().maxCoeff();
+
+    StagedLdlt reference;
+    reference.analyse(permuted, rowStages);
+    ASSERT_TRUE(reference.factorize(permuted));
+    Real largestDifference = 0;
+    Real largestPivotDifference = 0;
+    for (Eigen::Index k = 0; k < expected.nonZeros(); ++k)
+    {
+        ASSERT_NEAR(reference.lower().valuePtr()[k], expected.valuePtr()[k], bound) << "entry " << k;
+        largestDifference =
+            std::max(largestDifference, std::abs(reference.lower().valuePtr()[k] - expected.valuePtr()[k]));
+    }
+    for (Eigen::Index k = 0; k < a.rows(); ++k)
+    {
+        ASSERT_NEAR(reference.diagonal()[k], expectedD[k], 1e-13 * std::abs(expectedD[k])) << "pivot " << k;
+        largestPivotDifference =
+            std::max(largestPivotDifference, std::abs(reference.diagonal()[k] - expectedD[k]) / std::abs(expectedD[k]));
+    }
+    std::printf("largest difference from Eigen's factor: %.3g of L's largest entry, %.3g of a pivot\n",
+                largestDifference / (bound / 1e-13), largestPivotDifference);
+
+    const ThreadCountGuard guard;
+    const SimdPathGuard simdGuard;
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        setSimdPath(path);
+        for (const int threads : {1, 2, 3})
+        {
+            setThreadCount(threads);
+            StagedLdlt staged;
+            staged.analyse(permuted, rowStages);
+            ASSERT_TRUE(staged.factorize(permuted));
+            ASSERT_TRUE(staged.factorize(permuted)) << "a second factorisation of the same factor";
+            const SparseMatrix& lower = staged.lower();
+            ASSERT_EQ(lower.nonZeros(), expected.nonZeros());
+            for (Eigen::Index j = 0; j <= a.rows(); ++j)
+            {
+                ASSERT_EQ(lower.outerIndexPtr()[j], expected.outerIndexPtr()[j]) << "column " << j;
+            }
+            for (Eigen::Index k = 0; k < expected.nonZeros(); ++k)
+            {
+                ASSERT_EQ(lower.innerIndexPtr()[k], expected.innerIndexPtr()[k]) << "entry " << k;
+                ASSERT_EQ(lower.valuePtr()[k], reference.lower().valuePtr()[k])
+                    << "entry " << k << " at " << threads << " threads on the " << simdPathName(path) << " path";
+            }
+            for (Eigen::Index k = 0; k < a.rows(); ++k)
+            {
+                ASSERT_EQ(staged.diagonal()[k], reference.diagonal()[k])
+                    << "pivot " << k << " at " << threads << " threads on the " << simdPathName(path) << " path";
+            }
+        }
+    }
+
+    // A zero pivot: the first row's diagonal set to zero, its off-diagonal entries too.
+    SparseMatrix singular = permuted;
+    for (Eigen::Index k = 0; k < singular.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(singular, k); it; ++it)
+        {
+            if (it.row() == 0 || it.col() == 0)
+            {
+                it.valueRef() = 0;
+            }
+        }
+    }
+    StagedLdlt staged;
+    staged.analyse(singular, rowStages);
+    EXPECT_FALSE(staged.factorize(singular));
+    EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after a refused one";
+
+    // The same for the last row, in the top separator, which is factored in steps of its own.
+    SparseMatrix singularAtTheTop = permuted;
+    const Eigen::Index last = permuted.rows() - 1;
+    for (Eigen::Index k = 0; k < singularAtTheTop.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(singularAtTheTop, k); it; ++it)
+        {
+            if (it.row() == last || it.col() == last)
+            {
+                it.valueRef() = 0;
+            }
+        }
+    }
+    EXPECT_FALSE(staged.factorize(singularAtTheTop));
+    EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after one refused at the top";
+    EXPECT_EQ(staged.diagonal()[last], reference.diagonal()[last]);
+}
+
+// A refresh gathers the permuted matrix's values through maps found once (PermutedValues.h): for new values on the
+// same pattern, the gathered matrix is Eigen's permutation of them, every value bit for bit, in full and as the upper
+// triangle; an uncompressed matrix, whose value indices would not be its entries', is refused.
+TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
+{
+    const MassSpringSystem sheet = paperSheet(8);
+    SparseMatrix a = springMatrix(sheet, 3);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    const RowPermutation permutation = rowPermutation(dissection, 3);
+    auto full = [&](const SparseMatrix& m)
+    {
+        SparseMatrix permuted;
+        permuted = m.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+        return permuted;
+    };
+    auto upper = [&](const SparseMatrix& m)
+    {
+        SparseMatrix triangle(m.rows(), m.cols());
+        triangle.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+        return triangle;
+    };
+    SparseMatrix fullGathered;
+    SparseMatrix upperGathered;
+    const PermutedSources fullSources = findPermutedSources(a, full, fullGathered);
+    const PermutedSources upperSources = findPermutedSources(a, upper, upperGathered);
+    for (Eigen::Index k = 0; k < a.nonZeros(); ++k) // new values, the same pattern
+    {
+        a.valuePtr()[k] = std::sin(Real(k) * 0.37) * Real(1 + k % 5);
+    }
+    gatherPermutedValues(a, fullSources, fullGathered);
+    gatherPermutedValues(a, upperSources, upperGathered);
+    for (const auto& [gathered, expected] :
+         {std::pair<const SparseMatrix*, SparseMatrix>{&fullGathered, full(a)}, {&upperGathered, upper(a)}})
+    {
+        ASSERT_EQ(gathered->nonZeros(), expected.nonZeros());
+        for (Eigen::Index k = 0; k < expected.nonZeros(); ++k)
+        {
+            ASSERT_EQ(gathered->innerIndexPtr()[k], expected.innerIndexPtr()[k]) << "entry " << k;
+            ASSERT_EQ(gathered->valuePtr()[k], expected.valuePtr()[k]) << "entry " << k;
+        }
+    }
+
+    SparseMatrix uncompressed = a;
+    uncompressed.uncompress();
+    SparseMatrix unused;
+    EXPECT_THROW(findPermutedSources(uncompressed, full, unused), std::logic_error);
+}
+
+namespace
+{
+/// Nonzeros of the Cholesky factor L (the diagonal included) of a symmetric matrix with the springs' pattern, one row
+/// per mass, eliminated in `order`: each row's nonzeros are the elimination tree's nodes reached from the row's own
+/// entries (the row subtree), counted without forming L.
+std::size_t factorNonZeros(const MassSpringSystem& system, const std::vector<Index>& order)
+{
+    const std::size_t n = system.massCount();
+    std::vector<std::size_t> position(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        position[order[k]] = k;
+    }
+    std::vector<std::vector<std::size_t>> lower(n); // per row (new numbering), its columns before the diagonal
+    for (const SpringEnds& e : system.springs.ends())
+    {
+        const std::size_t a = position[e.a];
+        const std::size_t b = position[e.b];
+        if (a != b)
+        {
+            lower[std::max(a, b)].push_back(std::min(a, b));
+        }
+    }
+    constexpr std::size_t none = std::numeric_limits<std::size_t>::max();
+    std::vector<std::size_t> parent(n, none);
+    std::vector<std::size_t> visited(n, none);
+    std::size_t count = 0;
+    for (std::size_t row = 0; row < n; ++row)
+    {
+        visited[row] = row;
+        ++count; // the diagonal
+        for (std::size_t column : lower[row])
+        {
+            // Up the tree from the entry's column to the first node this row has met; the first time, it is a root,
+            // and the row becomes its parent.
+            for (; visited[column] != row; column = parent[column])
+            {
+                visited[column] = row;
+                ++count;
+                if (parent[column] == none)
+                {
+                    parent[column] = row;
+                }
+            }
+        }
+    }
+    return count;
+}
+} // namespace
+
+// The dissection's factor is smaller than the one of Eigen's approximate minimum degree on the same sheet. On a fine
+// sheet (128x2x128, 7.9 mm spacing) many parts are thicker across the layers than they are wide, so the cut cannot
+// split them and they are left whole: eliminated in index order they held 2.89 M nonzeros against AMD's 2.50 M;
+// ordered by minimum degree 2.04 M (METIS's nested dissection, measured apart: 1.94 M). Exact counts of the pattern.
+TEST(NestedDissection, FactorIsSmallerThanMinimumDegreesOnAFineSheet)
+{
+    const MassSpringSystem sheet = paperSheet(128);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+
+    std::vector<Eigen::Triplet<Real, int>> pattern;
+    for (std::size_t i = 0; i < sheet.massCount(); ++i)
+    {
+        pattern.emplace_back(int(i), int(i), Real(1));
+    }
+    for (const SpringEnds& e : sheet.springs.ends())
+    {
+        pattern.emplace_back(int(e.a), int(e.b), Real(1));
+        pattern.emplace_back(int(e.b), int(e.a), Real(1));
+    }
+    Eigen::SparseMatrix<Real, Eigen::ColMajor, int> graph(int(sheet.massCount()), int(sheet.massCount()));
+    graph.setFromTriplets(pattern.begin(), pattern.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> amd;
+    Eigen::AMDOrdering<int>()(graph, amd); // entry k: the mass eliminated k-th (as SimplicialLDLT reads it)
+    const std::vector<Index> amdOrder(amd.indices().data(), amd.indices().data() + sheet.massCount());
+
+    const std::size_t ours = factorNonZeros(sheet, dissection.order);
+    const std::size_t theirs = factorNonZeros(sheet, amdOrder);
+    std::printf("factor nonzeros (mass blocks) at 128x2x128: dissection %zu, AMD %zu (ratio %.3f)\n", ours, theirs,
+                double(ours) / double(theirs));
+    EXPECT_LT(double(ours), 0.9 * double(theirs));
+}

@@ -1,0 +1,173 @@
+// The sparse block/slot matrix the implicit step and the heat model assemble into: blocks reached through slots land
+// where a dense assembly puts them, bit for bit, and a block the pattern does not hold is refused.
+
+#include "core/linear/SlotMatrix.h"
+#include "core/InputError.h"
+#include "core/linear/ConjugateGradient.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <vector>
+
+using namespace masse;
+
+namespace
+{
+/// A chain 0-1-2-3 with a brace 0-2 and the spring 1-2 listed twice (two springs may join the same masses).
+const std::vector<SpringEnds> chainEnds = {{0, 1}, {1, 2}, {2, 3}, {0, 2}, {2, 1}};
+constexpr std::size_t chainMasses = 4;
+
+/// A block with distinct entries and no symmetry, so a transposed or misplaced write shows.
+template <int B> Eigen::Matrix<Real, B, B> distinctBlock(int seed)
+{
+    Eigen::Matrix<Real, B, B> block;
+    for (int c = 0; c < B; ++c)
+    {
+        for (int r = 0; r < B; ++r)
+        {
+            block(r, c) = Real(seed) + Real(0.1) * Real(r) + Real(0.01) * Real(c) + Real(1) / Real(3 + seed);
+        }
+    }
+    return block;
+}
+
+/// Assembles a mass block per mass and, per spring s with block K, K on both ends' diagonals, -K at (a, b) and -K^T at
+/// (b, a): through the slots, and into a dense matrix by index in the same order. The two must agree exactly.
+template <int B> void expectSlotAssemblyEqualsDense()
+{
+    SlotMatrix<B> matrix;
+    matrix.build(chainMasses, chainEnds);
+    Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> dense =
+        Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic>::Zero(B * chainMasses, B * chainMasses);
+    auto denseBlock = [&](std::size_t row, std::size_t column)
+    { return dense.template block<B, B>(Eigen::Index(B * row), Eigen::Index(B * column)); };
+
+    for (std::size_t i = 0; i < chainMasses; ++i)
+    {
+        const auto block = distinctBlock<B>(int(i));
+        matrix.add(matrix.diagonal(i), block);
+        denseBlock(i, i) += block;
+    }
+    for (std::size_t s = 0; s < chainEnds.size(); ++s)
+    {
+        const auto block = distinctBlock<B>(10 + int(s));
+        const std::size_t a = std::size_t(chainEnds[s].a);
+        const std::size_t b = std::size_t(chainEnds[s].b);
+        matrix.add(matrix.diagonal(a), block);
+        matrix.add(matrix.diagonal(b), block);
+        matrix.add(matrix.ab(s), -block);
+        matrix.add(matrix.ba(s), -block.transpose());
+        denseBlock(a, a) += block;
+        denseBlock(b, b) += block;
+        denseBlock(a, b) -= block;
+        denseBlock(b, a) -= block.transpose();
+    }
+    const Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> assembled = matrix.matrix().toDense();
+    EXPECT_EQ(assembled, dense); // exact: the same numbers summed in the same order
+
+    // Masses 1 and 3 share no spring: their blocks are outside the pattern, not stored zeros.
+    const std::size_t heldBlocks = chainMasses + 2 * 4; // four distinct pairs: 0-1, 1-2, 2-3, 0-2
+    EXPECT_EQ(std::size_t(matrix.matrix().nonZeros()), std::size_t(B * B) * heldBlocks);
+    EXPECT_EQ((dense.template block<B, B>(B * 1, B * 3)), (Eigen::Matrix<Real, B, B>::Zero()));
+
+    // Both listings of the spring 1-2 reach the same places.
+    EXPECT_EQ(matrix.ab(1), matrix.ba(4));
+    EXPECT_EQ(matrix.ba(1), matrix.ab(4));
+    EXPECT_EQ(matrix.ab(0), matrix.slotsOf(0, 1));
+
+    // read returns what write stored; setZero clears the values and keeps the pattern.
+    const auto written = distinctBlock<B>(99);
+    matrix.write(matrix.ab(3), written);
+    EXPECT_EQ(matrix.read(matrix.ab(3)), written);
+    EXPECT_EQ(matrix.read(matrix.ba(3)), (dense.template block<B, B>(B * 2, 0)));
+    matrix.setZero();
+    EXPECT_EQ(std::size_t(matrix.matrix().nonZeros()), std::size_t(B * B) * heldBlocks);
+    EXPECT_EQ(matrix.matrix().toDense().cwiseAbs().maxCoeff(), Real(0));
+}
+} // namespace
+
+TEST(SlotMatrix, BlocksThroughSlotsEqualDenseAssembly3x3)
+{
+    expectSlotAssemblyEqualsDense<3>();
+}
+
+TEST(SlotMatrix, BlocksThroughSlotsEqualDenseAssemblyScalar)
+{
+    expectSlotAssemblyEqualsDense<1>();
+    SlotMatrix<1> matrix;
+    matrix.build(chainMasses, chainEnds);
+    matrix.value(matrix.diagonal(2)) = 5;
+    matrix.value(matrix.ab(2)) -= 2;
+    EXPECT_EQ(matrix.matrix().coeff(2, 2), Real(5));
+    EXPECT_EQ(matrix.matrix().coeff(2, 3), Real(-2));
+    EXPECT_EQ(matrix.matrix().coeff(3, 2), Real(0));
+}
+
+TEST(SlotMatrix, BlockWithoutSpringIsRefused)
+{
+    SlotMatrix<3> matrix;
+    matrix.build(chainMasses, chainEnds);
+    EXPECT_THROW(matrix.slotsOf(1, 3), std::out_of_range); // no spring joins 1 and 3
+    EXPECT_THROW(matrix.slotsOf(3, 0), std::out_of_range);
+    EXPECT_THROW(matrix.slotsOf(0, chainMasses), std::out_of_range); // past the last mass
+    EXPECT_NO_THROW(matrix.slotsOf(2, 0));
+}
+
+TEST(SlotMatrix, TooManyMassesIsAnInputError)
+{
+    SlotMatrix<3> matrix;
+    // Refused before anything is allocated.
+    EXPECT_THROW(matrix.build(SlotMatrix<3>::maxMasses() + 1, {}), InputError);
+    EXPECT_GT(SlotMatrix<1>::maxMasses(), SlotMatrix<3>::maxMasses());
+}
+
+// The conjugate gradient's product (multiplySymmetricRows) sums a mass's three rows together where they share their
+// columns: each row's sum must be the plain one-row loop's, bit for bit, over the whole matrix and over row ranges
+// that cut a mass's rows apart; a matrix of scalar blocks, whose neighbouring rows mostly differ, too.
+template <int B> void expectProductIsEachRowsPlainSum()
+{
+    SlotMatrix<B> matrix;
+    matrix.build(chainMasses, chainEnds);
+    for (std::size_t i = 0; i < chainMasses; ++i)
+    {
+        matrix.add(matrix.diagonal(i), distinctBlock<B>(int(i)));
+    }
+    for (std::size_t s = 0; s < chainEnds.size(); ++s)
+    {
+        const auto block = distinctBlock<B>(10 + int(s));
+        matrix.add(matrix.ab(s), -block);
+        matrix.add(matrix.ba(s), -block.transpose());
+    }
+    const SparseMatrix& a = matrix.matrix();
+    Vector x(a.rows());
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+    {
+        x[i] = Real(1) / Real(3 + i) - Real(0.37) * Real(i % 5);
+    }
+    Vector expected(a.rows());
+    for (Eigen::Index row = 0; row < a.rows(); ++row)
+    {
+        Real sum = 0;
+        for (SparseMatrix::InnerIterator it(a, row); it; ++it)
+        {
+            sum += it.value() * x[it.index()];
+        }
+        expected[row] = sum;
+    }
+    for (const Eigen::Index begin : {Eigen::Index(0), Eigen::Index(1), Eigen::Index(2)})
+    {
+        Vector y = Vector::Constant(a.rows(), -1);
+        multiplySymmetricRows(a, x, y, begin, a.rows() - (begin == 1 ? 1 : 0));
+        for (Eigen::Index row = begin; row < a.rows() - (begin == 1 ? 1 : 0); ++row)
+        {
+            EXPECT_EQ(y[row], expected[row]) << "row " << row << " from " << begin;
+        }
+    }
+}
+
+TEST(SlotMatrix, ProductSumsEachRowInItsOwnOrder)
+{
+    expectProductIsEachRowsPlainSum<3>();
+    expectProductIsEachRowsPlainSum<1>();
+}

@@ -1,0 +1,365 @@
+// Hostile and careless input (issue 16): every file in tests/bad-scenes/ and tests/data/ that once crashed, was read
+// wrongly or was refused too late is refused at once with one message naming the file and the key or line; files too
+// large to keep in the repository (deep nesting, a mesh past Bullet's triangle limit) are made here at run time.
+
+#include "support/TestSystems.h"
+
+#include "bridge/MeshFile.h"
+#include "core/NumericalError.h"
+#include "scene/MemoryBudget.h"
+#include "scene/Runner.h"
+#include "scene/Scene.h"
+#include "scene/SceneFile.h"
+#include "scene/json/JsonObject.h"
+#include "scene/output/AtomicFile.h"
+#include "scene/output/FiniteOutput.h"
+#include "scene/output/OutputFolder.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
+
+using namespace masse;
+using namespace masse::scene;
+using masse::test::inputErrorOf;
+
+namespace
+{
+const std::string source = MASSE_SOURCE_DIR;
+const std::string badScenes = source + "/tests/bad-scenes/";
+
+std::string buildError(const std::string& file)
+{
+    return inputErrorOf([&] { Scene scene(loadScene(file)); });
+}
+
+std::filesystem::path freshFolder(const std::string& name)
+{
+    const std::filesystem::path folder = std::filesystem::path(testing::TempDir()) / ("hostile-" + name);
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    return folder;
+}
+
+void writeText(const std::filesystem::path& path, const std::string& text)
+{
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+}
+
+/// The id of a process that has exited (forked, reaped): what a run killed with -9 leaves in its temporary names.
+pid_t deadProcess()
+{
+    const pid_t child = ::fork();
+    if (child == 0)
+    {
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return child;
+}
+} // namespace
+
+// Row 2: 120 KB of "[" used to overflow the stack (the error message dumped the document recursively).
+TEST(HostileInput, DeeplyNestedJsonIsRefusedWithTheDepth)
+{
+    const std::filesystem::path folder = freshFolder("deep");
+    writeText(folder / "deep.json", std::string(120000, '['));
+    const std::string message = inputErrorOf([&] { loadScene((folder / "deep.json").string()); });
+    EXPECT_NE(message.find("deep.json: "), std::string::npos) << message;
+    EXPECT_NE(message.find("nested deeper than 64 levels"), std::string::npos) << message;
+
+    writeText(folder / "deep-material.json", "{\"forming_window\": " + std::string(60000, '[') + "}");
+    const std::string material = inputErrorOf([&] { readJsonFile((folder / "deep-material.json").string()); });
+    EXPECT_NE(material.find("deep-material.json: forming_window"), std::string::npos) << material;
+}
+
+// Row 4: a number beyond double range is bad input (exit 2) naming the file and the key, in a scene, the base it
+// extends, or its material file.
+TEST(HostileInput, NumbersBeyondDoubleRangeNameFileAndKey)
+{
+    const std::string scene = buildError(badScenes + "number-overflow.json");
+    EXPECT_NE(scene.find("number-overflow.json: sheet.mass: number overflow parsing '1e400'"), std::string::npos)
+        << scene;
+    const std::string base = buildError(badScenes + "extends-overflow.json");
+    EXPECT_NE(base.find("number-overflow.json: sheet.mass: number overflow"), std::string::npos) << base;
+    const std::string material = buildError(badScenes + "material-overflow.json");
+    EXPECT_NE(material.find("overflow-material.json: density: number overflow parsing '1e400'"), std::string::npos)
+        << material;
+}
+
+// Row 12: a folder where a scene, base or material file should be is named, not read as an empty file.
+TEST(HostileInput, AFolderForAFileIsRefusedByName)
+{
+    const std::filesystem::path folder = freshFolder("folder-scene");
+    std::filesystem::create_directories(folder / "scene.json");
+    const std::string message = buildError((folder / "scene.json").string());
+    EXPECT_NE(message.find("scene.json: is a folder, not a JSON file"), std::string::npos) << message;
+}
+
+// Row 12: a scene file name that is not UTF-8 would make summary.json unwritable at the end of the run.
+TEST(HostileInput, ASceneFileNameThatIsNotUtf8IsRefusedUpFront)
+{
+    const std::filesystem::path folder = freshFolder("utf8");
+    const std::string name = (folder / "sc\xE9ne.json").string();
+    writeText(name, "{}");
+    const std::string message = buildError(name);
+    EXPECT_NE(message.find("sc\\xE9ne.json: the file name is not valid UTF-8"), std::string::npos) << message;
+}
+
+// Row 5: a pinned mass index beyond the index type was cast from a double (undefined behaviour: it pinned mass 1 or
+// 0); it is refused with the index and the range.
+TEST(HostileInput, PinnedMassesBeyondTheIndexRangeAreRefused)
+{
+    const std::string past = buildError(badScenes + "pin-past-index-range.json");
+    EXPECT_NE(past.find("sheet.pinned.masses: expected mass indices, whole numbers in [0, 4294967294] (got "
+                        "4294967297)"),
+              std::string::npos)
+        << past;
+    const std::string huge = buildError(badScenes + "pin-huge.json");
+    EXPECT_NE(huge.find("(got 1e+300)"), std::string::npos) << huge;
+}
+
+// Rows 9 and 11: values that make a run that never ends or flings the sheet are refused by range, naming the key.
+TEST(HostileInput, AbsurdValuesAreRefusedByRange)
+{
+    const std::pair<const char*, const char*> cases[] = {
+        {"dt-tiny.json", "integrator.dt: must be in [1e-06, 1] (got 1e-308)"},
+        {"duration-huge.json", "run.duration: must be in (0, 1e+06] s (got 1e+300)"},
+        {"contact-radius-huge.json", "contact.radius: must be in (0, 0.1] m (got 1e+06)"},
+        {"repulsion-huge.json", "sheet.repulsion: must be in [0, 1] (got 1000)"},
+        {"stiffness-huge.json", "sheet.stiffness.planar: must be in (0, 1e+06] N/m (got 1e+12)"},
+        {"mass-tiny.json", "sheet.mass: must be in [1e-06, 1000] (got 1e-12)"},
+    };
+    for (const auto& [file, expected] : cases)
+    {
+        const std::string message = buildError(badScenes + file);
+        EXPECT_NE(message.find(badScenes + file + ": " + expected), std::string::npos) << file << ": " << message;
+    }
+}
+
+// Row 6: a step the explicit integrator cannot take is found when the scene is built, not at its first step (after
+// the output folder and the first frame were written); row 13: the message's numbers are readable.
+TEST(HostileInput, AStepTooLargeIsRefusedWhenTheSceneIsBuilt)
+{
+    const std::string message = buildError(badScenes + "stiff-explicit-step.json");
+    EXPECT_NE(message.find("integrator.dt: the symplectic integrator needs"), std::string::npos) << message;
+    EXPECT_EQ(message.find("0.000000"), std::string::npos) << message;
+    EXPECT_EQ(message.find("-9223372036854775808"), std::string::npos) << message;
+}
+
+// Row 10: tinyobjloader reads "nan" and "inf" as 0; row 2 of the third-party findings: it casts a vw line's vertex
+// number to int unchecked. Both are refused naming the file and the line.
+TEST(HostileInput, ObjVerticesThatAreNotFiniteNumbersNameTheLine)
+{
+    const std::string nan = buildError(badScenes + "mesh-nan-vertex.json");
+    EXPECT_NE(nan.find("nan-vertex.obj', line 4: vertex coordinate 'nan' is not a finite number"), std::string::npos)
+        << nan;
+    const std::string inf = buildError(badScenes + "mesh-inf-vertex.json");
+    EXPECT_NE(inf.find("inf-vertex.obj', line 3: vertex coordinate 'inf' is not a finite number"), std::string::npos)
+        << inf;
+    const std::string weight = buildError(badScenes + "mesh-vertex-weight.json");
+    EXPECT_NE(weight.find("vertex-weight-huge.obj', line 5: a vertex weight (vw) needs a vertex number"),
+              std::string::npos)
+        << weight;
+}
+
+// Row 1: past 2^21 triangles Bullet's BVH indexes other memory (SIGSEGV when the sheet neared such a triangle); the
+// mesh is refused at the face that goes past the limit.
+TEST(HostileInput, AMeshPastBulletsTriangleLimitIsRefused)
+{
+    const std::filesystem::path folder = freshFolder("huge-mesh");
+    {
+        std::ofstream out(folder / "huge.obj");
+        out << "v 0 0 0\nv 1 0 0\nv 0 0 1\n";
+        const std::string face = "f 1 2 3\n";
+        std::string block;
+        for (int i = 0; i < 4096; ++i)
+        {
+            block += face;
+        }
+        for (std::size_t written = 0; written <= bridge::maxMeshTriangles; written += 4096)
+        {
+            out << block;
+        }
+    }
+    const std::string message = inputErrorOf([&] { bridge::loadObj((folder / "huge.obj").string(), "huge"); });
+    EXPECT_NE(message.find("line " + std::to_string(3 + bridge::maxMeshTriangles + 1) + ": more than 2097152"),
+              std::string::npos)
+        << message;
+}
+
+// Row 8: a sheet inside the documented size range that cannot fit in memory is refused at once (it allocated for
+// 98 s, then threw std::bad_alloc), and reading its scene no longer builds the lattice to count its masses.
+TEST(HostileInput, ASheetThatCannotFitInMemoryIsRefusedAtOnce)
+{
+    LatticeSpec spec;
+    spec.countX = 4000;
+    spec.countZ = 4000;
+    spec.layers = 2;
+    EXPECT_EQ(massCountOf(spec), 4000u * 4000u + 3999u * 3999u);
+    spec.countX = 12;
+    spec.countZ = 12;
+    EXPECT_EQ(massCountOf(spec), 265u); // Table 2
+
+    const std::string message = buildError(badScenes + "sheet-too-large-for-memory.json");
+    if (availableBytes() > estimatedBytes(loadScene(badScenes + "sheet-too-large-for-memory.json").sheet.lattice,
+                                          IntegratorKind::SymplecticEuler))
+    {
+        GTEST_SKIP() << "this machine has the memory for a 4000x2x4000 sheet; nothing to refuse";
+    }
+    EXPECT_NE(message.find("sheet.size: a 4000x2x4000 sheet has 31992001 masses and needs about"), std::string::npos)
+        << message;
+}
+
+// Row 3: gravity of 1e200 m/s^2 keeps positions and velocities finite but their speed and kinetic energy overflow;
+// the run stops with a NumericalError before a frame or summary could hold them.
+TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
+{
+    const std::filesystem::path folder = freshFolder("infinite");
+    SceneSpec spec = loadScene(badScenes + "gravity-beyond-range.json");
+    spec.output.framesEvery = 1;
+    spec.output.formats = {"vtp"};
+    Scene scene(spec);
+    RunOptions options;
+    options.outDir = (folder / "out").string();
+    options.showProgress = false;
+    std::ostringstream progress;
+    try
+    {
+        runScene(scene, options, progress);
+        FAIL() << "the run went on with an infinite kinetic energy";
+    }
+    catch (const NumericalError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("is not a finite number"), std::string::npos) << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(folder / "out" / "summary.json"));
+
+    nlohmann::json document = {{"final", {{"kinetic_energy", std::numeric_limits<double>::infinity()}}}};
+    try
+    {
+        requireFiniteJson(document, "summary.json:");
+        FAIL() << "an infinite value passed";
+    }
+    catch (const NumericalError& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("summary.json: final.kinetic_energy"), std::string::npos) << e.what();
+    }
+}
+
+// Row 15: the last step is shortened so the run ends on its duration: 0.1 s at dt = 0.03 s is 0.1 s, not 0.12 s.
+TEST(HostileInput, ARunEndsOnItsDurationExactly)
+{
+    SceneSpec spec = loadScene(source + "/data/scenes/slope.json");
+    spec.time.dt = 0.03;
+    spec.run.duration = 0.1;
+    spec.run.stopAtRest = false;
+    Scene scene(spec);
+    while (!scene.finished())
+    {
+        scene.step();
+    }
+    EXPECT_EQ(scene.steps(), 4u);
+    EXPECT_NEAR(scene.time(), 0.1, 1e-12);
+}
+
+// Row 7: an output folder that holds files is refused without force; with it, the old folder is replaced only when
+// the run commits, and a run that fails (never commits) leaves the old folder as it was and no staging folder.
+TEST(HostileInput, OutputFoldersNeverMixRuns)
+{
+    const std::filesystem::path folder = freshFolder("out-folder");
+    const std::string target = (folder / "run").string();
+    {
+        OutputFolder first(target, false);
+        writeText(std::filesystem::path(first.staging()) / "summary.json", "first");
+        writeText(std::filesystem::path(first.staging()) / "frame_000001.vtp", "first");
+        EXPECT_FALSE(std::filesystem::exists(target)) << "written under the final name before the run finished";
+        first.commit();
+    }
+    EXPECT_TRUE(std::filesystem::exists(folder / "run" / "frame_000001.vtp"));
+    EXPECT_NE(inputErrorOf([&] { OutputFolder again(target, false); }).find("already holds a run (summary.json)"),
+              std::string::npos);
+    {
+        OutputFolder failed(target, true);
+        writeText(std::filesystem::path(failed.staging()) / "summary.json", "failed");
+    } // no commit: the run failed
+    std::ifstream kept(folder / "run" / "summary.json");
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "first");
+    {
+        OutputFolder second(target, true);
+        writeText(std::filesystem::path(second.staging()) / "summary.json", "second");
+        second.commit();
+    }
+    EXPECT_FALSE(std::filesystem::exists(folder / "run" / "frame_000001.vtp")) << "a stale frame of the first run";
+    std::size_t entries = 0;
+    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(folder))
+    {
+        ++entries;
+    }
+    EXPECT_EQ(entries, 1u) << "a staging or old folder was left beside the output";
+}
+
+// A folder holding other files only (a study's case folder: scene.json, run.log) keeps them; the run's files are
+// renamed in beside them when it has finished.
+TEST(HostileInput, OutputFoldersKeepFilesThatAreNotARun)
+{
+    const std::filesystem::path folder = freshFolder("out-beside");
+    std::filesystem::create_directories(folder / "case");
+    writeText(folder / "case" / "scene.json", "{}");
+    {
+        OutputFolder out((folder / "case").string(), false);
+        writeText(std::filesystem::path(out.staging()) / "summary.json", "run");
+        std::filesystem::create_directories(std::filesystem::path(out.staging()) / "frames");
+        EXPECT_FALSE(std::filesystem::exists(folder / "case" / "summary.json"));
+        out.commit();
+    }
+    EXPECT_TRUE(std::filesystem::exists(folder / "case" / "scene.json"));
+    EXPECT_TRUE(std::filesystem::exists(folder / "case" / "summary.json"));
+    EXPECT_TRUE(std::filesystem::is_directory(folder / "case" / "frames"));
+}
+
+// Row 12: names the file system cannot hold and files where a folder should be are refused before anything runs.
+TEST(HostileInput, OutputFoldersThatCannotBeWrittenAreRefusedUpFront)
+{
+    const std::filesystem::path folder = freshFolder("out-bad");
+    const std::string longName = (folder / std::string(300, 'x')).string();
+    EXPECT_NE(inputErrorOf([&] { OutputFolder out(longName, false); }).find("has a name of 300 bytes"),
+              std::string::npos);
+    writeText(folder / "file", "not a folder");
+    EXPECT_NE(
+        inputErrorOf([&] { OutputFolder out((folder / "file").string(), false); }).find("exists and is not a folder"),
+        std::string::npos);
+    EXPECT_NE(inputErrorOf([&] { OutputFolder out((folder / "file" / "sub").string(), false); }).find("cannot be"),
+              std::string::npos);
+}
+
+// Row 14: what a run killed with -9 leaves (a staging folder, a temporary file) is removed by the next run that
+// writes there; a live process's are kept.
+TEST(HostileInput, LaterRunsRemoveTheLeftoversOfKilledOnes)
+{
+    const std::filesystem::path folder = freshFolder("leftovers");
+    const std::string dead = std::to_string(deadProcess());
+    std::filesystem::create_directories(folder / (".run.partial-" + dead));
+    writeText(folder / (".run.partial-" + dead) / "frame_000000.vtp", "half");
+    writeText(folder / ("summary.json.tmp-" + dead), "half");
+    writeText(folder / ("events.csv.tmp-" + std::to_string(::getpid())), "ours, still running");
+    {
+        OutputFolder out((folder / "run").string(), false);
+        EXPECT_FALSE(std::filesystem::exists(folder / (".run.partial-" + dead)));
+        EXPECT_FALSE(std::filesystem::exists(folder / ("summary.json.tmp-" + dead)));
+        EXPECT_TRUE(std::filesystem::exists(folder / ("events.csv.tmp-" + std::to_string(::getpid()))));
+    }
+
+    const std::filesystem::path single = freshFolder("leftover-file");
+    writeText(single / ("expected.json.tmp-" + dead), "half");
+    writeFileAtomically((single / "expected.json").string(), "{}\n");
+    EXPECT_FALSE(std::filesystem::exists(single / ("expected.json.tmp-" + dead)));
+}

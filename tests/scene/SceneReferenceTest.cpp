@@ -1,0 +1,125 @@
+// data/scenes/README.md documents every key the scene readers accept: this test reads the readers' own source (every
+// key they ask a JSON object for) and the document, and names each key the document lacks. The readers are every file
+// of src/scene that reads a scene's or a material's JSON: the scene file itself, material files, the `forming` and
+// `report` sections (FormingSpec.cpp) and the `expect` block (Regression.cpp). Study files have their own reference
+// (data/studies/README.md).
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace
+{
+const std::string source = MASSE_SOURCE_DIR;
+
+std::string readText(const std::string& path)
+{
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+/// Every key a reader asks for: the first string argument of JsonObject's readers (o.number("dt", ...),
+/// o.object("heat"), ...) and of the readers' own helpers (celsius(o, "key"), fraction(o, "key"), optional("key")).
+std::set<std::string> keysAskedFor(const std::string& code)
+{
+    static const std::regex call(
+        R"re((?:\.|->)(?:number|positive|string|boolean|integer|vec3|vec3List|choice|object|objects|raw|numbers)\(\s*"([A-Za-z_0-9]+)")re");
+    static const std::regex helper(
+        R"re((?:celsius|fraction)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
+    std::set<std::string> keys;
+    for (auto it = std::sregex_iterator(code.begin(), code.end(), call); it != std::sregex_iterator(); ++it)
+    {
+        keys.insert((*it)[1]);
+    }
+    for (auto it = std::sregex_iterator(code.begin(), code.end(), helper); it != std::sregex_iterator(); ++it)
+    {
+        keys.insert((*it)[1].matched ? (*it)[1].str() : (*it)[2].str());
+    }
+    return keys;
+}
+
+/// The values of the script's "action" choice list: choice("action", "grab", {"grab", "release", ...}).
+std::set<std::string> actionNames(const std::string& code)
+{
+    static const std::regex list(R"re(choice\(\s*"action",\s*"[a-z]+",\s*\{([^}]*)\})re");
+    static const std::regex name(R"re("([a-z_]+)")re");
+    std::set<std::string> names;
+    std::smatch m;
+    if (std::regex_search(code, m, list))
+    {
+        const std::string inner = m[1];
+        for (auto it = std::sregex_iterator(inner.begin(), inner.end(), name); it != std::sregex_iterator(); ++it)
+        {
+            names.insert((*it)[1]);
+        }
+    }
+    return names;
+}
+
+/// The key appears in the document in code quotes, alone or as the last part of a dotted path (`heaters[].power`).
+bool documented(const std::string& document, const std::string& key)
+{
+    const std::regex quoted("`([A-Za-z_0-9\\[\\]]+\\.)*" + key + "`");
+    return std::regex_search(document, quoted);
+}
+} // namespace
+
+TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
+{
+    const std::string document = readText(source + "/data/scenes/README.md");
+    ASSERT_FALSE(document.empty());
+    int checked = 0;
+    for (const char* reader : {"/src/scene/SceneFile.cpp", "/src/scene/MaterialFile.cpp", "/src/scene/FormingSpec.cpp",
+                               "/src/scene/compare/Regression.cpp"})
+    {
+        const std::set<std::string> keys = keysAskedFor(readText(source + reader));
+        EXPECT_GT(keys.size(), 5u) << reader; // the pattern still finds the readers' keys
+        for (const std::string& key : keys)
+        {
+            EXPECT_TRUE(documented(document, key))
+                << "data/scenes/README.md lacks `" << key << "` (read in " << reader << ")";
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 100);
+    const std::set<std::string> actions = actionNames(readText(source + "/src/scene/SceneFile.cpp"));
+    EXPECT_EQ(actions.size(), 8u);
+    for (const std::string& action : actions)
+    {
+        EXPECT_TRUE(documented(document, action)) << "data/scenes/README.md lacks the action `" << action << "`";
+    }
+}
+
+// A key has one row in its section's table: two rows for one key can disagree (obstacles[].temperature_c once had a
+// default of "none" in one row and "the air's" in the other).
+TEST(SceneReference, EachKeyHasOneRowInItsSection)
+{
+    std::istringstream document(readText(source + "/data/scenes/README.md"));
+    static const std::regex row(R"re(^\| (`[^|]*`) \|)re");
+    std::string section;
+    std::set<std::string> keys;
+    std::string line;
+    int rows = 0;
+    while (std::getline(document, line))
+    {
+        if (line.rfind("#", 0) == 0)
+        {
+            section = line;
+            keys.clear();
+            continue;
+        }
+        std::smatch m;
+        if (std::regex_search(line, m, row))
+        {
+            EXPECT_TRUE(keys.insert(m[1]).second) << section << ": " << m[1] << " has two rows";
+            ++rows;
+        }
+    }
+    EXPECT_GT(rows, 100);
+}
