@@ -89,7 +89,7 @@ struct TriangleCollector : btTriangleCallback
         else
         {
             // A centre on the triangle itself has no offset to point along: the face's own normal (outward for a
-            // mesh wound outward) stands in, as EPA's answer did.
+            // mesh wound outward) stands in, as EPA's answer would.
             const Vec3 face = (b - a).cross(c - a);
             const Real length = face.norm();
             if (!(length > 0))

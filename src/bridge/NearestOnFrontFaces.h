@@ -1,9 +1,9 @@
 #pragma once
 /// The nearest surface point of a convex polyhedron to a point outside it, in closed form: what FacePlaneDistance
 /// leaves (the nearest point on an edge or a vertex, or on a face other than the one the point is farthest in front
-/// of), which went to Bullet's GJK before. GJK is an iterative search for a shape whose nearest point has a closed
-/// form here: on a sheet sagging between two boxes (the contact bench, 256x2x256) some 10,000 masses a frame are
-/// near a box's edge, and GJK took over half of the contact detection's time.
+/// of), instead of Bullet's GJK. GJK is an iterative search for a shape whose nearest point has a closed form
+/// here: on a sheet sagging between two boxes (the contact bench, 256x2x256) some 10,000 masses a frame are near a
+/// box's edge, and GJK would take over half of the contact detection's time.
 ///
 /// For a point p outside, the nearest point q of the polyhedron lies on a face whose plane p is in front of: p - q lies
 /// in the cone of the outward normals of the faces through q, so (p - q) . n > 0 for one of them, and that face's

@@ -13,7 +13,7 @@ namespace masse::scene
 {
 namespace
 {
-// Bytes per mass: a generous upper estimate, NOT yet measured (issue 16 left it open): a TRiMM mass holds about 10
+// Bytes per mass: a generous upper estimate, not measured: a TRiMM mass holds about 10
 // doubles of state and forces and some four springs of about 8 doubles each, a few hundred bytes with contact and
 // Bullet's arrays; 2000 leaves room for the other structures, heat and the reports. Measure with the peak resident
 // memory of `masse run` on two large sheets (the difference drops the fixed cost) and replace these.

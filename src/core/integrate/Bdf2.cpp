@@ -37,11 +37,11 @@ class Bdf2 final : public Bdf2Integrator
 public:
     // Speculative constraints as backward Euler's, friction capped at Coulomb's within each solve, and resting
     // constraints that pull released (ImplicitSolve.h: capFriction, releaseLifting). Left to the contact's projection
-    // instead, arriving masses were stopped after the solve, while the masses joined to them had been moved as if they
-    // went on: 0.045 J in the 3x2x3 drop's springs at landing (symplectic 0.008 J), and the drop's wedge came after the
-    // floor at 9x2x9. The speculative constraints gained energy in landings (6x2x6: 0.67 J in one step) until the solve
-    // placed constrained masses where BDF2 puts them (HeldPlacement in ImplicitSolve.h) and the contact's impulses
-    // stopped being extrapolated (step()).
+    // instead, arriving masses would be stopped after the solve, while the masses joined to them moved as if they
+    // went on: 0.045 J in the 3x2x3 drop's springs at landing (symplectic 0.008 J), and the drop's wedge after the
+    // floor at 9x2x9. The speculative constraints need the solve to place constrained masses where BDF2 puts them
+    // (HeldPlacement in ImplicitSolve.h) and the contact's impulses kept out of the extrapolation (step()); without
+    // that they put energy into landings (6x2x6: 0.67 J in one step).
     explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, true, true, true) {}
 
     IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override

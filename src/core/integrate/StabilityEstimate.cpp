@@ -24,8 +24,8 @@ constexpr std::size_t springChunk = 16384;
 /// Whether the power estimate is used: yes unless MASSE_STABILITY=gershgorin. The power estimate takes 28 substeps
 /// where Gershgorin's bound takes 45 for the Table 1 sheet at dt 0.03 (the stiffest mode needs about 22). Changing the
 /// substep moves the drop scenes' rest times, which are very sensitive to it (the 8x2x8 drop rests at 5.43 s with the
-/// bound at safety 0.5 and at 4.41 s at safety 0.45), so the regression scenes were re-recorded when this became the
-/// default; the bound stays available for comparison.
+/// bound at safety 0.5 and at 4.41 s at safety 0.45), so the regression scenes' expected results hold for the power
+/// estimate only; the bound stays available for comparison.
 bool powerEstimateEnabled()
 {
     static const bool enabled = []

@@ -12,7 +12,7 @@
 /// preconditioner's rounding (both solves read the same rounded factor L~, and L~ D L~^T is symmetric positive definite
 /// for any unit lower triangular L~, so it stays a preconditioner; single-precision arithmetic adds errors of 1e-7 to
 /// the half values' 5e-4). The solves stream the whole factor on every application: at 128x2x128 an application took
-/// 13 ms with double values, 10 ms with single (earlier sessions), 4.1-4.6 ms with half values in single arithmetic
+/// 13 ms with double values, 10 ms with single, 4.1-4.6 ms with half values in single arithmetic
 /// (masse_benchmarks' choleskyApply, two threads); half values in double arithmetic were bound by the conversions to
 /// double instead of memory. Drape forming needs 1% more iterations than with single
 /// values (4.03 against 3.99 a step over its first 20 s at 128x2x128), a fresh factor two instead of one. The rounding
