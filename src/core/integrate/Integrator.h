@@ -25,7 +25,7 @@ IntegratorKind parseIntegrator(std::string_view name);
 std::string_view integratorName(IntegratorKind kind);
 bool isExplicit(IntegratorKind kind);
 
-/// The implicit solver's preconditioner (see MultigridPreconditioner.h and README's Speed for the measurements).
+/// The implicit solver's preconditioner (see MultigridPreconditioner.h, and docs/model.md for when each suits).
 enum class PreconditionerKind
 {
     Multigrid, ///< an aggregation multigrid V-cycle built from a recent matrix, rebuilt only when it has drifted

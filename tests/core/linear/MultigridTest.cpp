@@ -161,7 +161,7 @@ TEST(MultigridPreconditioner, CycleIsSymmetricPositiveAndTheSameAtAnyThreadCount
 // residual of 1e-8 in at most 20 iterations, no more at 96 than at 24, and a tenth of the diagonal's (measured: 17,
 // 15, 15 against 207, 211, 225); the result is Eigen's direct solve's to 1e-6. A stiff sheet pinned along one edge
 // (h^2 k / m = 1e4) at 48x2x48 takes at most 50 (measured 40, the diagonal 1,091): the cycle's weak case, a thin
-// two-layer plate's bending (README, Integrators).
+// two-layer plate's bending (docs/model.md, "The implicit solve").
 TEST(MultigridPreconditioner, ConjugateGradientNeedsAFewIterationsAtEverySize)
 {
     struct Case
