@@ -1,0 +1,158 @@
+#!/bin/sh
+# Regenerates the table of figures in docs/performance.md: runs each command below on this machine, reads its figure
+# from what the command prints or writes, and rewrites the lines between the page's two marker comments (nothing else
+# in the page changes). Run it after building, from anywhere:
+#     .ci/build && sh docs/figures.sh            (on a shared machine: nice -n 10 sh docs/figures.sh)
+# It takes a few minutes on a 2-core machine. Needs python3 (to read JSON); the viewer row needs xvfb-run.
+set -eu
+cd "$(dirname "$0")/.."
+masse=build/bin/masse
+page=docs/performance.md
+if [ ! -x "$masse" ]; then
+    echo "docs/figures.sh: $masse is missing: build first (.ci/build)" >&2
+    exit 2
+fi
+grep -q '^<!-- figures:begin -->$' "$page" && grep -q '^<!-- figures:end -->$' "$page" || {
+    echo "docs/figures.sh: $page lacks the marker lines <!-- figures:begin --> and <!-- figures:end -->" >&2
+    exit 2
+}
+work=$(mktemp -d "${TMPDIR:-/tmp}/masse-figures.XXXXXX")
+trap 'rm -rf "$work"' EXIT INT TERM
+rows="$work/rows.md"
+: >"$rows"
+begin=$(date +%s)
+
+cores=$(nproc)
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1 |
+    sed 's/([^)]*)//g; s/ CPU//; s/ @.*//; s/ [0-9]*-Core Processor//; s/  */ /g; s/ *$//')
+[ -n "$cpu" ] || cpu=$(uname -m)
+
+# py EXPRESSION FILE: prints a Python expression over the JSON document d read from FILE (the last line of FILE that
+# starts with "{", so a command's JSON line can be read from its whole output).
+py() {
+    python3 - "$1" "$2" <<'EOF'
+import json, sys
+lines = [line for line in open(sys.argv[2]) if line.startswith("{")]
+d = json.loads(lines[-1]) if lines else {}
+print(eval(sys.argv[1]))
+EOF
+}
+
+# calc EXPRESSION: prints a Python expression of numbers.
+calc() { python3 -c "print($1)"; }
+
+# timed COMMAND...: runs a command (stdout to $work/out, stderr to $work/err), its wall time in $wall (s) and the
+# load average before it started in $load.
+timed() {
+    load=$(cut -d' ' -f1 /proc/loadavg)
+    start=$(date +%s.%N)
+    if ! "$@" >"$work/out" 2>"$work/err"; then
+        echo "docs/figures.sh: failed: $*" >&2
+        tail -n 20 "$work/err" >&2
+        exit 1
+    fi
+    wall=$(calc "round($(date +%s.%N) - $start, 2)")
+}
+
+# row WHAT COMMAND FIGURE: one row of the table; the machine column names the cores, the processor and the load
+# average just before the command ran.
+row() {
+    printf '| %s | `%s` | %s | %s cores, %s, load %s |\n' "$1" "$2" "$3" "$cores" "$cpu" "$load" >>"$rows"
+    echo "docs/figures.sh: $1: $3 ($wall s)" >&2
+}
+
+out="$work/runs"
+mkdir -p "$out"
+
+# Spring forces and the symplectic step: the bench scene (a Table 1 sheet in free fall), against a plain loop.
+for size in 128x2x128 256x2x256; do
+    cmd="$masse bench --size $size --baseline --steps 3 --repeat 3"
+    timed $cmd
+    row "symplectic step, $size sheet in free fall" "$cmd" "$(py '"%.0f M spring-steps/s, %.2fx the plain scalar loop, %.2fx real time; %d substeps a 0.03 s step; %d threads, %s" % (d["spring_steps_per_second"] / 1e6, d["baseline"]["speedup"], d["realtime_factor"], d["substeps"] / d["steps"], d["threads"], d["simd"])' "$work/out")"
+done
+
+# Contact: the same sheet resting on two boxes.
+cmd="$masse bench --contact --steps 3 --repeat 3"
+timed $cmd
+row "contact, 256x2x256 sheet resting on two boxes" "$cmd" "$(py '"contact %.0f%% of the step (detection %.3f s, projection %.3f s), %.2fx real time" % (100 * d["contact"]["contact_share_of_step"], d["contact"]["detection_seconds"], d["contact"]["projection_seconds"], d["realtime_factor"])' "$work/out")"
+
+# The implicit solve on the free-falling sheet.
+for spec in "64x2x64 10" "128x2x128 5"; do
+    set -- $spec
+    cmd="$masse bench --size $1 --integrator implicit --steps $2 --repeat 2"
+    timed $cmd
+    row "implicit Euler step, $1 sheet in free fall, dt 0.03" "$cmd" "$(py '"%.1f ms a step, %.1f CG iterations a step, first step (analysis and factorisation) %.2f s" % (1000 * d["wall_seconds"] / d["steps"], d["solver_iterations_per_step"], d["setup_seconds"]["first_step"])' "$work/out")"
+done
+
+# The paper's drop scene at a fine size, whole command.
+cmd="$masse run data/scenes/paper-drop.json --size 128x2x128 --duration 1 --quiet --out $out/drop"
+timed $cmd
+row "drop scene, 128x2x128, first simulated second" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(calc "'%.2fx real time (1 s simulated in %.1f s, the whole command)' % (1 / $wall, $wall)")"
+
+# The paper's Figure 18: five sizes to rest.
+cmd="$masse paper --out $out/paper"
+timed $cmd
+row "Figure 18: the drop at the five Table 2 sizes, to rest" "$(echo "$cmd" | sed "s|$out|OUT|")" "$wall s for the whole command"
+
+# Forming runs, whole.
+cmd="$masse run data/scenes/vacuum-forming-cup.json --quiet --out $out/cup"
+timed $cmd
+row "vacuum-formed cup, 32x2x32, whole 2.5 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"%.2fx real time (%.1f s wall), %.1f CG iterations a step, %d refactorisations" % (2.5 / '"$wall"', '"$wall"', d["solver"]["mean_iterations"], d["solver"]["refactorisations"])' "$out/cup/summary.json")"
+
+cmd="$masse run data/scenes/drape-forming.json --size 64x2x64 --quiet --out $out/drape"
+timed $cmd
+row "drape forming, 64x2x64, whole 60 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"%.2fx real time (%.1f s wall), %.1f CG iterations a step, %d refactorisations" % (60 / '"$wall"', '"$wall"', d["solver"]["mean_iterations"], d["solver"]["refactorisations"])' "$out/drape/summary.json")"
+
+# Self-collision's cost on the fold over the rod, with the implicit integrator.
+cmd="$masse run data/scenes/fold-over-rod.json --size 32x2x32 --integrator implicit --quiet --out $out/fold"
+timed $cmd
+with=$wall
+timed $cmd --set contact.self_collision=false --force
+without=$wall
+row "self-collision, fold over the rod, 32x2x32, implicit, 3 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(calc "'%.1f s wall; %.1f s with --set contact.self_collision=false: %.0f%% more' % ($with, $without, 100 * ($with / $without - 1))")"
+
+# Parameter studies.
+cmd="$masse sweep data/studies/drape-window.json --out $out/window --jobs 2"
+timed $cmd
+sweep=$wall
+timed "$masse" sweep --collect "$out/window"
+row "parameter study: drape window, 9 cases, 2 at a time" "$(echo "$cmd" | sed "s|$out|OUT|")" "$sweep s for the 9 cases; $wall s for \`masse sweep --collect\` (table and plots)"
+
+cmd="$masse sweep tests/studies/overhead.json --out $out/overhead --jobs 1 --no-plots"
+timed $cmd
+row "sweep overhead per case: 20 one-step cases" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(sed -n 's/.*overhead per case[^:]*: \(median [0-9.]* ms\).*/\1/p' "$work/out" | head -n 1) per case (its wall time minus the simulation's)"
+
+# MaSSE beside Bullet on the box landing.
+cmd="$masse compare data/scenes/box-landing.json --quiet --out $out/box"
+timed $cmd
+row "box landing, MaSSE beside Bullet (8x2x8, dt 0.03)" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"; ".join("%s: deepest penetration %.1f mm, %.1f ms per simulated second" % (e["label"], 1000 * e["penetration"]["max"], e["wall_ms_per_simulated_second"]) for e in d["engines"])' "$out/box/compare.json")"
+
+# The viewer under Xvfb.
+if command -v xvfb-run >/dev/null 2>&1; then
+    cmd="xvfb-run -a $masse view --size 64x2x64 --frames 300 --benchmark"
+    timed $cmd
+    row "viewer, 64x2x64 drop scene under Xvfb (software rendering)" "$cmd" "$(py '"%.1f frames/s, %.2fx real time, a pick carried out in %.0f ms" % (d["fps"], d["realtime_factor"], d.get("pick_applied_ms") or float("nan"))' "$work/out")"
+fi
+
+total=$(($(date +%s) - begin))
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+if [ -n "$(git status --porcelain --untracked-files=no -- src 2>/dev/null)" ]; then
+    commit="$commit with local changes in src/"
+fi
+python3 - "$page" "$rows" "$commit" "$total" <<'EOF'
+import sys
+page, rows, commit, total = sys.argv[1:]
+text = open(page).read().split("\n")
+begin = text.index("<!-- figures:begin -->")
+end = text.index("<!-- figures:end -->")
+table = [
+    "<!-- figures:begin -->",
+    "",
+    "Generated by `sh docs/figures.sh` from the Release build of commit %s (the script took %s s)." % (commit, total),
+    "",
+    "| what | command | figure | machine |",
+    "| --- | --- | --- | --- |",
+] + open(rows).read().rstrip("\n").split("\n") + ["", "<!-- figures:end -->"]
+open(page, "w").write("\n".join(text[:begin] + table + text[end + 1:]))
+EOF
+echo "docs/figures.sh: rewrote the table in $page (${total} s)" >&2
