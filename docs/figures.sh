@@ -27,13 +27,16 @@ cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n 1 |
     sed 's/([^)]*)//g; s/ CPU//; s/ @.*//; s/ [0-9]*-Core Processor//; s/  */ /g; s/ *$//')
 [ -n "$cpu" ] || cpu=$(uname -m)
 
-# py EXPRESSION FILE: prints a Python expression over the JSON document d read from FILE (the last line of FILE that
-# starts with "{", so a command's JSON line can be read from its whole output).
+# py EXPRESSION FILE: prints a Python expression over the JSON document d read from FILE: the whole file (summary.json,
+# compare.json), or else its last line that starts with "{" (a command's JSON line among its other output).
 py() {
     python3 - "$1" "$2" <<'EOF'
 import json, sys
-lines = [line for line in open(sys.argv[2]) if line.startswith("{")]
-d = json.loads(lines[-1]) if lines else {}
+text = open(sys.argv[2]).read()
+try:
+    d = json.loads(text)
+except ValueError:
+    d = json.loads([line for line in text.splitlines() if line.startswith("{")][-1])
 print(eval(sys.argv[1]))
 EOF
 }
@@ -57,6 +60,10 @@ timed() {
 # row WHAT COMMAND FIGURE: one row of the table; the machine column names the cores, the processor and the load
 # average just before the command ran.
 row() {
+    if [ -z "$3" ]; then
+        echo "docs/figures.sh: no figure for: $1" >&2
+        exit 1
+    fi
     printf '| %s | `%s` | %s | %s cores, %s, load %s |\n' "$1" "$2" "$3" "$cores" "$cpu" "$load" >>"$rows"
     echo "docs/figures.sh: $1: $3 ($wall s)" >&2
 }
@@ -107,15 +114,19 @@ row "drape forming, 64x2x64, whole 60 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$
 cmd="$masse run data/scenes/fold-over-rod.json --size 32x2x32 --integrator implicit --quiet --out $out/fold"
 timed $cmd
 with=$wall
+withload=$load
 timed $cmd --set contact.self_collision=false --force
 without=$wall
+load=$withload
 row "self-collision, fold over the rod, 32x2x32, implicit, 3 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(calc "'%.1f s wall; %.1f s with --set contact.self_collision=false: %.0f%% more' % ($with, $without, 100 * ($with / $without - 1))")"
 
 # Parameter studies.
 cmd="$masse sweep data/studies/drape-window.json --out $out/window --jobs 2"
 timed $cmd
 sweep=$wall
+sweepload=$load
 timed "$masse" sweep --collect "$out/window"
+load=$sweepload
 row "parameter study: drape window, 9 cases, 2 at a time" "$(echo "$cmd" | sed "s|$out|OUT|")" "$sweep s for the 9 cases; $wall s for \`masse sweep --collect\` (table and plots)"
 
 cmd="$masse sweep tests/studies/overhead.json --out $out/overhead --jobs 1 --no-plots"
@@ -125,7 +136,7 @@ row "sweep overhead per case: 20 one-step cases" "$(echo "$cmd" | sed "s|$out|OU
 # MaSSE beside Bullet on the box landing.
 cmd="$masse compare data/scenes/box-landing.json --quiet --out $out/box"
 timed $cmd
-row "box landing, MaSSE beside Bullet (8x2x8, dt 0.03)" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"; ".join("%s: deepest penetration %.1f mm, %.1f ms per simulated second" % (e["label"], 1000 * e["penetration"]["max"], e["wall_ms_per_simulated_second"]) for e in d["engines"])' "$out/box/compare.json")"
+row "box landing, MaSSE beside Bullet (8x2x8, dt 0.03)" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"; ".join("%s: deepest penetration %.3g mm, %.1f ms per simulated second" % (e["label"], 1000 * e["penetration"]["max"], e["wall_ms_per_simulated_second"]) for e in d["engines"])' "$out/box/compare.json")"
 
 # The viewer under Xvfb.
 if command -v xvfb-run >/dev/null 2>&1; then
