@@ -98,6 +98,7 @@ void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
                       parseSize(overrides.size, spec.sheet.lattice);
                       validate(spec.sheet.lattice);
                   });
+        spec.sheet.sizeGiven = "--size"; // the mass indices are checked against it when the scene is built
     }
 }
 

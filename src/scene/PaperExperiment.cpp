@@ -24,6 +24,7 @@ std::vector<PaperRow> runPaperExperiment(const SceneSpec& base, const std::vecto
         SceneSpec spec = base;
         spec.sheet.lattice.countX = n;
         spec.sheet.lattice.countZ = n;
+        spec.sheet.sizeGiven = "--sizes";
         Scene scene(spec);
         while (!scene.finished())
         {

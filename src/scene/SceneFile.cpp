@@ -609,27 +609,10 @@ BulletSpec readBullet(const JsonObject& o)
     return bullet;
 }
 
-/// Cross-checks of things that name other things: script targets, pins, contact obstacle lists.
+/// Cross-checks of things that name other things: script targets, mass indices, contact obstacle lists.
 void checkReferences(const SceneSpec& scene, const JsonObject& top)
 {
-    const std::size_t masses = massCountOf(scene.sheet.lattice); // counted, not built: a huge sheet is refused later
-    auto checkPins = [&](const PinSpec& pins, const std::string& key)
-    {
-        for (Index m : pins.masses)
-        {
-            if (m >= masses)
-            {
-                top.fail(key, "mass " + std::to_string(m) + " does not exist (the sheet has " + std::to_string(masses) +
-                                  " masses, 0 to " + std::to_string(masses - 1) + ")");
-            }
-        }
-    };
-    checkPins(scene.sheet.pinned, "sheet.pinned.masses");
-    if (scene.report.sag && scene.report.sagMass >= int(masses))
-    {
-        top.fail("report.sag.mass", "mass " + std::to_string(scene.report.sagMass) + " does not exist (the sheet has " +
-                                        std::to_string(masses) + " masses)");
-    }
+    checkMassIndices(scene);
 
     std::vector<std::string> names;
     if (scene.environment.room.enabled)
@@ -664,11 +647,6 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
         switch (a.kind)
         {
         case ScriptAction::Kind::Grab:
-            if (!a.grabNearest && a.mass >= masses)
-            {
-                top.fail(key + ".mass", "mass " + std::to_string(a.mass) + " does not exist (the sheet has " +
-                                            std::to_string(masses) + " masses)");
-            }
             if (!a.label.empty())
             {
                 grabs.push_back(a.label);
@@ -682,7 +660,6 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
             break;
         case ScriptAction::Kind::Pin:
         case ScriptAction::Kind::Unpin:
-            checkPins(a.masses, key + ".masses.masses");
             break;
         case ScriptAction::Kind::Move:
             if (!exists(a.obstacle))
@@ -718,6 +695,46 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
     }
 }
 } // namespace
+
+void checkMassIndices(const SceneSpec& scene)
+{
+    const LatticeSpec& lattice = scene.sheet.lattice;
+    const std::size_t masses = massCountOf(lattice); // counted, not built: a huge sheet is refused later
+    auto check = [&](std::size_t mass, const std::string& key)
+    {
+        if (mass >= masses)
+        {
+            throw InputError(key, std::to_string(mass) + " is beyond the sheet's " + std::to_string(masses) +
+                                      " masses, 0 to " + std::to_string(masses - 1) + " (" + scene.sheet.sizeGiven +
+                                      " " + std::to_string(lattice.countX) + "x" + std::to_string(lattice.layers) +
+                                      "x" + std::to_string(lattice.countZ) + ")");
+        }
+    };
+    for (const Index mass : scene.sheet.pinned.masses)
+    {
+        check(mass, "sheet.pinned.masses");
+    }
+    if (scene.report.sag && scene.report.sagMass >= 0)
+    {
+        check(std::size_t(scene.report.sagMass), "report.sag.mass");
+    }
+    for (std::size_t i = 0; i < scene.script.size(); ++i)
+    {
+        const ScriptAction& a = scene.script[i];
+        const std::string key = "script[" + std::to_string(i) + "]";
+        if (a.kind == ScriptAction::Kind::Grab && !a.grabNearest)
+        {
+            check(a.mass, key + ".mass");
+        }
+        if (a.kind == ScriptAction::Kind::Pin || a.kind == ScriptAction::Kind::Unpin)
+        {
+            for (const Index mass : a.masses.masses)
+            {
+                check(mass, key + ".masses.masses");
+            }
+        }
+    }
+}
 
 void requireIntegratorForSheetContact(const SceneSpec& scene)
 {

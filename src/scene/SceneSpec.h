@@ -39,6 +39,8 @@ struct SheetSpec
     /// Degrees about x, then y, then z (fixed axes), turning the sheet about the centre of its box.
     Vec3 rotationDegrees = Vec3::Zero();
     PinSpec pinned;
+    /// Where the lattice's size was last given, for messages about it: the scene's key or a flag ("--size").
+    std::string sizeGiven = "sheet.size";
 };
 
 /// What the sheet is made of, when it is a real material rather than the paper's spring constants.

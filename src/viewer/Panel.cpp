@@ -274,6 +274,7 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
             spec.sheet.lattice.countX = std::max(1, size[0]);
             spec.sheet.lattice.layers = std::max(1, size[1]);
             spec.sheet.lattice.countZ = std::max(1, size[2]);
+            spec.sheet.sizeGiven = "the panel's size";
             changed = true;
         }
         changed |= positiveDouble("mass per mass (kg)", spec.sheet.params.massPerMass, "%.4g");

@@ -400,3 +400,37 @@ TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
     EXPECT_EQ(sweep.output.rfind("masse: --out: '/proc/self/masse-sweep' cannot be written (", 0), 0u) << sweep.output;
     EXPECT_EQ(std::count(sweep.output.begin(), sweep.output.end(), '\n'), 1) << "the study started:\n" << sweep.output;
 }
+
+// Issue 51, row 5: --size is applied after the scene file was read; the mass indices the scene names are checked
+// against the sheet that is built, whatever made it (a 16 x 2 x 16 sheet's masses 128 and 200 do not exist in the
+// 113 of an 8 x 2 x 8 one: the runs aborted, crashed, corrupted the heap or reported a sag of 0).
+TEST(CommandLine, MassIndicesAreCheckedAgainstTheSizeGivenOnTheCommandLine)
+{
+    const std::filesystem::path folder = freshFolder("size-override");
+    std::filesystem::create_directories(folder);
+    const std::string sheet = R"("sheet": { "size": "16x2x16" }, "run": { "duration": 0.05 })";
+    const std::string grab = R"("path": [ { "position": [0, 1, 0] } ])";
+    const std::pair<std::string, std::string> scenes[] = {
+        {R"({ "sheet": { "size": "16x2x16", "pinned": { "masses": [128] } }, "run": { "duration": 0.05 } })",
+         "sheet.pinned.masses: 128 is beyond the sheet's 113 masses"},
+        {"{ " + sheet + R"(, "script": [ { "time": 0, "action": "grab", "mass": 200, )" + grab + " } ] }",
+         "script[0].mass: 200 is beyond the sheet's 113 masses"},
+        {"{ " + sheet + R"(, "script": [ { "time": 0, "action": "pin", "masses": { "masses": [200] } } ] })",
+         "script[0].masses.masses: 200 is beyond the sheet's 113 masses"},
+        {"{ " + sheet + R"(, "report": { "sag": { "mass": 200 } } })",
+         "report.sag.mass: 200 is beyond the sheet's 113 masses"},
+    };
+    int i = 0;
+    for (const auto& [text, expected] : scenes)
+    {
+        const std::filesystem::path scene = folder / ("scene-" + std::to_string(++i) + ".json");
+        std::ofstream(scene) << text;
+        ASSERT_EQ(runMasse("run " + scene.string() + " --quiet").exitCode, 0) << text << " is valid as it is";
+        const std::filesystem::path out = folder / ("out-" + std::to_string(i));
+        const Outcome o = runMasse("run " + scene.string() + " --size 8x2x8 --quiet --out " + out.string());
+        EXPECT_EQ(o.exitCode, 2) << text << ":\n" << o.output;
+        EXPECT_NE(o.output.find(scene.string() + ": " + expected), std::string::npos) << o.output;
+        EXPECT_NE(o.output.find("(--size 8x2x8)"), std::string::npos) << o.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << text;
+    }
+}

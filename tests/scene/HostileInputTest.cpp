@@ -363,3 +363,18 @@ TEST(HostileInput, LaterRunsRemoveTheLeftoversOfKilledOnes)
     writeFileAtomically((single / "expected.json").string(), "{}\n");
     EXPECT_FALSE(std::filesystem::exists(single / ("expected.json.tmp-" + dead)));
 }
+
+// Issue 51, row 5: whatever changes a scene's sheet after its file was read (--size, the paper's sizes, the viewer's
+// panel), building the scene checks every mass index it names against the sheet that is built: the sag of mass 200
+// of a 16 x 2 x 16 sheet, made 8 x 2 x 8 (113 masses), was reported as 0.
+TEST(HostileInput, MassIndicesAreCheckedAgainstTheSheetThatIsBuilt)
+{
+    const std::filesystem::path folder = freshFolder("resized");
+    writeText(folder / "sag.json", R"({ "sheet": { "size": "16x2x16" }, "report": { "sag": { "mass": 200 } } })");
+    SceneSpec spec = loadScene((folder / "sag.json").string());
+    spec.sheet.lattice.countX = 8;
+    spec.sheet.lattice.countZ = 8;
+    const std::string message = inputErrorOf([&] { Scene scene(spec); });
+    EXPECT_NE(message.find("sag.json: report.sag.mass: 200 is beyond the sheet's 113 masses"), std::string::npos)
+        << message;
+}
