@@ -11,7 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/file.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace
 {
@@ -22,6 +24,27 @@ std::filesystem::path freshFolder(const std::string& name)
     const std::filesystem::path folder = std::filesystem::path(testing::TempDir()) / name;
     std::filesystem::remove_all(folder);
     return folder;
+}
+
+std::string readText(const std::filesystem::path& path)
+{
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+/// The id of a process that has exited (forked, reaped): what a run killed with -9 leaves in its leftovers' names.
+std::string deadProcess()
+{
+    const pid_t child = ::fork();
+    if (child == 0)
+    {
+        ::_exit(0);
+    }
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    return std::to_string(child);
 }
 } // namespace
 
@@ -399,6 +422,154 @@ TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
     EXPECT_EQ(sweep.exitCode, 2) << sweep.output;
     EXPECT_EQ(sweep.output.rfind("masse: --out: '/proc/self/masse-sweep' cannot be written (", 0), 0u) << sweep.output;
     EXPECT_EQ(std::count(sweep.output.begin(), sweep.output.end(), '\n'), 1) << "the study started:\n" << sweep.output;
+}
+
+// Issue 51, row 1: MaSSE deletes only what it wrote. A folder holding the user's own files (the scene beside its
+// results, notes.txt) is refused, with --force or without, by a message naming them, and they stay; so is the folder
+// of an earlier run the user has added a file to. Without the file, --force replaces the earlier run.
+TEST(CommandLine, OutputFoldersHoldingTheUsersFilesAreRefusedAndKept)
+{
+    const std::filesystem::path out = freshFolder("users-files");
+    std::filesystem::create_directories(out);
+    std::filesystem::copy_file(source + "/data/scenes/slope.json", out / "s.json");
+    std::ofstream(out / "notes.txt") << "my notes";
+    const std::string run = "run " + (out / "s.json").string() + " --duration 0.1 --quiet --out " + out.string();
+    for (const std::string flags : {"", " --force"})
+    {
+        const Outcome o = runMasse(run + flags);
+        EXPECT_EQ(o.exitCode, 2) << flags << ": " << o.output;
+        EXPECT_NE(o.output.find("notes.txt"), std::string::npos) << flags << ": " << o.output;
+        EXPECT_NE(o.output.find("s.json"), std::string::npos) << flags << ": " << o.output;
+        EXPECT_EQ(readText(out / "notes.txt"), "my notes") << flags;
+        EXPECT_EQ(readText(out / "s.json"), readText(source + "/data/scenes/slope.json")) << flags;
+        EXPECT_FALSE(std::filesystem::exists(out / "summary.json")) << flags << ": the run mixed into the folder";
+    }
+
+    const std::filesystem::path results = freshFolder("users-file-in-a-run");
+    const std::string again =
+        "run " + source + "/data/scenes/slope.json --duration 0.1 --quiet --force --out " + results.string();
+    ASSERT_EQ(runMasse(again).exitCode, 0);
+    const std::string first = readText(results / "summary.json");
+    std::ofstream(results / "notes.txt") << "what I saw";
+    const Outcome refused = runMasse(again);
+    EXPECT_EQ(refused.exitCode, 2) << refused.output;
+    EXPECT_NE(refused.output.find("notes.txt"), std::string::npos) << refused.output;
+    EXPECT_EQ(readText(results / "notes.txt"), "what I saw");
+    EXPECT_EQ(readText(results / "summary.json"), first);
+    std::filesystem::remove(results / "notes.txt");
+    const Outcome forced = runMasse(again);
+    EXPECT_EQ(forced.exitCode, 0) << forced.output;
+}
+
+// Issue 51, row 2: only leftovers in MaSSE's own form are removed, never an entry a user may have named so: a
+// folder thesis.tmp-N, a file notes.tmp-N or .x.partial-N, a folder .run1.old-N (N a process that has exited).
+TEST(CommandLine, EntriesBesideTheOutputFolderNamedLikeLeftoversStay)
+{
+    const std::filesystem::path folder = freshFolder("users-leftover-names");
+    const std::string dead = deadProcess();
+    std::filesystem::create_directories(folder / ("thesis.tmp-" + dead) / "chapters");
+    std::ofstream(folder / ("thesis.tmp-" + dead) / "chapters" / "one.tex") << "chapter one";
+    std::ofstream(folder / ("notes.tmp-" + dead)) << "notes";
+    std::ofstream(folder / (".x.partial-" + dead)) << "x";
+    std::filesystem::create_directories(folder / (".run1.old-" + dead));
+    std::ofstream(folder / (".run1.old-" + dead) / "old.txt") << "old";
+    const Outcome o = runMasse("run " + source + "/data/scenes/slope.json --duration 0.1 --quiet --out " +
+                               (folder / "run1").string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    EXPECT_EQ(readText(folder / ("thesis.tmp-" + dead) / "chapters" / "one.tex"), "chapter one");
+    EXPECT_EQ(readText(folder / ("notes.tmp-" + dead)), "notes");
+    EXPECT_EQ(readText(folder / (".x.partial-" + dead)), "x");
+    EXPECT_EQ(readText(folder / (".run1.old-" + dead) / "old.txt"), "old");
+}
+
+// Issue 51, row 3: a --force run killed between its two renames leaves the earlier result under the old-folder's name
+// and the new one in its staging folder, with no folder under the output's own name. The next run into the folder
+// restores the earlier result (and, without --force, refuses to replace it) instead of deleting both.
+TEST(CommandLine, AForcedReplacementKilledBetweenItsRenamesIsRestored)
+{
+    const std::filesystem::path out = freshFolder("interrupted");
+    for (const auto& entry : std::filesystem::directory_iterator(out.parent_path()))
+    {
+        if (entry.path().filename().string().rfind(".interrupted.", 0) == 0) // an earlier test run's, killed
+        {
+            std::filesystem::remove_all(entry.path());
+        }
+    }
+    const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.1 --quiet --out " + out.string();
+    ASSERT_EQ(runMasse(run).exitCode, 0);
+    const std::string earlier = readText(out / "summary.json");
+    ASSERT_FALSE(earlier.empty());
+
+    // The state the kill leaves, made by hand: the names and markers a forced run of process `dead` gives them.
+    const std::string dead = deadProcess();
+    const std::filesystem::path old = out.parent_path() / (".interrupted.masse-old-" + dead + "-0123abcd");
+    const std::filesystem::path partial = out.parent_path() / (".interrupted.masse-partial-" + dead + "-89abcdef");
+    std::filesystem::rename(out, old);
+    std::filesystem::create_directories(partial);
+    std::error_code noManifest; // the marker a staging folder holds
+    std::filesystem::copy_file(old / ".masse-manifest.json", partial / ".masse-manifest.json", noManifest);
+    std::ofstream(partial / "summary.json") << "{\"the new run\": true}\n";
+
+    const Outcome again = runMasse(run);
+    EXPECT_EQ(again.exitCode, 2) << again.output;
+    EXPECT_NE(again.output.find("already holds a run"), std::string::npos) << again.output;
+    EXPECT_EQ(readText(out / "summary.json"), earlier) << "the earlier result was not restored";
+    EXPECT_FALSE(std::filesystem::exists(old));
+    EXPECT_FALSE(std::filesystem::exists(partial));
+}
+
+// Issue 51, row 4: runs into one folder take a lock; a run started while another writes there is refused with exit
+// code 2 (both printed "wrote" and the folder held one result). Here the test holds the lock the way a run does; then
+// two runs started together end with one result and one refusal.
+TEST(CommandLine, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstWrites)
+{
+    const std::filesystem::path out = freshFolder("locked");
+    const std::string run =
+        "run " + source + "/data/scenes/slope.json --duration 0.1 --quiet --force --out " + out.string();
+    ASSERT_EQ(runMasse(run).exitCode, 0);
+    const std::string earlier = readText(out / "summary.json");
+    {
+        const std::filesystem::path lockFile = out.parent_path() / ".locked.masse-lock";
+        const int fd = ::open(lockFile.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        ASSERT_GE(fd, 0);
+        ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+        const Outcome refused = runMasse(run);
+        EXPECT_EQ(refused.exitCode, 2) << refused.output;
+        EXPECT_NE(refused.output.find("another masse run is writing"), std::string::npos) << refused.output;
+        EXPECT_EQ(readText(out / "summary.json"), earlier);
+        std::filesystem::remove(lockFile);
+        ::close(fd);
+    }
+
+    const std::filesystem::path fresh = freshFolder("locked-together");
+    const std::string command = std::string(MASSE_EXECUTABLE) + " run " + source +
+                                "/data/scenes/slope.json --duration 0.3 --quiet --out " + fresh.string() + " 2>&1";
+    FILE* first = ::popen(command.c_str(), "r");
+    FILE* second = ::popen(command.c_str(), "r");
+    ASSERT_TRUE(first && second);
+    std::string output;
+    std::array<char, 512> buffer{};
+    for (FILE* pipe : {first, second})
+    {
+        while (std::fgets(buffer.data(), int(buffer.size()), pipe))
+        {
+            output += buffer.data();
+        }
+    }
+    const int a = ::pclose(first);
+    const int b = ::pclose(second);
+    ASSERT_TRUE(WIFEXITED(a) && WIFEXITED(b)) << output;
+    std::array<int, 2> codes = {WEXITSTATUS(a), WEXITSTATUS(b)};
+    std::sort(codes.begin(), codes.end());
+    EXPECT_EQ(codes[0], 0) << output;
+    EXPECT_EQ(codes[1], 2) << output;
+    std::size_t wrote = 0;
+    for (std::size_t at = output.find("wrote "); at != std::string::npos; at = output.find("wrote ", at + 1))
+    {
+        ++wrote;
+    }
+    EXPECT_EQ(wrote, 1u) << output;
+    EXPECT_FALSE(nlohmann::json::parse(readText(fresh / "summary.json"), nullptr, false).is_discarded());
 }
 
 // Issue 51, row 5: --size is applied after the scene file was read; the mass indices the scene names are checked

@@ -307,13 +307,20 @@ TEST(HostileInput, OutputFoldersNeverMixRuns)
     EXPECT_EQ(entries, 1u) << "a staging or old folder was left beside the output";
 }
 
-// A folder holding other files only (a study's case folder: scene.json, run.log) keeps them; the run's files are
-// renamed in beside them when it has finished.
-TEST(HostileInput, OutputFoldersKeepFilesThatAreNotARun)
+// A study's case folder holds the case's scene.json and run.log before its run, listed by the study in the folder's
+// manifest: the run is written in beside them, and they are carried over (the log by a hard link, so what the run
+// prints after its commit still lands in it). Without the manifest, they are the user's, and the run is refused.
+TEST(HostileInput, OutputFoldersKeepTheFilesAStudyPutThere)
 {
     const std::filesystem::path folder = freshFolder("out-beside");
     std::filesystem::create_directories(folder / "case");
     writeText(folder / "case" / "scene.json", "{}");
+    EXPECT_NE(inputErrorOf([&] { OutputFolder out((folder / "case").string(), false); })
+                  .find("holds files MaSSE did not write (scene.json)"),
+              std::string::npos);
+    keepInOutputFolder((folder / "case").string(), {"scene.json", "run.log", "status.txt"});
+    std::ofstream log(folder / "case" / "run.log");
+    log << "before the commit\n" << std::flush;
     {
         OutputFolder out((folder / "case").string(), false);
         writeText(std::filesystem::path(out.staging()) / "summary.json", "run");
@@ -321,9 +328,24 @@ TEST(HostileInput, OutputFoldersKeepFilesThatAreNotARun)
         EXPECT_FALSE(std::filesystem::exists(folder / "case" / "summary.json"));
         out.commit();
     }
+    log << "after the commit\n" << std::flush;
     EXPECT_TRUE(std::filesystem::exists(folder / "case" / "scene.json"));
     EXPECT_TRUE(std::filesystem::exists(folder / "case" / "summary.json"));
     EXPECT_TRUE(std::filesystem::is_directory(folder / "case" / "frames"));
+    std::ifstream logged(folder / "case" / "run.log");
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(logged), {}), "before the commit\nafter the commit\n");
+
+    // The study's status.txt comes after the run; a study's clearing removes the run's files and its own, but the
+    // scene and a file the user added.
+    writeText(folder / "case" / "status.txt", "exit_code=0\n");
+    writeText(folder / "case" / "notes.txt", "mine");
+    removeListedOutputs((folder / "case").string(), {"scene.json"});
+    for (const char* gone : {"summary.json", "frames", "run.log", "status.txt"})
+    {
+        EXPECT_FALSE(std::filesystem::exists(folder / "case" / gone)) << gone;
+    }
+    EXPECT_TRUE(std::filesystem::exists(folder / "case" / "scene.json"));
+    EXPECT_TRUE(std::filesystem::exists(folder / "case" / "notes.txt"));
 }
 
 // Row 12: names the file system cannot hold and files where a folder should be are refused before anything runs.
@@ -341,27 +363,30 @@ TEST(HostileInput, OutputFoldersThatCannotBeWrittenAreRefusedUpFront)
               std::string::npos);
 }
 
-// Row 14: what a run killed with -9 leaves (a staging folder, a temporary file) is removed by the next run that
-// writes there; a live process's are kept.
+// Row 14: what a run killed with -9 leaves (a staging folder with its marker, a temporary file, in MaSSE's own
+// forms) is removed by the next run that writes there; a live process's are kept. (Issue 51 row 2: names of any
+// other form stay, tests/scene/output/OutputFolderTest.cpp.)
 TEST(HostileInput, LaterRunsRemoveTheLeftoversOfKilledOnes)
 {
     const std::filesystem::path folder = freshFolder("leftovers");
     const std::string dead = std::to_string(deadProcess());
-    std::filesystem::create_directories(folder / (".run.partial-" + dead));
-    writeText(folder / (".run.partial-" + dead) / "frame_000000.vtp", "half");
-    writeText(folder / ("summary.json.tmp-" + dead), "half");
-    writeText(folder / ("events.csv.tmp-" + std::to_string(::getpid())), "ours, still running");
+    const std::string staging = ".run.masse-partial-" + dead + "-0123abcd";
+    std::filesystem::create_directories(folder / staging);
+    writeText(folder / staging / ".masse-manifest.json", "{}");
+    writeText(folder / staging / "frame_000000.vtp", "half");
+    writeText(folder / ("summary.json.masse-tmp-" + dead), "half");
+    writeText(folder / ("events.csv.masse-tmp-" + std::to_string(::getpid())), "ours, still running");
     {
         OutputFolder out((folder / "run").string(), false);
-        EXPECT_FALSE(std::filesystem::exists(folder / (".run.partial-" + dead)));
-        EXPECT_FALSE(std::filesystem::exists(folder / ("summary.json.tmp-" + dead)));
-        EXPECT_TRUE(std::filesystem::exists(folder / ("events.csv.tmp-" + std::to_string(::getpid()))));
+        EXPECT_FALSE(std::filesystem::exists(folder / staging));
+        EXPECT_FALSE(std::filesystem::exists(folder / ("summary.json.masse-tmp-" + dead)));
+        EXPECT_TRUE(std::filesystem::exists(folder / ("events.csv.masse-tmp-" + std::to_string(::getpid()))));
     }
 
     const std::filesystem::path single = freshFolder("leftover-file");
-    writeText(single / ("expected.json.tmp-" + dead), "half");
+    writeText(single / ("expected.json.masse-tmp-" + dead), "half");
     writeFileAtomically((single / "expected.json").string(), "{}\n");
-    EXPECT_FALSE(std::filesystem::exists(single / ("expected.json.tmp-" + dead)));
+    EXPECT_FALSE(std::filesystem::exists(single / ("expected.json.masse-tmp-" + dead)));
 }
 
 // Issue 51, row 5: whatever changes a scene's sheet after its file was read (--size, the paper's sizes, the viewer's

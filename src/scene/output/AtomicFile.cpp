@@ -15,8 +15,8 @@ namespace masse::scene
 {
 namespace
 {
-/// Once per folder and process: temporaries a killed run left there ("NAME.tmp-PID" of a process gone) are removed,
-/// so none outlives the next run that writes beside it.
+/// Once per folder and process: temporaries a killed run left there ("NAME.masse-tmp-PID" of a process gone) are
+/// removed, so none outlives the next run that writes beside it.
 void cleanFolderOnce(const std::string& path)
 {
     static std::mutex mutex;
@@ -33,7 +33,7 @@ void cleanFolderOnce(const std::string& path)
 void writeFileAtomically(const std::string& path, const std::string& content)
 {
     cleanFolderOnce(path);
-    const std::string temporary = path + ".tmp-" + std::to_string(::getpid());
+    const std::string temporary = temporaryName(path);
     const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0)
     {

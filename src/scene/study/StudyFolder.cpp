@@ -2,6 +2,7 @@
 
 #include "scene/json/JsonObject.h"
 #include "scene/output/AtomicFile.h"
+#include "scene/output/OutputFolder.h"
 
 #include "core/InputError.h"
 
@@ -41,6 +42,9 @@ nlohmann::json studyRecordJson(const Study& study)
     return {{"name", study.name},       {"scene", study.scenePath}, {"design", study.design},
             {"parameters", parameters}, {"outputs", outputs},       {"cases", cases}};
 }
+
+/// What the study puts into a case's folder for its run: the scene, the run's log, the status it writes after.
+const std::vector<std::string> caseFiles = {"scene.json", "run.log", "status.txt"};
 
 std::string readText(const std::string& path)
 {
@@ -160,6 +164,9 @@ void prepareStudyFolder(const Study& study, const std::string& dir)
         {
             writeFileAtomically(folder + "/scene.json", scenes[i]);
         }
+        // The case's run writes into this folder beside what the study puts there: the folder's manifest says those
+        // are MaSSE's, so the run neither refuses them as the user's nor drops them when it replaces the folder.
+        keepInOutputFolder(folder, caseFiles);
         manifest << i << "," << csvField(fs::path(folder).lexically_relative(dir).string());
         for (const nlohmann::json& value : study.cases[i])
         {
@@ -271,13 +278,7 @@ std::vector<std::size_t> casesToRun(const std::string& dir, std::size_t caseCoun
 
 void clearCaseOutputs(const std::string& caseDir)
 {
-    for (const fs::directory_entry& entry : fs::directory_iterator(caseDir))
-    {
-        if (entry.path().filename() != "scene.json")
-        {
-            fs::remove_all(entry.path());
-        }
-    }
+    removeListedOutputs(caseDir, {"scene.json"});
 }
 
 std::string lastLogLine(const std::string& caseDir)

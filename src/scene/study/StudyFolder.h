@@ -2,7 +2,8 @@
 /// A study's output folder, shared by local runs, Slurm array tasks and --collect:
 ///   DIR/study.json     the study as run: parameters, outputs, every case's values (what --collect reads)
 ///   DIR/cases.csv      the manifest: case number, folder, varied values
-///   DIR/cases/NNNN/    scene.json (the case's whole scene), then run.log, status.txt and the run's outputs
+///   DIR/cases/NNNN/    scene.json (the case's whole scene), then run.log, status.txt and the run's outputs; its
+///                      manifest (.masse-manifest.json) lists all of them as MaSSE's
 /// status.txt ("exit_code=N", "wall_seconds=S") is written last, by whoever ran the case, so a case is finished
 /// exactly when it has one.
 
@@ -47,7 +48,8 @@ void writeCaseStatus(const std::string& caseDir, int exitCode, double wallSecond
 /// The cases without a status (and with `retryFailed`, those that failed too), in order.
 std::vector<std::size_t> casesToRun(const std::string& dir, std::size_t caseCount, bool retryFailed);
 
-/// Removes what an earlier, interrupted or failed run of the case left (everything but scene.json).
+/// Removes what an earlier, interrupted or failed run of the case left: what the case folder's manifest lists, but
+/// scene.json (a file the manifest does not list stays, and the case's run then refuses the folder, naming it).
 void clearCaseOutputs(const std::string& caseDir);
 
 /// The last line of the case's run.log that says something (the error of a failed run), without "masse: ".

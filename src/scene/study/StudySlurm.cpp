@@ -63,8 +63,9 @@ std::string sbatchScript(const std::string& dir, const std::vector<std::size_t>&
       << "set -u\n"
       << "case_dir=$(printf '%s/cases/%04d' " << shellQuote(dir) << " \"$SLURM_ARRAY_TASK_ID\")\n"
       << "cd \"$case_dir\" || exit 2\n"
-      << "# What an earlier, interrupted run of this case left goes first (everything but the scene).\n"
-      << "find . -mindepth 1 -maxdepth 1 ! -name scene.json -exec rm -rf {} +\n"
+      << "# What an earlier, interrupted run of this case left goes first (everything but the scene and the manifest\n"
+      << "# that says which files are MaSSE's).\n"
+      << "find . -mindepth 1 -maxdepth 1 ! -name scene.json ! -name .masse-manifest.json -exec rm -rf {} +\n"
       << "start=$(date +%s.%N)\n"
       << shellQuote(options.masse) << " run scene.json --out . --quiet";
     if (options.threads > 0)
@@ -73,6 +74,8 @@ std::string sbatchScript(const std::string& dir, const std::vector<std::size_t>&
     }
     s << " >run.log 2>&1\n"
       << "code=$?\n"
+      << "# The run put a new folder in the case folder's place (scene.json and run.log carried over): into it.\n"
+      << "cd \"$case_dir\" || exit 2\n"
       << "end=$(date +%s.%N)\n"
       << "# status.txt last, whole or not at all: it is what says the case is finished.\n"
       << "printf 'exit_code=%d\\nwall_seconds=%s\\n' \"$code\" \"$(awk \"BEGIN { print $end - $start }\")\" "
