@@ -605,3 +605,29 @@ TEST(CommandLine, MassIndicesAreCheckedAgainstTheSizeGivenOnTheCommandLine)
         EXPECT_FALSE(std::filesystem::exists(out)) << text;
     }
 }
+
+// Issue 51, row 7: a thread the system cannot start (a 1 GB address-space limit, and 1024 threads of 2 MB stacks or
+// more) ended in std::terminate (exit code 134); it is refused naming --threads, with exit code 2 and nothing written.
+TEST(CommandLine, ThreadsTheSystemCannotStartAreRefusedNamingTheFlag)
+{
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+    GTEST_SKIP() << "the sanitizers reserve far more address space than the limit this test sets";
+#endif
+    const std::filesystem::path out = freshFolder("too-many-threads");
+    const std::string command = "sh -c 'ulimit -v 1000000 && exec " + std::string(MASSE_EXECUTABLE) + " run " + source +
+                                "/data/scenes/slope.json --duration 0.1 --quiet --threads 1024 --out " + out.string() +
+                                "' 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    std::array<char, 512> buffer{};
+    while (std::fgets(buffer.data(), int(buffer.size()), pipe))
+    {
+        output += buffer.data();
+    }
+    const int status = ::pclose(pipe);
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by a signal:\n" << output;
+    EXPECT_EQ(WEXITSTATUS(status), 2) << output;
+    EXPECT_EQ(output.rfind("masse: --threads: the system cannot start 1024 threads", 0), 0u) << output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <utility>
 
 namespace masse
@@ -57,13 +58,32 @@ std::mutex& sharedPoolMutex()
 
 TaskPool::TaskPool(int threads)
 {
-    for (int i = 1; i < threads; ++i)
+    m_workers.reserve(std::size_t(std::max(threads - 1, 0))); // only starting a thread can fail below
+    try
     {
-        m_workers.emplace_back([this] { workerLoop(); });
+        for (int i = 1; i < threads; ++i)
+        {
+            m_workers.emplace_back([this] { workerLoop(); });
+        }
+    }
+    catch (const std::system_error& e)
+    {
+        // The workers already started are stopped and joined here: destroyed still running (the constructor does not
+        // finish, so the destructor does not run), they would end the program in std::terminate.
+        const std::size_t started = m_workers.size() + 1;
+        stopWorkers();
+        throw InputError("threads", "the system cannot start " + std::to_string(threads) + " threads (it stopped at " +
+                                        std::to_string(started) + ": " + e.what() +
+                                        "; a memory or process limit?): ask for fewer");
     }
 }
 
 TaskPool::~TaskPool()
+{
+    stopWorkers();
+}
+
+void TaskPool::stopWorkers()
 {
     m_stop.store(true, std::memory_order_release);
     m_jobNumber.fetch_add(1, std::memory_order_release);

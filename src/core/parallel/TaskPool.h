@@ -21,7 +21,8 @@ namespace masse
 class TaskPool
 {
 public:
-    /// A pool for `threads` threads in all, the caller included (so threads - 1 workers; 1 means no workers).
+    /// A pool for `threads` threads in all, the caller included (so threads - 1 workers; 1 means no workers). Throws
+    /// InputError for field "threads" when the system cannot start that many (a memory or process limit).
     explicit TaskPool(int threads);
     ~TaskPool();
     TaskPool(const TaskPool&) = delete;
@@ -41,6 +42,8 @@ private:
     using ChunkFunction = void (*)(const void* context, std::size_t chunk);
     void runErased(std::size_t chunkCount, const void* context, ChunkFunction call);
     void workerLoop();
+    /// Wakes every worker to stop, and joins them.
+    void stopWorkers();
     /// Claims and runs chunks of job `job` until none is left or a newer job has started.
     void workOn(std::uint32_t job);
 
