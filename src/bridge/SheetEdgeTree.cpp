@@ -2,6 +2,8 @@
 
 #include "BulletMath.h"
 
+#include "core/Format.h"
+#include "core/NumericalError.h"
 #include "core/contact/ClosestPointOnTriangle.h"
 #include "core/contact/ClosestPointsOfSegments.h"
 #include "core/parallel/TaskPool.h"
@@ -37,6 +39,11 @@ btDbvtVolume boxOf(const Vec3& low, const Vec3& high)
 {
     return btDbvtVolume::FromMM(toBullet(low), toBullet(high));
 }
+
+/// The farthest from the origin a patch's box may reach (m). Bullet's tree multiplies a box's three lengths
+/// (btDbvt's size()) and adds its corners; past about 1e102 m they overflow, its splits go wrong, and a leaf ends up
+/// in the tree twice (a double free when it is cleared). A sheet that far away has diverged whatever the scene.
+constexpr Real largestBoxCoordinate = 1e100;
 } // namespace
 
 SheetEdgeTree::SheetEdgeTree(const BulletEnvironment& environment)
@@ -98,7 +105,7 @@ void SheetEdgeTree::build()
     std::reverse(m_internalNodes.begin(), m_internalNodes.end());
 }
 
-void SheetEdgeTree::refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius)
+void SheetEdgeTree::refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real time)
 {
     // Each patch's box: its triangles' boxes, grown by their masses' reach and the radius.
     parallelFor(m_leaves.size(), patchChunkSize,
@@ -119,6 +126,15 @@ void SheetEdgeTree::refit(const std::vector<Vec3>& x, const std::vector<Real>& r
                         m_high[k] = high;
                     }
                 });
+    for (std::size_t k = 0; k < m_leaves.size(); ++k)
+    {
+        // Written so that a NaN fails it too.
+        if (!(m_low[k].cwiseAbs().maxCoeff() <= largestBoxCoordinate) ||
+            !(m_high[k].cwiseAbs().maxCoeff() <= largestBoxCoordinate))
+        {
+            throwDiverged(x, reach, k, time);
+        }
+    }
     if (!m_tree->m_root)
     {
         build();
@@ -132,6 +148,31 @@ void SheetEdgeTree::refit(const std::vector<Vec3>& x, const std::vector<Real>& r
     {
         Merge(node->childs[0]->volume, node->childs[1]->volume, node->volume);
     }
+}
+
+void SheetEdgeTree::throwDiverged(const std::vector<Vec3>& x, const std::vector<Real>& reach, std::size_t patch,
+                                  Real time) const
+{
+    // The patch's mass that reaches farthest (its position, or its reach over the step): the one to name.
+    Index farthest = m_surface.triangles[m_surface.patchTriangles[m_surface.patchStart[patch]]][0];
+    Real distance = -1;
+    for (std::size_t j = m_surface.patchStart[patch]; j < m_surface.patchStart[patch + 1]; ++j)
+    {
+        for (const Index m : m_surface.triangles[m_surface.patchTriangles[j]])
+        {
+            const Real d = x[m].cwiseAbs().maxCoeff() + reach[m];
+            if (!(d <= distance))
+            {
+                farthest = m;
+                distance = d;
+            }
+        }
+    }
+    throw NumericalError("the simulation diverged at t = " + formatNumber(time) + " s: mass " +
+                         std::to_string(farthest) + " is at " + formatNumber(x[farthest].cwiseAbs().maxCoeff()) +
+                         " m from the origin and may move " + formatNumber(reach[farthest]) +
+                         " m in a step, beyond what the edge contact can follow (" +
+                         formatNumber(largestBoxCoordinate) + " m)");
 }
 
 Real SheetEdgeTree::clearance(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real span,
@@ -276,7 +317,7 @@ void SheetEdgeTree::findCandidates(const std::vector<Vec3>& x, const std::vector
     {
         return;
     }
-    refit(x, reach, radius);
+    refit(x, reach, radius, time);
     const std::size_t chunks = chunkCount(features, featureChunkSize);
     m_chunks.reserveChunks(chunks);
     const Real span = std::max(dt, Real(0));

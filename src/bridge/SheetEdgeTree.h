@@ -56,7 +56,11 @@ private:
     /// feature's box over the span (0 if they meet).
     Real clearance(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real span,
                    const EdgeContactCandidates& out);
-    void refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius);
+    /// The patches' boxes, then the tree's (built the first time); throws NumericalError for a box beyond what
+    /// Bullet's tree can hold (a sheet that diverged).
+    void refit(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real time);
+    [[noreturn]] void throwDiverged(const std::vector<Vec3>& x, const std::vector<Real>& reach, std::size_t patch,
+                                    Real time) const;
     void build();
     /// A triangle's box grown by its masses' largest reach and the radius.
     void triangleBox(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Index triangle, Vec3& low,

@@ -631,3 +631,22 @@ TEST(CommandLine, ThreadsTheSystemCannotStartAreRefusedNamingTheFlag)
     EXPECT_EQ(output.rfind("masse: --threads: the system cannot start 1024 threads", 0), 0u) << output;
     EXPECT_FALSE(std::filesystem::exists(out));
 }
+
+// Issue 51, row 6: edge contact under extreme motion (the knife-edge scene with a gravity of 1e150 m/s^2) ended in
+// "double free or corruption" inside Bullet's tree of the sheet's edge contact, built from boxes too large for it.
+// The run stops as a diverged one: exit code 1, a message naming the mass, nothing written.
+TEST(CommandLine, EdgeContactUnderExtremeMotionStopsAsADivergedRun)
+{
+    const std::filesystem::path folder = freshFolder("extreme-edge-contact");
+    std::filesystem::create_directories(folder);
+    nlohmann::json scene = nlohmann::json::parse(readText(source + "/data/scenes/knife-edge.json"));
+    scene["sheet"]["size"] = "8x2x8";
+    scene["environment"]["gravity"] = {0, -1e150, 0};
+    scene["run"]["duration"] = 0.3;
+    std::ofstream(folder / "falling-fast.json") << scene.dump(2);
+    const Outcome o =
+        runMasse("run " + (folder / "falling-fast.json").string() + " --quiet --out " + (folder / "out").string());
+    EXPECT_EQ(o.exitCode, 1) << o.output;
+    EXPECT_NE(o.output.find("masse: the simulation diverged at t = "), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(folder / "out"));
+}
