@@ -171,6 +171,12 @@ std::optional<OutputManifest> readManifest(const fs::path& folder)
             {
                 return std::nullopt;
             }
+            // Only paths inside the folder: a damaged manifest must not make a run remove or carry anything else.
+            const fs::path relative = fs::path(entry.get<std::string>()).lexically_normal();
+            if (relative.empty() || relative.is_absolute() || *relative.begin() == ".." || relative == ".")
+            {
+                continue;
+            }
             list->push_back(entry.get<std::string>());
         }
     }

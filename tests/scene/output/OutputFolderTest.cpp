@@ -199,3 +199,17 @@ TEST(OutputFolder, AFileAddedDuringTheRunIsNotReplaced)
     EXPECT_EQ(readText(folder / "run" / "summary.json"), "first");
     EXPECT_EQ(readText(folder / "run" / "notes.txt"), "written while the run went on");
 }
+
+// A manifest names paths inside its folder only: one that lists "../notes.txt" (damaged, or written by hand) makes
+// no run or study remove a file outside it.
+TEST(OutputFolder, AManifestReachesNothingOutsideItsFolder)
+{
+    const fs::path folder = freshFolder("outside");
+    fs::create_directories(folder / "case");
+    writeText(folder / "notes.txt", "mine");
+    writeText(folder / "case" / ".masse-manifest.json",
+              R"({"written": ["../notes.txt", "/etc/hostname"], "kept": ["scene.json", ".."]})");
+    removeListedOutputs((folder / "case").string(), {});
+    EXPECT_EQ(readText(folder / "notes.txt"), "mine");
+    EXPECT_TRUE(fs::exists("/etc/hostname"));
+}
