@@ -83,6 +83,9 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
 
     // How far each mass can get this frame: its current speed plus twice the distance its current acceleration
     // would carry it, plus a radius of slack. A mass that outruns this is caught by the sweep at the end of the frame.
+    // A stuck mass moves with its anchor, which the detector's obstacle travel covers: its reach is the slack alone.
+    // Its force is no measure of its motion (a forming pressure of 80 kPa on a 2 mm sheet's mass is some 1e5 m/s^2,
+    // met by the mould), and a search that wide walked the whole mould for every mass on it.
     // The frame's other per-mass resets go in the same pass over the masses.
     const Real gravity = system.forces.gravity.norm();
     parallelFor(n, massChunkSize,
@@ -91,7 +94,9 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
                     for (std::size_t i = begin; i < end; ++i)
                     {
                         const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
-                        m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
+                        m_reach[i] = m_stuck.stuck[i]
+                                         ? m_settings.radius
+                                         : p.velocity[i].norm() * dt + acceleration * dt * dt + m_settings.radius;
                         m_frameStart[i] = p.position[i];
                         m_report.clearMass(i);
                     }
