@@ -51,15 +51,22 @@ class Mesh:
         return list(range(start, start + len(points)))
 
     def strip(self, lower, upper, outward_up):
-        """Quads between two rings of equal size (as two triangles each)."""
+        """Quads between two rings of equal size (as two triangles each). A ring's points are at the angles of a
+        circle's n points (n a multiple of 4), so a quad's mirror images across x = 0 and z = 0 are quads of the same
+        strip; a quad that is not flat (at a tray's cut corner) is split along the diagonal whose mirror images are the
+        mirror quads' diagonals (lower[k]-upper[k+1] in the first and third quarters, lower[k+1]-upper[k] in the
+        others), so the surface is as mirror-symmetric as the rings are."""
         n = len(lower)
         for k in range(n):
             a, b = lower[k], lower[(k + 1) % n]
             c, d = upper[(k + 1) % n], upper[k]
-            if outward_up:
-                self.faces += [(a, b, c), (a, c, d)]
+            if (4 * k // n) % 2 == 0:
+                triangles = [(a, b, c), (a, c, d)]
             else:
-                self.faces += [(a, c, b), (a, d, c)]
+                triangles = [(a, b, d), (b, c, d)]
+            if not outward_up:
+                triangles = [(x, z, y) for x, y, z in triangles]
+            self.faces += triangles
 
     def fan(self, ring, centre, reverse):
         n = len(ring)
