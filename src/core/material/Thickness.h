@@ -3,8 +3,9 @@
 /// incompressible, so a patch that grows thinner keeps its volume; physics.md section 4).
 ///
 /// Each layer is cut into cells: the triangles of a TRiMM layer, the squares of a square lattice's layer. A mass
-/// stands for a third of the area of each triangle it is a corner of, or a quarter of each square (a square's area is
-/// that of its two triangles split along the SLaMM diagonal, so a bent square has a definite area). These shares
+/// stands for a third of the area of each triangle it is a corner of, or a quarter of each square (a bent square's area
+/// is the mean of its two splits into triangles, along either diagonal, so that it does not depend on the square's
+/// orientation and a mirror-symmetric sheet has a mirror-symmetric thickness field). These shares
 /// partition the layer's surface, so the volume sum h_i A_i = h0 A0 holds exactly at any deformation (integrating
 /// the thickness linearly over the cells gives the same sum). How well h follows the continuum h0 / J, with J the
 /// local area stretch of the deformation, is the discretisation's accuracy: second order in the lattice spacing
