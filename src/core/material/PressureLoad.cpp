@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
 
 namespace masse
 {
@@ -52,17 +53,62 @@ Real PressureSchedule::at(Real time) const
     return m_keys.back().pressure;
 }
 
+namespace
+{
+/// The four triangles of each square of a square lattice's layer: the split along the diagonal from (row, column) to
+/// (row + 1, column + 1) and the split along the other, each wound so its normal points to +y at rest.
+std::vector<Triangle> squareTrianglesOfBothSplits(const Lattice& lattice, int layer)
+{
+    std::vector<Triangle> triangles;
+    const int nx = lattice.layerCountX(layer);
+    const int nz = lattice.layerCountZ(layer);
+    for (int row = 0; row + 1 < nz; ++row)
+    {
+        for (int column = 0; column + 1 < nx; ++column)
+        {
+            const Index a = lattice.index(layer, row, column);
+            const Index b = lattice.index(layer, row, column + 1);
+            const Index c = lattice.index(layer, row + 1, column + 1);
+            const Index d = lattice.index(layer, row + 1, column);
+            for (Triangle t : {Triangle{a, b, c}, Triangle{a, c, d}, Triangle{a, b, d}, Triangle{b, c, d}})
+            {
+                const Vec3& first = lattice.position[t[0]];
+                if ((lattice.position[t[1]] - first).cross(lattice.position[t[2]] - first).y() < 0)
+                {
+                    std::swap(t[1], t[2]);
+                }
+                triangles.push_back(t);
+            }
+        }
+    }
+    return triangles;
+}
+} // namespace
+
 PressureLoad::PressureLoad(const Lattice& lattice, PressureSchedule schedule)
-    : m_schedule(std::move(schedule)), m_below(lattice.massCount()), m_applied(lattice.massCount(), Vec3::Zero()),
-      m_next(lattice.massCount(), Vec3::Zero())
+    : m_schedule(std::move(schedule)), m_layers(lattice.spec.layers), m_below(lattice.massCount()),
+      m_applied(lattice.massCount(), Vec3::Zero()), m_next(lattice.massCount(), Vec3::Zero())
 {
     const int layers = lattice.spec.layers;
     for (int layer = 0; layer < layers; ++layer)
     {
-        for (const Triangle& t : layerTriangles(lattice, layer))
+        if (lattice.spec.structure == Structure::TRiMM)
+        {
+            for (const Triangle& t : layerTriangles(lattice, layer))
+            {
+                m_triangles.push_back(t);
+                m_triangleShare.push_back(Real(1) / Real(layers));
+                m_bottom.push_back(layer == 0 ? 1 : 0);
+            }
+            continue;
+        }
+        // A square is loaded as both of its splits into two triangles, each at half weight: every corner of a flat
+        // square then takes a quarter of its load. One split alone gave the two corners on its diagonal twice the
+        // load of the other two, and a mirror-symmetric sheet a load that is not.
+        for (const Triangle& t : squareTrianglesOfBothSplits(lattice, layer))
         {
             m_triangles.push_back(t);
-            m_triangleShare.push_back(Real(1) / Real(layers));
+            m_triangleShare.push_back(Real(0.5) / Real(layers));
             m_bottom.push_back(layer == 0 ? 1 : 0);
         }
     }
@@ -104,7 +150,8 @@ void PressureLoad::computeLoad(const std::vector<Vec3>& x, Real pressure, std::v
         {
             if (m_bottom[k])
             {
-                m_sealedArea += Real(0.5) * doubleArea.norm();
+                // Weighted as the load is: a square's four triangles at half weight make up its area once.
+                m_sealedArea += Real(0.5) * m_triangleShare[k] * Real(m_layers) * doubleArea.norm();
             }
             continue;
         }

@@ -9,7 +9,9 @@
 /// The load acts on every layer's surface (LatticeSurface.h): each layer stands for 1/L of the sheet's thickness
 /// (MembraneStiffness.h), so each takes 1/L of the pressure. Each triangle takes (p/L) times its vector area, -p A n /
 /// L, split equally among its three corners (the consistent load of a uniform pressure on a linear triangle), so a
-/// mass gets its layer's part of p times its share of the deformed surface's area along the surface normal. Layers
+/// mass gets its layer's part of p times its share of the deformed surface's area along the surface normal (a square
+/// lattice's square is taken as both of its splits into two triangles at half weight, a quarter to each corner of a
+/// flat square, so that the load is as symmetric as the lattice). Layers
 /// loaded alike deform alike, so the inter-layer springs carry no share of the load across the sheet.
 ///
 /// Sealing: where the sheet has closed onto the mould, the mould carries the pressure. A bottom-layer mass that
@@ -85,8 +87,9 @@ private:
     void apply(MassSpringSystem& system, Real pressure);
 
     PressureSchedule m_schedule;
+    int m_layers = 1;
     std::vector<Triangle> m_triangles;       ///< every layer's, bottom first
-    std::vector<Real> m_triangleShare;       ///< per triangle: 1 / L
+    std::vector<Real> m_triangleShare;       ///< per triangle: 1 / L (a square lattice's: 1 / 2L, see the constructor)
     std::vector<std::uint8_t> m_bottom;      ///< per triangle: of the bottom layer
     std::vector<std::vector<Index>> m_below; ///< per mass: its inter-layer neighbours in the layer below
     bool m_sealing = false;
