@@ -30,6 +30,10 @@ struct FormingReportSpec
     bool massesCsv = false;      ///< masses.csv: position, thickness, temperature, contact of every mass
     Real thinBelow = 0.5;        ///< h / h0 under which area counts as thin (summary: thin_area_share)
     int mapPixels = 900;         ///< width of the maps in pixels
+    /// h / h0 at the thickness map's colour bar's ends: fixed, so that maps of two runs compare and a 6% thinning
+    /// does not span the whole bar; a thickness beyond them takes the end's colour.
+    Real mapRangeLow = 0;
+    Real mapRangeHigh = 1;
 };
 
 /// Reads the scene's "forming" object; throws InputError naming the key.

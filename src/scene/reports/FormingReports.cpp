@@ -114,8 +114,12 @@ std::string mapData(const TopViewMap& map)
 }
 
 std::string mapPlotScript(const std::string& dataPath, const std::string& title, const std::string& subtitle,
-                          const std::string& unitLabel, const std::string& palette)
+                          const std::string& unitLabel, const std::string& palette,
+                          const std::vector<Real>& colourRange)
 {
+    const std::string range = colourRange.size() == 2 ? "set cbrange [" + formatNumber("%.9g", colourRange[0]) + ":" +
+                                                            formatNumber("%.9g", colourRange[1]) + "]\n"
+                                                      : std::string();
     // Pixels off the sheet are NaN, which gnuplot's image leaves blank. They must not be declared missing data
     // (`set datafile missing 'NaN'`): image then drops them from their scan lines, the grid no longer lines up, and
     // every row shifts by the pixels dropped before it; the cup's cavity came out as a sheared ellipse 5 cm off
@@ -127,10 +131,7 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
            "set yrange [*:*] reverse\n" // seen from above (+y) with x to the right, z grows down the page
            "set size ratio -1\n"
            "set cblabel '" +
-           unitLabel +
-           "'\n"
-           "set palette " +
-           palette +
+           unitLabel + "'\n" + range + "set palette " + palette +
            "\n"
            "set tics out\n"
            "unset key\n"
@@ -228,14 +229,15 @@ void writeFormingReports(Scene& scene, const std::string& directory)
         writeFileAtomically(directory + "/masses.csv", massesCsv(scene));
     }
     auto drawMap = [&](const std::string& stem, const std::vector<Real>& perMass, const std::string& heading,
-                       const std::string& subtitle, const std::string& unit, const std::string& palette)
+                       const std::string& subtitle, const std::string& unit, const std::string& palette,
+                       const std::vector<Real>& colourRange)
     {
         const TopViewMap map = topViewMap(scene, perMass, report.mapPixels / 3);
         const std::string dataPath = directory + "/" + stem + ".dat.tmp";
         writeFileAtomically(dataPath, mapData(map));
         try
         {
-            plotPng(mapPlotScript(dataPath, title + ": " + heading, subtitle, unit, palette),
+            plotPng(mapPlotScript(dataPath, title + ": " + heading, subtitle, unit, palette, colourRange),
                     directory + "/" + stem + ".png", report.mapPixels, report.mapPixels * 4 / 5);
         }
         catch (...)
@@ -262,8 +264,10 @@ void writeFormingReports(Scene& scene, const std::string& directory)
             formatNumber("%.3f", thinnest.z()) + ") m; " +
             formatNumber("%.1f%%", 100 * thinAreaShare(*thickness, report.thinBelow)) + " of the area below " +
             formatNumber("%.0f%%", 100 * report.thinBelow) + " of h0";
+        const Real h0 = 1000 * thickness->initialThickness();
         drawMap("thickness_map", millimetres, "wall thickness, top view", subtitle, "thickness (mm)",
-                "defined (0 '#3b0f70', 0.25 '#8c2981', 0.5 '#de4968', 0.75 '#fe9f6d', 1 '#fcfdbf')");
+                "defined (0 '#3b0f70', 0.25 '#8c2981', 0.5 '#de4968', 0.75 '#fe9f6d', 1 '#fcfdbf')",
+                {report.mapRangeLow * h0, report.mapRangeHigh * h0});
     }
     if (report.temperatureMap && scene.thermal())
     {
@@ -275,7 +279,7 @@ void writeFormingReports(Scene& scene, const std::string& directory)
         const auto [lo, hi] = std::minmax_element(celsius.begin(), celsius.end());
         drawMap("temperature_map", celsius, "temperature, top view",
                 "from " + formatNumber("%.1f", *lo) + " to " + formatNumber("%.1f", *hi) + " C", "temperature (C)",
-                "rgb 33,13,10");
+                "rgb 33,13,10", {});
     }
 }
 } // namespace masse::scene

@@ -25,10 +25,12 @@ struct TopViewMap
 TopViewMap topViewMap(const Scene& scene, const std::vector<Real>& perMass, int width);
 
 /// The gnuplot data (x z value, rows separated by blank lines) and script for a map with a colour bar labelled
-/// `unitLabel`; `subtitle` goes under the title.
+/// `unitLabel`; `subtitle` goes under the title. The colour bar spans `colourRange` ({low, high}, in the values'
+/// unit), or the values' own range when it is empty.
 std::string mapData(const TopViewMap& map);
 std::string mapPlotScript(const std::string& dataPath, const std::string& title, const std::string& subtitle,
-                          const std::string& unitLabel, const std::string& palette);
+                          const std::string& unitLabel, const std::string& palette,
+                          const std::vector<Real>& colourRange = {});
 
 /// Share (0..1) of the bottom layer's current area whose thickness is below `ratio` times h0.
 Real thinAreaShare(const SheetThickness& thickness, Real ratio);
