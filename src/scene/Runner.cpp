@@ -107,6 +107,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
                               {"min", thickness->minimumThickness()},
                               {"min_ratio", thickness->minimumThickness() / thickness->initialThickness()},
                               {"min_mass", thickness->thinnestMass()},
+                              {"min_layer", thickness->layer()[thickness->thinnestMass()]},
                               {"min_position",
                                {p.position[thickness->thinnestMass()].x(), p.position[thickness->thinnestMass()].y(),
                                 p.position[thickness->thinnestMass()].z()}},

@@ -187,11 +187,11 @@ void SheetThickness::update(const std::vector<Vec3>& x)
         if (m_layer[i] == 0)
         {
             m_volume += m_thickness[i] * m_area[i];
-            if (m_thickness[i] < m_minimumThickness)
-            {
-                m_minimumThickness = m_thickness[i];
-                m_thinnestMass = Index(i);
-            }
+        }
+        if (m_thickness[i] < m_minimumThickness)
+        {
+            m_minimumThickness = m_thickness[i];
+            m_thinnestMass = Index(i);
         }
     }
 }

@@ -11,8 +11,10 @@
 /// local area stretch of the deformation, is the discretisation's accuracy: second order in the lattice spacing
 /// away from the sheet's edges.
 ///
-/// Each mass gets the thickness of its own layer's cells; reports (minimum, volume) are over the bottom layer, the
-/// sheet's underside as it meets a mould. A mass that belongs to no cell (the lone mass of a tapered top layer) is
+/// Each mass gets the thickness of its own layer's cells: every layer measures the stretch of its own surface, and
+/// where the sheet bends the outer layer stretches more than the inner one. The sheet's thinnest wall is the smallest
+/// of these over every mass of every layer, the one value that summary.json, masses.csv, the frames and the map's title
+/// report. The volume is summed over the bottom layer, the sheet's underside as it meets a mould. A mass that belongs to no cell (the lone mass of a tapered top layer) is
 /// given one cell's area, spacingX * spacingZ, for good, and keeps h0.
 
 #include "core/lattice/Lattice.h"
@@ -47,11 +49,11 @@ public:
     const std::vector<Index>& cells() const { return m_cells; }
     int cornersPerCell() const { return m_cornersPerCell; }
 
-    // Bottom layer, from the last update.
+    /// The thinnest wall, over every mass of every layer, from the last update.
     Real minimumThickness() const { return m_minimumThickness; }
-    /// The bottom-layer mass where the sheet is thinnest.
+    /// The mass (of any layer) where the sheet is thinnest.
     Index thinnestMass() const { return m_thinnestMass; }
-    /// sum h_i A_i (m^3); equals restVolume() by construction.
+    /// sum h_i A_i over the bottom layer (m^3); equals restVolume() by construction.
     Real volume() const { return m_volume; }
     /// h0 A0 (m^3).
     Real restVolume() const { return m_restVolume; }
