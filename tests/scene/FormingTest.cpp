@@ -12,6 +12,7 @@
 #include "scene/output/Plot.h"
 #include "scene/reports/FormingReports.h"
 
+#include "core/InputError.h"
 #include "core/lattice/LatticeSurface.h"
 
 #include <gtest/gtest.h>
@@ -511,4 +512,35 @@ TEST(Forming, MirrorSymmetricCupFormsMirrorSymmetric)
     EXPECT_LT(cup.thinnest, 0.6) << "the sheet was not drawn into the cup";
     EXPECT_LE(cup.p99, 0.03);
     EXPECT_LE(cup.worst, 0.08);
+}
+
+// The thickness map's colour bar has fixed ends: 0 to h0 by default, or the scene's thickness_map.range (ratios of
+// h0), so that a 6% thinning does not span the whole bar; a range that is not [low, high] with 0 <= low < high <= 10
+// is refused naming the key.
+TEST(FormingReports, ThicknessMapColourBarHasFixedEnds)
+{
+    EXPECT_NE(mapPlotScript("d.dat", "t", "", "mm", "rgb 3,3,3", {0.0, 2.0}).find("set cbrange [0:2]\n"),
+              std::string::npos);
+    EXPECT_EQ(mapPlotScript("d.dat", "t", "", "mm", "rgb 3,3,3").find("cbrange"), std::string::npos);
+
+    nlohmann::json document = readSceneDocument(source + "/data/scenes/vacuum-forming-cup.json");
+    EXPECT_EQ(parseScene(document, source + "/data/scenes", "cup").formingReport.mapRangeHigh, 1.0);
+    document["report"]["thickness_map"] = {{"range", {0.2, 1.2}}};
+    const SceneSpec ranged = parseScene(document, source + "/data/scenes", "cup");
+    EXPECT_EQ(ranged.formingReport.mapRangeLow, 0.2);
+    EXPECT_EQ(ranged.formingReport.mapRangeHigh, 1.2);
+    for (const nlohmann::json& bad :
+         {nlohmann::json{1.0, 0.5}, nlohmann::json{-0.1, 1.0}, nlohmann::json{0.0}, nlohmann::json{0.0, 11.0}})
+    {
+        document["report"]["thickness_map"] = {{"range", bad}};
+        try
+        {
+            parseScene(document, source + "/data/scenes", "cup");
+            ADD_FAILURE() << "accepted range " << bad.dump();
+        }
+        catch (const InputError& error)
+        {
+            EXPECT_NE(std::string(error.what()).find("report.thickness_map.range"), std::string::npos) << error.what();
+        }
+    }
 }
