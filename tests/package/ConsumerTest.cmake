@@ -20,7 +20,7 @@ masse_step("build the core" ${CMAKE_COMMAND} --build ${WORK}/masse-build -j2)
 masse_step("install the core" ${CMAKE_COMMAND} --install ${WORK}/masse-build)
 
 # The install: the core's library, its headers, the config and version files; nothing of the other layers.
-foreach(file lib/libmasse_core.a include/masse/core/Simulator.h include/masse/core/SpringForce.h
+foreach(file lib/libmasse_core.a include/masse/core/Simulator.h include/masse/core/forces/SpringForce.h
         lib/cmake/masse/masse-config.cmake lib/cmake/masse/masse-config-version.cmake
         lib/cmake/masse/masse-core-targets.cmake)
     if(NOT EXISTS ${prefix}/${file})
