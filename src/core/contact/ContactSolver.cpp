@@ -85,8 +85,8 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
     // would carry it, plus a radius of slack. A mass that outruns this is caught by the sweep at the end of the frame.
     // A stuck mass moves with its anchor, which the detector's obstacle travel covers: its reach is the slack alone.
     // Its force is no measure of its motion (a forming pressure of 80 kPa on a 2 mm sheet's mass is some 1e5 m/s^2,
-    // met by the mould), and a search that wide walked the whole mould for every mass on it. Nor is a pinned mass's:
-    // it moves at its own velocity, and a clamped edge's masses, their force the clamp's reaction, searched metres.
+    // met by the mould), and a search that wide would walk the whole mould for every mass on it. Nor is a pinned
+    // mass's: it moves at its own velocity, and its force holds the clamp's reaction.
     // The frame's other per-mass resets go in the same pass over the masses.
     const Real gravity = system.forces.gravity.norm();
     parallelFor(n, massChunkSize,

@@ -103,8 +103,8 @@ PressureLoad::PressureLoad(const Lattice& lattice, PressureSchedule schedule)
             continue;
         }
         // A square is loaded as both of its splits into two triangles, each at half weight: every corner of a flat
-        // square then takes a quarter of its load. One split alone gave the two corners on its diagonal twice the
-        // load of the other two, and a mirror-symmetric sheet a load that is not.
+        // square then takes a quarter of its load, so the load is as mirror-symmetric as the lattice. (One split
+        // would give the two corners on its diagonal twice the load of the other two.)
         for (const Triangle& t : squareTrianglesOfBothSplits(lattice, layer))
         {
             m_triangles.push_back(t);

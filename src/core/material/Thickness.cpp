@@ -145,8 +145,8 @@ void SheetThickness::accumulate(const std::vector<Vec3>& x, std::vector<Real>& a
         else
         {
             // A bent square's area is the mean of its two splits into triangles (along either diagonal), so that a
-            // square and its mirror image have the same area: one split alone made a mirror-symmetric formed sheet's
-            // thickness field asymmetric by up to 0.07 h0. The vector area is the same for either split.
+            // square and its mirror image have the same area and a mirror-symmetric sheet a mirror-symmetric
+            // thickness field (Forming.MirrorSymmetric*). The vector area is the same for either split.
             const Vec3 first = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[2]]);
             const Vec3 second = doubleVectorArea(x[cell[0]], x[cell[2]], x[cell[3]]);
             const Vec3 third = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[3]]);

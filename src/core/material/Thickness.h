@@ -14,8 +14,9 @@
 /// Each mass gets the thickness of its own layer's cells: every layer measures the stretch of its own surface, and
 /// where the sheet bends the outer layer stretches more than the inner one. The sheet's thinnest wall is the smallest
 /// of these over every mass of every layer, the one value that summary.json, masses.csv, the frames and the map's title
-/// report. The volume is summed over the bottom layer, the sheet's underside as it meets a mould. A mass that belongs to no cell (the lone mass of a tapered top layer) is
-/// given one cell's area, spacingX * spacingZ, for good, and keeps h0.
+/// report. The volume is summed over the bottom layer, the sheet's underside as it meets a mould. A mass that belongs
+/// to no cell (the lone mass of a tapered top layer) is given one cell's area, spacingX * spacingZ, for good, and keeps
+/// h0.
 
 #include "core/lattice/Lattice.h"
 
