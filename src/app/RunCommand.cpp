@@ -15,6 +15,7 @@
 #include <iostream>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <unistd.h>
 
 namespace masse::app
@@ -38,30 +39,9 @@ void runRun(const RunOptions& options)
 {
     // Everything that can be wrong with the input is found before the output folder is touched.
     scene::SceneSpec spec = loadSceneWithOverrides(options.scene, options.overrides);
-    if (options.framesEvery != notGiven && (options.framesEvery < 0 || options.framesEvery > 1000000))
-    {
-        throw InputError("--frames-every: must be a whole number of steps in [0, 1000000] (got " +
-                         std::to_string(options.framesEvery) + ")");
-    }
-    if (options.framesEvery >= 0)
-    {
-        spec.output.framesEvery = options.framesEvery;
-        if (spec.output.formats.empty())
-        {
-            spec.output.formats = {"vtp"};
-        }
-    }
-    if (!options.formats.empty())
-    {
-        for (const std::string& f : options.formats)
-        {
-            if (f != "vtp" && f != "obj")
-            {
-                throw InputError("--format: unknown format '" + f + "' (expected vtp, obj)");
-            }
-        }
-        spec.output.formats = options.formats;
-    }
+    scene::applyFrameFlags(spec,
+                           options.framesEvery != notGiven ? std::optional<int>(options.framesEvery) : std::nullopt,
+                           options.formats);
     // The run writes into a staging folder that replaces --out only when it has finished: never half a run, never
     // an earlier run's files beside this one's.
     scene::OutputFolder folder(options.out, options.force);

@@ -1,13 +1,9 @@
 #include "SceneOptions.h"
 
-#include "core/Format.h"
-#include "core/InputError.h"
 #include "core/parallel/TaskPool.h"
-#include "scene/SceneFile.h"
 
 #include <CLI/CLI.hpp>
 
-#include <cmath>
 #include <cstdlib>
 #include <memory>
 
@@ -37,69 +33,9 @@ void addSetOption(CLI::App& command, std::vector<std::string>& settings)
         ->allow_extra_args(false);
 }
 
-std::vector<scene::KeyOverride> parseSettings(const std::vector<std::string>& settings)
-{
-    std::vector<scene::KeyOverride> overrides;
-    for (const std::string& setting : settings)
-    {
-        overrides.push_back(scene::parseKeyOverride(setting));
-    }
-    return overrides;
-}
-
 scene::SceneSpec loadSceneWithOverrides(const std::string& path, const SceneOverrides& overrides)
 {
-    scene::SceneSpec spec = scene::loadScene(path, parseSettings(overrides.settings));
-    applyOverrides(overrides, spec);
-    return spec;
-}
-
-namespace
-{
-/// A number of seconds given to `flag`, in (lo, hi] when lo is 0, else in [lo, hi].
-double secondsFlag(const std::string& flag, const std::string& text, double lo, double hi)
-{
-    char* end = nullptr;
-    const double value = std::strtod(text.c_str(), &end);
-    const std::string range =
-        lo == 0 ? "(0, " + formatNumber(hi) + "]" : "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
-    if (text.empty() || *end != '\0' || !std::isfinite(value) || !(lo == 0 ? value > 0 : value >= lo) || !(value <= hi))
-    {
-        throw InputError(flag + ": must be a number of seconds in " + range + " (got '" + text + "')");
-    }
-    return value;
-}
-} // namespace
-
-void applyOverrides(const SceneOverrides& overrides, scene::SceneSpec& spec)
-{
-    if (!overrides.integrator.empty())
-    {
-        underFlag("--integrator", [&] { spec.time.integrator = parseIntegrator(overrides.integrator); });
-    }
-    if (!overrides.dt.empty())
-    {
-        spec.time.dt = secondsFlag("--dt", overrides.dt, scene::limits::minTimeStep, scene::limits::maxTimeStep);
-    }
-    if (!overrides.duration.empty())
-    {
-        spec.run.duration = secondsFlag("--duration", overrides.duration, 0, scene::limits::maxDuration);
-    }
-    if (!overrides.dt.empty() || !overrides.duration.empty())
-    {
-        scene::checkRunLength(spec.time.dt, spec.run.duration, overrides.dt.empty() ? "integrator.dt" : "--dt",
-                              overrides.duration.empty() ? "run.duration" : "--duration");
-    }
-    if (!overrides.size.empty())
-    {
-        underFlag("--size",
-                  [&]
-                  {
-                      parseSize(overrides.size, spec.sheet.lattice);
-                      validate(spec.sheet.lattice);
-                  });
-        spec.sheet.sizeGiven = "--size"; // the mass indices are checked against it when the scene is built
-    }
+    return scene::loadScene(path, overrides);
 }
 
 void addThreadsOption(CLI::App& command)

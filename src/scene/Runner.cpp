@@ -10,6 +10,7 @@
 #include "scene/reports/WebbingReport.h"
 
 #include "core/Format.h"
+#include "core/InputError.h"
 #include "core/StateHash.h"
 #include "core/forces/SimdPath.h"
 #include "core/parallel/TaskPool.h"
@@ -205,6 +206,34 @@ std::string eventsCsv(const Scene& scene)
         out << e.name << ",\"" << e.object << "\"," << times << '\n';
     }
     return out.str();
+}
+
+void applyFrameFlags(SceneSpec& spec, std::optional<int> framesEvery, const std::vector<std::string>& formats)
+{
+    if (framesEvery)
+    {
+        if (*framesEvery < 0 || *framesEvery > 1000000)
+        {
+            throw InputError("--frames-every: must be a whole number of steps in [0, 1000000] (got " +
+                             std::to_string(*framesEvery) + ")");
+        }
+        spec.output.framesEvery = *framesEvery;
+        if (spec.output.formats.empty())
+        {
+            spec.output.formats = {"vtp"};
+        }
+    }
+    if (!formats.empty())
+    {
+        for (const std::string& f : formats)
+        {
+            if (f != "vtp" && f != "obj")
+            {
+                throw InputError("--format: unknown format '" + f + "' (expected vtp, obj)");
+            }
+        }
+        spec.output.formats = formats;
+    }
 }
 
 RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progressOut)

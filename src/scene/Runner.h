@@ -6,8 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace masse::scene
 {
@@ -24,6 +26,10 @@ struct RunResult
     Real stepSeconds = 0;     ///< wall time inside Scene::step
     Real overheadSeconds = 0; ///< wall time of the runner itself (progress, events, frame output)
 };
+
+/// `masse run`'s --frames-every K and --format F,... (each when given): frames every K steps (0: none), written as vtp
+/// unless the scene or `formats` names others. Throws InputError naming the flag of a bad value.
+void applyFrameFlags(SceneSpec& spec, std::optional<int> framesEvery, const std::vector<std::string>& formats);
 
 /// Steps the scene until it finishes; writes into options.outDir (created if missing).
 RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progressOut);

@@ -2,8 +2,11 @@
 
 #include "scene/SceneFile.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 namespace masse::scene
@@ -109,6 +112,79 @@ SceneSpec loadScene(const std::string& path, const std::vector<KeyOverride>& ove
         return loadScene(path);
     }
     return parseSceneWith(readSceneDocument(path), overrides, std::filesystem::path(path).parent_path().string(), path);
+}
+
+std::vector<KeyOverride> parseSettings(const std::vector<std::string>& settings)
+{
+    std::vector<KeyOverride> overrides;
+    for (const std::string& setting : settings)
+    {
+        overrides.push_back(parseKeyOverride(setting));
+    }
+    return overrides;
+}
+
+namespace
+{
+/// A number of seconds given to `flag`, in (lo, hi] when lo is 0, else in [lo, hi].
+double secondsFlag(const std::string& flag, const std::string& text, double lo, double hi)
+{
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    const std::string range =
+        lo == 0 ? "(0, " + formatNumber(hi) + "]" : "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]";
+    if (text.empty() || *end != '\0' || !std::isfinite(value) || !(lo == 0 ? value > 0 : value >= lo) || !(value <= hi))
+    {
+        throw InputError(flag + ": must be a number of seconds in " + range + " (got '" + text + "')");
+    }
+    return value;
+}
+} // namespace
+
+void applyFlags(const SceneFlags& flags, SceneSpec& spec)
+{
+    if (!flags.integrator.empty())
+    {
+        underFlag("--integrator", [&] { spec.time.integrator = parseIntegrator(flags.integrator); });
+    }
+    if (!flags.dt.empty())
+    {
+        spec.time.dt = secondsFlag("--dt", flags.dt, limits::minTimeStep, limits::maxTimeStep);
+    }
+    if (!flags.duration.empty())
+    {
+        spec.run.duration = secondsFlag("--duration", flags.duration, 0, limits::maxDuration);
+    }
+    if (!flags.dt.empty() || !flags.duration.empty())
+    {
+        checkRunLength(spec.time.dt, spec.run.duration, flags.dt.empty() ? "integrator.dt" : "--dt",
+                       flags.duration.empty() ? "run.duration" : "--duration");
+    }
+    if (!flags.size.empty())
+    {
+        underFlag("--size",
+                  [&]
+                  {
+                      parseSize(flags.size, spec.sheet.lattice);
+                      validate(spec.sheet.lattice);
+                  });
+        spec.sheet.sizeGiven = "--size"; // the mass indices are checked against it when the scene is built
+    }
+}
+
+SceneSpec loadScene(const std::string& path, const SceneFlags& flags)
+{
+    SceneSpec spec = loadScene(path, parseSettings(flags.settings));
+    applyFlags(flags, spec);
+    return spec;
+}
+
+SceneSpec parseSceneWith(const nlohmann::json& document, const SceneFlags& flags, const std::string& baseDirectory,
+                         const std::string& origin)
+{
+    SceneSpec spec = parseSceneWith(document, parseSettings(flags.settings), baseDirectory, origin);
+    applyFlags(flags, spec);
+    return spec;
 }
 
 void rebaseFilePaths(nlohmann::json& document, const std::string& fromDirectory, const std::string& toDirectory)

@@ -6,6 +6,8 @@
 #include "scene/SceneSpec.h"
 #include "scene/json/JsonPath.h"
 
+#include "core/InputError.h"
+
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -38,6 +40,45 @@ SceneSpec loadScene(const std::string& path, const std::vector<KeyOverride>& ove
 SceneSpec parseSceneWith(const nlohmann::json& document, const std::vector<KeyOverride>& overrides,
                          const std::string& baseDirectory, const std::string& origin,
                          const std::string& prefix = "--set ");
+
+/// What the commands that run scenes (run, view, compare, paper) and the Python module take besides the scene: the
+/// values of --integrator, --dt, --duration and --size as given ("" when not), and the --set settings as text.
+struct SceneFlags
+{
+    std::string integrator;
+    std::string dt; ///< read by applyFlags, which names the flag of a bad value
+    std::string duration;
+    std::string size;
+    std::vector<std::string> settings; ///< KEY=VALUE, in the order given
+};
+
+/// The --set settings parsed (throws InputError naming a malformed one).
+std::vector<KeyOverride> parseSettings(const std::vector<std::string>& settings);
+/// Applies the flags other than --set (throws InputError for bad values, naming the flag).
+void applyFlags(const SceneFlags& flags, SceneSpec& spec);
+/// Reads the scene at `path` with the --set keys changed, then applies the other flags.
+SceneSpec loadScene(const std::string& path, const SceneFlags& flags);
+/// The same from a scene document (see parseSceneWith).
+SceneSpec parseSceneWith(const nlohmann::json& document, const SceneFlags& flags, const std::string& baseDirectory,
+                         const std::string& origin);
+
+/// Runs `check`; an InputError about one field of the core's (the value the flag gave) is re-thrown under the flag:
+/// "--size: expected NxLxN, e.g. 8x2x8 (got '8x8')". One that names no field already says where it comes from.
+template <typename Check> void underFlag(const std::string& flag, Check&& check)
+{
+    try
+    {
+        check();
+    }
+    catch (const InputError& e)
+    {
+        if (e.field().empty())
+        {
+            throw;
+        }
+        throw InputError(flag + ": " + e.problem());
+    }
+}
 
 /// Makes a scene document's relative file paths (material file, mesh obstacles), written relative to `fromDirectory`,
 /// relative to `toDirectory` instead, so the document can be saved there.
