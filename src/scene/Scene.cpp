@@ -288,15 +288,21 @@ Real Scene::scriptedMotionEnd(const SceneSpec& spec)
     }
     for (const ScriptAction& action : spec.script)
     {
-        end = std::max(end, action.time);
-        if (!action.path.empty())
-        {
-            end = std::max(end, action.path.back().first);
-        }
-        if (!action.obstaclePath.empty())
-        {
-            end = std::max(end, action.obstaclePath.back().time);
-        }
+        end = std::max(end, motionEnd(action));
+    }
+    return end;
+}
+
+Real Scene::motionEnd(const ScriptAction& action)
+{
+    Real end = action.time;
+    if (!action.path.empty())
+    {
+        end = std::max(end, action.path.back().first);
+    }
+    if (!action.obstaclePath.empty())
+    {
+        end = std::max(end, action.obstaclePath.back().time);
     }
     return end;
 }
@@ -326,6 +332,57 @@ void Scene::requireSealedMould() const
                          " and " + std::to_string(open->b + 1) + " belongs to " + std::to_string(open->faces) +
                          " face(s) instead of 2, so the sheet cannot seal the cavity over its rim");
     }
+}
+
+void Scene::addAction(ScriptAction action)
+{
+    if (!(action.time >= time() - 1e-9))
+    {
+        throw InputError("time", "must be at or after the scene's time, " + formatNumber(time()) + " s (got " +
+                                     formatNumber(action.time) + ")");
+    }
+    if (action.kind == ScriptAction::Kind::Grab && action.path.empty())
+    {
+        throw InputError("path", "a grab needs a path of at least one {\"time\", \"position\"} key");
+    }
+    ScriptTargets targets;
+    targets.masses = system().massCount();
+    for (int k = 0; k < m_environment->obstacleCount(); ++k)
+    {
+        targets.obstacles.push_back(m_environment->obstacle(k).name);
+    }
+    for (const ObstacleSpec& o : m_spec.obstacles)
+    {
+        if (!o.isKinematic())
+        {
+            targets.staticObstacles.push_back(o.name);
+        }
+    }
+    targets.grabs = m_script->grabLabels();
+    targets.heaters = m_spec.heat.heaterNames;
+    targets.heat = m_thermal != nullptr;
+    checkScriptAction(action, targets);
+    // Rest counts from the end of every scripted motion, this one's included.
+    m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, motionEnd(action));
+    m_script->add(std::move(action));
+}
+
+void Scene::redirectGrab(const std::string& label, const Vec3& target, Real duration)
+{
+    if (!target.allFinite())
+    {
+        throw InputError("target", "must be a finite point");
+    }
+    if (!(duration >= 0 && duration <= limits::maxDuration))
+    {
+        throw InputError("duration", "must be a number of seconds in [0, " + formatNumber(limits::maxDuration) +
+                                         "] (got " + formatNumber(duration) + ")");
+    }
+    if (!m_script->redirectGrab(system(), label, target, time(), duration))
+    {
+        throw InputError("grab", "no grab is labelled '" + label + "'");
+    }
+    m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, time() + duration);
 }
 
 const SheetThickness* Scene::thickness() const

@@ -76,6 +76,14 @@ public:
     /// Sets the room air temperature (K), as the script's "ambient" action.
     void setAmbientTemperature(Real kelvin);
 
+    /// Adds a script action between steps, at or after the scene's time: it fires as a scene file's action at that
+    /// time would, at the start of the next frame at or after it. Throws InputError (the action's key: "mass",
+    /// "heater"...), adding nothing, for a time in the past or a mass, grab, obstacle or heater the scene lacks.
+    void addAction(ScriptAction action);
+    /// Points the grab labelled `label` from now on straight to `target`, reached `duration` s later (at once for 0);
+    /// throws InputError when no grab has that label or the target or duration is not finite.
+    void redirectGrab(const std::string& label, const Vec3& target, Real duration);
+
     const std::vector<SceneEvent>& events() const { return m_events; }
     /// Time of the first event with this name and object, or a negative number.
     Real eventTime(const std::string& name, const std::string& object) const;
@@ -113,6 +121,8 @@ private:
     void addHooks();
     /// The time after which nothing scripted moves: the last action, grab-path key or obstacle-path key.
     static Real scriptedMotionEnd(const SceneSpec& spec);
+    /// When one action's motion ends: its time, or its path's last key.
+    static Real motionEnd(const ScriptAction& action);
     Real nextStep() const;
     /// Throws InputError when the forming section names a mould that is a mesh with a gap (an edge of one face).
     void requireSealedMould() const;

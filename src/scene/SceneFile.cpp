@@ -639,58 +639,33 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
                      "no obstacle is named '" + scene.run.restAfterContactWith[i] + "'");
         }
     }
-    std::vector<std::string> grabs;
+    ScriptTargets targets;
+    targets.masses = masses;
+    targets.obstacles = names;
+    for (const ObstacleSpec& o : scene.obstacles)
+    {
+        if (!o.isKinematic())
+        {
+            targets.staticObstacles.push_back(o.name);
+        }
+    }
+    targets.heaters = scene.heat.heaterNames;
+    targets.heat = scene.heat.enabled;
     for (std::size_t i = 0; i < scene.script.size(); ++i)
     {
         const ScriptAction& a = scene.script[i];
         const std::string key = "script[" + std::to_string(i) + "]";
-        switch (a.kind)
+        try
         {
-        case ScriptAction::Kind::Grab:
-            if (!a.label.empty())
-            {
-                grabs.push_back(a.label);
-            }
-            break;
-        case ScriptAction::Kind::Release:
-            if (std::find(grabs.begin(), grabs.end(), a.label) == grabs.end())
-            {
-                top.fail(key + ".grab", "no earlier grab is labelled '" + a.label + "'");
-            }
-            break;
-        case ScriptAction::Kind::Pin:
-        case ScriptAction::Kind::Unpin:
-            break;
-        case ScriptAction::Kind::Move:
-            if (!exists(a.obstacle))
-            {
-                top.fail(key + ".obstacle", "no obstacle is named '" + a.obstacle + "'");
-            }
-            for (const ObstacleSpec& o : scene.obstacles)
-            {
-                if (o.name == a.obstacle && !o.isKinematic())
-                {
-                    top.fail(key + ".obstacle",
-                             "'" + a.obstacle +
-                                 "' is static: give it a \"path\" (at least one key) to make it kinematic");
-                }
-            }
-            break;
-        case ScriptAction::Kind::Gravity:
-            break;
-        case ScriptAction::Kind::Heater:
-            if (std::find(scene.heat.heaterNames.begin(), scene.heat.heaterNames.end(), a.heater) ==
-                scene.heat.heaterNames.end())
-            {
-                top.fail(key + ".heater", "no heater is named '" + a.heater + "'");
-            }
-            break;
-        case ScriptAction::Kind::Ambient:
-            if (!scene.heat.enabled)
-            {
-                top.fail(key + ".action", "an ambient temperature needs a \"heat\" section");
-            }
-            break;
+            checkScriptAction(a, targets);
+        }
+        catch (const InputError& e)
+        {
+            top.fail(key + "." + e.field(), e.problem());
+        }
+        if (a.kind == ScriptAction::Kind::Grab && !a.label.empty())
+        {
+            targets.grabs.push_back(a.label);
         }
     }
 }
@@ -733,6 +708,70 @@ void checkMassIndices(const SceneSpec& scene)
                 check(mass, key + ".masses.masses");
             }
         }
+    }
+}
+
+ScriptAction readScriptAction(const nlohmann::json& action, const std::string& where)
+{
+    return readAction(JsonObject(action, where));
+}
+
+void checkScriptAction(const ScriptAction& a, const ScriptTargets& targets)
+{
+    const auto has = [](const std::vector<std::string>& names, const std::string& name)
+    { return std::find(names.begin(), names.end(), name) != names.end(); };
+    switch (a.kind)
+    {
+    case ScriptAction::Kind::Grab:
+        if (!a.grabNearest && a.mass >= targets.masses)
+        {
+            throw InputError("mass", "mass " + std::to_string(a.mass) + " does not exist (the sheet has " +
+                                         std::to_string(targets.masses) + " masses)");
+        }
+        break;
+    case ScriptAction::Kind::Release:
+        if (!has(targets.grabs, a.label))
+        {
+            throw InputError("grab", "no earlier grab is labelled '" + a.label + "'");
+        }
+        break;
+    case ScriptAction::Kind::Pin:
+    case ScriptAction::Kind::Unpin:
+        for (Index m : a.masses.masses)
+        {
+            if (m >= targets.masses)
+            {
+                throw InputError("masses.masses", "mass " + std::to_string(m) + " does not exist (the sheet has " +
+                                                      std::to_string(targets.masses) + " masses, 0 to " +
+                                                      std::to_string(targets.masses - 1) + ")");
+            }
+        }
+        break;
+    case ScriptAction::Kind::Move:
+        if (!has(targets.obstacles, a.obstacle))
+        {
+            throw InputError("obstacle", "no obstacle is named '" + a.obstacle + "'");
+        }
+        if (has(targets.staticObstacles, a.obstacle))
+        {
+            throw InputError("obstacle", "'" + a.obstacle +
+                                             "' is static: give it a \"path\" (at least one key) to make it kinematic");
+        }
+        break;
+    case ScriptAction::Kind::Gravity:
+        break;
+    case ScriptAction::Kind::Heater:
+        if (!has(targets.heaters, a.heater))
+        {
+            throw InputError("heater", "no heater is named '" + a.heater + "'");
+        }
+        break;
+    case ScriptAction::Kind::Ambient:
+        if (!targets.heat)
+        {
+            throw InputError("action", "an ambient temperature needs a \"heat\" section");
+        }
+        break;
     }
 }
 

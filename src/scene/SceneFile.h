@@ -33,6 +33,24 @@ constexpr Real maxRepulsion = 1;       ///< N m^2
 /// scene (Scene), after every override (--size, the paper's sizes, the viewer's panel), whatever made the spec.
 void checkMassIndices(const SceneSpec& scene);
 
+/// Reads one script action as a scene file's "script" list holds it (the same keys, defaults and checks); `where`
+/// names it in messages ("script[2]").
+ScriptAction readScriptAction(const nlohmann::json& action, const std::string& where);
+
+/// What a script action may name: the sheet's masses, the obstacles, the grabs before it, the heaters.
+struct ScriptTargets
+{
+    std::size_t masses = 0;
+    std::vector<std::string> obstacles;       ///< every obstacle's name, the room's walls included
+    std::vector<std::string> staticObstacles; ///< the scene's obstacles without a path, which cannot move
+    std::vector<std::string> grabs;           ///< labels of the grabs before the action
+    std::vector<std::string> heaters;
+    bool heat = false; ///< the scene has a "heat" section
+};
+/// Throws InputError for the action's key (relative to the action: "mass", "grab", "masses.masses", "obstacle",
+/// "heater", "action") when the action names something `targets` lacks.
+void checkScriptAction(const ScriptAction& action, const ScriptTargets& targets);
+
 /// Throws InputError naming contact.edge_collision when it is on with an implicit integrator (not built for them).
 void requireIntegratorForSheetContact(const SceneSpec& scene);
 

@@ -25,12 +25,72 @@ Index nearestMass(const Particles& particles, const Vec3& point)
 
 ScriptRunner::ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice,
                            bridge::BulletEnvironment& environment, EventSink sink, HeatAction heat)
-    : m_actions(std::move(actions)), m_lattice(lattice), m_environment(environment), m_sink(std::move(sink)),
-      m_heat(std::move(heat))
+    : m_lattice(lattice), m_environment(environment), m_sink(std::move(sink)), m_heat(std::move(heat))
 {
+    for (ScriptAction& action : actions)
+    {
+        m_actions.push_back(std::make_unique<ScriptAction>(std::move(action)));
+    }
     // Fire in time order; actions at the same time keep the file's order.
     std::stable_sort(m_actions.begin(), m_actions.end(),
-                     [](const ScriptAction& a, const ScriptAction& b) { return a.time < b.time; });
+                     [](const std::unique_ptr<ScriptAction>& a, const std::unique_ptr<ScriptAction>& b)
+                     { return a->time < b->time; });
+}
+
+void ScriptRunner::add(ScriptAction action)
+{
+    // After every pending action at or before its time, as the stable sort of a file's actions would place it.
+    auto at = m_actions.begin() + std::ptrdiff_t(m_next);
+    while (at != m_actions.end() && (*at)->time <= action.time)
+    {
+        ++at;
+    }
+    m_actions.insert(at, std::make_unique<ScriptAction>(std::move(action)));
+}
+
+bool ScriptRunner::redirectGrab(MassSpringSystem& system, const std::string& label, const Vec3& target, Real time,
+                                Real duration)
+{
+    ScriptAction* action = nullptr;
+    UserSpring* spring = nullptr;
+    for (Grab& grab : m_grabs)
+    {
+        if (grab.label == label)
+        {
+            action = grab.action;
+            spring = system.userSprings.find(grab.spring);
+            break;
+        }
+    }
+    if (action == nullptr)
+    {
+        for (std::size_t k = m_next; k < m_actions.size() && m_actions[k]->time <= time + 1e-9; ++k)
+        {
+            if (m_actions[k]->kind == ScriptAction::Kind::Grab && m_actions[k]->label == label)
+            {
+                action = m_actions[k].get();
+                break;
+            }
+        }
+    }
+    if (action == nullptr)
+    {
+        return false;
+    }
+    UserSpring from;
+    aim(from, *action, time);
+    action->path.clear();
+    if (duration > 0)
+    {
+        action->path.emplace_back(time, from.target);
+    }
+    action->path.emplace_back(time + duration, target);
+    if (spring != nullptr)
+    {
+        // The next frame's first substep pulls toward the new path, as it would toward a file's path at this time.
+        aim(*spring, *action, time);
+    }
+    return true;
 }
 
 void ScriptRunner::aim(UserSpring& spring, const ScriptAction& action, Real time)
@@ -57,7 +117,7 @@ void ScriptRunner::aim(UserSpring& spring, const ScriptAction& action, Real time
     spring.targetVelocity.setZero();
 }
 
-void ScriptRunner::fire(MassSpringSystem& system, const ScriptAction& action, Real time)
+void ScriptRunner::fire(MassSpringSystem& system, ScriptAction& action, Real time)
 {
     switch (action.kind)
     {
@@ -126,9 +186,9 @@ void ScriptRunner::fire(MassSpringSystem& system, const ScriptAction& action, Re
 void ScriptRunner::beforeFrame(MassSpringSystem& system, StepContext& /*context*/, Real time)
 {
     // A small tolerance so an action at t = 0.3 fires at the frame that starts at 0.29999999999999999.
-    while (m_next < m_actions.size() && m_actions[m_next].time <= time + 1e-9)
+    while (m_next < m_actions.size() && m_actions[m_next]->time <= time + 1e-9)
     {
-        fire(system, m_actions[m_next], time);
+        fire(system, *m_actions[m_next], time);
         ++m_next;
     }
 }
@@ -149,9 +209,26 @@ std::vector<const ScriptAction*> ScriptRunner::pending() const
     std::vector<const ScriptAction*> result;
     for (std::size_t k = m_next; k < m_actions.size(); ++k)
     {
-        result.push_back(&m_actions[k]);
+        result.push_back(m_actions[k].get());
     }
     return result;
+}
+
+std::vector<std::string> ScriptRunner::grabLabels() const
+{
+    std::vector<std::string> labels;
+    for (const Grab& grab : m_grabs)
+    {
+        labels.push_back(grab.label);
+    }
+    for (std::size_t k = m_next; k < m_actions.size(); ++k)
+    {
+        if (m_actions[k]->kind == ScriptAction::Kind::Grab)
+        {
+            labels.push_back(m_actions[k]->label);
+        }
+    }
+    return labels;
 }
 
 std::string actionName(ScriptAction::Kind kind)

@@ -9,6 +9,7 @@
 #include "core/StepHook.h"
 
 #include <functional>
+#include <memory>
 
 namespace masse::scene
 {
@@ -32,6 +33,17 @@ public:
     /// Actions that have not fired yet, in the order they will.
     std::vector<const ScriptAction*> pending() const;
 
+    /// Adds an action between steps. It fires as a scene file's action at its time would: at the start of the first
+    /// frame at or after it, after the actions already due then.
+    void add(ScriptAction action);
+    /// Points the grab labelled `label` (holding a mass, or due at `time`) anew, between steps: from where its target
+    /// is at `time`, straight to `target`, reached `duration` s later (at once for 0), then held there. Returns false
+    /// when no such grab exists.
+    bool redirectGrab(MassSpringSystem& system, const std::string& label, const Vec3& target, Real time, Real duration);
+
+    /// Labels of the grabs that hold a mass or are still to fire.
+    std::vector<std::string> grabLabels() const;
+
     /// The mass a grab holds now, or -1 (for drawing).
     std::vector<std::pair<Index, UserSpringId>> activeGrabs() const;
 
@@ -41,12 +53,13 @@ private:
         std::string label;
         UserSpringId spring;
         Index mass;
-        const ScriptAction* action;
+        ScriptAction* action; ///< its path, which redirectGrab may change
     };
-    void fire(MassSpringSystem& system, const ScriptAction& action, Real time);
+    void fire(MassSpringSystem& system, ScriptAction& action, Real time);
     static void aim(UserSpring& spring, const ScriptAction& action, Real time);
 
-    std::vector<ScriptAction> m_actions;
+    /// Each action on the heap: a grab keeps a pointer to its own while actions are added.
+    std::vector<std::unique_ptr<ScriptAction>> m_actions;
     std::size_t m_next = 0;
     const Lattice& m_lattice;
     bridge::BulletEnvironment& m_environment;
