@@ -12,6 +12,7 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/contact/LayerGap.h"
 #include "core/forces/Energy.h"
 #include "core/material/MaterialSheet.h"
 #include "core/material/MembraneStiffness.h"
@@ -85,6 +86,7 @@ void Scene::tearDown()
     m_thickness.reset();
     m_script.reset();
     m_edgeContact.reset();
+    m_layerGap.reset();
     m_edgeContactPairs.reset();
     m_selfContact.reset();
     m_selfContactPairs.reset();
@@ -246,6 +248,13 @@ void Scene::addHooks()
         m_edgeContactPairs = std::make_unique<bridge::SheetEdgeTree>(*m_environment);
         m_edgeContact = std::make_unique<EdgeContact>(m_lattice, *m_edgeContactPairs, m_contact->settings());
         m_simulator->addHook(m_edgeContact.get());
+    }
+    if (m_spec.keepLayers.value_or(false) && m_spec.material.enabled && m_lattice.spec.layers > 1)
+    {
+        // Before the heat model and the springs: they read the corrected positions' lengths and thicknesses.
+        m_layerGap = std::make_unique<LayerGap>(m_lattice);
+        m_layerGap->setContactSolver(m_contact.get());
+        m_simulator->addHook(m_layerGap.get());
     }
     if (m_thermal)
     {

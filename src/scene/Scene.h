@@ -19,6 +19,11 @@
 #include <chrono>
 #include <memory>
 
+namespace masse
+{
+class LayerGap;
+}
+
 namespace masse::scene
 {
 /// Something that happened: "contact" (the first with an obstacle; object = its name), "rest" (object "sheet"),
@@ -139,6 +144,7 @@ private:
     std::unique_ptr<SelfContact> m_selfContact;
     std::unique_ptr<EdgeContactDetector> m_edgeContactPairs;
     std::unique_ptr<EdgeContact> m_edgeContact;
+    std::unique_ptr<LayerGap> m_layerGap;
     std::unique_ptr<ThermalModel> m_thermal;
     std::unique_ptr<ViscoelasticSprings> m_springs;
     std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat

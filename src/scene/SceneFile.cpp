@@ -228,7 +228,8 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
     return spec;
 }
 
-ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& selfFriction, bool& edgeCollision)
+ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& selfFriction, bool& edgeCollision,
+                            std::optional<bool>& keepLayers)
 {
     ContactSettings contact;
     contact.response = parseContactResponse(o.choice("response", "friction", {"sticky", "friction", "frictionless"}));
@@ -244,6 +245,10 @@ ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& self
     selfCollision = o.boolean("self_collision", selfCollision);
     selfFriction = o.number("self_friction", selfFriction, 0.0);
     edgeCollision = o.boolean("edge_collision", edgeCollision);
+    if (o.has("keep_layers"))
+    {
+        keepLayers = o.boolean("keep_layers", false);
+    }
     o.finish();
     return contact;
 }
@@ -853,7 +858,7 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
             scene.forming = readForming(*forming);
         }
         scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")), scene.selfCollision,
-                                    scene.selfFriction, scene.edgeCollision);
+                                    scene.selfFriction, scene.edgeCollision, scene.keepLayers);
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
         requireIntegratorForSheetContact(scene);
         scene.run = readRun(top.object("run").value_or(JsonObject(empty, "run")));

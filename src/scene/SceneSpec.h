@@ -200,6 +200,9 @@ struct SceneSpec
     /// The sheet's surface edges and triangles against the obstacles' sharp edges and corners
     /// ("contact.edge_collision", off by default).
     bool edgeCollision = false;
+    /// Each upper-layer mass of a sheet with a material kept above the cell beneath it by its rest height times the
+    /// local thickness ratio ("contact.keep_layers"; core/contact/LayerGap.h). Unset: off.
+    std::optional<bool> keepLayers;
     TimeSpec time;
     RunSpec run;
     std::vector<ScriptAction> script;

@@ -58,6 +58,15 @@ public:
     Real maxPenetration(const MassSpringSystem& system);
     /// Releases every stuck mass (for a reset or a change of response).
     void releaseAll() { m_stuck.releaseAll(); }
+    /// Releases one mass, if it is stuck: the layer floor (LayerGap.h) lifted it off the obstacle it had reached
+    /// through the sheet's own lower layer. Touches only that mass's state.
+    void release(Index mass)
+    {
+        if (mass < m_stuck.stuck.size())
+        {
+            m_stuck.stuck[mass] = 0;
+        }
+    }
     /// Told when each contact stage begins and ends (nullptr: nobody); a profiler outside the core reads its clock.
     void setStageObserver(StageObserver* observer) { m_observer = observer; }
 

@@ -1,0 +1,208 @@
+// The layer floor (core/contact/LayerGap.h): an upper-layer mass pushed onto or through the cell of masses beneath it
+// is put back at its floor, its approach stopped, momentum kept; a mass held by an obstacle does not give way; and a
+// mirror-symmetric push is corrected mirror-symmetrically.
+
+#include "support/TestSystems.h"
+
+#include "core/StepContext.h"
+#include "core/contact/LayerGap.h"
+#include "core/lattice/SpringTopology.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace masse;
+
+namespace
+{
+/// The masses of the layer below joined to upper mass i by an inter-layer spring.
+std::vector<Index> cellOf(const Lattice& lattice, Index i)
+{
+    std::vector<Index> cell;
+    for (const SpringEnds& s : lattice.springs.ends())
+    {
+        if (s.a == i && lattice.coord[s.b].layer + 1 == lattice.coord[i].layer)
+        {
+            cell.push_back(s.b);
+        }
+        if (s.b == i && lattice.coord[s.a].layer + 1 == lattice.coord[i].layer)
+        {
+            cell.push_back(s.a);
+        }
+    }
+    return cell;
+}
+
+Vec3 momentum(const Particles& p)
+{
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        sum += p.mass[i] * p.velocity[i];
+    }
+    return sum;
+}
+
+Vec3 massMoment(const Particles& p)
+{
+    Vec3 sum = Vec3::Zero();
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        sum += p.mass[i] * p.position[i];
+    }
+    return sum;
+}
+
+struct PushedSheet
+{
+    Lattice lattice;
+    MassSpringSystem sheet;
+    Index upper = 0;
+    Real restHeight = 0;
+};
+
+/// A flat 5 x 2 x 5 sheet of the given structure whose middle upper mass is pushed `depth` rest heights below the
+/// rest position, moving toward its cell at 1 m/s.
+PushedSheet pushedSheet(Structure structure, Real depth)
+{
+    LatticeSpec spec;
+    spec.structure = structure;
+    spec.countX = 5;
+    spec.countZ = 5;
+    spec.minCorner = Vec3(-0.02, 0, -0.02);
+    spec.maxCorner = Vec3(0.02, 0.004, 0.02);
+    PushedSheet s;
+    s.lattice = buildLattice(spec);
+    s.sheet = makeSheet(s.lattice, SheetParams{});
+    s.upper = s.lattice.index(1, 1, 1);
+    s.restHeight = spec.maxCorner.y() - spec.minCorner.y();
+    s.sheet.particles.position[s.upper].y() -= depth * s.restHeight;
+    s.sheet.particles.velocity[s.upper] = Vec3(0, -1, 0);
+    return s;
+}
+
+Real heightOverCell(const PushedSheet& s)
+{
+    Real cellY = 0;
+    const std::vector<Index> cell = cellOf(s.lattice, s.upper);
+    for (Index j : cell)
+    {
+        cellY += s.sheet.particles.position[j].y();
+    }
+    return s.sheet.particles.position[s.upper].y() - cellY / Real(cell.size());
+}
+} // namespace
+
+// A mass pushed through its cell (1.5 rest heights down: half a height below the cell) comes back to the rest height
+// over it (the floor of a sheet without a thickness field), to rounding; the cell takes its share of the move, so the
+// centre of mass and the momentum stay where they were; the approach along the normal is gone.
+TEST(LayerGap, PutsAMassPushedThroughItsCellBackAtItsFloor)
+{
+    for (Structure structure : {Structure::TRiMM, Structure::SaMM, Structure::SLaMM})
+    {
+        PushedSheet s = pushedSheet(structure, 1.5);
+        ASSERT_LT(heightOverCell(s), 0);
+        const Vec3 moment = massMoment(s.sheet.particles);
+        const Vec3 impulse = momentum(s.sheet.particles);
+        LayerGap gap(s.lattice);
+        StepContext context;
+        gap.afterSubstep(s.sheet, context, 0.01, 0.01);
+        EXPECT_NEAR(heightOverCell(s), s.restHeight, 1e-12 * s.restHeight) << structureName(structure);
+        EXPECT_NEAR((massMoment(s.sheet.particles) - moment).norm(), 0, 1e-15) << structureName(structure);
+        EXPECT_NEAR((momentum(s.sheet.particles) - impulse).norm(), 0, 1e-15) << structureName(structure);
+        Vec3 cellVelocity = Vec3::Zero();
+        const std::vector<Index> cell = cellOf(s.lattice, s.upper);
+        for (Index j : cell)
+        {
+            cellVelocity += s.sheet.particles.velocity[j] / Real(cell.size());
+        }
+        EXPECT_NEAR(s.sheet.particles.velocity[s.upper].y() - cellVelocity.y(), 0, 1e-12) << structureName(structure);
+        EXPECT_EQ(gap.lastCorrected(), 1 + cell.size()) << structureName(structure);
+    }
+}
+
+// Over a cell held by an obstacle, the upper mass alone moves: the mould does not give way to the layer above it.
+// And a mass above its floor is left alone.
+TEST(LayerGap, AMassHeldByAnObstacleDoesNotGiveWay)
+{
+    PushedSheet s = pushedSheet(Structure::TRiMM, 0.9);
+    std::vector<int> touching(s.sheet.massCount(), -1);
+    const std::vector<Index> cell = cellOf(s.lattice, s.upper);
+    std::vector<Vec3> cellBefore;
+    for (Index j : cell)
+    {
+        touching[j] = 0;
+        cellBefore.push_back(s.sheet.particles.position[j]);
+    }
+    LayerGap gap(s.lattice);
+    StepContext context;
+    context.touchingObstacle = touching;
+    gap.afterSubstep(s.sheet, context, 0.01, 0.01);
+    EXPECT_NEAR(heightOverCell(s), s.restHeight, 1e-12 * s.restHeight);
+    for (std::size_t k = 0; k < cell.size(); ++k)
+    {
+        EXPECT_EQ(s.sheet.particles.position[cell[k]], cellBefore[k]);
+    }
+    EXPECT_EQ(gap.lastCorrected(), 1u);
+
+    const std::vector<Vec3> after = s.sheet.particles.position;
+    gap.afterSubstep(s.sheet, context, 0.01, 0.02);
+    EXPECT_TRUE(test::sameBits(after, s.sheet.particles.position));
+    EXPECT_EQ(gap.lastCorrected(), 0u);
+}
+
+// A SaMM sheet of odd counts pressed flat in a mirror-symmetric pattern is corrected mirror-symmetrically: every
+// constraint is solved from the same positions, whatever the order of the masses.
+TEST(LayerGap, MirrorSymmetricPushIsCorrectedMirrorSymmetrically)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::SaMM;
+    spec.countX = 7;
+    spec.countZ = 7;
+    spec.minCorner = Vec3(-0.03, 0, -0.03);
+    spec.maxCorner = Vec3(0.03, 0.004, 0.03);
+    const Lattice lattice = buildLattice(spec);
+    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    Particles& p = sheet.particles;
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        if (lattice.coord[i].layer == 1)
+        {
+            // Pressed down in a bowl, deepest in the middle: every upper mass goes below its floor by a different
+            // amount.
+            p.position[i].y() -=
+                0.004 * (1.2 - 20 * p.position[i].x() * p.position[i].x() - 30 * p.position[i].z() * p.position[i].z());
+        }
+    }
+    // The bottom layer's outer ring lies on an obstacle: the cells next to it are pressed, and their corrections
+    // meet at the corners they share.
+    std::vector<int> touching(p.size(), -1);
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        const LatticeCoord& c = lattice.coord[i];
+        if (c.layer == 0 && (c.row == 0 || c.column == 0 || c.row == 6 || c.column == 6))
+        {
+            touching[i] = 0;
+        }
+    }
+    LayerGap gap(lattice);
+    StepContext context;
+    context.touchingObstacle = touching;
+    gap.afterSubstep(sheet, context, 0.01, 0.01);
+    ASSERT_GT(gap.lastCorrected(), 20u);
+    Real worst = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        const LatticeCoord& c = lattice.coord[i];
+        const int nx = lattice.layerCountX(c.layer);
+        const int nz = lattice.layerCountZ(c.layer);
+        const Vec3& x = p.position[i];
+        const Vec3& acrossX = p.position[lattice.index(c.layer, c.row, nx - 1 - c.column)];
+        const Vec3& acrossZ = p.position[lattice.index(c.layer, nz - 1 - c.row, c.column)];
+        worst = std::max({worst, std::abs(x.y() - acrossX.y()), std::abs(x.x() + acrossX.x()),
+                          std::abs(x.y() - acrossZ.y()), std::abs(x.z() + acrossZ.z())});
+    }
+    EXPECT_LT(worst, 1e-15);
+}
