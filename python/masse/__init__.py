@@ -64,7 +64,7 @@ def _setting_value(value):
             json.loads(value)
         except ValueError:
             return value
-    return json.dumps(value)
+    return json.dumps(value, separators=(",", ":"))
 
 
 def _settings(overrides):

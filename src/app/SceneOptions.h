@@ -10,7 +10,8 @@
 namespace CLI
 {
 class App;
-}
+class Option;
+} // namespace CLI
 
 namespace masse::app
 {
@@ -24,6 +25,8 @@ void addSceneOverrides(CLI::App& command, SceneOverrides& overrides);
 /// Adds --threads N to a command that simulates. Before the command's action runs, the kernels' thread pool is sized:
 /// N if given, else $MASSE_THREADS, else every core (a bad value is an InputError naming the flag or variable).
 void addThreadsOption(CLI::App& command);
+/// Refuses a value of `option` that is not a whole number of threads from 1 to 1024 ("", 0 and 100000 included).
+void checkThreadCount(CLI::Option& option);
 /// Adds --set KEY=VALUE (repeatable) to a command.
 void addSetOption(CLI::App& command, std::vector<std::string>& settings);
 /// Reads the scene at `path` with the --set keys changed, then applies the other overrides.

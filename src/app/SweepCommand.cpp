@@ -3,6 +3,7 @@
 /// data/studies/README.md.
 
 #include "Commands.h"
+#include "SceneOptions.h"
 
 #include "core/Format.h"
 #include "core/InputError.h"
@@ -130,6 +131,30 @@ void checkOptions(const SweepOptions& options)
     }
 }
 
+/// What sbatch prints when no controller can be found or reached (Slurm 21 to 23).
+constexpr const char* noClusterSigns[] = {"Could not establish a configuration source",
+                                          "Unable to contact slurm controller",
+                                          "DNS SRV lookup failed",
+                                          "resolve_ctls_from_dns_srv",
+                                          "Connection refused",
+                                          "slurm.conf"};
+
+/// The last non-empty line of `text`.
+std::string lastLine(const std::string& text)
+{
+    std::string last;
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line))
+    {
+        if (!line.empty())
+        {
+            last = line;
+        }
+    }
+    return last;
+}
+
 int submitToSlurm(const scene::Study& study, const std::string& dir, const std::vector<std::size_t>& cases,
                   const SweepOptions& options)
 {
@@ -178,6 +203,16 @@ int submitToSlurm(const scene::Study& study, const std::string& dir, const std::
     const bool submitted = !job.empty() && job.find_first_not_of("0123456789") == std::string::npos;
     if (!submitted || (status != 0 && !options.wait))
     {
+        // sbatch installed on a machine that no Slurm controller serves explains itself in DNS and configuration
+        // lookups: say what that means and what to do.
+        const bool noCluster = std::any_of(std::begin(noClusterSigns), std::end(noClusterSigns),
+                                           [&](const char* sign) { return output.find(sign) != std::string::npos; });
+        if (noCluster)
+        {
+            throw std::runtime_error("no Slurm cluster answers this machine's sbatch (" + lastLine(output) +
+                                     "): configure Slurm here (slurm.conf, or run on the cluster's login node: sbatch " +
+                                     script + "), or run the cases on this machine with --jobs N instead of --slurm");
+        }
         throw std::runtime_error("sbatch refused the job array: " + output);
     }
     scene::writeFileAtomically((fs::path(dir) / "slurm" / "job.txt").string(), job + "\n");
@@ -268,7 +303,9 @@ void addSweepCommand(CLI::App& app)
     command->add_option("--out", options->out, "Study folder (made, or resumed if it holds this study)");
     command->add_option("--collect", options->collect, "Collect a study folder: results.csv, plots and a table");
     command->add_option("--jobs", options->jobs, "Cases run at once here (worker processes; default 1)");
-    command->add_option("--threads", options->threads, "Threads per case, passed to masse run (default 1)");
+    // Checked here, before the study folder is made: a count that `masse run` refuses would fail every case.
+    checkThreadCount(*command->add_option("--threads", options->threads,
+                                          "Threads per case, passed to masse run (default 1)"));
     command->add_flag("--retry-failed", options->retryFailed, "Run failed cases again (finished ones never rerun)");
     command->add_flag("--slurm", options->slurm, "Write an sbatch job array over the cases and submit it");
     command->add_option("--partition", options->partition, "Slurm partition (default: the cluster's)");

@@ -4,12 +4,16 @@
 #include "Commands.h"
 
 #include "core/InputError.h"
+#include "core/NearestName.h"
 #include "core/NumericalError.h"
 #include "core/Simulator.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <iostream>
+#include <string>
+#include <vector>
 
 int masse::app::masseMain(int argc, char** argv)
 {
@@ -26,6 +30,22 @@ int masse::app::masseMain(int argc, char** argv)
     masse::app::addViewCommand(app);
     masse::app::addSweepCommand(app);
 
+    if (argc > 1 && argv[1][0] != '-')
+    {
+        // CLI11 says only "A subcommand is required" for a mistyped one.
+        std::vector<std::string> names;
+        const CLI::App& commands = app;
+        for (const CLI::App* command : commands.get_subcommands([](const CLI::App*) { return true; }))
+        {
+            names.push_back(command->get_name());
+        }
+        if (std::find(names.begin(), names.end(), argv[1]) == names.end())
+        {
+            std::cerr << "masse: unknown command '" << argv[1] << "'" << masse::didYouMean(argv[1], names)
+                      << "\n(run 'masse --help' for the commands and their options)\n";
+            return 2;
+        }
+    }
     try
     {
         app.parse(argc, argv);

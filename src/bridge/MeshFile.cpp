@@ -92,7 +92,12 @@ void checkObjText(const std::string& path, const std::string& where)
                 }
             }
         }
-        else if (w[0] == "f" && w.size() >= 4)
+        else if (w[0] == "f" && w.size() < 4)
+        {
+            // tinyobjloader drops such a face without a word: the mesh would lack it.
+            throw InputError(at + ": a face needs at least 3 vertices (got " + std::to_string(w.size() - 1) + ")");
+        }
+        else if (w[0] == "f")
         {
             triangles += w.size() - 3;
             if (triangles > maxMeshTriangles)
@@ -106,13 +111,28 @@ void checkObjText(const std::string& path, const std::string& where)
 }
 } // namespace
 
-PolygonMesh loadObj(const std::string& path, const std::string& owner)
+void requireMeshFile(const std::string& path, const std::string& where)
 {
-    const std::string where = "obstacle '" + owner + "': mesh file '" + path + "'";
-    if (!std::filesystem::is_regular_file(path))
+    std::error_code error;
+    const std::filesystem::file_status status = std::filesystem::status(path, error);
+    if (error && error.value() == ELOOP)
+    {
+        throw InputError(where + " is a symbolic link that leads back to itself (a loop): link it to the mesh file");
+    }
+    if (error || !std::filesystem::exists(status))
     {
         throw InputError(where + " does not exist");
     }
+    if (!std::filesystem::is_regular_file(status))
+    {
+        throw InputError(where + " is not a regular file");
+    }
+}
+
+PolygonMesh loadObj(const std::string& path, const std::string& owner)
+{
+    const std::string where = "obstacle '" + owner + "': mesh file '" + path + "'";
+    requireMeshFile(path, where);
     checkObjText(path, where);
     tinyobj::ObjReaderConfig config;
     config.triangulate = false; // keep the file's own faces: contact reports name them

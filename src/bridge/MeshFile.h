@@ -19,6 +19,10 @@ struct PolygonMesh
     std::vector<std::vector<int>> faces; ///< vertex indices of each face, in file order
 };
 
+/// Throws InputError "<where> does not exist" (or is a loop of symbolic links, or is not a regular file) unless
+/// `path` leads to a regular file: a filesystem error never reaches the user raw.
+void requireMeshFile(const std::string& path, const std::string& where);
+
 /// Reads every face of every object in the file; throws InputError naming `owner` (the obstacle) and the file when
 /// it is missing, does not parse, has no faces, or a face with fewer than three vertices, and naming the line of a
 /// vertex that is not a finite number or of the face past maxMeshTriangles.

@@ -184,10 +184,7 @@ PolygonMesh readAscii(const std::string& text, const std::string& where)
 PolygonMesh loadStl(const std::string& path, const std::string& owner)
 {
     const std::string where = "obstacle '" + owner + "': mesh file '" + path + "'";
-    if (!std::filesystem::is_regular_file(path))
-    {
-        throw InputError(where + " does not exist");
-    }
+    requireMeshFile(path, where);
     std::ifstream in(path, std::ios::binary);
     std::ostringstream buffer;
     buffer << in.rdbuf();

@@ -338,6 +338,28 @@ void DivergenceGuard::afterContact(const MassSpringSystem& system, IntegratorKin
     }
 }
 
+void DivergenceGuard::checkSpeedBeforeContact(const MassSpringSystem& system, const GuardStep& step)
+{
+    if (!m_settings.enabled || std::isinf(m_settings.speedLimit))
+    {
+        return;
+    }
+    const Particles& p = system.particles;
+    // Velocities in units of the bound: their squares stay finite for bounds and speeds near double's range.
+    const Real inverse = 1 / m_settings.speedLimit;
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        // Written so that a NaN speed fails too (the finite check at the step's end would name it later).
+        if (!p.pinned[i] && !((p.velocity[i] * inverse).squaredNorm() <= 1))
+        {
+            fail(step, "mass " + std::to_string(i) + " moves at " +
+                           formatNumber("%.3g", p.velocity[i].stableNorm()) + " m/s before the contact pass, above this "
+                           "scene's bound of " + formatNumber("%.3g", m_settings.speedLimit) +
+                           " m/s (100 times the fastest that gravity and the scripted motions can give)");
+        }
+    }
+}
+
 void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& step)
 {
     if (!m_settings.enabled)
@@ -374,7 +396,9 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
     fastest = std::sqrt(fastest);
     if (fastest > m_settings.speedLimit)
     {
-        fail(step, "mass " + std::to_string(fastestMass) + " moves at " + formatNumber("%.3g", fastest) +
+        // stableNorm: the squared speed may have overflowed where the speed has not.
+        fail(step, "mass " + std::to_string(fastestMass) + " moves at " +
+                       formatNumber("%.3g", p.velocity[fastestMass].stableNorm()) +
                        " m/s, above this scene's bound of " + formatNumber("%.3g", m_settings.speedLimit) +
                        " m/s (100 times the fastest that gravity and the scripted motions can give)");
     }

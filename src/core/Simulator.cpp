@@ -151,6 +151,15 @@ StepReport Simulator::stepFrame(Real dt)
         }
         if (m_contact)
         {
+            if (i == 0)
+            {
+                GuardStep first;
+                first.time = substepEnd;
+                first.dt = dt;
+                first.substep = report.substep;
+                first.integrator = m_settings.integrator;
+                m_guard.checkSpeedBeforeContact(m_system, first);
+            }
             m_contact->afterSubstep(m_system, m_context, report.substep);
             publishContact();
             m_guard.afterContact(m_system, m_settings.integrator);

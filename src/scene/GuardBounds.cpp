@@ -66,12 +66,12 @@ Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
 {
     // Gravity: a fall is bounded by the air's terminal speed g / c, by g times the run's length, and inside the room
     // by a fall of its whole height.
-    Real gravity = spec.environment.gravity.norm();
+    Real gravity = spec.environment.gravity.stableNorm();
     for (const ScriptAction& a : spec.script)
     {
         if (a.kind == ScriptAction::Kind::Gravity)
         {
-            gravity = std::max(gravity, a.vector.norm());
+            gravity = std::max(gravity, a.vector.stableNorm());
         }
     }
     Real fall = gravity * spec.run.duration;
@@ -82,7 +82,8 @@ Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
     if (spec.environment.room.enabled)
     {
         const RoomSpec& room = spec.environment.room;
-        fall = std::min(fall, std::sqrt(2 * gravity * (room.maxCorner - room.minCorner).norm()));
+        // sqrt(2 g H), each factor apart so that a gravity near double's range does not overflow to an infinite bound.
+        fall = std::min(fall, std::sqrt(gravity) * std::sqrt(2 * (room.maxCorner - room.minCorner).norm()));
     }
     // Grabs: their targets' speed, and the pull of a capped spring over the sheet's size and the path's reach.
     const LatticeSpec& sheet = spec.sheet.lattice;

@@ -1,5 +1,6 @@
 #include "scene/MaterialFile.h"
 
+#include "scene/PlausibleRanges.h"
 #include "scene/json/FieldKeys.h"
 
 #include "core/InputError.h"
@@ -19,7 +20,7 @@ Material parseMaterial(const JsonObject& object)
     Material m;
     m.name = object.string("name");
     object.string("source", "");
-    m.density = object.number("density");
+    m.density = plausible::density(object, "density");
     m.specificHeat = object.number("specific_heat");
     m.conductivity = object.number("conductivity");
     m.glassTransition = celsius(object, "glass_transition_c");

@@ -292,7 +292,7 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     const Real wall = seconds(Clock::now() - start);
     if (options.showProgress)
     {
-        progress.finish(scene.time(), wall);
+        progress.finish(scene.time(), wall, scene.atRest());
     }
     result.stepSeconds = seconds(inStep);
     result.overheadSeconds = wall - result.stepSeconds;

@@ -2,6 +2,7 @@
 
 #include "scene/MaterialFile.h"
 #include "scene/MemoryBudget.h"
+#include "scene/PlausibleRanges.h"
 #include "scene/json/FieldKeys.h"
 #include "scene/json/JsonObject.h"
 
@@ -79,8 +80,8 @@ SheetSpec readSheet(const JsonObject& o)
     const std::string structure = o.choice("structure", "trimm", {"square2d", "samm", "slamm", "trimm"});
     lattice.structure = parseStructure(structure);
     checkUnder("sheet", latticeKeys, [&] { parseSize(o.string("size", "8x2x8"), lattice); });
-    lattice.minCorner = o.vec3("min", lattice.minCorner);
-    lattice.maxCorner = o.vec3("max", lattice.maxCorner);
+    lattice.minCorner = plausible::point(o, "min", lattice.minCorner);
+    lattice.maxCorner = plausible::point(o, "max", lattice.maxCorner);
     checkUnder("sheet", latticeKeys, [&] { validate(lattice); });
 
     SheetParams& params = sheet.params;
@@ -112,7 +113,7 @@ SheetSpec readSheet(const JsonObject& o)
 EnvironmentSpec readEnvironment(const JsonObject& o)
 {
     EnvironmentSpec environment;
-    environment.gravity = o.vec3("gravity", environment.gravity);
+    environment.gravity = plausible::gravity(o, "gravity", environment.gravity);
     if (o.has("air_retention") && o.has("air_damping_rate"))
     {
         o.fail("air_damping_rate", "give either air_retention or air_damping_rate, not both");
@@ -128,9 +129,10 @@ EnvironmentSpec readEnvironment(const JsonObject& o)
     {
         RoomSpec& r = environment.room;
         r.enabled = room->boolean("enabled", r.enabled);
-        r.minCorner = room->vec3("min", r.minCorner);
-        r.maxCorner = room->vec3("max", r.maxCorner);
+        r.minCorner = plausible::point(*room, "min", r.minCorner);
+        r.maxCorner = plausible::point(*room, "max", r.maxCorner);
         r.wallThickness = room->positive("wall_thickness", r.wallThickness);
+        plausible::checkLength(*room, "wall_thickness", r.wallThickness);
         room->finish();
         validate(r);
     }
@@ -145,7 +147,7 @@ std::vector<bridge::PoseKey> readPath(const JsonObject& owner, const std::string
     {
         bridge::PoseKey pathKey;
         pathKey.time = k.number("time", 0.0, 0.0);
-        pathKey.position = k.vec3("position");
+        pathKey.position = plausible::point(k, "position");
         pathKey.orientation = rotationFromDegrees(k.vec3("rotation_deg", Vec3::Zero()));
         k.finish();
         if (!path.empty() && !(pathKey.time > path.back().time))
@@ -167,6 +169,7 @@ Real length(const JsonObject& o, const std::string& key)
     {
         o.fail(key, "must be a positive number of metres (got " + formatNumber(value) + ")");
     }
+    plausible::checkLength(o, key, value);
     return value;
 }
 
@@ -190,7 +193,7 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
     }
     spec.name = o.string("name");
     const std::string type = o.choice("type", "box", {"box", "prism", "hull", "mesh"});
-    spec.position = o.vec3("position", Vec3::Zero());
+    spec.position = plausible::point(o, "position", Vec3::Zero());
     spec.orientation = rotationFromDegrees(o.vec3("rotation_deg", Vec3::Zero()));
     if (type == "box")
     {
@@ -202,6 +205,7 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
                                        ", " + formatNumber(spec.halfExtents.y()) + ", " +
                                        formatNumber(spec.halfExtents.z()) + ")");
         }
+        plausible::checkLength(o, "half_extents", spec.halfExtents.maxCoeff());
     }
     else if (type == "prism")
     {
@@ -210,11 +214,16 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
         spec.prismHeight = length(o, "height");
         spec.prismLength = length(o, "length");
         spec.prismApex = o.number("apex", 0.0);
+        plausible::checkPoint(o, "apex", Vec3(spec.prismApex, 0, 0));
     }
     else if (type == "hull")
     {
         spec.kind = ObstacleKind::Hull;
         spec.hullPoints = o.vec3List("points");
+        for (const Vec3& p : spec.hullPoints)
+        {
+            plausible::checkPoint(o, "points", p);
+        }
     }
     else
     {
@@ -222,6 +231,11 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
         const std::filesystem::path file = o.string("file");
         spec.meshPath = file.is_absolute() ? file.string() : (std::filesystem::path(baseDirectory) / file).string();
         spec.meshScale = o.positive("scale", 1.0);
+        if (spec.meshScale > plausible::maxMeshScale)
+        {
+            o.fail("scale", "must be in (0, " + formatNumber(plausible::maxMeshScale) + "] (got " +
+                                formatNumber(spec.meshScale) + ")");
+        }
     }
     spec.path = readPath(o, "path");
     o.finish();
@@ -330,7 +344,7 @@ ScriptAction readAction(const JsonObject& o)
         }
         action.mass = Index(o.integer("mass", 0, 0, std::numeric_limits<int>::max()));
         action.grabNearest = o.has("near");
-        action.point = o.vec3("near", Vec3::Zero());
+        action.point = plausible::point(o, "near", Vec3::Zero());
         for (const JsonObject& k : o.objects("path"))
         {
             const Real t = k.number("time", action.time, action.time);
@@ -338,16 +352,21 @@ ScriptAction readAction(const JsonObject& o)
             {
                 o.fail("path", "keys must come in increasing time");
             }
-            action.path.emplace_back(t, k.vec3("position"));
+            action.path.emplace_back(t, plausible::point(k, "position"));
             k.finish();
         }
         if (action.path.empty())
         {
             o.fail("path", "a grab needs a path of at least one {\"time\", \"position\"} key");
         }
-        action.stiffness = o.positive("stiffness", action.stiffness);
+        action.stiffness = stiffnessValue(o, "stiffness", action.stiffness);
         action.damping = o.number("damping", action.damping, 0.0);
         action.maxForce = o.positive("max_force", action.maxForce);
+        if (action.maxForce > plausible::maxGrabForce)
+        {
+            o.fail("max_force", "must be in (0, " + formatNumber(plausible::maxGrabForce) + "] N (got " +
+                                    formatNumber(action.maxForce) + ")");
+        }
     }
     else if (kind == "release")
     {
@@ -362,7 +381,7 @@ ScriptAction readAction(const JsonObject& o)
     else if (kind == "gravity")
     {
         action.kind = ScriptAction::Kind::Gravity;
-        action.vector = o.vec3("value");
+        action.vector = plausible::gravity(o, "value");
     }
     else if (kind == "heater")
     {
@@ -460,7 +479,7 @@ MaterialSpec readMaterialSection(const JsonObject& o, const std::string& baseDir
     {
         spec.material = parseMaterial(*o.object("properties"));
     }
-    spec.thickness = o.positive("thickness", spec.thickness);
+    spec.thickness = plausible::thickness(o, "thickness", spec.thickness);
     spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", {"elastic", "maxwell", "burgers"}));
     spec.springs.dampingRatio = o.number("damping_ratio", spec.springs.dampingRatio, 0.0, 1.0);
     spec.springs.followThickness = o.boolean("follow_thickness", spec.springs.followThickness);
@@ -494,11 +513,13 @@ HeatSpec readHeat(const JsonObject& o)
     {
         RadiantHeater heater;
         const std::string name = h.string("name");
-        heater.centre = h.vec3("centre", heater.centre);
+        heater.centre = plausible::point(h, "centre", heater.centre);
         heater.normal = h.vec3("normal", heater.normal);
         heater.widthAxis = h.vec3("width_axis", heater.widthAxis);
         heater.width = h.number("width", heater.width);
         heater.length = h.number("length", heater.length);
+        plausible::checkLength(h, "width", heater.width);
+        plausible::checkLength(h, "length", heater.length);
         heater.power = h.number("power", heater.power);
         const bool on = h.boolean("on", true);
         h.finish();
@@ -515,8 +536,8 @@ HeatSpec readHeat(const JsonObject& o)
     {
         HotAirZone zone;
         heat.zoneNames.push_back(z.string("name", "zone " + std::to_string(heat.zoneNames.size())));
-        zone.minCorner = z.vec3("min", zone.minCorner);
-        zone.maxCorner = z.vec3("max", zone.maxCorner);
+        zone.minCorner = plausible::point(z, "min", zone.minCorner);
+        zone.maxCorner = plausible::point(z, "max", zone.maxCorner);
         zone.temperature = celsius(z, "temperature_c", zone.temperature);
         zone.heatTransfer = z.number("heat_transfer", zone.heatTransfer);
         z.finish();
@@ -541,7 +562,7 @@ ReportSpec readReport(const JsonObject& o, FormingReportSpec& forming)
     {
         report.section = true;
         report.sectionAxis = section->choice("axis", "x", {"x", "z"}) == "x" ? 0 : 2;
-        report.sectionThrough = section->vec3("through", Vec3::Zero());
+        report.sectionThrough = plausible::point(*section, "through", Vec3::Zero());
         section->finish();
     }
     if (const nlohmann::json* sag = o.raw("sag"))
@@ -612,6 +633,38 @@ BulletSpec readBullet(const JsonObject& o)
     checkUnder(o.path(), bulletKeys, [&] { bridge::validate(s); }); // what the ranges above did not catch
     o.finish();
     return bullet;
+}
+
+/// Every temperature a heat scene gives, against the material's upper limit: a sheet started or driven past it is
+/// outside the material's model (and 293 there is most often 20 C given in kelvin).
+void checkTemperatures(const SceneSpec& scene, const JsonObject& top)
+{
+    if (!scene.heat.enabled)
+    {
+        return;
+    }
+    const Material& material = scene.material.material;
+    const ThermalSettings& t = scene.heat.settings;
+    plausible::checkTemperature(top, "heat.initial_temperature_c", t.initialTemperature, material);
+    plausible::checkTemperature(top, "heat.air_temperature_c", t.airTemperature, material);
+    for (std::size_t i = 0; i < t.hotAirZones.size(); ++i)
+    {
+        plausible::checkTemperature(top, "heat.hot_air_zones[" + std::to_string(i) + "].temperature_c",
+                                    t.hotAirZones[i].temperature, material);
+    }
+    for (std::size_t i = 0; i < scene.obstacleTemperature.size(); ++i)
+    {
+        plausible::checkTemperature(top, "obstacles[" + std::to_string(i) + "].temperature_c",
+                                    scene.obstacleTemperature[i], material); // NaN (the air's) passes
+    }
+    for (std::size_t i = 0; i < scene.script.size(); ++i)
+    {
+        if (scene.script[i].kind == ScriptAction::Kind::Ambient)
+        {
+            plausible::checkTemperature(top, "script[" + std::to_string(i) + "].temperature_c",
+                                        scene.script[i].temperature, material);
+        }
+    }
 }
 
 /// Cross-checks of things that name other things: script targets, mass indices, contact obstacle lists.
@@ -866,6 +919,7 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         {
             scene.script.push_back(readAction(a));
         }
+        checkTemperatures(scene, top);
         scene.output = readOutput(top.object("output").value_or(JsonObject(empty, "output")));
         scene.bullet = readBullet(top.object("bullet").value_or(JsonObject(empty, "bullet")));
         checkRunLength(scene.time.dt, scene.run.duration, "integrator.dt", "run.duration");
@@ -963,7 +1017,16 @@ std::string escaped(const std::string& text)
 }
 } // namespace
 
-nlohmann::json readSceneDocument(const std::string& path, int depth)
+namespace
+{
+/// The files a chain of "extends" has read so far, outermost first, as given and as the files they are.
+struct ExtendsChain
+{
+    std::vector<std::string> given;
+    std::vector<std::filesystem::path> files;
+};
+
+nlohmann::json readSceneDocument(const std::string& path, ExtendsChain& chain)
 {
     // A scene's path goes into summary.json and the reports, which are UTF-8 JSON and text.
     if (!validUtf8(path))
@@ -981,13 +1044,31 @@ nlohmann::json readSceneDocument(const std::string& path, int depth)
     {
         throw InputError(path + ": extends: expected the path of a base scene file");
     }
-    if (depth > 8)
+    const std::string reference = document["extends"].get<std::string>();
+    const std::filesystem::path base = std::filesystem::path(path).parent_path() / reference;
+    std::error_code error;
+    const std::filesystem::path file = std::filesystem::weakly_canonical(base, error);
+    if (error || !std::filesystem::exists(file, error))
     {
-        throw InputError(path + ": extends: too many levels (a loop?)");
+        throw InputError(path + ": extends: the base scene '" + reference + "' does not exist (" + base.string() + ")");
     }
-    const std::filesystem::path base =
-        std::filesystem::path(path).parent_path() / document["extends"].get<std::string>();
-    nlohmann::json merged = readSceneDocument(base.string(), depth + 1);
+    chain.given.push_back(path);
+    chain.files.push_back(std::filesystem::weakly_canonical(path, error));
+    if (std::find(chain.files.begin(), chain.files.end(), file) != chain.files.end())
+    {
+        std::string loop;
+        for (const std::string& given : chain.given)
+        {
+            loop += given + " -> ";
+        }
+        throw InputError(path + ": extends: '" + reference + "' leads back to a file of the chain (a loop: " + loop +
+                         base.string() + ")");
+    }
+    if (chain.files.size() > maxExtendsDepth)
+    {
+        throw InputError(path + ": extends: more than " + std::to_string(maxExtendsDepth) + " files in the chain");
+    }
+    nlohmann::json merged = readSceneDocument(base.string(), chain);
     // The base's relative paths (its material file, its meshes) are relative to the base's own folder: make them
     // absolute before merging, so that only the paths this file writes resolve against this file's folder.
     makePathsAbsolute(merged, base.parent_path());
@@ -998,9 +1079,17 @@ nlohmann::json readSceneDocument(const std::string& path, int depth)
     return merged;
 }
 
+} // namespace
+
+nlohmann::json readSceneDocument(const std::string& path)
+{
+    ExtendsChain chain;
+    return readSceneDocument(path, chain);
+}
+
 SceneSpec loadScene(const std::string& path)
 {
-    const nlohmann::json document = readSceneDocument(path, 0);
+    const nlohmann::json document = readSceneDocument(path);
     return parseScene(document, std::filesystem::path(path).parent_path().string(), path);
 }
 } // namespace masse::scene

@@ -57,8 +57,12 @@ void requireIntegratorForSheetContact(const SceneSpec& scene);
 /// Throws InputError naming `stepKey` and `durationKey` when duration / dt is more than limits::maxSteps steps.
 void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey);
 
-/// The scene file as JSON, with any "extends" base merged in (RFC 7386 merge patch).
-nlohmann::json readSceneDocument(const std::string& path, int depth = 0);
+/// The most files a chain of "extends" may hold (a loop is refused as one, by the files it visits).
+constexpr std::size_t maxExtendsDepth = 64;
+/// The scene file as JSON, with any "extends" base merged in (RFC 7386 merge patch). A base that does not exist is
+/// named with the file that refers to it and its "extends" key; a chain that comes back to one of its files is refused
+/// as a loop.
+nlohmann::json readSceneDocument(const std::string& path);
 
 /// The same from parsed JSON; `baseDirectory` resolves relative mesh paths, `origin` names the source in messages.
 SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDirectory, const std::string& origin);

@@ -25,6 +25,20 @@ bool isAbout(const std::string& message, const std::string& origin, const std::s
     return next == ':' || next == '.' || next == '[';
 }
 
+/// Whether the document reads as a scene without any setting.
+bool readsWithout(const nlohmann::json& document, const std::string& baseDirectory, const std::string& origin)
+{
+    try
+    {
+        parseScene(document, baseDirectory, origin);
+        return true;
+    }
+    catch (const InputError&)
+    {
+        return false;
+    }
+}
+
 void rebase(nlohmann::json& holder, const std::filesystem::path& from, const std::filesystem::path& to)
 {
     if (!holder.is_object() || !holder.contains("file") || !holder["file"].is_string())
@@ -100,6 +114,17 @@ SceneSpec parseSceneWith(const nlohmann::json& document, const std::vector<KeyOv
             {
                 throw InputError(prefix + o.text + ": " + e.what());
             }
+        }
+        // An error about another key (the pins of a sheet made smaller, an integrator that edge contact refuses):
+        // when the file reads without the settings, the settings caused it, and the message names them.
+        if (!overrides.empty() && readsWithout(document, baseDirectory, origin))
+        {
+            std::string settings;
+            for (const KeyOverride& o : overrides)
+            {
+                settings += (settings.empty() ? "" : ", ") + prefix + o.text;
+            }
+            throw InputError(settings + ": " + e.what());
         }
         throw;
     }

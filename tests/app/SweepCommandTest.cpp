@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -265,4 +266,93 @@ TEST(Sweep, ACaseRunsAsMasseRunWouldInAFreshProcess)
         EXPECT_EQ(inSweep["events"][e]["name"], inFreshProcess["events"][e]["name"]);
         EXPECT_EQ(inSweep["events"][e]["sim_time"], inFreshProcess["events"][e]["sim_time"]);
     }
+}
+
+// Issue 51, row 11: --threads 100000 made the study folder, failed every case inside (masse run refuses the count),
+// and a later good sweep skipped those "finished" cases. The count is refused before anything is written.
+TEST(Sweep, AThreadCountMasseRunRefusesIsRefusedBeforeAnythingIsWritten)
+{
+    const fs::path dir = freshFolder("sweep-threads");
+    for (const std::string threads : {"100000", "0", "''"})
+    {
+        const Outcome o = runMasse("sweep " + study + " --out " + dir.string() + " --threads " + threads);
+        EXPECT_EQ(o.exitCode, 2) << o.output;
+        EXPECT_NE(o.output.find("--threads: must be a whole number of threads from 1 to 1024"), std::string::npos)
+            << o.output;
+        EXPECT_FALSE(fs::exists(dir)) << threads;
+    }
+}
+
+// Issue 51, row 12: --collect blocked for ever on a case whose summary.json is a pipe, and stopped the whole collection
+// with the JSON library's message on one whose events are not objects; a study name with a newline ran every case and
+// then broke the plots. The name is refused when the study is read; each broken summary fails its own case, and
+// results.csv holds the others.
+TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
+{
+    const fs::path folder = freshFolder("sweep-broken-summaries");
+    fs::create_directories(folder);
+    const nlohmann::json design = {{"scene", source + "/data/scenes/slope.json"},
+                                   {"set", {{"run.duration", 0.2}}},
+                                   {"vary", {{{"key", "contact.friction"}, {"values", {0.1, 0.2, 0.3}}}}},
+                                   {"outputs", {"sim_seconds", "event:contact:slope"}}};
+    nlohmann::json named = design;
+    named["name"] = "two\nlines";
+    std::ofstream(folder / "named.json") << named.dump(2);
+    const Outcome refused = runMasse("sweep " + (folder / "named.json").string() + " --out " + (folder / "named").string());
+    EXPECT_EQ(refused.exitCode, 2) << refused.output;
+    EXPECT_NE(refused.output.find("name: must be one line without control characters"), std::string::npos)
+        << refused.output;
+    EXPECT_FALSE(fs::exists(folder / "named"));
+
+    std::ofstream(folder / "design.json") << design.dump(2);
+    const fs::path dir = folder / "study";
+    const Outcome ran = runMasse("sweep " + (folder / "design.json").string() + " --out " + dir.string() + " --no-plots");
+    ASSERT_EQ(ran.exitCode, 0) << ran.output;
+    fs::remove(dir / "cases" / "0000" / "summary.json");
+    ASSERT_EQ(::mkfifo((dir / "cases" / "0000" / "summary.json").c_str(), 0600), 0);
+    nlohmann::json summary = nlohmann::json::parse(readText(dir / "cases" / "0001" / "summary.json"));
+    summary["events"] = {1, 2};
+    std::ofstream(dir / "cases" / "0001" / "summary.json") << summary.dump();
+    const Outcome collected = runMasse("sweep --collect " + dir.string() + " --no-plots");
+    EXPECT_EQ(collected.exitCode, 0) << collected.output; // a collection reports failed cases, it does not fail
+    const std::string results = readText(dir / "results.csv");
+    EXPECT_NE(results.find("\n0,failed,0,"), std::string::npos) << results;
+    EXPECT_NE(results.find("no readable summary.json"), std::string::npos) << results;
+    EXPECT_NE(results.find("\n1,failed,0,"), std::string::npos) << results;
+    EXPECT_NE(results.find("summary.json: events[0] is not an event as masse run writes it"), std::string::npos)
+        << results;
+    EXPECT_NE(results.find("\n2,done,0,"), std::string::npos) << results;
+}
+
+// Issue 51, row 14: --slurm where sbatch is installed but no cluster answers printed sbatch's raw DNS errors. The
+// message says that no cluster answers and what to do. (An sbatch of the test's own stands in for the installed one.)
+TEST(Sweep, SlurmWithoutAClusterSaysWhatToDo)
+{
+    const fs::path folder = freshFolder("sweep-no-cluster");
+    fs::create_directories(folder / "bin");
+    std::ofstream(folder / "bin" / "sbatch")
+        << "#!/bin/sh\n"
+           "echo 'sbatch: error: resolve_ctls_from_dns_srv: res_nsearch error: Unknown host'\n"
+           "echo 'sbatch: error: fetch_config: DNS SRV lookup failed'\n"
+           "echo 'sbatch: fatal: Could not establish a configuration source'\n"
+           "exit 1\n";
+    fs::permissions(folder / "bin" / "sbatch", fs::perms::owner_all);
+    const std::string command = "PATH='" + (folder / "bin").string() + "':\"$PATH\" " + std::string(MASSE_EXECUTABLE) +
+                                " sweep " + study + " --out " + (folder / "study").string() + " --slurm 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    std::array<char, 512> buffer{};
+    while (std::fgets(buffer.data(), int(buffer.size()), pipe))
+    {
+        output += buffer.data();
+    }
+    const int status = ::pclose(pipe);
+    EXPECT_EQ(WEXITSTATUS(status), 1) << output;
+    EXPECT_NE(output.find("no Slurm cluster answers this machine's sbatch (sbatch: fatal: Could not establish a "
+                          "configuration source): configure Slurm here"),
+              std::string::npos)
+        << output;
+    EXPECT_NE(output.find("or run the cases on this machine with --jobs N instead of --slurm"), std::string::npos)
+        << output;
 }

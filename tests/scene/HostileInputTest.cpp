@@ -2,14 +2,17 @@
 // wrongly or was refused too late is refused at once with one message naming the file and the key or line; files too
 // large to keep in the repository (deep nesting, a mesh past Bullet's triangle limit) are made here at run time.
 
+#include "support/GuardedRun.h"
 #include "support/TestSystems.h"
 
 #include "bridge/MeshFile.h"
+#include "bridge/StlFile.h"
 #include "core/NumericalError.h"
 #include "scene/MemoryBudget.h"
 #include "scene/Runner.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
+#include "scene/SceneOverrides.h"
 #include "scene/json/JsonObject.h"
 #include "scene/output/AtomicFile.h"
 #include "scene/output/FiniteOutput.h"
@@ -171,6 +174,60 @@ TEST(HostileInput, ObjVerticesThatAreNotFiniteNumbersNameTheLine)
         << weight;
 }
 
+// Issue 51, row 13: tinyobjloader drops a face of one or two vertices without a word; row 10: a mesh file that is a
+// symbolic link to itself ended in a raw filesystem error. Both are refused naming the obstacle and the file (and the
+// line of the face).
+TEST(HostileInput, ObjFacesOfFewerThanThreeVerticesAndLinkLoopsAreNamed)
+{
+    const std::filesystem::path folder = freshFolder("short-faces");
+    for (const std::string face : {"f 1", "f 1 2"})
+    {
+        writeText(folder / "short.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 1 0\nf 1 2 3\n" + face + "\nf 1 3 4\n");
+        const std::string message = inputErrorOf([&] { bridge::loadMeshFile((folder / "short.obj").string(), "cup"); });
+        EXPECT_NE(message.find("obstacle 'cup': mesh file '" + (folder / "short.obj").string() +
+                               "', line 6: a face needs at least 3 vertices (got " +
+                               std::to_string(face.size() / 2) + ")"),
+                  std::string::npos)
+            << message;
+    }
+    std::filesystem::create_symlink("loop.obj", folder / "loop.obj");
+    const std::string loop = inputErrorOf([&] { bridge::loadMeshFile((folder / "loop.obj").string(), "cup"); });
+    EXPECT_EQ(loop, "obstacle 'cup': mesh file '" + (folder / "loop.obj").string() +
+                        "' is a symbolic link that leads back to itself (a loop): link it to the mesh file");
+}
+
+// Issue 51, row 10: a missing "extends" base was named alone ("missing.json: cannot be read"), not the file that
+// refers to it; row 13: a valid chain of 11 files was refused as "too many levels (a loop?)". A chain is as long as
+// its files, a loop is found by the files it visits, and a missing base names the file and key that refer to it.
+TEST(HostileInput, ExtendsChainsAreFollowedAndLoopsAndMissingBasesNamed)
+{
+    const std::filesystem::path folder = freshFolder("extends-chain");
+    writeText(folder / "scene-0.json", R"({ "sheet": { "size": "4x2x4" }, "run": { "duration": 0.1 } })");
+    for (int i = 1; i <= 11; ++i)
+    {
+        writeText(folder / ("scene-" + std::to_string(i) + ".json"),
+                  R"({ "extends": "scene-)" + std::to_string(i - 1) + R"(.json", "name": "level )" +
+                      std::to_string(i) + R"(" })");
+    }
+    const SceneSpec spec = loadScene((folder / "scene-11.json").string());
+    EXPECT_EQ(spec.name, "level 11");
+    EXPECT_EQ(spec.sheet.lattice.countX, 4);
+
+    writeText(folder / "a.json", R"({ "extends": "b.json" })");
+    writeText(folder / "b.json", R"({ "extends": "a.json" })");
+    const std::string loop = inputErrorOf([&] { loadScene((folder / "a.json").string()); });
+    EXPECT_NE(loop.find("b.json: extends: 'a.json' leads back to a file of the chain (a loop: "), std::string::npos)
+        << loop;
+
+    writeText(folder / "orphan.json", R"({ "extends": "missing.json" })");
+    const std::string missing = inputErrorOf([&] { loadScene((folder / "orphan.json").string()); });
+    EXPECT_EQ(missing.rfind((folder / "orphan.json").string() + ": extends: the base scene 'missing.json' does not "
+                                                                "exist",
+                            0),
+              0u)
+        << missing;
+}
+
 // Row 1: past 2^21 triangles Bullet's BVH indexes other memory (SIGSEGV when the sheet neared such a triangle); the
 // mesh is refused at the face that goes past the limit.
 TEST(HostileInput, AMeshPastBulletsTriangleLimitIsRefused)
@@ -220,11 +277,15 @@ TEST(HostileInput, ASheetThatCannotFitInMemoryIsRefusedAtOnce)
 }
 
 // Row 3: gravity of 1e200 m/s^2 keeps positions and velocities finite but their speed and kinetic energy overflow;
-// the run stops with a NumericalError before a frame or summary could hold them.
+// the run stops with a NumericalError before a frame or summary could hold them. A scene file cannot give such a
+// gravity (SceneFile.ImplausibleValuesAreRefusedNamingTheLikelyMistake); the library's caller can.
 TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
 {
     const std::filesystem::path folder = freshFolder("infinite");
-    SceneSpec spec = loadScene(badScenes + "gravity-beyond-range.json");
+    SceneSpec spec = parseScene(nlohmann::json::parse(R"({ "sheet": { "size": "4x2x4" }, "environment": { "room": { "enabled":
+        false } }, "integrator": { "type": "symplectic" }, "run": { "duration": 0.3, "stop_at_rest": false } })"),
+                      source + "/data/scenes", "beyond-range");
+    spec.environment.gravity = Vec3(0, -1e200, 0);
     spec.output.framesEvery = 1;
     spec.output.formats = {"vtp"};
     Scene scene(spec);
@@ -239,7 +300,11 @@ TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
     }
     catch (const NumericalError& e)
     {
-        EXPECT_NE(std::string(e.what()).find("is not a finite number"), std::string::npos) << e.what();
+        // The speed bound stops it first: the bound is finite for any finite gravity.
+        EXPECT_EQ(std::string(e.what()).rfind("the simulation diverged at t = 0.03 s: mass 0 moves at ", 0), 0u)
+            << e.what();
+        EXPECT_NE(std::string(e.what()).find("e+198 m/s, above this scene's bound of 3e+201 m/s"), std::string::npos)
+            << e.what();
     }
     EXPECT_FALSE(std::filesystem::exists(folder / "out" / "summary.json"));
 
@@ -253,6 +318,41 @@ TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
     {
         EXPECT_NE(std::string(e.what()).find("summary.json: final.kinetic_energy"), std::string::npos) << e.what();
     }
+}
+
+// Issue 51, row 8: a gravity of 1e100 or 1e308 m/s^2 carried every mass some 1e94 m below the floor in one substep;
+// the contact pass put them back at rest, but on no surface (the sheet flat at y = 0, the floor at -2.81 m), and the
+// run ended with exit code 0. A scene file refuses such a gravity; given through the library, the guard's speed bound
+// before the contact pass stops the run as a diverged one.
+TEST(HostileInput, ExtremeGravityStopsAsADivergedRunBeforeTheContactHidesIt)
+{
+    for (const Real gravity : {1e100, 1e308})
+    {
+        SceneSpec spec = parseScene(nlohmann::json::parse(R"({ "sheet": { "size": "4x2x4" }, "integrator": {
+            "type": "symplectic" }, "run": { "duration": 0.3, "stop_at_rest": false } })"),
+                                    source + "/data/scenes", "falling");
+        spec.environment.gravity = Vec3(0, -gravity, 0);
+        Scene scene(spec);
+        const std::string message = test::guardMessageOfRun(scene);
+        EXPECT_EQ(message.rfind("the simulation diverged at t = ", 0), 0u) << gravity << ": " << message;
+        EXPECT_NE(message.find("before the contact pass"), std::string::npos) << gravity << ": " << message;
+    }
+}
+
+// Issue 51, row 6: edge contact under extreme motion (the knife-edge scene with a gravity of 1e150 m/s^2) ended in
+// "double free or corruption" inside Bullet's tree of the sheet's edge contact, built from boxes too large for it.
+// The run stops as a diverged one, naming the mass.
+TEST(HostileInput, EdgeContactUnderExtremeMotionStopsAsADivergedRun)
+{
+    SceneFlags flags;
+    flags.size = "8x2x8";
+    flags.duration = "0.3";
+    SceneSpec spec = loadScene(source + "/data/scenes/knife-edge.json", flags);
+    spec.environment.gravity = Vec3(0, -1e150, 0);
+    Scene scene(spec);
+    const std::string message = test::guardMessageOfRun(scene);
+    EXPECT_EQ(message.rfind("the simulation diverged at t = ", 0), 0u) << message;
+    EXPECT_NE(message.find("mass "), std::string::npos) << message;
 }
 
 // Row 15: the last step is shortened so the run ends on its duration: 0.1 s at dt = 0.03 s is 0.1 s, not 0.12 s.

@@ -65,6 +65,7 @@ TEST(SceneFile, BadScenesAreRefusedWithTheKeyPath)
         {"bullet-klst.json", "bullet.kLST: must be in (0, 1] (got 1.5)"},
         {"bullet-unknown-key.json", "bullet.kLTS: unknown key (did you mean 'kLST'?)"},
         {"bullet-collisions.json", "bullet.collisions: CL_RS is not supported: cluster collision needs the sheet cut"},
+        {"gravity-beyond-range.json", "environment.gravity: 1e+200 m/s^2 is beyond the plausible 1000 m/s^2"},
     };
     for (const auto& [file, expected] : cases)
     {
@@ -135,6 +136,70 @@ TEST(SceneFile, ObstacleAndRoomValuesAreNamedByTheirKey)
     for (const auto& [json, expected] : cases)
     {
         // A named copy: clang 14 refuses a lambda that captures a structured binding.
+        const std::string& text = json;
+        const std::string message = masse::test::inputErrorOf(
+            [&] { Scene scene(parseScene(nlohmann::json::parse(text), source + "/data/scenes", "inline")); });
+        EXPECT_EQ(message.rfind("inline: " + expected, 0), 0u) << json << "\n" << message;
+    }
+}
+
+// Every key with a unit has a plausible range (data/scenes/README.md, "Plausible ranges"): a unit mistake is refused
+// when the file is read, naming the key and the likely mistake, and a number no machine has (a gravity of 1e100 m/s^2,
+// a corner at -1e308 m) is refused instead of running to a wrong end.
+TEST(SceneFile, ImplausibleValuesAreRefusedNamingTheLikelyMistake)
+{
+    const std::string pmma = R"("material": {"file": ")" + source + R"(/data/materials/pmma.json"})";
+    const std::string properties =
+        R"("name": "x", "specific_heat": 1000, "conductivity": 0.2, "glass_transition_c": 100, "upper_c": 200,
+           "glassy_modulus": 2e9, "rubbery_modulus": 1e6, "viscosity_at_transition": 1e14,
+           "forming_window": {"set_c": 80, "lower_c": 120, "normal_c": 140, "upper_c": 160})";
+    const std::string grab = R"({"action": "grab", "mass": 0, "path": [{"time": 0, "position": [0, 1, 0]}])";
+    const std::pair<std::string, std::string> cases[] = {
+        {R"({"environment": {"gravity": [0, -1e100, 0]}})",
+         "environment.gravity: 1e+100 m/s^2 is beyond the plausible 1000 m/s^2 (about 100 g; Earth's is 9.81 m/s^2)"},
+        {R"({"environment": {"gravity": [0, -1e308, 0]}})", "environment.gravity: 1e+308 m/s^2 is beyond"},
+        {R"({"script": [{"time": 1, "action": "gravity", "value": [0, 0, 5000]}]})",
+         "script[0].value: 5000 m/s^2 is beyond the plausible 1000 m/s^2"},
+        {R"({"material": {"file": ")" + source + R"(/data/materials/pet.json", "thickness": 3}})",
+         "material.thickness: 3 m is outside a sheet's plausible 0.01 mm to 50 mm: did you mean 0.003 (3 mm)?"},
+        {"{" + pmma + R"(, "heat": {"initial_temperature_c": 293}})",
+         "heat.initial_temperature_c: 293 C is above the material's 205 C upper limit (PMMA's upper_c, where its "
+         "model ends); kelvin? 293 K is 19.85 C"},
+        {"{" + pmma + R"(, "heat": {"air_temperature_c": 400}})",
+         "heat.air_temperature_c: 400 C is above the material's 205 C upper limit (PMMA's upper_c, where its model "
+         "ends); kelvin? 400 K is 126.85 C"},
+        {"{" + pmma + R"(, "heat": {"air_temperature_c": 500}})",
+         "heat.air_temperature_c: 500 C is above the material's 205 C upper limit (PMMA's upper_c, where its model "
+         "ends)"},
+        {"{" + pmma + R"(, "heat": {}, "obstacles": [{"name": "plug", "half_extents": [1, 1, 1],
+           "temperature_c": 900}]})",
+         "obstacles[0].temperature_c: 900 C is above the material's 205 C upper limit (PMMA's upper_c, where its model "
+         "ends)"},
+        {"{" + pmma + R"(, "heat": {"hot_air_zones": [{"temperature_c": 450}]}})",
+         "heat.hot_air_zones[0].temperature_c: 450 C is above"},
+        {"{" + pmma + R"(, "heat": {}, "script": [{"time": 1, "action": "ambient", "temperature_c": 300}]})",
+         "script[0].temperature_c: 300 C is above the material's 205 C upper limit"},
+        {R"({"material": {"properties": {)" + properties + R"(, "density": 1.36}}})",
+         "material.properties.density: 1.36 kg/m^3 is outside the plausible 10 to 25000 kg/m^3: did you mean 1360 "
+         "(1.36 g/cm^3)?"},
+        {R"({"sheet": {"min": [-1e308, 0, 0]}})",
+         "sheet.min: (-1e+308, 0, 0) m is farther than 1000 m from the origin along an axis"},
+        {R"({"environment": {"room": {"max": [1e5, 3, 3]}}})", "environment.room.max: (100000, 3, 3) m is farther"},
+        {R"({"obstacles": [{"name": "b", "half_extents": [1, 1, 1], "position": [0, 1e300, 0]}]})",
+         "obstacles[0].position: (0, 1e+300, 0) m is farther than 1000 m"},
+        {R"({"obstacles": [{"name": "b", "half_extents": [1, 1, 1], "path": [{"time": 0, "position": [0, 0, 0]},
+           {"time": 1e-300, "position": [0, 1e300, 0]}]}]})",
+         "obstacles[0].path[1].position: (0, 1e+300, 0) m is farther than 1000 m"},
+        {R"({"obstacles": [{"name": "b", "half_extents": [1, 5000, 1]}]})",
+         "obstacles[0].half_extents: 5000 m is longer than 1000 m"},
+        {R"({"script": [)" + grab + R"(, "stiffness": 1e308}]})",
+         "script[0].stiffness: must be in (0, 1e+06] N/m (got 1e+308)"},
+        {R"({"script": [)" + grab + R"(, "max_force": 1e300}]})", "script[0].max_force: must be in (0, 1e+06] N"},
+        {R"({"script": [{"action": "grab", "near": [0, 0, -2e3], "path": [{"time": 0, "position": [0, 1, 0]}]}]})",
+         "script[0].near: (0, 0, -2000) m is farther than 1000 m"},
+    };
+    for (const auto& [json, expected] : cases)
+    {
         const std::string& text = json;
         const std::string message = masse::test::inputErrorOf(
             [&] { Scene scene(parseScene(nlohmann::json::parse(text), source + "/data/scenes", "inline")); });

@@ -25,13 +25,14 @@ std::string readText(const std::string& path)
 }
 
 /// Every key a reader asks for: the first string argument of JsonObject's readers (o.number("dt", ...),
-/// o.object("heat"), ...) and of the readers' own helpers (celsius(o, "key"), fraction(o, "key"), optional("key")).
+/// o.object("heat"), ...) and of the readers' own helpers (celsius(o, "key"), fraction(o, "key"), optional("key"),
+/// plausible::point(o, "key") and its kin).
 std::set<std::string> keysAskedFor(const std::string& code)
 {
     static const std::regex call(
         R"re((?:\.|->)(?:number|positive|string|boolean|integer|vec3|vec3List|choice|object|objects|raw|numbers)\(\s*"([A-Za-z_0-9]+)")re");
     static const std::regex helper(
-        R"re((?:celsius|fraction)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
+        R"re((?:celsius|fraction|point|gravity|thickness|density)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
     std::set<std::string> keys;
     for (auto it = std::sregex_iterator(code.begin(), code.end(), call); it != std::sregex_iterator(); ++it)
     {

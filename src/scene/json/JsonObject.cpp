@@ -2,6 +2,7 @@
 #include "core/Format.h"
 
 #include "core/InputError.h"
+#include "core/NearestName.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,23 +25,7 @@ std::string describe(const nlohmann::json& value)
 
 std::size_t editDistance(const std::string& a, const std::string& b)
 {
-    std::vector<std::size_t> previous(b.size() + 1);
-    std::vector<std::size_t> current(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j)
-    {
-        previous[j] = j;
-    }
-    for (std::size_t i = 1; i <= a.size(); ++i)
-    {
-        current[0] = i;
-        for (std::size_t j = 1; j <= b.size(); ++j)
-        {
-            const std::size_t substitution = previous[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-            current[j] = std::min({previous[j] + 1, current[j - 1] + 1, substitution});
-        }
-        std::swap(previous, current);
-    }
-    return previous[b.size()];
+    return masse::editDistance(a, b);
 }
 
 namespace
@@ -443,21 +428,11 @@ void JsonObject::finish() const
         {
             continue;
         }
-        std::string best;
-        std::size_t bestDistance = std::numeric_limits<std::size_t>::max();
-        for (const std::string& known : m_known)
-        {
-            const std::size_t d = editDistance(it.key(), known);
-            if (d < bestDistance)
-            {
-                bestDistance = d;
-                best = known;
-            }
-        }
+        const std::string suggestion = didYouMean(it.key(), m_known);
         std::string message = "unknown key";
-        if (!best.empty() && bestDistance <= std::max<std::size_t>(2, best.size() / 3))
+        if (!suggestion.empty())
         {
-            message += " (did you mean '" + best + "'?)";
+            message += suggestion;
         }
         else if (!m_known.empty())
         {

@@ -1,6 +1,7 @@
 #include "scene/json/JsonPath.h"
 
 #include "core/InputError.h"
+#include "core/NearestName.h"
 
 #include <cctype>
 
@@ -183,6 +184,17 @@ void assignAt(nlohmann::json& document, const JsonPath& path, nlohmann::json val
             {
                 throw InputError(path.text() + ": " + (here.empty() ? std::string("the document") : here) + " is " +
                                  kindOf(*at) + ", not an object with keys");
+            }
+            if (!at->contains(step.key) && i + 1 < path.steps.size() && path.steps[i + 1].isIndex)
+            {
+                // A list that is not there cannot be indexed: most often a misspelt name ("heater" for "heaters").
+                std::vector<std::string> keys;
+                for (auto it = at->begin(); it != at->end(); ++it)
+                {
+                    keys.push_back(it.key());
+                }
+                throw InputError(path.text() + ": " + (here.empty() ? std::string("the document") : here) +
+                                 " has no list '" + step.key + "'" + didYouMean(step.key, keys));
             }
             at = &(*at)[step.key];
         }

@@ -306,8 +306,15 @@ const nlohmann::json* outputValue(const nlohmann::json& summary, const StudyOutp
         {
             return nullptr;
         }
-        for (const nlohmann::json& e : summary["events"])
+        for (std::size_t i = 0; i < summary["events"].size(); ++i)
         {
+            const nlohmann::json& e = summary["events"][i];
+            if (!e.is_object() || !e.value("name", nlohmann::json("")).is_string() ||
+                !e.value("object", nlohmann::json("")).is_string())
+            {
+                throw InputError("summary.json: events[" + std::to_string(i) +
+                                 "] is not an event as masse run writes it ({\"name\", \"object\", \"sim_time\"})");
+            }
             if (e.value("name", "") == name && (object.empty() || e.value("object", "") == object))
             {
                 scratch = e.value("sim_time", nlohmann::json());
@@ -364,6 +371,12 @@ Study loadStudy(const std::string& path)
     {
         const JsonObject top(document, "");
         study.name = top.string("name", std::filesystem::path(path).stem().string());
+        if (std::any_of(study.name.begin(), study.name.end(),
+                        [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7F; }))
+        {
+            // The name goes into the job's name, the plots' titles and the table: one line, printable.
+            top.fail("name", "must be one line without control characters such as a newline or a tab");
+        }
         top.string("description", "");
         const std::filesystem::path scene = top.string("scene");
         study.scenePath = (scene.is_absolute() ? scene : folder / scene).lexically_normal().string();

@@ -219,9 +219,19 @@ StudyRecord readStudyRecord(const std::string& dir)
     return record;
 }
 
+bool isRegularFile(const std::string& path)
+{
+    std::error_code error;
+    return std::filesystem::is_regular_file(std::filesystem::status(path, error));
+}
+
 CaseStatus readCaseStatus(const std::string& caseDir)
 {
     CaseStatus status;
+    if (!isRegularFile(caseDir + "/status.txt"))
+    {
+        return status;
+    }
     std::ifstream in(caseDir + "/status.txt");
     if (!in)
     {
@@ -283,6 +293,10 @@ void clearCaseOutputs(const std::string& caseDir)
 
 std::string lastLogLine(const std::string& caseDir)
 {
+    if (!isRegularFile(caseDir + "/run.log"))
+    {
+        return "";
+    }
     std::ifstream in(caseDir + "/run.log");
     std::string line;
     std::string last;

@@ -42,6 +42,9 @@ void prepareStudyFolder(const Study& study, const std::string& dir);
 /// Reads DIR/study.json; throws InputError if DIR is not a study folder.
 StudyRecord readStudyRecord(const std::string& dir);
 
+/// Whether `path` is a regular file (following links): a pipe, a device or a folder in a case's file is not read.
+bool isRegularFile(const std::string& path);
+
 CaseStatus readCaseStatus(const std::string& caseDir);
 void writeCaseStatus(const std::string& caseDir, int exitCode, double wallSeconds);
 

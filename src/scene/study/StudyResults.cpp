@@ -4,6 +4,7 @@
 #include "scene/output/Plot.h"
 
 #include "core/Format.h"
+#include "core/InputError.h"
 
 #include <algorithm>
 #include <cctype>
@@ -78,8 +79,13 @@ StudyResults collectResults(const std::string& dir)
         }
         else
         {
-            std::ifstream in(folder + "/summary.json");
-            const nlohmann::json summary = nlohmann::json::parse(in, nullptr, false);
+            // A pipe or a device in the summary's place would block the collection or read for ever.
+            nlohmann::json summary = nlohmann::json::value_t::discarded;
+            if (isRegularFile(folder + "/summary.json"))
+            {
+                std::ifstream in(folder + "/summary.json");
+                summary = nlohmann::json::parse(in, nullptr, false);
+            }
             if (summary.is_discarded() || !summary.is_object())
             {
                 c.status = "failed";
@@ -88,13 +94,24 @@ StudyResults collectResults(const std::string& dir)
             }
             else
             {
-                c.status = "done";
-                ++results.done;
-                for (std::size_t o = 0; o < results.record.outputs.size(); ++o)
+                try
                 {
-                    nlohmann::json scratch;
-                    const nlohmann::json* value = outputValue(summary, results.record.outputs[o], scratch);
-                    c.outputs[o] = value ? *value : nlohmann::json();
+                    for (std::size_t o = 0; o < results.record.outputs.size(); ++o)
+                    {
+                        nlohmann::json scratch;
+                        const nlohmann::json* value = outputValue(summary, results.record.outputs[o], scratch);
+                        c.outputs[o] = value ? *value : nlohmann::json();
+                    }
+                    c.status = "done";
+                    ++results.done;
+                }
+                catch (const InputError& e)
+                {
+                    // One case's broken summary is that case's failure: the others are still collected.
+                    c.outputs.assign(results.record.outputs.size(), nullptr);
+                    c.status = "failed";
+                    c.message = e.what();
+                    ++results.failed;
                 }
             }
         }
