@@ -640,7 +640,7 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
         }
     }
     ScriptTargets targets;
-    targets.masses = masses;
+    targets.masses = massCountOf(scene.sheet.lattice);
     targets.obstacles = names;
     for (const ObstacleSpec& o : scene.obstacles)
     {
