@@ -1,5 +1,7 @@
 #include "SceneOptions.h"
 
+#include "scene/EngineEnvironment.h"
+
 #include "core/parallel/TaskPool.h"
 
 #include <CLI/CLI.hpp>
@@ -38,15 +40,22 @@ scene::SceneSpec loadSceneWithOverrides(const std::string& path, const SceneOver
     return scene::loadScene(path, overrides);
 }
 
-void addThreadsOption(CLI::App& command)
+void addThreadsOption(CLI::App& command, scene::EngineSettings& engine)
 {
     auto threads = std::make_shared<int>(0);
     command.add_option("--threads", *threads,
                        "Threads for the engine's kernels (default: $MASSE_THREADS, else every "
                        "core); results are the same bits at any count");
     command.parse_complete_callback(
-        [threads]
-        { underFlag("--threads", [&] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); }); });
+        [threads, &engine]
+        {
+            if (*threads != 0)
+            {
+                underFlag("--threads", [&] { requireThreadCount(*threads); });
+            }
+            engine = scene::engineFromEnvironment(*threads);
+            scene::applySimdFromEnvironment();
+        });
 }
 
 std::string dataDirectory()
