@@ -24,6 +24,7 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -197,6 +198,134 @@ TEST(TaskPool, RefusesAThreadCountBelowOne)
     {
         EXPECT_EQ(e.field(), "threads");
     }
+}
+
+namespace
+{
+/// Records the pool the kernels run on while the simulator's hooks run (inside its step).
+class PoolWitness : public StepHook
+{
+public:
+    void afterSubstep(MassSpringSystem&, StepContext&, Real, Real) override { pools.push_back(boundPool()); }
+    std::vector<const TaskPool*> pools;
+};
+
+/// The Table 1 sheet at 48x2x48 (several chunks of every kernel) with its edge pinned, under symplectic Euler.
+MassSpringSystem pinnedSheet()
+{
+    MassSpringSystem sheet = test::paperSheet(48);
+    sheet.particles.setPinned(0, true);
+    return sheet;
+}
+} // namespace
+
+// A program embedding two simulators with different thread counts gets each its own pool: stepped alternately on
+// one thread, each runs its kernels on its own pool and ends with the bits of a lone run; a third given the first's
+// pool shares it.
+TEST(TaskPool, EachSimulatorRunsOnItsOwnPool)
+{
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    constexpr int steps = 4;
+    constexpr Real dt = 0.01;
+    const auto lone = [&](int threads)
+    {
+        SimulatorSettings own = settings;
+        own.threads = threads;
+        Simulator simulator(pinnedSheet(), own);
+        for (int i = 0; i < steps; ++i)
+        {
+            simulator.step(dt);
+        }
+        return stateHash(simulator.system().particles);
+    };
+    const std::uint64_t loneOne = lone(1);
+    const std::uint64_t loneTwo = lone(2);
+
+    SimulatorSettings oneThread = settings;
+    oneThread.threads = 1;
+    SimulatorSettings twoThreads = settings;
+    twoThreads.threads = 2;
+    Simulator first(pinnedSheet(), oneThread);
+    Simulator second(pinnedSheet(), twoThreads);
+    ASSERT_EQ(first.threadCount(), 1);
+    ASSERT_EQ(second.threadCount(), 2);
+    ASSERT_NE(&first.pool(), &second.pool());
+    PoolWitness firstWitness;
+    PoolWitness secondWitness;
+    first.addHook(&firstWitness);
+    second.addHook(&secondWitness);
+    for (int i = 0; i < steps; ++i)
+    {
+        first.step(dt);
+        second.step(dt);
+    }
+    EXPECT_EQ(stateHash(first.system().particles), loneOne);
+    EXPECT_EQ(stateHash(second.system().particles), loneTwo);
+    EXPECT_EQ(loneOne, loneTwo); // and the same bits at any count
+    ASSERT_FALSE(firstWitness.pools.empty());
+    ASSERT_FALSE(secondWitness.pools.empty());
+    for (const TaskPool* pool : firstWitness.pools)
+    {
+        EXPECT_EQ(pool, &first.pool());
+    }
+    for (const TaskPool* pool : secondWitness.pools)
+    {
+        EXPECT_EQ(pool, &second.pool());
+    }
+    EXPECT_EQ(boundPool(), nullptr); // nothing stays bound between steps
+
+    // Given a pool, a simulator shares it.
+    auto shared = std::make_shared<TaskPool>(2);
+    Simulator third(pinnedSheet(), settings, shared);
+    Simulator fourth(pinnedSheet(), settings, shared);
+    EXPECT_EQ(&third.pool(), shared.get());
+    EXPECT_EQ(&fourth.pool(), shared.get());
+    for (int i = 0; i < steps; ++i)
+    {
+        third.step(dt);
+        fourth.step(dt);
+    }
+    EXPECT_EQ(stateHash(third.system().particles), loneOne);
+    EXPECT_EQ(stateHash(fourth.system().particles), loneOne);
+}
+
+// Two simulators of different thread counts stepped at once from two threads (each its own pool, no lock between
+// them) end with the bits of a lone run.
+TEST(TaskPool, SimulatorsOnTwoThreadsEachKeepTheirBits)
+{
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    constexpr int steps = 4;
+    constexpr Real dt = 0.01;
+    Simulator lone(pinnedSheet(), settings);
+    for (int i = 0; i < steps; ++i)
+    {
+        lone.step(dt);
+    }
+    std::uint64_t hashes[2] = {0, 0};
+    std::vector<std::thread> programs;
+    for (const int threads : {1, 2})
+    {
+        programs.emplace_back(
+            [&, threads]
+            {
+                SimulatorSettings own = settings;
+                own.threads = threads;
+                Simulator simulator(pinnedSheet(), own);
+                for (int i = 0; i < steps; ++i)
+                {
+                    simulator.step(dt);
+                }
+                hashes[threads - 1] = stateHash(simulator.system().particles);
+            });
+    }
+    for (std::thread& program : programs)
+    {
+        program.join();
+    }
+    EXPECT_EQ(hashes[0], stateHash(lone.system().particles));
+    EXPECT_EQ(hashes[1], stateHash(lone.system().particles));
 }
 
 // The drop scene at 48x2x48 (6,817 masses, several chunks of every kernel) through its first contacts with the
