@@ -54,6 +54,9 @@ void addThreadsOption(CLI::App& command, scene::EngineSettings& engine)
                 underFlag("--threads", [&] { requireThreadCount(*threads); });
             }
             engine = scene::engineFromEnvironment(*threads);
+            // Started once here and stopped: a count the system cannot start (a memory or process limit) is refused
+            // naming the flag, before any scene is read or folder touched. Each scene then starts a pool of its own.
+            underFlag("--threads", [&] { const TaskPool probe(engine.threads); });
             scene::applySimdFromEnvironment();
         });
 }
