@@ -3,6 +3,7 @@
 /// `masse` command; this file only converts between Python and C++ and keeps Python's promises (the GIL released
 /// while stepping, read-only views that keep their scene alive, no crash from any call).
 
+#include "scene/EngineEnvironment.h"
 #include "scene/Runner.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
@@ -20,13 +21,13 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <iostream>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <shared_mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -41,12 +42,15 @@ static_assert(sizeof(Vec3) == 3 * sizeof(Real), "a std::vector<Vec3> must be N x
 static_assert(sizeof(SpringEnds) == 2 * sizeof(Index), "spring ends must be M x 2 contiguous indices");
 static_assert(sizeof(LatticeCoord) == 3 * sizeof(int), "lattice coordinates must be N x 3 contiguous ints");
 
-/// Held shared while any scene steps and exclusively while the thread count changes: the kernels' pool is replaced
-/// by setThreadCount and must not be in use then.
-std::shared_mutex& poolGuard()
+/// The thread count masse.set_threads chose (0 until it is called: the environment's). Each scene has its own pool
+/// and takes this count when it is built and at the start of each step loop.
+std::atomic<int> chosenThreads{0};
+
+/// What masse.threads() says: the count set_threads chose, else $MASSE_THREADS, else every core.
+int moduleThreads()
 {
-    static std::shared_mutex guard;
-    return guard;
+    const int chosen = chosenThreads.load();
+    return chosen > 0 ? chosen : scene::threadsFromEnvironment();
 }
 
 /// Ctrl+C while the GIL is released: every 0.1 s of stepping the GIL is taken back for a moment to let Python see a
@@ -158,6 +162,9 @@ scene::SceneFlags flagsOf(const std::vector<std::string>& settings, const std::s
     flags.duration = duration;
     flags.dt = dt;
     flags.integrator = integrator;
+    // The module reads the engine's environment where the `masse` command does: when a scene is read.
+    flags.engine = scene::engineFromEnvironment(moduleThreads());
+    scene::applySimdFromEnvironment();
     return flags;
 }
 
@@ -165,7 +172,7 @@ scene::SceneFlags flagsOf(const std::vector<std::string>& settings, const std::s
 class PyScene
 {
 public:
-    explicit PyScene(const Spec& spec) : m_scene(std::make_unique<scene::Scene>(spec.spec)) {}
+    explicit PyScene(const Spec& spec) : m_scene(std::make_unique<scene::Scene>(withThreads(spec.spec))) {}
 
     /// Takes the scene's lock, letting other Python threads run while it waits (the holder may be stepping without
     /// the GIL, and never waits for the GIL while holding the lock except to check for Ctrl+C, which releases it).
@@ -189,8 +196,8 @@ public:
             throw py::value_error("step: n must be >= 0 (got " + std::to_string(count) + ")");
         }
         const auto held = lock();
+        adoptThreads();
         py::gil_scoped_release release;
-        const std::shared_lock pool(poolGuard());
         InterruptCheck interrupted;
         for (long long k = 0; k < count; ++k)
         {
@@ -207,8 +214,8 @@ public:
                                   std::to_string(scene::limits::maxDuration));
         }
         const auto held = lock();
+        adoptThreads();
         py::gil_scoped_release release;
-        const std::shared_lock pool(poolGuard());
         InterruptCheck interrupted;
         // Without `until`, the scene's own end (its duration, or rest when it stops at rest), as `masse run` runs it.
         while (until ? m_scene->time() < *until - 1e-9 : !m_scene->finished())
@@ -356,6 +363,22 @@ public:
     }
 
 private:
+    static scene::SceneSpec withThreads(scene::SceneSpec spec)
+    {
+        spec.engine.threads = moduleThreads();
+        return spec;
+    }
+
+    /// The count masse.set_threads chose since this scene was built or last stepped (with the scene's lock held).
+    void adoptThreads()
+    {
+        const int threads = moduleThreads();
+        if (threads != m_scene->simulator().threadCount())
+        {
+            m_scene->setThreadCount(threads);
+        }
+    }
+
     std::unique_ptr<scene::Scene> m_scene;
     std::mutex m_mutex;
 };
@@ -380,12 +403,12 @@ py::tuple runSpec(const Spec& given, const std::string& out, bool force, std::op
                   const std::vector<std::string>& formats, bool progress)
 {
     scene::SceneSpec spec = given.spec;
+    spec.engine.threads = moduleThreads();
     scene::applyFrameFlags(spec, framesEvery, formats);
     nlohmann::json summary;
     std::string warnings;
     {
         py::gil_scoped_release release;
-        const std::shared_lock pool(poolGuard());
         // Everything that can be wrong with the input is found before the output folder is touched.
         scene::OutputFolder folder(out, force);
         scene::Scene scene(spec);
@@ -448,9 +471,8 @@ py::dict collect(const std::string& dir)
 
 void setThreads(int threads)
 {
-    py::gil_scoped_release release;
-    const std::unique_lock pool(poolGuard());
-    setThreadCount(threads);
+    requireThreadCount(threads);
+    chosenThreads.store(threads);
 }
 } // namespace
 } // namespace masse::python
@@ -492,7 +514,7 @@ PYBIND11_MODULE(_masse, m)
     m.def("_collect", &collect);
     m.def("set_threads", &setThreads, py::arg("n"),
           "Threads for the engine's kernels (1 to 1024); results are the same bits at any count.");
-    m.def("threads", &threadCount, "Threads the engine's kernels use.");
+    m.def("threads", &moduleThreads, "Threads the engine's kernels use.");
 
     py::class_<PyScene>(m, "_Scene")
         .def(py::init<const Spec&>())

@@ -46,6 +46,7 @@ struct BenchOptions
     std::string structure; // "" keeps the scene's
     std::string size;      // "" keeps the scene's
     std::string integrator;
+    scene::EngineSettings engine;
     int steps = 5;
     int repeat = 5;
     std::string dt; // "" keeps the scene's (the paper's 0.03 s in the bench scenes)
@@ -112,6 +113,7 @@ scene::SceneSpec benchScene(const BenchOptions& options)
         underFlag("--temperature", [&] { validate(spec.material.springs); });
         spec.sheet.lattice.maxCorner.y() = spec.sheet.lattice.minCorner.y() + spec.material.thickness;
     }
+    spec.engine = options.engine;
     // The run's own length and rest do not apply: the bench takes its steps.
     spec.run.stopAtRest = false;
     spec.run.duration = std::numeric_limits<Real>::infinity();
@@ -170,6 +172,7 @@ nlohmann::json contactFigures(const Simulator& simulator, const ContactSolver& c
     const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
     std::vector<Vec3> force(simulator.system().massCount(), Vec3::Zero());
     const MassSpringSystem& system = simulator.system();
+    const PoolScope threads(simulator.pool()); // the spring forces on the threads the steps had
     const auto springStart = std::chrono::steady_clock::now();
     for (std::uint64_t i = 0; i < rounds.substeps; ++i)
     {
@@ -207,7 +210,7 @@ nlohmann::json benchReport(const scene::SceneSpec& spec, const Simulator& simula
         {"size", std::to_string(spec.sheet.lattice.countX) + "x" + std::to_string(spec.sheet.lattice.layers) + "x" +
                      std::to_string(spec.sheet.lattice.countZ)},
         {"integrator", integratorName(kind)},
-        {"threads", threadCount()},
+        {"threads", simulator.threadCount()},
         {"simd", simdPathName(activeSimdPath())},
         {"masses", simulator.system().massCount()},
         {"springs", simulator.system().springCount()},
@@ -357,7 +360,7 @@ void addBenchCommand(CLI::App& app)
                       "Time data/scenes/bench-contact.json (the sheet resting on two boxes) and report the share of "
                       "step time spent on contact");
     addSetOption(*command, options->settings);
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->engine);
     command->add_flag("--baseline", options->baseline,
                       "Also time a plain single-threaded scalar loop over the same springs, round by round, and "
                       "report the engine's speed-up over it (median of the rounds' ratios)");

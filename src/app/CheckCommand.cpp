@@ -21,6 +21,7 @@ struct CheckOptions
     std::vector<std::string> paths;
     bool record = false;
     std::vector<std::string> settings;
+    scene::EngineSettings engine;
 };
 
 void runCheck(const CheckOptions& options)
@@ -42,7 +43,7 @@ void runCheck(const CheckOptions& options)
     {
         for (const std::string& file : files)
         {
-            scene::recordRegression(file);
+            scene::recordRegression(file, options.engine);
             std::printf("recorded %s\n", file.c_str());
         }
         return;
@@ -51,7 +52,7 @@ void runCheck(const CheckOptions& options)
     int failed = 0;
     for (const std::string& file : files)
     {
-        results.push_back(scene::runRegression(file, overrides));
+        results.push_back(scene::runRegression(file, overrides, options.engine));
         failed += results.back().passed() ? 0 : 1;
     }
     std::printf("%s", scene::regressionTable(results).c_str());
@@ -72,7 +73,7 @@ void addCheckCommand(CLI::App& app)
     command->add_flag(
         "--record", options->record,
         "Write the observed events and state hash into each file's expect block (after an intended change)");
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->engine);
     addSetOption(*command, options->settings);
     command->callback([options] { runCheck(*options); });
 }

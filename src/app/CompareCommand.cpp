@@ -121,7 +121,7 @@ void addCompareCommand(CLI::App& app)
         command->add_option("--bullet-substeps", options->bulletSubsteps,
                             "Bullet substeps per scene step (default: the scene's bullet.substeps)");
     command->add_flag("--quiet", options->quiet, "No progress display");
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->overrides.engine);
     addSceneOverrides(*command, options->overrides);
     command->callback([options, substeps] { runCompare(*options, substeps->count() > 0); });
 }

@@ -102,7 +102,7 @@ void addPaperCommand(CLI::App& app)
     command->add_flag("--force", options->force, "Replace an --out folder that already holds files");
     command->add_option("--scene", options->scene, "Drop scene (default: data/scenes/paper-drop.json)");
     command->add_option("--sizes", options->sizes, "Sheet sizes N (default 3,6,8,9,12)")->delimiter(',');
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->overrides.engine);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runPaper(*options, true); });
 }
@@ -117,7 +117,7 @@ void addDemoCommand(CLI::App& app)
     command->add_flag("--headless", *headless, "Print the table even when a display is available");
     command->add_option("--out", options->out,
                         "Headless: also write figure18.csv and the plot figure18.png into this folder");
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->overrides.engine);
     command->callback(
         [options, headless]
         {
@@ -126,7 +126,9 @@ void addDemoCommand(CLI::App& app)
                 const viewer::DisplayConnection display;
                 if (display.connected())
                 {
-                    viewer::runViewer(scene::loadScene(dataDirectory() + "/scenes/paper-drop.json"), {});
+                    scene::SceneSpec spec = scene::loadScene(dataDirectory() + "/scenes/paper-drop.json");
+                    spec.engine = options->overrides.engine;
+                    viewer::runViewer(spec, {});
                     return;
                 }
             }

@@ -113,7 +113,7 @@ void addRunCommand(CLI::App& app)
     command->add_option("--frames-every", options->framesEvery, "Write the sheet every K steps (0: never)");
     command->add_option("--format", options->formats, "Frame formats: vtp, obj")->delimiter(',');
     command->add_flag("--quiet", options->quiet, "No progress display");
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->overrides.engine);
     addSceneOverrides(*command, options->overrides);
     command->callback([options] { runRun(*options); });
 }

@@ -1,5 +1,7 @@
 #include "SceneOptions.h"
 
+#include "scene/EngineEnvironment.h"
+
 #include "core/parallel/TaskPool.h"
 
 #include <CLI/CLI.hpp>
@@ -67,7 +69,7 @@ scene::SceneSpec loadSceneWithOverrides(const std::string& path, const SceneOver
     return scene::loadScene(path, overrides);
 }
 
-void addThreadsOption(CLI::App& command)
+void addThreadsOption(CLI::App& command, scene::EngineSettings& engine)
 {
     auto threads = std::make_shared<int>(0);
     command
@@ -76,8 +78,18 @@ void addThreadsOption(CLI::App& command)
                     "core); results are the same bits at any count")
         ->check(threadCount);
     command.parse_complete_callback(
-        [threads]
-        { underFlag("--threads", [&] { setThreadCount(*threads != 0 ? *threads : defaultThreadCount()); }); });
+        [threads, &engine]
+        {
+            if (*threads != 0)
+            {
+                underFlag("--threads", [&] { requireThreadCount(*threads); });
+            }
+            engine = scene::engineFromEnvironment(*threads);
+            // Started once here and stopped: a count the system cannot start (a memory or process limit) is refused
+            // naming the flag, before any scene is read or folder touched. Each scene then starts a pool of its own.
+            underFlag("--threads", [&] { const TaskPool probe(engine.threads); });
+            scene::applySimdFromEnvironment();
+        });
 }
 
 std::string dataDirectory()

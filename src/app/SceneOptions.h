@@ -22,9 +22,11 @@ using scene::underFlag;
 
 /// Adds --integrator, --dt, --duration, --size and --set to a command.
 void addSceneOverrides(CLI::App& command, SceneOverrides& overrides);
-/// Adds --threads N to a command that simulates. Before the command's action runs, the kernels' thread pool is sized:
-/// N if given, else $MASSE_THREADS, else every core (a bad value is an InputError naming the flag or variable).
-void addThreadsOption(CLI::App& command);
+/// Adds --threads N to a command that simulates. Before the command's action runs, `engine` is filled in: threads N
+/// if given, else $MASSE_THREADS, else every core; the stability estimate from $MASSE_STABILITY; and $MASSE_SIMD, if
+/// set, forces the SIMD path (a bad value is an InputError naming the flag or variable). This is where the `masse`
+/// command reads the engine's environment (scene/EngineEnvironment.h).
+void addThreadsOption(CLI::App& command, scene::EngineSettings& engine);
 /// Refuses a value of `option` that is not a whole number of threads from 1 to 1024 ("", 0 and 100000 included).
 void checkThreadCount(CLI::Option& option);
 /// Adds --set KEY=VALUE (repeatable) to a command.

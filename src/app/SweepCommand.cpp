@@ -7,7 +7,6 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
-#include "core/parallel/TaskPool.h"
 #include "scene/output/AtomicFile.h"
 #include "scene/study/Study.h"
 #include "scene/study/StudyFolder.h"
@@ -269,8 +268,7 @@ void runSweep(const SweepOptions& options)
     local.threads = std::max(1, options.threads);
     local.terminal = ::isatty(STDERR_FILENO) != 0;
     // Each case in a forked copy of this process, through the same command line as `masse run`. Fork needs a
-    // single-threaded sweep: one thread in the pool (the sweep itself simulates nothing).
-    setThreadCount(1);
+    // single-threaded sweep: it simulates nothing, so no task pool has started a thread.
     local.runInProcess = masseMain;
     std::fflush(stdout);
     const scene::LocalRunReport report = scene::runCasesLocally(dir, cases, local, std::cerr);

@@ -146,7 +146,7 @@ void addViewCommand(CLI::App& app)
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");
     command->add_flag("--compare", options->viewer.compare,
                       "Run Bullet's soft-body twin beside the sheet and draw it as a ghost (see masse compare)");
-    addThreadsOption(*command);
+    addThreadsOption(*command, options->overrides.engine);
     addSceneOverrides(*command, options->overrides);
     command->footer(
         "Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "

@@ -13,9 +13,28 @@
 namespace masse
 {
 Simulator::Simulator(MassSpringSystem system, const SimulatorSettings& settings)
-    : m_system(std::move(system)), m_settings(settings),
+    : Simulator(std::move(system), settings, std::make_shared<TaskPool>(settings.threads))
+{
+}
+
+Simulator::Simulator(MassSpringSystem system, const SimulatorSettings& settings, std::shared_ptr<TaskPool> pool)
+    : m_system(std::move(system)), m_settings(settings), m_pool(std::move(pool)),
       m_integrator(makeIntegrator(settings.integrator, settings.implicit))
 {
+    if (!m_pool)
+    {
+        throw std::invalid_argument("Simulator: no task pool");
+    }
+    m_settings.threads = m_pool->threadCount();
+}
+
+void Simulator::setThreadCount(int threads)
+{
+    if (threads != m_pool->threadCount() || m_pool.use_count() > 1)
+    {
+        m_pool = std::make_shared<TaskPool>(threads);
+    }
+    m_settings.threads = threads;
 }
 
 void Simulator::setIntegrator(IntegratorKind kind)
@@ -29,7 +48,8 @@ const StabilityEstimate& Simulator::stability() const
 {
     if (m_stabilityRevision != m_system.revision || m_system.forces.repulsion > 0)
     {
-        m_stability = estimateStability(m_system, m_settings.integrator, m_settings.stabilitySafety);
+        m_stability =
+            estimateStability(m_system, m_settings.integrator, m_settings.stabilitySafety, m_settings.stabilityMethod);
         m_stabilityRevision = m_system.revision;
     }
     return m_stability;
@@ -49,6 +69,7 @@ void requirePositiveStep(Real dt)
 int Simulator::substepsFor(Real dt) const
 {
     requirePositiveStep(dt);
+    const PoolScope threads(*m_pool);
     const StabilityEstimate& estimate = stability();
     if (!std::isfinite(estimate.stableStep))
     {
@@ -69,6 +90,7 @@ int Simulator::substepsFor(Real dt) const
 
 StepReport Simulator::step(Real dt)
 {
+    const PoolScope threads(*m_pool);
     if (isExplicit(m_settings.integrator))
     {
         return stepFrame(dt);

@@ -1,6 +1,7 @@
 #pragma once
 /// Advances a sheet in time: splits each requested step into stable substeps for the explicit integrators, keeps the
-/// clock, and refuses to go on silently with a non-finite state.
+/// clock, and refuses to go on silently with a non-finite state. Its kernels run on a task pool of its own, or one
+/// it is given: nothing in the engine is shared between simulators unless their program shares it.
 
 #include "core/DivergenceGuard.h"
 #include "core/NumericalError.h"
@@ -9,6 +10,7 @@
 #include "core/integrate/Integrator.h"
 #include "core/integrate/SolverTally.h"
 #include "core/integrate/StabilityEstimate.h"
+#include "core/parallel/TaskPool.h"
 
 #include <memory>
 #include <stdexcept>
@@ -21,6 +23,11 @@ struct SimulatorSettings
     ImplicitSettings implicit;
     Real stabilitySafety = 0.5; ///< fraction of the estimated stable step the explicit integrators take
     int maxSubsteps = 100000;   ///< per step; beyond it the step is refused with a message (use the implicit one)
+    /// How the explicit integrators' stable step is estimated; the power estimate is tight, Gershgorin's bound safe.
+    StabilityMethod stabilityMethod = StabilityMethod::Power;
+    /// Threads of the simulator's own pool, the calling thread included (1 to maxThreadCount): the same bits at any
+    /// count. Unused when the simulator is given a pool.
+    int threads = 1;
 };
 
 /// What one call to Simulator::step did.
@@ -36,7 +43,11 @@ struct StepReport
 class Simulator
 {
 public:
+    /// Throws InputError for field "threads" when settings.threads is out of range or the threads cannot start.
     Simulator(MassSpringSystem system, const SimulatorSettings& settings);
+    /// Runs its kernels on `pool` (not null), which several simulators may share: a pool runs one loop at a time, and
+    /// a simulator stepping while another uses it runs its loops on its own thread (the same bits).
+    Simulator(MassSpringSystem system, const SimulatorSettings& settings, std::shared_ptr<TaskPool> pool);
 
     /// Advances by dt seconds (dt > 0). Throws InputError for a bad dt or one that would need more than maxSubsteps,
     /// NumericalError if the guard finds the state unsound (non-finite, too fast, energy from nowhere). With one
@@ -59,6 +70,12 @@ public:
     /// Models advanced with the mechanics, in the order added (see StepHook.h). Each must outlive its use here.
     void addHook(StepHook* hook) { m_hooks.push_back(hook); }
     Real time() const { return m_time; }
+    /// The pool its kernels run on. A program that calls kernels between steps (a report, an energy) binds it with a
+    /// PoolScope to run them on the same threads.
+    TaskPool& pool() const { return *m_pool; }
+    int threadCount() const { return m_pool->threadCount(); }
+    /// Replaces the pool by one of its own of `threads` threads (see SimulatorSettings::threads); between steps only.
+    void setThreadCount(int threads);
     /// The divergence guard run after every step (its bounds come from the scene).
     DivergenceGuard& guard() { return m_guard; }
     std::uint64_t substepCount() const { return m_substepCount; }
@@ -77,6 +94,7 @@ private:
     MassSpringSystem m_system;
     StepContext m_context;
     SimulatorSettings m_settings;
+    std::shared_ptr<TaskPool> m_pool;
     std::unique_ptr<Integrator> m_integrator;
     ContactSolver* m_contact = nullptr;
     std::vector<StepHook*> m_hooks;

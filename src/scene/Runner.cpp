@@ -135,7 +135,7 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
         {"masses", p.size()},
         {"springs", scene.system().springCount()},
         {"integrator", integratorName(spec.time.integrator)},
-        {"threads", threadCount()},
+        {"threads", scene.simulator().threadCount()},
         {"simd", simdPathName(activeSimdPath())},
         {"dt", spec.time.dt},
         {"steps", scene.steps()},
@@ -238,6 +238,8 @@ void applyFrameFlags(SceneSpec& spec, std::optional<int> framesEvery, const std:
 
 RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progressOut)
 {
+    // The reports and frames written between steps run their kernels on the scene's threads too.
+    const PoolScope threads(scene.simulator().pool());
     RunResult result;
     const bool writing = !options.outDir.empty();
     const int framesEvery = scene.spec().output.framesEvery;

@@ -203,6 +203,8 @@ void Scene::buildSimulator(MassSpringSystem sheet)
     settings.integrator = m_spec.time.integrator;
     settings.implicit = m_spec.time.implicit;
     settings.stabilitySafety = m_spec.time.stabilitySafety;
+    settings.stabilityMethod = m_spec.engine.stability;
+    settings.threads = m_spec.engine.threads;
     m_simulator = std::make_unique<Simulator>(std::move(sheet), settings);
     // The heat model publishes its own thickness every frame; without one the springs follow this one.
     m_simulator->context().thickness = m_thickness.get();
@@ -426,6 +428,12 @@ void Scene::setAmbientTemperature(Real kelvin)
     m_thermal->setSettings(settings);
 }
 
+void Scene::setThreadCount(int threads)
+{
+    m_simulator->setThreadCount(threads);
+    m_spec.engine.threads = threads;
+}
+
 Real Scene::wallSeconds() const
 {
     return std::chrono::duration<Real>(std::chrono::steady_clock::now() - m_start).count();
@@ -450,6 +458,7 @@ Real Scene::eventTime(const std::string& name, const std::string& object) const
 
 Real Scene::kineticEnergy() const
 {
+    const PoolScope threads(m_simulator->pool());
     return masse::kineticEnergy(system().particles);
 }
 
@@ -464,6 +473,7 @@ Real Scene::nextStep() const
 
 StepReport Scene::step()
 {
+    const PoolScope threads(m_simulator->pool()); // the rest test's energy too
     const StepReport report = m_simulator->step(nextStep());
     ++m_steps;
     const std::vector<ContactEvent>& contacts = m_contact->report().firstContacts();

@@ -54,6 +54,10 @@ public:
     Real time() const { return m_simulator->time(); }
     std::uint64_t steps() const { return m_steps; }
     Simulator& simulator() { return *m_simulator; }
+    const Simulator& simulator() const { return *m_simulator; }
+    /// Replaces the simulator's task pool by one of `threads` threads (the spec's engine.threads, kept on reset);
+    /// between steps only. Throws InputError for field "threads" when out of range.
+    void setThreadCount(int threads);
     MassSpringSystem& system() { return m_simulator->system(); }
     const MassSpringSystem& system() const { return m_simulator->system(); }
     const Lattice& lattice() const { return m_lattice; }

@@ -168,6 +168,7 @@ double secondsFlag(const std::string& flag, const std::string& text, double lo, 
 
 void applyFlags(const SceneFlags& flags, SceneSpec& spec)
 {
+    spec.engine = flags.engine;
     if (!flags.integrator.empty())
     {
         underFlag("--integrator", [&] { spec.time.integrator = parseIntegrator(flags.integrator); });

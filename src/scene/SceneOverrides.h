@@ -42,7 +42,8 @@ SceneSpec parseSceneWith(const nlohmann::json& document, const std::vector<KeyOv
                          const std::string& prefix = "--set ");
 
 /// What the commands that run scenes (run, view, compare, paper) and the Python module take besides the scene: the
-/// values of --integrator, --dt, --duration and --size as given ("" when not), and the --set settings as text.
+/// values of --integrator, --dt, --duration and --size as given ("" when not), the --set settings as text, and the
+/// engine settings (from --threads and the environment).
 struct SceneFlags
 {
     std::string integrator;
@@ -50,11 +51,12 @@ struct SceneFlags
     std::string duration;
     std::string size;
     std::vector<std::string> settings; ///< KEY=VALUE, in the order given
+    EngineSettings engine;
 };
 
 /// The --set settings parsed (throws InputError naming a malformed one).
 std::vector<KeyOverride> parseSettings(const std::vector<std::string>& settings);
-/// Applies the flags other than --set (throws InputError for bad values, naming the flag).
+/// Applies the flags other than --set, and the engine settings (throws InputError for bad values, naming the flag).
 void applyFlags(const SceneFlags& flags, SceneSpec& spec);
 /// Reads the scene at `path` with the --set keys changed, then applies the other flags.
 SceneSpec loadScene(const std::string& path, const SceneFlags& flags);

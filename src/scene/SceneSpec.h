@@ -12,6 +12,7 @@
 #include "core/MassSpringSystem.h"
 #include "core/contact/Contact.h"
 #include "core/integrate/Integrator.h"
+#include "core/integrate/StabilityEstimate.h"
 #include "core/lattice/Lattice.h"
 #include "core/material/Material.h"
 #include "core/material/ThermalModel.h"
@@ -176,6 +177,17 @@ struct BulletSpec
     bool calibrate = false;
 };
 
+/// How the engine runs a scene, chosen by the program that runs it, never by the scene file: the `masse` command takes
+/// them from --threads and its environment (EngineEnvironment.h), the Python module from masse.set_threads and the
+/// same environment, a test or an embedding program sets them.
+struct EngineSettings
+{
+    /// Threads of the scene's task pool, the calling thread included: the same bits at any count.
+    int threads = 1;
+    /// The explicit integrators' stable step: results hold for the power estimate (see StabilityMethod).
+    StabilityMethod stability = StabilityMethod::Power;
+};
+
 struct SceneSpec
 {
     std::string name;
@@ -208,5 +220,6 @@ struct SceneSpec
     std::vector<ScriptAction> script;
     OutputSpec output;
     BulletSpec bullet;
+    EngineSettings engine;
 };
 } // namespace masse::scene

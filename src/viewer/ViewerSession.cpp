@@ -59,7 +59,9 @@ bool ViewerSession::load(const std::string& path)
 {
     try
     {
-        replaceScene(scene::loadScene(path));
+        scene::SceneSpec spec = scene::loadScene(path);
+        spec.engine = m_scene->spec().engine; // the threads and estimate the viewer was started with
+        replaceScene(std::move(spec));
         return true;
     }
     catch (const std::exception& e)

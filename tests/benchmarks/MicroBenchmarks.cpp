@@ -1,7 +1,10 @@
 // Google Benchmark micro-benchmarks of the engine's kernels: `build/bin/masse_benchmarks` prints their figures.
 // They time; they do not assert (speed is reported, not tested). Their sheets come from the bench scenes in
 // data/scenes (bench-free-fall.json, bench-contact.json), at the size each benchmark names, so what they time can be
-// watched with `masse view`.
+// watched with `masse view`. Each binds a pool of $MASSE_THREADS (else every core) threads for the kernels it calls
+// directly, as the `masse` command would give a scene.
+
+#include "support/TestThreads.h"
 
 #include "scene/Scene.h"
 #include "scene/SceneOverrides.h"
@@ -43,6 +46,7 @@ MassSpringSystem paperSheet(int n)
 
 void springForces(benchmark::State& state)
 {
+    const test::BoundPool threads;
     const MassSpringSystem sheet = paperSheet(int(state.range(0)));
     std::vector<Vec3> force(sheet.massCount(), Vec3::Zero());
     for (auto _ : state)
@@ -57,6 +61,7 @@ BENCHMARK(springForces)->Arg(64)->Arg(128)->Arg(256)->Unit(benchmark::kMilliseco
 
 void implicitStep(benchmark::State& state)
 {
+    const test::BoundPool threads;
     MassSpringSystem sheet = paperSheet(int(state.range(0)));
     auto integrator = makeIntegrator(IntegratorKind::ImplicitEuler);
     integrator->step(sheet, paperTimeStep); // builds the sparsity pattern
@@ -105,6 +110,7 @@ void analyseForSheet(CholeskyPreconditioner& preconditioner, const MassSpringSys
 /// at 128x2x128 refactors some dozens of times as its material softens and its contacts change.
 void choleskyRefresh(benchmark::State& state)
 {
+    const test::BoundPool threads;
     const MassSpringSystem sheet = paperSheet(int(state.range(0)));
     const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
     CholeskyPreconditioner preconditioner;
@@ -126,6 +132,7 @@ BENCHMARK(choleskyRefresh)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillise
 /// factor's copies): what every conjugate-gradient iteration of an implicit step costs besides the product.
 void choleskyApply(benchmark::State& state)
 {
+    const test::BoundPool threads;
     const MassSpringSystem sheet = paperSheet(int(state.range(0)));
     const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
     CholeskyPreconditioner preconditioner;
@@ -154,6 +161,7 @@ BENCHMARK(choleskyApply)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinT
 /// then face planes or GJK for every mass), one projection pass and the frame's end.
 void contactDetection(benchmark::State& state)
 {
+    const test::BoundPool threads;
     scene::Scene scene(benchScene("bench-contact.json", int(state.range(0))));
     MassSpringSystem sheet = scene.system();
     ContactSolver& contact = scene.contact();

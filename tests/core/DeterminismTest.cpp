@@ -1,6 +1,7 @@
 // The task system and the engine's promise: the same scene gives the same bits at any thread count.
 
 #include "support/TestSystems.h"
+#include "support/TestThreads.h"
 
 #include "core/InputError.h"
 #include "core/MassSpringSystem.h"
@@ -23,12 +24,13 @@
 #include <optional>
 #include <random>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 #include <vector>
 
 using namespace masse;
+using masse::test::BoundPool;
 using masse::test::sameBits;
-using masse::test::ThreadCountGuard;
 using namespace masse::scene;
 
 namespace
@@ -68,7 +70,6 @@ struct RunOutcome
 RunOutcome runAt(int threads, const std::string& file, const std::string& size, Real duration,
                  std::optional<IntegratorKind> integrator = std::nullopt, const std::vector<std::string>& settings = {})
 {
-    setThreadCount(threads);
     std::vector<KeyOverride> overrides;
     for (const std::string& setting : settings)
     {
@@ -83,6 +84,7 @@ RunOutcome runAt(int threads, const std::string& file, const std::string& size, 
     {
         parseSize(size, spec.sheet.lattice);
     }
+    spec.engine.threads = threads;
     Scene scene(spec);
     RunOutcome outcome;
     while (scene.time() < duration - 1e-9)
@@ -104,7 +106,6 @@ RunOutcome expectSameAtEveryThreadCount(const std::string& file, const std::stri
                                         std::optional<IntegratorKind> integrator = std::nullopt,
                                         const std::vector<std::string>& settings = {})
 {
-    const ThreadCountGuard guard;
     const RunOutcome reference = runAt(threadCounts.front(), file, size, duration, integrator, settings);
     for (const int threads : std::vector<int>(threadCounts.begin() + 1, threadCounts.end()))
     {
@@ -140,10 +141,9 @@ TEST(TaskPool, RunsEveryChunkExactlyOnceAtAnyThreadCount)
 
 TEST(TaskPool, ParallelForCoversTheRangeInFixedChunks)
 {
-    const ThreadCountGuard guard;
     for (const int threads : threadCounts)
     {
-        setThreadCount(threads);
+        const BoundPool pool(threads);
         const std::size_t count = 10007;
         const std::size_t chunkSize = 100;
         std::vector<int> owner(count, -1);
@@ -183,11 +183,149 @@ TEST(TaskPool, RethrowsAChunksExceptionAndRunsNestedLoopsInline)
     EXPECT_EQ(inner.load(), 20);
 }
 
-// The bad values of the thread count are refused with a message naming the flag.
+// The bad values of the thread count are refused with a message naming the setting.
 TEST(TaskPool, RefusesAThreadCountBelowOne)
 {
-    EXPECT_THROW(setThreadCount(0), InputError);
-    EXPECT_THROW(setThreadCount(-3), InputError);
+    EXPECT_THROW(TaskPool(0), InputError);
+    EXPECT_THROW(TaskPool(-3), InputError);
+    EXPECT_THROW(requireThreadCount(maxThreadCount + 1), InputError);
+    try
+    {
+        requireThreadCount(0);
+        ADD_FAILURE() << "0 threads accepted";
+    }
+    catch (const InputError& e)
+    {
+        EXPECT_EQ(e.field(), "threads");
+    }
+}
+
+namespace
+{
+/// Records the pool the kernels run on while the simulator's hooks run (inside its step).
+class PoolWitness : public StepHook
+{
+public:
+    void afterSubstep(MassSpringSystem&, StepContext&, Real, Real) override { pools.push_back(boundPool()); }
+    std::vector<const TaskPool*> pools;
+};
+
+/// The Table 1 sheet at 48x2x48 (several chunks of every kernel) with its edge pinned, under symplectic Euler.
+MassSpringSystem pinnedSheet()
+{
+    MassSpringSystem sheet = test::paperSheet(48);
+    sheet.particles.setPinned(0, true);
+    return sheet;
+}
+} // namespace
+
+// A program embedding two simulators with different thread counts gets each its own pool: stepped alternately on
+// one thread, each runs its kernels on its own pool and ends with the bits of a lone run; a third given the first's
+// pool shares it.
+TEST(TaskPool, EachSimulatorRunsOnItsOwnPool)
+{
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    constexpr int steps = 4;
+    constexpr Real dt = 0.01;
+    const auto lone = [&](int threads)
+    {
+        SimulatorSettings own = settings;
+        own.threads = threads;
+        Simulator simulator(pinnedSheet(), own);
+        for (int i = 0; i < steps; ++i)
+        {
+            simulator.step(dt);
+        }
+        return stateHash(simulator.system().particles);
+    };
+    const std::uint64_t loneOne = lone(1);
+    const std::uint64_t loneTwo = lone(2);
+
+    SimulatorSettings oneThread = settings;
+    oneThread.threads = 1;
+    SimulatorSettings twoThreads = settings;
+    twoThreads.threads = 2;
+    Simulator first(pinnedSheet(), oneThread);
+    Simulator second(pinnedSheet(), twoThreads);
+    ASSERT_EQ(first.threadCount(), 1);
+    ASSERT_EQ(second.threadCount(), 2);
+    ASSERT_NE(&first.pool(), &second.pool());
+    PoolWitness firstWitness;
+    PoolWitness secondWitness;
+    first.addHook(&firstWitness);
+    second.addHook(&secondWitness);
+    for (int i = 0; i < steps; ++i)
+    {
+        first.step(dt);
+        second.step(dt);
+    }
+    EXPECT_EQ(stateHash(first.system().particles), loneOne);
+    EXPECT_EQ(stateHash(second.system().particles), loneTwo);
+    EXPECT_EQ(loneOne, loneTwo); // and the same bits at any count
+    ASSERT_FALSE(firstWitness.pools.empty());
+    ASSERT_FALSE(secondWitness.pools.empty());
+    for (const TaskPool* pool : firstWitness.pools)
+    {
+        EXPECT_EQ(pool, &first.pool());
+    }
+    for (const TaskPool* pool : secondWitness.pools)
+    {
+        EXPECT_EQ(pool, &second.pool());
+    }
+    EXPECT_EQ(boundPool(), nullptr); // nothing stays bound between steps
+
+    // Given a pool, a simulator shares it.
+    auto shared = std::make_shared<TaskPool>(2);
+    Simulator third(pinnedSheet(), settings, shared);
+    Simulator fourth(pinnedSheet(), settings, shared);
+    EXPECT_EQ(&third.pool(), shared.get());
+    EXPECT_EQ(&fourth.pool(), shared.get());
+    for (int i = 0; i < steps; ++i)
+    {
+        third.step(dt);
+        fourth.step(dt);
+    }
+    EXPECT_EQ(stateHash(third.system().particles), loneOne);
+    EXPECT_EQ(stateHash(fourth.system().particles), loneOne);
+}
+
+// Two simulators of different thread counts stepped at once from two threads (each its own pool, no lock between
+// them) end with the bits of a lone run.
+TEST(TaskPool, SimulatorsOnTwoThreadsEachKeepTheirBits)
+{
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::SymplecticEuler;
+    constexpr int steps = 4;
+    constexpr Real dt = 0.01;
+    Simulator lone(pinnedSheet(), settings);
+    for (int i = 0; i < steps; ++i)
+    {
+        lone.step(dt);
+    }
+    std::uint64_t hashes[2] = {0, 0};
+    std::vector<std::thread> programs;
+    for (const int threads : {1, 2})
+    {
+        programs.emplace_back(
+            [&, threads]
+            {
+                SimulatorSettings own = settings;
+                own.threads = threads;
+                Simulator simulator(pinnedSheet(), own);
+                for (int i = 0; i < steps; ++i)
+                {
+                    simulator.step(dt);
+                }
+                hashes[threads - 1] = stateHash(simulator.system().particles);
+            });
+    }
+    for (std::thread& program : programs)
+    {
+        program.join();
+    }
+    EXPECT_EQ(hashes[0], stateHash(lone.system().particles));
+    EXPECT_EQ(hashes[1], stateHash(lone.system().particles));
 }
 
 // The drop scene at 48x2x48 (6,817 masses, several chunks of every kernel) through its first contacts with the
@@ -282,13 +420,13 @@ TEST(Determinism, RegressionScenesKeepTheirRecordedHashAtEveryThreadCount)
     // quick regression scenes must reproduce this build type's hash at 1, 2 and 3 threads (at 2 under the thread
     // sanitizer). A build type without a recorded hash fails here, so every build type that runs the tests has its
     // goldens.
-    const ThreadCountGuard guard;
     for (const char* name : {"paper-drop-03", "paper-drop-06", "drag", "slope"})
     {
         for (const int threads : std::vector<int>(threadCounts.begin(), threadCounts.end() - 1))
         {
-            setThreadCount(threads);
-            const RegressionResult result = runRegression(source + "/data/regression/" + name + ".json");
+            EngineSettings engine;
+            engine.threads = threads;
+            const RegressionResult result = runRegression(source + "/data/regression/" + name + ".json", {}, engine);
             const auto hash = std::find_if(result.checks.begin(), result.checks.end(),
                                            [](const Check& c) { return c.what.rfind("state hash (", 0) == 0; });
             ASSERT_NE(hash, result.checks.end())
@@ -301,7 +439,6 @@ TEST(Determinism, RegressionScenesKeepTheirRecordedHashAtEveryThreadCount)
 
 TEST(Determinism, EverySimdPathGivesTheSameHash)
 {
-    const ThreadCountGuard guard;
     const SimdPath active = activeSimdPath();
     setSimdPath(SimdPath::Default);
     const RunOutcome reference = runAt(1, "paper-drop.json", "48x2x48", 0.6);
@@ -334,10 +471,11 @@ struct ContactOutcome
     std::vector<int> touchingFace;
 };
 
-ContactOutcome runContactScene(const std::string& file, const std::string& size, Real duration)
+ContactOutcome runContactScene(const std::string& file, const std::string& size, Real duration, int threads)
 {
     SceneSpec spec = loadScene(source + "/data/scenes/" + file);
     parseSize(size, spec.sheet.lattice);
+    spec.engine.threads = threads;
     Scene scene(spec);
     while (scene.time() < duration - 1e-9)
     {
@@ -356,15 +494,13 @@ ContactOutcome runContactScene(const std::string& file, const std::string& size,
 // nearest an edge) and the floor.
 TEST(Determinism, ContactGivesTheScalarBitsOnEverySimdPath)
 {
-    const ThreadCountGuard guard;
     const SimdPath active = activeSimdPath();
-    setThreadCount(2);
     for (const auto& [file, size, duration] :
          {std::tuple<std::string, std::string, Real>{"bench-contact.json", "48x2x48", 0.6},
           std::tuple<std::string, std::string, Real>{"paper-drop.json", "24x2x24", 1.5}})
     {
         setSimdPath(SimdPath::Default);
-        const ContactOutcome reference = runContactScene(file, size, duration);
+        const ContactOutcome reference = runContactScene(file, size, duration, 2);
         std::size_t touching = 0;
         for (const int obstacle : reference.touchingObstacle)
         {
@@ -374,7 +510,7 @@ TEST(Determinism, ContactGivesTheScalarBitsOnEverySimdPath)
         for (const SimdPath path : supportedSimdPaths())
         {
             setSimdPath(path);
-            const ContactOutcome outcome = runContactScene(file, size, duration);
+            const ContactOutcome outcome = runContactScene(file, size, duration, 2);
             EXPECT_TRUE(sameBits(outcome.position, reference.position)) << file << " " << simdPathName(path);
             EXPECT_TRUE(sameBits(outcome.velocity, reference.velocity)) << file << " " << simdPathName(path);
             EXPECT_TRUE(sameBits(outcome.contactForce, reference.contactForce)) << file << " " << simdPathName(path);
@@ -416,7 +552,6 @@ MassSpringSystem shakenSheet(Structure structure, const std::string& size, Real 
 // sheets have several bands, so the boundary rows between bands are exercised.
 TEST(Determinism, BandedKernelHasTheBitsOfThePerMassGather)
 {
-    const ThreadCountGuard guard;
     const SimdPath active = activeSimdPath();
     const std::pair<Structure, const char*> sheets[] = {{Structure::Square2D, "9x1x7"},  {Structure::SaMM, "8x2x11"},
                                                         {Structure::SLaMM, "7x3x9"},     {Structure::TRiMM, "10x2x8"},
@@ -434,8 +569,7 @@ TEST(Determinism, BandedKernelHasTheBitsOfThePerMassGather)
             ASSERT_EQ(bandedPerSpring.springs.uniformCoefficients(), nullptr);
             MassSpringSystem gathered = banded;
             gathered.springs.setRowPlan(nullptr);
-            setThreadCount(1);
-            setSimdPath(SimdPath::Default);
+            setSimdPath(SimdPath::Default); // and no pool: the reference on this thread alone
             std::vector<Vec3> reference;
             evaluateForces(gathered, gathered.particles.position, gathered.particles.velocity, reference);
             MassSpringSystem steppedReference = gathered;
@@ -445,7 +579,7 @@ TEST(Determinism, BandedKernelHasTheBitsOfThePerMassGather)
                 setSimdPath(path);
                 for (const int threads : {1, 2, 3})
                 {
-                    setThreadCount(threads);
+                    const BoundPool pool(threads);
                     const std::string where = std::string(structureName(structure)) + " " + size + " repulsion " +
                                               std::to_string(repulsion) + " " + std::string(simdPathName(path)) +
                                               " at " + std::to_string(threads) + " threads";

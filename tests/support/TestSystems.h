@@ -6,7 +6,6 @@
 #include "core/Simulator.h"
 #include "core/forces/Damping.h"
 #include "core/forces/SimdPath.h"
-#include "core/parallel/TaskPool.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,19 +15,6 @@
 
 namespace masse::test
 {
-/// Restores the process's thread count when a test ends, whatever it set (also when an assertion ends it early).
-class ThreadCountGuard
-{
-public:
-    ThreadCountGuard() : m_threads(threadCount()) {}
-    ~ThreadCountGuard() { setThreadCount(m_threads); }
-    ThreadCountGuard(const ThreadCountGuard&) = delete;
-    ThreadCountGuard& operator=(const ThreadCountGuard&) = delete;
-
-private:
-    int m_threads;
-};
-
 /// Restores the SIMD path in use when it goes out of scope, however the test ends.
 class SimdPathGuard
 {

@@ -4,7 +4,6 @@
 #include "core/NamedEnum.h"
 
 #include <atomic>
-#include <cstdlib>
 #include <string>
 
 #if defined(__x86_64__) && defined(__GNUC__)
@@ -32,7 +31,8 @@ constexpr EnumName<SimdPath> simdNames[] = {
     {SimdPath::Avx512, "avx512"},
 };
 
-/// -1 until chosen, else the SimdPath.
+/// -1 until chosen, else the SimdPath. One for the process, unlike the thread pool: it is a property of the processor
+/// the kernels run on, and every path gives the same bits, so two simulators never need different ones.
 std::atomic<int> chosenPath{-1};
 
 SimdPath bestSupported()
@@ -47,9 +47,9 @@ std::string_view simdPathName(SimdPath path)
     return enumName(simdNames, path);
 }
 
-SimdPath parseSimdPath(std::string_view name)
+SimdPath parseSimdPath(std::string_view name, std::string_view field)
 {
-    return parseEnum(simdNames, name, "MASSE_SIMD", "SIMD path");
+    return parseEnum(simdNames, name, field, "SIMD path");
 }
 
 bool simdPathSupported(SimdPath path)
@@ -88,16 +88,7 @@ SimdPath activeSimdPath()
     int path = chosenPath.load(std::memory_order_relaxed);
     if (path < 0)
     {
-        SimdPath chosen = bestSupported();
-        if (const char* text = std::getenv("MASSE_SIMD"))
-        {
-            chosen = parseSimdPath(text);
-            if (!simdPathSupported(chosen))
-            {
-                throw InputError(std::string("MASSE_SIMD: this processor cannot run the ") + text + " path");
-            }
-        }
-        path = int(chosen);
+        path = int(bestSupported());
         chosenPath.store(path, std::memory_order_relaxed);
     }
     return SimdPath(path);

@@ -16,13 +16,13 @@ enum class SimdPath
 };
 
 std::string_view simdPathName(SimdPath path);
-/// Parses "default", "avx2" or "avx512"; throws InputError naming the allowed names.
-SimdPath parseSimdPath(std::string_view name);
+/// Parses "default", "avx2" or "avx512"; throws InputError for `field` naming the allowed names.
+SimdPath parseSimdPath(std::string_view name, std::string_view field = "simd");
 /// Whether this processor can run the path.
 bool simdPathSupported(SimdPath path);
 /// The paths this processor can run, widest last.
 std::vector<SimdPath> supportedSimdPaths();
-/// The path in use: set by setSimdPath, else $MASSE_SIMD, else the widest this processor supports.
+/// The path in use: set by setSimdPath, else the widest this processor supports.
 SimdPath activeSimdPath();
 /// Forces a path (for tests and benchmarks); throws InputError if this processor cannot run it.
 void setSimdPath(SimdPath path);

@@ -1,11 +1,11 @@
 #include "core/integrate/StabilityEstimate.h"
 
 #include "core/InputError.h"
+#include "core/NamedEnum.h"
 #include "core/parallel/TaskPool.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -21,29 +21,10 @@ constexpr int stiffnessPowerIterations = 40;
 constexpr Real powerMargin = 1.1;
 constexpr std::size_t springChunk = 16384;
 
-/// Whether the power estimate is used: yes unless MASSE_STABILITY=gershgorin. The power estimate takes 28 substeps
-/// where Gershgorin's bound takes 45 for the Table 1 sheet at dt 0.03 (the stiffest mode needs about 22). Changing the
-/// substep moves the drop scenes' rest times, which are very sensitive to it (the 8x2x8 drop rests at 5.43 s with the
-/// bound at safety 0.5 and at 4.41 s at safety 0.45), so the regression scenes' expected results hold for the power
-/// estimate only; the bound stays available for comparison.
-bool powerEstimateEnabled()
-{
-    static const bool enabled = []
-    {
-        const char* text = std::getenv("MASSE_STABILITY");
-        if (!text || std::string(text) == "power")
-        {
-            return true;
-        }
-        if (std::string(text) == "gershgorin")
-        {
-            return false;
-        }
-        throw InputError(std::string("MASSE_STABILITY: unknown stability estimate '") + text +
-                         "' (expected one of power, gershgorin)");
-    }();
-    return enabled;
-}
+constexpr EnumName<StabilityMethod> stabilityMethodNames[] = {
+    {StabilityMethod::Power, "power"},
+    {StabilityMethod::Gershgorin, "gershgorin"},
+};
 
 /// A reproducible pseudo-random number in [-1, 1) for coordinate c of mass i (splitmix64): the start vector has a
 /// component along every mode, whatever the lattice.
@@ -192,7 +173,18 @@ Real powerFrequency(const MassSpringSystem& system)
 }
 } // namespace
 
-StabilityEstimate estimateStability(const MassSpringSystem& system, IntegratorKind kind, Real safety)
+std::string_view stabilityMethodName(StabilityMethod method)
+{
+    return enumName(stabilityMethodNames, method);
+}
+
+StabilityMethod parseStabilityMethod(std::string_view name, std::string_view field)
+{
+    return parseEnum(stabilityMethodNames, name, field, "stability estimate");
+}
+
+StabilityEstimate estimateStability(const MassSpringSystem& system, IntegratorKind kind, Real safety,
+                                    StabilityMethod method)
 {
     StabilityEstimate estimate;
     const Particles& p = system.particles;
@@ -248,7 +240,7 @@ StabilityEstimate estimateStability(const MassSpringSystem& system, IntegratorKi
     // The Gershgorin bound is about twice the sheet's real highest frequency; the power estimate is tight. It
     // linearises at the current lengths, which the repulsion makes change quickly, so with repulsion the bound
     // stays.
-    if (repulsion == 0 && powerEstimateEnabled())
+    if (repulsion == 0 && method == StabilityMethod::Power)
     {
         w = std::min(w, powerFrequency(system));
     }

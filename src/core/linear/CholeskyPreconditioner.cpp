@@ -141,18 +141,18 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
             m_diagonal[std::size_t(i)] = float(diagonal[i]);
         }
         const SparseMatrix& lower = m_factor.lower();
-        sharedPool().run(2,
-                         [&](std::size_t copy)
-                         {
-                             if (copy == 0)
-                             {
-                                 m_forward.assignLowerRows(lower);
-                             }
-                             else
-                             {
-                                 m_backward.assignLowerColumnsLastFirst(lower);
-                             }
-                         });
+        runChunks(2,
+                  [&](std::size_t copy)
+                  {
+                      if (copy == 0)
+                      {
+                          m_forward.assignLowerRows(lower);
+                      }
+                      else
+                      {
+                          m_backward.assignLowerColumnsLastFirst(lower);
+                      }
+                  });
     }
     ++m_refreshCount;
     return m_ready;
@@ -222,19 +222,18 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     float* work = m_permuted.data();
     for (const std::vector<OrderRange>& ranges : m_stages)
     {
-        sharedPool().run(
-            ranges.size(), [&](std::size_t k)
-            { forwardRowsOn(path, forward, work, Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
+        runChunks(ranges.size(), [&](std::size_t k)
+                  { forwardRowsOn(path, forward, work, Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
     }
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
         const std::vector<OrderRange>& ranges = *stage;
-        sharedPool().run(ranges.size(),
-                         [&](std::size_t k)
-                         {
-                             backwardRowsOn(path, backward, m_diagonal.data(), work, n, Eigen::Index(ranges[k].begin),
-                                            Eigen::Index(ranges[k].end));
-                         });
+        runChunks(ranges.size(),
+                  [&](std::size_t k)
+                  {
+                      backwardRowsOn(path, backward, m_diagonal.data(), work, n, Eigen::Index(ranges[k].begin),
+                                     Eigen::Index(ranges[k].end));
+                  });
     }
     for (Eigen::Index i = 0; i < n; ++i)
     {

@@ -396,14 +396,14 @@ bool StagedLdlt::factorize(const SparseMatrix& permuted)
             continue;
         }
         const std::vector<OrderRange>& ranges = m_stages[stage];
-        sharedPool().run(ranges.size(),
-                         [&](std::size_t r)
-                         {
-                             if (!factorRows(StorageIndex(ranges[r].begin), StorageIndex(ranges[r].end)))
-                             {
-                                 ok = false;
-                             }
-                         });
+        runChunks(ranges.size(),
+                  [&](std::size_t r)
+                  {
+                      if (!factorRows(StorageIndex(ranges[r].begin), StorageIndex(ranges[r].end)))
+                      {
+                          ok = false;
+                      }
+                  });
         if (!ok)
         {
             return false;
@@ -500,134 +500,134 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
     // are read once for the block rather than once a row (row by row, these reads were most of a refactorisation).
     // The block's columns come in increasing order; where a row has no entry its y is zero, and its lane's
     // arithmetic changes nothing.
-    sharedPool().run(blocks.size(),
-                     [&](std::size_t task)
-                     {
-                         const std::size_t b = blocks[task];
-                         Separator& separator = m_separators[m_blocks.separator[b]];
-                         const StorageIndex firstRow = m_blocks.firstRow[b];
-                         const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
-                         thread_local std::vector<Real> scratch; // lanes values per row, all zero between blocks
-                         if (scratch.size() != n * lanes)
-                         {
-                             scratch.assign(n * lanes, 0);
-                         }
-                         Real* y = scratch.data();
-                         alignas(64) Real d[lanes] = {};
-                         for (std::size_t lane = 0; lane < count; ++lane)
-                         {
-                             const StorageIndex k = firstRow + StorageIndex(lane);
-                             for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
-                             {
-                                 const StorageIndex i = StorageIndex(it.index());
-                                 if (i < separator.begin)
-                                 {
-                                     y[std::size_t(i) * lanes + lane] += it.value();
-                                 }
-                                 else if (i == k)
-                                 {
-                                     d[lane] += it.value();
-                                 }
-                             }
-                         }
-                         const BlockColumns block = blockColumns(b);
-                         eliminateBelowOn(path, block, start, rows, values, m_diagonal.data(), y, d);
-                         const std::size_t firstEntry = m_blocks.start[b];
-                         for (std::size_t j = 0; j < block.count; ++j)
-                         {
-                             const StorageIndex* position = m_blocks.position.data() + (firstEntry + j) * lanes;
-                             const Real* yc = block.y + j * lanes;
-                             for (unsigned set = m_blocks.rows[firstEntry + j]; set != 0; set &= set - 1)
-                             {
-                                 const int lane = __builtin_ctz(set);
-                                 rows[position[lane]] = firstRow + StorageIndex(lane);
-                                 values[position[lane]] = yc[lane] / m_diagonal[block.column[j]];
-                             }
-                         }
-                         for (std::size_t lane = 0; lane < count; ++lane)
-                         {
-                             separator.partialPivot[std::size_t(firstRow - separator.begin) + lane] = d[lane];
-                         }
-                     });
+    runChunks(blocks.size(),
+              [&](std::size_t task)
+              {
+                  const std::size_t b = blocks[task];
+                  Separator& separator = m_separators[m_blocks.separator[b]];
+                  const StorageIndex firstRow = m_blocks.firstRow[b];
+                  const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
+                  thread_local std::vector<Real> scratch; // lanes values per row, all zero between blocks
+                  if (scratch.size() != n * lanes)
+                  {
+                      scratch.assign(n * lanes, 0);
+                  }
+                  Real* y = scratch.data();
+                  alignas(64) Real d[lanes] = {};
+                  for (std::size_t lane = 0; lane < count; ++lane)
+                  {
+                      const StorageIndex k = firstRow + StorageIndex(lane);
+                      for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+                      {
+                          const StorageIndex i = StorageIndex(it.index());
+                          if (i < separator.begin)
+                          {
+                              y[std::size_t(i) * lanes + lane] += it.value();
+                          }
+                          else if (i == k)
+                          {
+                              d[lane] += it.value();
+                          }
+                      }
+                  }
+                  const BlockColumns block = blockColumns(b);
+                  eliminateBelowOn(path, block, start, rows, values, m_diagonal.data(), y, d);
+                  const std::size_t firstEntry = m_blocks.start[b];
+                  for (std::size_t j = 0; j < block.count; ++j)
+                  {
+                      const StorageIndex* position = m_blocks.position.data() + (firstEntry + j) * lanes;
+                      const Real* yc = block.y + j * lanes;
+                      for (unsigned set = m_blocks.rows[firstEntry + j]; set != 0; set &= set - 1)
+                      {
+                          const int lane = __builtin_ctz(set);
+                          rows[position[lane]] = firstRow + StorageIndex(lane);
+                          values[position[lane]] = yc[lane] / m_diagonal[block.column[j]];
+                      }
+                  }
+                  for (std::size_t lane = 0; lane < count; ++lane)
+                  {
+                      separator.partialPivot[std::size_t(firstRow - separator.begin) + lane] = d[lane];
+                  }
+              });
 
     // 2. Each row's column of the Schur complement: A's entries above it in the separator, less what the columns
     // below give them (their entries in the separator's rows above this one, written in step 1), a block of rows at
     // once as in step 1.
-    sharedPool().run(blocks.size(),
-                     [&](std::size_t task)
-                     {
-                         const std::size_t b = blocks[task];
-                         Separator& separator = m_separators[m_blocks.separator[b]];
-                         const StorageIndex firstRow = m_blocks.firstRow[b];
-                         const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
-                         const std::size_t first = std::size_t(firstRow - separator.begin);
-                         thread_local std::vector<Real> scratch; // lanes values per separator row
-                         const std::size_t needed = (first + count) * lanes;
-                         if (scratch.size() < needed)
-                         {
-                             scratch.resize(needed, 0);
-                         }
-                         Real* z = scratch.data();
-                         for (std::size_t lane = 0; lane < count; ++lane)
-                         {
-                             const StorageIndex k = firstRow + StorageIndex(lane);
-                             for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
-                             {
-                                 const StorageIndex i = StorageIndex(it.index());
-                                 if (i >= separator.begin && i < k)
-                                 {
-                                     z[std::size_t(i - separator.begin) * lanes + lane] += it.value();
-                                 }
-                             }
-                         }
-                         const StorageIndex lastRow = firstRow + StorageIndex(count) - 1;
-                         schurBlockOn(path, blockColumns(b), rows, values, separator.begin, lastRow, z);
-                         // Each row takes the rows above it in its lane; the block's rows before its last were
-                         // written for the lanes below them, and all are cleared for the next block.
-                         for (std::size_t lane = 0; lane < count; ++lane)
-                         {
-                             const std::size_t r = first + lane;
-                             Real* packed = separator.schur.data() + schurOffset(r);
-                             for (std::size_t j = 0; j < r; ++j)
-                             {
-                                 packed[j] = z[j * lanes + lane];
-                             }
-                         }
-                         std::fill(z, z + (first + count - 1) * lanes, Real(0));
-                     });
+    runChunks(blocks.size(),
+              [&](std::size_t task)
+              {
+                  const std::size_t b = blocks[task];
+                  Separator& separator = m_separators[m_blocks.separator[b]];
+                  const StorageIndex firstRow = m_blocks.firstRow[b];
+                  const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
+                  const std::size_t first = std::size_t(firstRow - separator.begin);
+                  thread_local std::vector<Real> scratch; // lanes values per separator row
+                  const std::size_t needed = (first + count) * lanes;
+                  if (scratch.size() < needed)
+                  {
+                      scratch.resize(needed, 0);
+                  }
+                  Real* z = scratch.data();
+                  for (std::size_t lane = 0; lane < count; ++lane)
+                  {
+                      const StorageIndex k = firstRow + StorageIndex(lane);
+                      for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+                      {
+                          const StorageIndex i = StorageIndex(it.index());
+                          if (i >= separator.begin && i < k)
+                          {
+                              z[std::size_t(i - separator.begin) * lanes + lane] += it.value();
+                          }
+                      }
+                  }
+                  const StorageIndex lastRow = firstRow + StorageIndex(count) - 1;
+                  schurBlockOn(path, blockColumns(b), rows, values, separator.begin, lastRow, z);
+                  // Each row takes the rows above it in its lane; the block's rows before its last were
+                  // written for the lanes below them, and all are cleared for the next block.
+                  for (std::size_t lane = 0; lane < count; ++lane)
+                  {
+                      const std::size_t r = first + lane;
+                      Real* packed = separator.schur.data() + schurOffset(r);
+                      for (std::size_t j = 0; j < r; ++j)
+                      {
+                          packed[j] = z[j * lanes + lane];
+                      }
+                  }
+                  std::fill(z, z + (first + count - 1) * lanes, Real(0));
+              });
 
     // 3. Each separator's own block, row by row as Eigen does, from the Schur complement.
     std::atomic<bool> ok{true};
-    sharedPool().run(endSeparator - firstSeparator,
-                     [&](std::size_t task)
-                     {
-                         Separator& separator = m_separators[firstSeparator + task];
-                         const std::size_t count = std::size_t(separator.end - separator.begin);
-                         thread_local std::vector<Real> row; // the row being finished, over the separator
-                         if (row.size() < count)
-                         {
-                             row.resize(count, 0);
-                         }
-                         Real* y = row.data();
-                         for (std::size_t r = 0; r < count; ++r)
-                         {
-                             const StorageIndex k = separator.begin + StorageIndex(r);
-                             const Real* z = separator.schur.data() + schurOffset(r);
-                             std::copy(z, z + r, y);
-                             Real d = separator.partialPivot[r];
-                             m_columnCount[std::size_t(k)] = 0;
-                             for (std::size_t e = separator.ownStart[r]; e < separator.ownStart[r + 1]; ++e)
-                             {
-                                 d -= appendToColumn(separator.ownColumn[e], k, y, separator.begin);
-                             }
-                             m_diagonal[k] = d;
-                             if (d == 0)
-                             {
-                                 ok = false;
-                                 return;
-                             }
-                         }
-                     });
+    runChunks(endSeparator - firstSeparator,
+              [&](std::size_t task)
+              {
+                  Separator& separator = m_separators[firstSeparator + task];
+                  const std::size_t count = std::size_t(separator.end - separator.begin);
+                  thread_local std::vector<Real> row; // the row being finished, over the separator
+                  if (row.size() < count)
+                  {
+                      row.resize(count, 0);
+                  }
+                  Real* y = row.data();
+                  for (std::size_t r = 0; r < count; ++r)
+                  {
+                      const StorageIndex k = separator.begin + StorageIndex(r);
+                      const Real* z = separator.schur.data() + schurOffset(r);
+                      std::copy(z, z + r, y);
+                      Real d = separator.partialPivot[r];
+                      m_columnCount[std::size_t(k)] = 0;
+                      for (std::size_t e = separator.ownStart[r]; e < separator.ownStart[r + 1]; ++e)
+                      {
+                          d -= appendToColumn(separator.ownColumn[e], k, y, separator.begin);
+                      }
+                      m_diagonal[k] = d;
+                      if (d == 0)
+                      {
+                          ok = false;
+                          return;
+                      }
+                  }
+              });
     return ok;
 }
 } // namespace masse

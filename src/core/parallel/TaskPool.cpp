@@ -2,8 +2,6 @@
 
 #include "core/InputError.h"
 
-#include <cstdlib>
-#include <memory>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -15,11 +13,8 @@ namespace
 /// True on a pool's worker threads, and on any thread while it runs a chunk: a nested loop then runs inline.
 thread_local bool insideChunk = false;
 
-std::unique_ptr<TaskPool>& sharedPoolSlot()
-{
-    static std::unique_ptr<TaskPool> pool;
-    return pool;
-}
+/// The pool a PoolScope bound to this thread, if any.
+thread_local TaskPool* poolOfThisThread = nullptr;
 
 /// Polls of a word before sleeping on it. A step's loops come microseconds apart (four or five per substep), while a
 /// futex sleep and wake-up on a virtual machine costs tens of microseconds and a system call on both sides: a worker
@@ -48,16 +43,11 @@ template <class T> bool pollWhileEqual(const std::atomic<T>& word, T seen)
     return false;
 }
 
-/// Guards the creation and replacement of the shared pool (the viewer's threads may ask for it first).
-std::mutex& sharedPoolMutex()
-{
-    static std::mutex mutex;
-    return mutex;
-}
 } // namespace
 
 TaskPool::TaskPool(int threads)
 {
+    requireThreadCount(threads);
     m_workers.reserve(std::size_t(std::max(threads - 1, 0))); // only starting a thread can fail below
     try
     {
@@ -207,52 +197,30 @@ void TaskPool::runErased(std::size_t chunkCount, const void* context, ChunkFunct
     }
 }
 
-int defaultThreadCount()
+void requireThreadCount(int threads)
 {
-    if (const char* text = std::getenv("MASSE_THREADS"))
+    if (threads < 1 || threads > maxThreadCount)
     {
-        char* end = nullptr;
-        const long threads = std::strtol(text, &end, 10);
-        if (end == text || *end != '\0' || threads < 1 || threads > 1024)
-        {
-            throw InputError(std::string("MASSE_THREADS: must be a whole number of threads from 1 to 1024 (got \"") +
-                             text + "\")");
-        }
-        return int(threads);
+        throw InputError("threads", "must be a whole number of threads from 1 to " + std::to_string(maxThreadCount) +
+                                        " (got " + std::to_string(threads) + ")");
     }
+}
+
+int hardwareThreadCount()
+{
     const unsigned cores = std::thread::hardware_concurrency();
-    return cores > 0 ? int(cores) : 1;
+    return cores > 0 ? int(std::min(cores, unsigned(maxThreadCount))) : 1;
 }
 
-TaskPool& sharedPool()
+PoolScope::PoolScope(TaskPool& pool) : m_previous(std::exchange(poolOfThisThread, &pool)) {}
+
+PoolScope::~PoolScope()
 {
-    const std::lock_guard lock(sharedPoolMutex());
-    std::unique_ptr<TaskPool>& pool = sharedPoolSlot();
-    if (!pool)
-    {
-        pool = std::make_unique<TaskPool>(defaultThreadCount());
-    }
-    return *pool;
+    poolOfThisThread = m_previous;
 }
 
-int threadCount()
+TaskPool* boundPool()
 {
-    return sharedPool().threadCount();
-}
-
-void setThreadCount(int threads)
-{
-    if (threads < 1 || threads > 1024)
-    {
-        throw InputError("threads",
-                         "must be a whole number of threads from 1 to 1024 (got " + std::to_string(threads) + ")");
-    }
-    const std::lock_guard lock(sharedPoolMutex());
-    std::unique_ptr<TaskPool>& pool = sharedPoolSlot();
-    if (!pool || pool->threadCount() != threads)
-    {
-        pool.reset();
-        pool = std::make_unique<TaskPool>(threads);
-    }
+    return poolOfThisThread;
 }
 } // namespace masse

@@ -1,5 +1,6 @@
 #pragma once
-/// A fixed pool of worker threads that runs the chunks of an index range, and the process-wide pool the kernels use.
+/// A fixed pool of worker threads that runs the chunks of an index range, and the binding that tells the kernels which
+/// pool to run on.
 ///
 /// Kernels split their range into chunks of a fixed size (a constant of the kernel, never derived from the thread
 /// count), so a reduction summed chunk by chunk in chunk order gives the same bits at any thread count. The calling
@@ -63,18 +64,49 @@ private:
     std::exception_ptr m_error;
 };
 
-/// Threads the kernels use: set by `--threads`, else $MASSE_THREADS, else every core.
-int threadCount();
-/// Replaces the shared pool by one of `threads` threads (>= 1; throws InputError for field "threads" otherwise). Call
-/// between steps, never from inside a kernel.
-void setThreadCount(int threads);
-/// $MASSE_THREADS if set (throws InputError naming it when it is not a positive integer), else the core count.
-int defaultThreadCount();
-/// The pool the kernels share.
-TaskPool& sharedPool();
+/// The thread counts a pool may have; a count outside throws InputError for field "threads".
+inline constexpr int maxThreadCount = 1024;
+void requireThreadCount(int threads);
+/// The processor's core count (at least 1): what a program asks for when its user names no thread count.
+int hardwareThreadCount();
 
-/// Runs body(begin, end) over [0, count) in chunks of `chunkSize` (the last one shorter), in parallel. Chunk k is
-/// [k * chunkSize, min(count, (k + 1) * chunkSize)), whatever the thread count.
+/// Binds a pool to the calling thread for the scope's life: the kernels this thread calls meanwhile split their loops
+/// over it. The engine holds no pool of its own: a Simulator binds the pool it owns or was given for the length of
+/// each call that runs kernels, so two simulators, in one thread or in several, never share one unless a program
+/// gives them the same. A binding rather than a parameter: it reaches the kernels several calls below the step
+/// (forces, solvers, factorisations, the bridge's contact queries) without every signature on the way carrying it.
+/// Scopes nest; the innermost wins, and leaving one restores the pool bound before it.
+class PoolScope
+{
+public:
+    explicit PoolScope(TaskPool& pool);
+    ~PoolScope();
+    PoolScope(const PoolScope&) = delete;
+    PoolScope& operator=(const PoolScope&) = delete;
+
+private:
+    TaskPool* m_previous;
+};
+
+/// The pool bound to the calling thread, or nullptr: the kernels then run on the calling thread alone.
+TaskPool* boundPool();
+
+/// Calls body(chunk) for every chunk in [0, chunkCount): on the bound pool, or in order on this thread without one.
+template <class Body> void runChunks(std::size_t chunkCount, const Body& body)
+{
+    if (TaskPool* pool = boundPool())
+    {
+        pool->run(chunkCount, body);
+        return;
+    }
+    for (std::size_t chunk = 0; chunk < chunkCount; ++chunk)
+    {
+        body(chunk);
+    }
+}
+
+/// Runs body(begin, end) over [0, count) in chunks of `chunkSize` (the last one shorter), in parallel on the bound
+/// pool. Chunk k is [k * chunkSize, min(count, (k + 1) * chunkSize)), whatever the thread count.
 template <class Body> void parallelFor(std::size_t count, std::size_t chunkSize, const Body& body)
 {
     const std::size_t chunks = (count + chunkSize - 1) / chunkSize;
@@ -86,12 +118,12 @@ template <class Body> void parallelFor(std::size_t count, std::size_t chunkSize,
         }
         return;
     }
-    sharedPool().run(chunks,
-                     [&](std::size_t chunk)
-                     {
-                         const std::size_t begin = chunk * chunkSize;
-                         body(begin, std::min(count, begin + chunkSize));
-                     });
+    runChunks(chunks,
+              [&](std::size_t chunk)
+              {
+                  const std::size_t begin = chunk * chunkSize;
+                  body(begin, std::min(count, begin + chunkSize));
+              });
 }
 
 /// Masses per chunk of the per-mass kernels (integrators, contact projection, checks): a few hundred KB of state,

@@ -173,10 +173,12 @@ bool RegressionResult::passed() const
     return !checks.empty() && std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.passed; });
 }
 
-RegressionResult runRegression(const std::string& path, const std::vector<KeyOverride>& overrides)
+RegressionResult runRegression(const std::string& path, const std::vector<KeyOverride>& overrides,
+                               const EngineSettings& engine)
 {
     const nlohmann::json expect = expectations(path);
     SceneSpec spec = loadScene(path, overrides);
+    spec.engine = engine;
     Scene scene(spec);
     const RunResult run = runQuietly(scene);
 
@@ -201,10 +203,11 @@ RegressionResult runRegression(const std::string& path, const std::vector<KeyOve
     return result;
 }
 
-void recordRegression(const std::string& path)
+void recordRegression(const std::string& path, const EngineSettings& engine)
 {
     const nlohmann::json document = readJsonFile(path);
     SceneSpec spec = loadScene(path);
+    spec.engine = engine;
     Scene scene(spec);
     const RunResult run = runQuietly(scene);
 

@@ -37,14 +37,15 @@ struct RegressionResult
     bool passed() const;
 };
 
-/// Runs one regression scene file (with any `--set` keys changed) and compares. Throws InputError for a bad file or a
-/// bad "expect" block.
-RegressionResult runRegression(const std::string& path, const std::vector<KeyOverride>& overrides = {});
+/// Runs one regression scene file (with any `--set` keys changed) with the given engine settings, and compares. Throws
+/// InputError for a bad file or a bad "expect" block.
+RegressionResult runRegression(const std::string& path, const std::vector<KeyOverride>& overrides = {},
+                               const EngineSettings& engine = {});
 
 /// Writes the observed values into the file's "expect" block (events with their tolerances kept or 0.03 s, the
 /// state hash for this build type, bounds kept): for a maintainer after an intended change. An event expectation
 /// with a "comment" is reasoned, not recorded: its time is kept.
-void recordRegression(const std::string& path);
+void recordRegression(const std::string& path, const EngineSettings& engine = {});
 
 /// The scene files under `path` (a file, or every *.json in a folder, sorted).
 std::vector<std::string> regressionFiles(const std::string& path);

@@ -1,6 +1,7 @@
 // The frame's contact planes indexed by mass (ContactPlanes::index, run in parallel chunks): what the projection walks.
 
 #include "support/TestSystems.h"
+#include "support/TestThreads.h"
 
 #include "core/contact/ContactPlanes.h"
 #include "core/parallel/TaskPool.h"
@@ -12,7 +13,7 @@
 #include <vector>
 
 using namespace masse;
-using masse::test::ThreadCountGuard;
+using masse::test::BoundPool;
 
 namespace
 {
@@ -50,12 +51,11 @@ std::vector<ContactPlane> someMassesPlanes(bool shuffled)
 // are kept from frame to frame) leaves nothing of the first.
 TEST(ContactPlanes, IndexesThePlanesByMassKeepingEachMassesOrder)
 {
-    const ThreadCountGuard guard;
     for (const bool shuffled : {false, true})
     {
         for (const int threads : {1, 2, 3})
         {
-            setThreadCount(threads);
+            const BoundPool pool(threads);
             const std::vector<ContactPlane> listed = someMassesPlanes(shuffled);
             std::vector<ContactPlane> expected = listed;
             std::stable_sort(expected.begin(), expected.end(),

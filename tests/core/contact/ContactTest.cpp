@@ -3,6 +3,7 @@
 #include "scene/Room.h"
 #include "support/ContactRig.h"
 #include "support/TestSystems.h"
+#include "support/TestThreads.h"
 
 #include "core/contact/ContactReport.h"
 #include "core/forces/Energy.h"
@@ -327,7 +328,7 @@ TEST(Contact, FrameReportOverChunksMatchesTheSerialOne)
     expectedFaces.erase(std::unique(expectedFaces.begin(), expectedFaces.end()), expectedFaces.end());
     for (const int threads : {1, 3})
     {
-        setThreadCount(threads);
+        const test::BoundPool pool(threads);
         ContactReport report;
         report.beginFrame(masses, 3);
         for (std::size_t i = 0; i < masses; ++i)
@@ -348,5 +349,4 @@ TEST(Contact, FrameReportOverChunksMatchesTheSerialOne)
             EXPECT_EQ(report.contactForce()[i], expected) << "mass " << i;
         }
     }
-    setThreadCount(defaultThreadCount());
 }

@@ -3,6 +3,7 @@
 // every size).
 
 #include "support/TestSystems.h"
+#include "support/TestThreads.h"
 
 #include "core/linear/Aggregation.h"
 #include "core/linear/ConjugateGradient.h"
@@ -131,8 +132,7 @@ TEST(MultigridPreconditioner, CycleIsSymmetricPositiveAndTheSameAtAnyThreadCount
     preconditioner.setFilter(held, filters);
     ASSERT_TRUE(preconditioner.refresh(a));
 
-    const ThreadCountGuard guard;
-    setThreadCount(1);
+    // On this thread alone (no pool bound): the reference.
     const Vector u = patternVector(a.rows(), 1);
     const Vector v = patternVector(a.rows(), 2);
     Vector mu(a.rows());
@@ -146,7 +146,7 @@ TEST(MultigridPreconditioner, CycleIsSymmetricPositiveAndTheSameAtAnyThreadCount
     EXPECT_GT(u.dot(mu), 0);
     for (const int threads : {1, 2, 3, 8})
     {
-        setThreadCount(threads);
+        const test::BoundPool pool(threads);
         Vector z(a.rows());
         preconditioner.apply(v, z);
         for (Eigen::Index i = 0; i < z.size(); ++i)

@@ -2,6 +2,7 @@
 // solve's bits at any thread count.
 
 #include "support/TestSystems.h"
+#include "support/TestThreads.h"
 
 #include "core/forces/SimdPath.h"
 #include "core/linear/CholeskyPreconditioner.h"
@@ -182,8 +183,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
     const Vector expected = solveWith(rounded);
     const Vector exact = solveWith(factor.matrixL().nestedExpression());
 
-    const ThreadCountGuard guard;
-    setThreadCount(1);
+    // On this thread alone (no pool bound): the reference.
     Vector oneThread(a.rows());
     preconditioner.apply(r, oneThread);
     const Real bound = 1e-6 * expected.cwiseAbs().maxCoeff();
@@ -202,7 +202,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
         setSimdPath(path);
         for (const int threads : {1, 2, 3})
         {
-            setThreadCount(threads);
+            const test::BoundPool pool(threads);
             Vector z(a.rows());
             preconditioner.apply(r, z);
             for (Eigen::Index i = 0; i < z.size(); ++i)
@@ -301,14 +301,13 @@ TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
     std::printf("largest difference from Eigen's factor: %.3g of L's largest entry, %.3g of a pivot\n",
                 largestDifference / (bound / 1e-13), largestPivotDifference);
 
-    const ThreadCountGuard guard;
     const SimdPathGuard simdGuard;
     for (const SimdPath path : supportedSimdPaths())
     {
         setSimdPath(path);
         for (const int threads : {1, 2, 3})
         {
-            setThreadCount(threads);
+            const test::BoundPool pool(threads);
             StagedLdlt staged;
             staged.analyse(permuted, rowStages);
             ASSERT_TRUE(staged.factorize(permuted));
