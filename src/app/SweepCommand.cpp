@@ -208,9 +208,10 @@ int submitToSlurm(const scene::Study& study, const std::string& dir, const std::
                                            [&](const char* sign) { return output.find(sign) != std::string::npos; });
         if (noCluster)
         {
-            throw std::runtime_error("no Slurm cluster answers this machine's sbatch (" + lastLine(output) +
-                                     "): configure Slurm here (slurm.conf, or run on the cluster's login node: sbatch " +
-                                     script + "), or run the cases on this machine with --jobs N instead of --slurm");
+            throw std::runtime_error(
+                "no Slurm cluster answers this machine's sbatch (" + lastLine(output) +
+                "): configure Slurm here (slurm.conf, or run on the cluster's login node: sbatch " + script +
+                "), or run the cases on this machine with --jobs N instead of --slurm");
         }
         throw std::runtime_error("sbatch refused the job array: " + output);
     }
@@ -302,8 +303,8 @@ void addSweepCommand(CLI::App& app)
     command->add_option("--collect", options->collect, "Collect a study folder: results.csv, plots and a table");
     command->add_option("--jobs", options->jobs, "Cases run at once here (worker processes; default 1)");
     // Checked here, before the study folder is made: a count that `masse run` refuses would fail every case.
-    checkThreadCount(*command->add_option("--threads", options->threads,
-                                          "Threads per case, passed to masse run (default 1)"));
+    checkThreadCount(
+        *command->add_option("--threads", options->threads, "Threads per case, passed to masse run (default 1)"));
     command->add_flag("--retry-failed", options->retryFailed, "Run failed cases again (finished ones never rerun)");
     command->add_flag("--slurm", options->slurm, "Write an sbatch job array over the cases and submit it");
     command->add_option("--partition", options->partition, "Slurm partition (default: the cluster's)");

@@ -352,9 +352,10 @@ void DivergenceGuard::checkSpeedBeforeContact(const MassSpringSystem& system, co
         // Written so that a NaN speed fails too (the finite check at the step's end would name it later).
         if (!p.pinned[i] && !((p.velocity[i] * inverse).squaredNorm() <= 1))
         {
-            fail(step, "mass " + std::to_string(i) + " moves at " +
-                           formatNumber("%.3g", p.velocity[i].stableNorm()) + " m/s before the contact pass, above this "
-                           "scene's bound of " + formatNumber("%.3g", m_settings.speedLimit) +
+            fail(step, "mass " + std::to_string(i) + " moves at " + formatNumber("%.3g", p.velocity[i].stableNorm()) +
+                           " m/s before the contact pass, above this "
+                           "scene's bound of " +
+                           formatNumber("%.3g", m_settings.speedLimit) +
                            " m/s (100 times the fastest that gravity and the scripted motions can give)");
         }
     }

@@ -13,15 +13,15 @@
 
 namespace masse::scene::plausible
 {
-constexpr Real maxCoordinate = 1e3;  ///< m, |x|, |y| and |z| of any point a scene places (machines are metres across)
-constexpr Real maxLength = 1e3;      ///< m, any size: half extents, prism sides, heater sides, wall thickness
-constexpr Real maxMeshScale = 1e3;   ///< a mesh file's scale factor
-constexpr Real maxGravity = 1e3;     ///< m/s^2, about 100 g (Earth's is 9.81)
-constexpr Real minThickness = 1e-5;  ///< m, 0.01 mm: a thin film
-constexpr Real maxThickness = 0.05;  ///< m, 50 mm: thicker than any sheet a forming machine heats
-constexpr Real minDensity = 10;      ///< kg/m^3, a light foam
-constexpr Real maxDensity = 25000;   ///< kg/m^3, beyond the densest metals
-constexpr Real maxGrabForce = 1e6;   ///< N, a grab's cap
+constexpr Real maxCoordinate = 1e3; ///< m, |x|, |y| and |z| of any point a scene places (machines are metres across)
+constexpr Real maxLength = 1e3;     ///< m, any size: half extents, prism sides, heater sides, wall thickness
+constexpr Real maxMeshScale = 1e3;  ///< a mesh file's scale factor
+constexpr Real maxGravity = 1e3;    ///< m/s^2, about 100 g (Earth's is 9.81)
+constexpr Real minThickness = 1e-5; ///< m, 0.01 mm: a thin film
+constexpr Real maxThickness = 0.05; ///< m, 50 mm: thicker than any sheet a forming machine heats
+constexpr Real minDensity = 10;     ///< kg/m^3, a light foam
+constexpr Real maxDensity = 25000;  ///< kg/m^3, beyond the densest metals
+constexpr Real maxGrabForce = 1e6;  ///< N, a grab's cap
 
 /// A point (m) at `key`: finite, each coordinate within +-maxCoordinate.
 Vec3 point(const JsonObject& o, const std::string& key);

@@ -384,8 +384,8 @@ TEST(CommandLine, AGravityBeyondAnyMachineIsRefusedNamingTheKey)
         EXPECT_FALSE(std::filesystem::exists(out));
     }
     const std::filesystem::path out = folder / "out-1e200";
-    const Outcome o = runMasse("run " + source + "/tests/bad-scenes/gravity-beyond-range.json --quiet --out " +
-                               out.string());
+    const Outcome o =
+        runMasse("run " + source + "/tests/bad-scenes/gravity-beyond-range.json --quiet --out " + out.string());
     EXPECT_EQ(o.exitCode, 2) << o.output;
     EXPECT_FALSE(std::filesystem::exists(out));
 }
@@ -664,7 +664,7 @@ TEST(CommandLine, EmptyFlagValuesAndZeroThreadsAreRefused)
             runMasse("run " + source + "/data/scenes/slope.json --quiet " + flag + " --out " + out.string());
         EXPECT_EQ(o.exitCode, 2) << flag << ":\n" << o.output;
         EXPECT_EQ(o.output.rfind("masse: " + flag.substr(0, flag.find(' ')) + ": ", 0), 0u) << flag << ":\n"
-                                                                                           << o.output;
+                                                                                            << o.output;
         EXPECT_FALSE(std::filesystem::exists(out)) << flag;
     }
 }

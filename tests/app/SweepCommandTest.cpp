@@ -298,7 +298,8 @@ TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
     nlohmann::json named = design;
     named["name"] = "two\nlines";
     std::ofstream(folder / "named.json") << named.dump(2);
-    const Outcome refused = runMasse("sweep " + (folder / "named.json").string() + " --out " + (folder / "named").string());
+    const Outcome refused =
+        runMasse("sweep " + (folder / "named.json").string() + " --out " + (folder / "named").string());
     EXPECT_EQ(refused.exitCode, 2) << refused.output;
     EXPECT_NE(refused.output.find("name: must be one line without control characters"), std::string::npos)
         << refused.output;
@@ -306,7 +307,8 @@ TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
 
     std::ofstream(folder / "design.json") << design.dump(2);
     const fs::path dir = folder / "study";
-    const Outcome ran = runMasse("sweep " + (folder / "design.json").string() + " --out " + dir.string() + " --no-plots");
+    const Outcome ran =
+        runMasse("sweep " + (folder / "design.json").string() + " --out " + dir.string() + " --no-plots");
     ASSERT_EQ(ran.exitCode, 0) << ran.output;
     fs::remove(dir / "cases" / "0000" / "summary.json");
     ASSERT_EQ(::mkfifo((dir / "cases" / "0000" / "summary.json").c_str(), 0600), 0);

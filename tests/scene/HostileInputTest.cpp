@@ -185,8 +185,8 @@ TEST(HostileInput, ObjFacesOfFewerThanThreeVerticesAndLinkLoopsAreNamed)
         writeText(folder / "short.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 1 0\nf 1 2 3\n" + face + "\nf 1 3 4\n");
         const std::string message = inputErrorOf([&] { bridge::loadMeshFile((folder / "short.obj").string(), "cup"); });
         EXPECT_NE(message.find("obstacle 'cup': mesh file '" + (folder / "short.obj").string() +
-                               "', line 6: a face needs at least 3 vertices (got " +
-                               std::to_string(face.size() / 2) + ")"),
+                               "', line 6: a face needs at least 3 vertices (got " + std::to_string(face.size() / 2) +
+                               ")"),
                   std::string::npos)
             << message;
     }
@@ -205,9 +205,9 @@ TEST(HostileInput, ExtendsChainsAreFollowedAndLoopsAndMissingBasesNamed)
     writeText(folder / "scene-0.json", R"({ "sheet": { "size": "4x2x4" }, "run": { "duration": 0.1 } })");
     for (int i = 1; i <= 11; ++i)
     {
-        writeText(folder / ("scene-" + std::to_string(i) + ".json"),
-                  R"({ "extends": "scene-)" + std::to_string(i - 1) + R"(.json", "name": "level )" +
-                      std::to_string(i) + R"(" })");
+        writeText(folder / ("scene-" + std::to_string(i) + ".json"), R"({ "extends": "scene-)" + std::to_string(i - 1) +
+                                                                         R"(.json", "name": "level )" +
+                                                                         std::to_string(i) + R"(" })");
     }
     const SceneSpec spec = loadScene((folder / "scene-11.json").string());
     EXPECT_EQ(spec.name, "level 11");
@@ -282,9 +282,10 @@ TEST(HostileInput, ASheetThatCannotFitInMemoryIsRefusedAtOnce)
 TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
 {
     const std::filesystem::path folder = freshFolder("infinite");
-    SceneSpec spec = parseScene(nlohmann::json::parse(R"({ "sheet": { "size": "4x2x4" }, "environment": { "room": { "enabled":
+    SceneSpec spec =
+        parseScene(nlohmann::json::parse(R"({ "sheet": { "size": "4x2x4" }, "environment": { "room": { "enabled":
         false } }, "integrator": { "type": "symplectic" }, "run": { "duration": 0.3, "stop_at_rest": false } })"),
-                      source + "/data/scenes", "beyond-range");
+                   source + "/data/scenes", "beyond-range");
     spec.environment.gravity = Vec3(0, -1e200, 0);
     spec.output.framesEvery = 1;
     spec.output.formats = {"vtp"};

@@ -37,8 +37,7 @@ std::string Progress::line(Real simTime, Real wallSeconds, const std::string& la
                            bool stoppedAtRest) const
 {
     const bool atRest = finished && stoppedAtRest && simTime < m_duration;
-    const Real fraction =
-        atRest || m_duration <= 0 ? Real(1) : std::clamp(simTime / m_duration, Real(0), Real(1));
+    const Real fraction = atRest || m_duration <= 0 ? Real(1) : std::clamp(simTime / m_duration, Real(0), Real(1));
     constexpr int width = 24;
     const int filled = int(fraction * width + 0.5);
     const std::string bar = std::string(std::size_t(filled), '#') + std::string(std::size_t(width - filled), '.');

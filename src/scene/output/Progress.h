@@ -27,7 +27,6 @@ public:
                      bool stoppedAtRest = false) const;
 
 private:
-
     std::ostream& m_out;
     bool m_terminal;
     Real m_duration;
