@@ -1,6 +1,7 @@
 // The masse program as a user meets it: output formats, exit codes, and what a run leaves on disk.
 
 #include "support/MasseCommand.h"
+#include "support/Sanitizers.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -627,9 +628,10 @@ TEST(CommandLine, MassIndicesAreCheckedAgainstTheSizeGivenOnTheCommandLine)
 // more) ended in std::terminate (exit code 134); it is refused naming --threads, with exit code 2 and nothing written.
 TEST(CommandLine, ThreadsTheSystemCannotStartAreRefusedNamingTheFlag)
 {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-    GTEST_SKIP() << "the sanitizers reserve far more address space than the limit this test sets";
-#endif
+    if (masse::test::underAddressSanitizer || masse::test::underThreadSanitizer)
+    {
+        GTEST_SKIP() << "the sanitizers reserve far more address space than the limit this test sets";
+    }
     const std::filesystem::path out = freshFolder("too-many-threads");
     const std::string command = "sh -c 'ulimit -v 1000000 && exec " + std::string(MASSE_EXECUTABLE) + " run " + source +
                                 "/data/scenes/slope.json --duration 0.1 --quiet --threads 1024 --out " + out.string() +

@@ -2,6 +2,7 @@
 // their first run. A whole-scene test (about two minutes on the shared machine), so it sits in the slow binary.
 
 #include "support/GuardedRun.h"
+#include "support/Sanitizers.h"
 
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
@@ -21,11 +22,7 @@ namespace
 // How much of each scene runs. Under the address sanitizer the first 0.2 s (7 to 10 steps, the forming scenes' first
 // factorisation included) is enough to find a bad read or write, and the whole second took 490 s there (the two
 // 256x2x256 bench scenes and the three forming scenes, some 28 s in Release), the suite's longest test by far.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr Real firstSeconds = 0.2;
-#else
-constexpr Real firstSeconds = 1;
-#endif
+constexpr Real firstSeconds = test::underAddressSanitizer ? 0.2 : 1;
 } // namespace
 
 // Every shipped scene runs its first second (0.2 s under the address sanitizer) under the guard's settings for it (the
