@@ -251,7 +251,9 @@ void Scene::addHooks()
         m_edgeContact = std::make_unique<EdgeContact>(m_lattice, *m_edgeContactPairs, m_contact->settings());
         m_simulator->addHook(m_edgeContact.get());
     }
-    if (m_spec.keepLayers.value_or(false) && m_spec.material.enabled && m_lattice.spec.layers > 1)
+    // On by default where a pressure presses the layers together against a mould (LayerGap.h says why not on a free
+    // sheet); contact.keep_layers sets it either way.
+    if (m_spec.keepLayers.value_or(m_spec.forming.enabled) && m_spec.material.enabled && m_lattice.spec.layers > 1)
     {
         // Before the heat model and the springs: they read the corrected positions' lengths and thicknesses.
         m_layerGap = std::make_unique<LayerGap>(m_lattice);

@@ -15,6 +15,12 @@ namespace masse
 {
 namespace
 {
+/// The most a correction moves a mass across its cell's plane in one substep, in floor heights. A mass further across
+/// than that has not been pressed too close to the layer beneath: its cell is tangled (folded over a corner, or turned
+/// over by a throw). Put back in one substep it is thrown across distances the sheet never moves in a step, and on
+/// the pressure tray (SaMM 33x2x25) those throws grew a 1e-11 rounding difference between mirror halves into a
+/// whole wall's difference; brought back over a few substeps it comes back as the sheet moves.
+constexpr Real largestCorrection = 8;
 constexpr Index notUpper = std::numeric_limits<Index>::max();
 constexpr std::uint32_t noSlot = std::numeric_limits<std::uint32_t>::max();
 
@@ -165,6 +171,18 @@ Real LayerGap::height(const std::vector<Vec3>& x, Index u, Vec3& normal, Vec3& c
     return (x[m_upper[u]] - centroid).dot(normal);
 }
 
+Real LayerGap::warp(const std::vector<Vec3>& x, Index u, const Vec3& normal) const
+{
+    const Index* corners = m_cell.data() + m_cellOffset[u];
+    if (m_cellOffset[u + 1] - m_cellOffset[u] != 4)
+    {
+        return 0;
+    }
+    // The distance between the midpoints of a square cell's diagonals along its normal: nothing when the cell is flat.
+    // Taken as (v0 + v3) - (v1 + v2), which a mirror image gives negated to the bit.
+    return std::abs(((x[corners[0]] + x[corners[3]]) - (x[corners[1]] + x[corners[2]])).dot(normal)) / 2;
+}
+
 std::vector<Real> LayerGap::heightRatios(const std::vector<Vec3>& x) const
 {
     std::vector<Real> ratios(x.size(), std::numeric_limits<Real>::quiet_NaN());
@@ -177,17 +195,17 @@ std::vector<Real> LayerGap::heightRatios(const std::vector<Vec3>& x) const
     return ratios;
 }
 
-void LayerGap::afterImplicitSolve(MassSpringSystem& system, StepContext& context, Real /*h*/, Real /*time*/)
+void LayerGap::afterImplicitSolve(MassSpringSystem& system, StepContext& context, Real h, Real /*time*/)
 {
-    correct(system, context);
+    correct(system, context, h);
 }
 
 void LayerGap::afterSubstep(MassSpringSystem& system, StepContext& context, Real /*h*/, Real /*time*/)
 {
-    correct(system, context);
+    correct(system, context, 0);
 }
 
-void LayerGap::correct(MassSpringSystem& system, const StepContext& context)
+void LayerGap::correct(MassSpringSystem& system, const StepContext& context, Real solveStep)
 {
     Particles& p = system.particles;
     const std::span<const int> touching = context.touchingObstacle;
@@ -197,50 +215,57 @@ void LayerGap::correct(MassSpringSystem& system, const StepContext& context)
     auto weight = [&](Index j) -> Real { return touches(j) ? Real(0) : p.inverseMass[j]; };
 
     // Each constraint from the same positions and velocities.
-    parallelFor(m_upper.size(), massChunkSize,
-                [&](std::size_t begin, std::size_t end)
+    parallelFor(
+        m_upper.size(), massChunkSize,
+        [&](std::size_t begin, std::size_t end)
+        {
+            for (std::size_t u = begin; u < end; ++u)
+            {
+                m_positionShare[u] = 0;
+                m_velocityShare[u] = 0;
+                m_upperYields[u] = 0;
+                const Index i = m_upper[u];
+                Vec3 normal;
+                Vec3 centroid;
+                const Real gap = height(p.position, Index(u), normal, centroid);
+                const Real ratio =
+                    thickness ? std::min(Real(1), thickness->thickness()[i] / thickness->initialThickness()) : Real(1);
+                // A cell that folds over a mould's rim or into its corner (its corners on the flange and on
+                // the floor) has no plane to stand over: its centroid hangs in the air between them, and a
+                // mass lying on the mould beside it would be thrown the depth of the wall. The floor falls
+                // with the cell's warp, to nothing at a warp of the rest height: smoothly, as an on-off rule
+                // would flick a mass over a cell near the bound back and forth.
+                const Real flatness = std::max(Real(0), 1 - warp(p.position, Index(u), normal) / m_restHeight[u]);
+                const Real floorHeight = m_restHeight[u] * ratio * flatness;
+                const Real deficit = std::min(floorHeight - gap, largestCorrection * floorHeight);
+                if (!(deficit > 0) || normal.isZero())
                 {
-                    for (std::size_t u = begin; u < end; ++u)
-                    {
-                        m_positionShare[u] = 0;
-                        m_velocityShare[u] = 0;
-                        m_upperYields[u] = 0;
-                        const Index i = m_upper[u];
-                        Vec3 normal;
-                        Vec3 centroid;
-                        const Real gap = height(p.position, Index(u), normal, centroid);
-                        const Real ratio =
-                            thickness ? std::min(Real(1), thickness->thickness()[i] / thickness->initialThickness())
-                                      : Real(1);
-                        const Real deficit = m_restHeight[u] * ratio - gap;
-                        if (!(deficit > 0) || normal.isZero())
-                        {
-                            continue;
-                        }
-                        const Index* corners = m_cell.data() + m_cellOffset[u];
-                        const std::size_t count = m_cellOffset[u + 1] - m_cellOffset[u];
-                        const Real k = Real(count);
-                        const Real cornerWeights = cornerSum<Real>(corners, count, weight);
-                        const Vec3 cornerVelocity =
-                            cornerSum<Vec3>(corners, count, [&](Index j) -> Vec3 { return p.velocity[j]; });
-                        bool cellTouches = true;
-                        for (std::size_t c = 0; c < count; ++c)
-                        {
-                            cellTouches = cellTouches && touches(corners[c]);
-                        }
-                        m_upperYields[u] = cellTouches && touches(i);
-                        const Real upperWeight = m_upperYields[u] ? p.inverseMass[i] : weight(i);
-                        const Real weights = upperWeight + cornerWeights / (k * k);
-                        if (!(weights > 0))
-                        {
-                            continue;
-                        }
-                        m_normal[u] = normal;
-                        m_positionShare[u] = deficit / weights;
-                        const Real approach = (p.velocity[i] - cornerVelocity / k).dot(normal);
-                        m_velocityShare[u] = approach < 0 ? -approach / weights : Real(0);
-                    }
-                });
+                    continue;
+                }
+                const Index* corners = m_cell.data() + m_cellOffset[u];
+                const std::size_t count = m_cellOffset[u + 1] - m_cellOffset[u];
+                const Real k = Real(count);
+                const Real cornerWeights = cornerSum<Real>(corners, count, weight);
+                const Vec3 cornerVelocity =
+                    cornerSum<Vec3>(corners, count, [&](Index j) -> Vec3 { return p.velocity[j]; });
+                bool cellTouches = true;
+                for (std::size_t c = 0; c < count; ++c)
+                {
+                    cellTouches = cellTouches && touches(corners[c]);
+                }
+                m_upperYields[u] = cellTouches && touches(i);
+                const Real upperWeight = m_upperYields[u] ? p.inverseMass[i] : weight(i);
+                const Real weights = upperWeight + cornerWeights / (k * k);
+                if (!(weights > 0))
+                {
+                    continue;
+                }
+                m_normal[u] = normal;
+                m_positionShare[u] = deficit / weights;
+                const Real approach = (p.velocity[i] - cornerVelocity / k).dot(normal);
+                m_velocityShare[u] = approach < 0 ? -approach / weights : Real(0);
+            }
+        });
 
     // Each mass gathers its corrections: its own constraint's, then those of the masses over it, in a fixed order.
     std::vector<std::size_t> movedPerChunk(chunkCount(p.size(), massChunkSize), 0);
@@ -301,7 +326,11 @@ void LayerGap::correct(MassSpringSystem& system, const StepContext& context)
                         if (corrected)
                         {
                             p.position[j] += w * dx;
-                            p.velocity[j] += w * dv;
+                            // After the implicit solve the correction is part of the step: x = x0 + h v holds for
+                            // the corrected position, as position-based dynamics keeps it. Left to the next solve, a
+                            // moved mass came back each step and was moved again (a rim mass of the tray swung
+                            // 3 mm at 0.3 m/s to the end of the run).
+                            p.velocity[j] += solveStep > 0 ? Vec3(w * dx / solveStep) : Vec3(w * dv);
                             ++moved;
                             if (yields && m_contact)
                             {

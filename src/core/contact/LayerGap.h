@@ -11,8 +11,8 @@
 /// the pressure without giving way. So the floor is the rest height scaled by the thickness ratio: the layers come
 /// together as the sheet thins, no closer.
 ///
-/// Where: a scene turns it on for forming (a pressure across the sheet, core/material/PressureLoad.h), where the
-/// load presses the layers together against a mould. A free sheet's layers are left to their springs: a hot sheet
+/// Where: a scene has it on for forming (a pressure across the sheet, core/material/PressureLoad.h), where the load
+/// presses the layers together against a mould. A free sheet's layers are left to their springs: a hot sheet
 /// sagging under its own weight lets them come closer than h / h0 of the rest height as its springs creep, and
 /// lifting them there puts energy into the sheet that nothing else does (a sagging sheet held at the floor diverges).
 ///
@@ -23,7 +23,12 @@
 /// each corner by -w_j lambda n / k; the approach velocity along n is removed in the same shares. Pinned masses and
 /// masses touching an obstacle have w = 0: the mould holds what it touches, so the layer above is pushed off it
 /// rather than the layer below into it, and a plug holds the upper layer it presses. An upper mass touching an
-/// obstacle over a cell that touches one too has gone through its cell: it is the one that moves.
+/// obstacle over a cell that touches one too has gone through its cell: it is the one that moves. A cell folded over
+/// a mould's rim (warped: its diagonals' midpoints apart along its normal) has no plane to stand over, so the floor
+/// falls with the warp, to nothing at a warp of the rest height; and no correction moves a mass more than eight
+/// floor heights, so that a tangled mass comes back over a few substeps rather than being thrown across the mould.
+/// After the implicit solve the velocity takes each correction as dx / h (the step's x = x0 + h v holds for the
+/// corrected position); after a substep only the approach velocity is removed.
 ///
 /// Order and threads: every constraint is solved from the same positions (Jacobi), and each mass gathers its
 /// corrections in a fixed order (its own constraint first, then those of the upper masses over it), so the result is
@@ -65,9 +70,13 @@ public:
     std::vector<Real> heightRatios(const std::vector<Vec3>& x) const;
 
 private:
-    void correct(MassSpringSystem& system, const StepContext& context);
+    /// solveStep: the implicit solve's step h, whose velocity takes each correction as dx / h; 0 after a substep,
+    /// where only the approach velocity is removed.
+    void correct(MassSpringSystem& system, const StepContext& context, Real solveStep);
     /// The height of upper mass i over its cell and the cell's unit normal turned to the side i stands on at rest.
     Real height(const std::vector<Vec3>& x, Index i, Vec3& normal, Vec3& centroid) const;
+    /// How far a square cell is from flat along its unit normal (0 for a triangle, always flat).
+    Real warp(const std::vector<Vec3>& x, Index u, const Vec3& normal) const;
 
     std::vector<Index> m_upper;            ///< the masses with a cell beneath them, in mass order
     std::vector<std::size_t> m_cellOffset; ///< per upper mass: its cell's corners are m_cell[offset, next offset)

@@ -1,6 +1,7 @@
 // The layer floor (core/contact/LayerGap.h): an upper-layer mass pushed onto or through the cell of masses beneath it
 // is put back at its floor, its approach stopped, momentum kept; a mass held by an obstacle does not give way; and a
-// mirror-symmetric push is corrected mirror-symmetrically.
+// mirror-symmetric push is corrected mirror-symmetrically; the floor falls over a warped cell, a correction moves a
+// mass at most eight floor heights, and after the implicit solve the velocity takes the correction.
 
 #include "support/TestSystems.h"
 
@@ -205,4 +206,76 @@ TEST(LayerGap, MirrorSymmetricPushIsCorrectedMirrorSymmetrically)
                           std::abs(x.y() - acrossZ.y()), std::abs(x.z() + acrossZ.z())});
     }
     EXPECT_LT(worst, 1e-15);
+}
+
+// A cell folded over a mould's rim has no plane to stand over: the floor falls with the cell's warp (the distance
+// between its diagonals' midpoints along its normal), to half the rest height at a warp of half of it and to nothing
+// at a warp of the rest height or more.
+TEST(LayerGap, TheFloorFallsWithItsCellsWarp)
+{
+    for (const Real warp : {0.5, 1.2})
+    {
+        PushedSheet s = pushedSheet(Structure::SaMM, 0);
+        Particles& p = s.sheet.particles;
+        const std::vector<Index> cell = cellOf(s.lattice, s.upper);
+        ASSERT_EQ(cell.size(), 4u);
+        // Two diagonal corners lifted: the diagonals stay level (the normal stays upright), their midpoints part by
+        // the lift, the centroid rises by half of it.
+        const Index first = s.lattice.index(0, 1, 1);
+        const Index last = s.lattice.index(0, 2, 2);
+        p.position[first].y() += warp * s.restHeight;
+        p.position[last].y() += warp * s.restHeight;
+        // The upper mass a tenth of the rest height over the centroid.
+        p.position[s.upper].y() = 0.5 * warp * s.restHeight + 0.1 * s.restHeight;
+        p.velocity[s.upper] = Vec3::Zero();
+        LayerGap gap(s.lattice);
+        StepContext context;
+        gap.afterSubstep(s.sheet, context, 0.01, 0.01);
+        const Real ratio = gap.heightRatios(p.position)[s.upper];
+        if (warp < 1)
+        {
+            EXPECT_NEAR(ratio, 1 - warp, 1e-12) << "warp " << warp;
+        }
+        else
+        {
+            EXPECT_EQ(gap.lastCorrected(), 0u) << "warp " << warp;
+            EXPECT_NEAR(ratio, 0.1, 1e-12) << "warp " << warp;
+        }
+    }
+}
+
+// A mass far across its cell (19 rest heights below it) is not thrown back in one substep: its height over the cell
+// grows by eight floor heights a substep, and it is over the cell again after three.
+TEST(LayerGap, AMassFarAcrossItsCellComesBackEightFloorsASubstep)
+{
+    PushedSheet s = pushedSheet(Structure::TRiMM, 20);
+    LayerGap gap(s.lattice);
+    StepContext context;
+    const Real before = heightOverCell(s);
+    ASSERT_NEAR(before, -19 * s.restHeight, 1e-12);
+    gap.afterSubstep(s.sheet, context, 0.01, 0.01);
+    EXPECT_NEAR(heightOverCell(s), before + 8 * s.restHeight, 1e-12);
+    gap.afterSubstep(s.sheet, context, 0.01, 0.02);
+    gap.afterSubstep(s.sheet, context, 0.01, 0.03);
+    EXPECT_NEAR(heightOverCell(s), s.restHeight, 1e-12);
+}
+
+// After the implicit solve a correction is part of the step: each moved mass's velocity takes its move over the step
+// (x = x0 + h v holds for the corrected position), so the next solve does not carry it back.
+TEST(LayerGap, AfterTheSolveTheVelocityTakesTheCorrection)
+{
+    PushedSheet s = pushedSheet(Structure::SaMM, 1.5);
+    const std::vector<Vec3> positionBefore = s.sheet.particles.position;
+    const std::vector<Vec3> velocityBefore = s.sheet.particles.velocity;
+    LayerGap gap(s.lattice);
+    StepContext context;
+    const Real h = 0.01;
+    gap.afterImplicitSolve(s.sheet, context, h, h);
+    ASSERT_EQ(gap.lastCorrected(), 5u);
+    for (std::size_t i = 0; i < positionBefore.size(); ++i)
+    {
+        const Vec3 moved = s.sheet.particles.position[i] - positionBefore[i];
+        const Vec3 gained = s.sheet.particles.velocity[i] - velocityBefore[i];
+        EXPECT_NEAR((gained - moved / h).norm(), 0, 1e-12) << "mass " << i;
+    }
 }
