@@ -17,6 +17,7 @@ void addCheckCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
 void addViewCommand(CLI::App& app);
 void addSweepCommand(CLI::App& app);
+void addConvergeCommand(CLI::App& app);
 
 /// The whole command line: parses argv, runs the subcommand and returns the exit code (0, 1 or 2). `main` calls it,
 /// and so does a sweep's worker, forked from the sweep, so a case runs exactly as `masse run` would without loading

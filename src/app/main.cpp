@@ -29,6 +29,7 @@ int masse::app::masseMain(int argc, char** argv)
     masse::app::addCompareCommand(app);
     masse::app::addViewCommand(app);
     masse::app::addSweepCommand(app);
+    masse::app::addConvergeCommand(app);
 
     if (argc > 1 && argv[1][0] != '-')
     {

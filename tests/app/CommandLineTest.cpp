@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -696,4 +697,59 @@ TEST(CommandLine, MistakesAreNamedWhereTheyAreWithTheNearestName)
               0u)
         << other.output;
     EXPECT_FALSE(std::filesystem::exists(out));
+}
+
+// `masse converge`: a request it cannot carry out (fewer than two sizes, sizes out of order, a size too large for
+// memory, --size beside --sizes, a scene without a thickness section) gets one message naming what is wrong, exit
+// code 2, and nothing written.
+TEST(Converge, BadRequestsExitWithCode2AndWriteNothing)
+{
+    const std::string cup = source + "/data/scenes/vacuum-forming-cup.json";
+    const std::pair<std::string, std::string> requests[] = {
+        {cup + " --sizes 32", "--sizes: give at least two lattice sizes"},
+        {cup + " --sizes 64,32", "--sizes: give the sizes coarsest first: 32x2x32"},
+        {cup + " --sizes 16,200000", "--sizes"},
+        {cup + " --sizes 16,24 --size 8x2x8", "--size: converge runs the sizes given by --sizes"},
+        {source + "/data/scenes/slope.json --sizes 8,12", "the scene needs a material and report.thickness_section"},
+    };
+    int i = 0;
+    for (const auto& [arguments, expected] : requests)
+    {
+        const std::filesystem::path out = freshFolder("converge-bad-" + std::to_string(++i));
+        const Outcome o = runMasse("converge " + arguments + " --quiet --out " + out.string());
+        EXPECT_EQ(o.exitCode, 2) << arguments << ":\n" << o.output;
+        EXPECT_EQ(o.output.rfind("masse: ", 0), 0u) << o.output;
+        EXPECT_NE(o.output.find(expected), std::string::npos) << arguments << ":\n" << o.output;
+        EXPECT_FALSE(std::filesystem::exists(out)) << arguments;
+    }
+}
+
+// A small convergence run: each size's own run in its folder, the comparison's JSON with one difference per pair of
+// sizes, and the section CSV with a column per size, all of it finite.
+TEST(Converge, WritesEachSizesRunAndTheComparison)
+{
+    const std::filesystem::path out = freshFolder("converge-cup");
+    const Outcome o = runMasse("converge " + source + "/data/scenes/vacuum-forming-cup.json --sizes 8,12,16 " +
+                               "--duration 0.3 --threads 1 --quiet --out " + out.string());
+    ASSERT_EQ(o.exitCode, 0) << o.output;
+    for (const char* size : {"8x2x8", "12x2x12", "16x2x16"})
+    {
+        EXPECT_TRUE(std::filesystem::exists(out / size / "summary.json")) << size;
+    }
+    std::ifstream in(out / "convergence.json");
+    const nlohmann::json summary = nlohmann::json::parse(in);
+    ASSERT_EQ(summary["sizes"].size(), 3u);
+    ASSERT_EQ(summary["differences"].size(), 2u);
+    for (const nlohmann::json& difference : summary["differences"])
+    {
+        EXPECT_TRUE(std::isfinite(difference["section_mean"].get<double>()));
+        EXPECT_GE(difference["section_largest"].get<double>(), difference["section_mean"].get<double>());
+    }
+    EXPECT_TRUE(std::isfinite(summary["thinnest"]["estimate_ratio"].get<double>()));
+    EXPECT_GE(summary["thinnest"]["band_ratio"].get<double>(), 0);
+    std::ifstream csv(out / "convergence_section.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_EQ(header, "coordinate_m,ratio_8x2x8,ratio_12x2x12,ratio_16x2x16,estimate,band");
+    EXPECT_TRUE(std::filesystem::exists(out / "convergence_section.png"));
 }
