@@ -37,7 +37,7 @@ struct NearPoint
 };
 
 /// Bullet's default pools hold 4,096 contact manifolds and 4,096 collision algorithms, zeroed when made: about 30%
-/// of a small sweep case's time went to that. MaSSE never lets Bullet pair obstacles with each other (only queries
+/// of a small sweep case's time goes to that. MaSSE never lets Bullet pair obstacles with each other (only queries
 /// and sweeps), so a few of each are plenty; Bullet takes more from the heap should it ever need them.
 btDefaultCollisionConstructionInfo smallPools()
 {
@@ -302,8 +302,8 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
         return;
     }
     // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame. Their list is kept per thread
-    // (the queries run on the task pool's threads) and reused: a new one for each mass's query was a heap allocation
-    // or more per mass and frame.
+    // (the queries run on the task pool's threads) and reused: a new one for each mass's query would be a heap
+    // allocation or more per mass and frame.
     thread_local std::vector<std::pair<NearPoint, int>> found;
     found.clear();
     TriangleCollector collector;
@@ -322,9 +322,9 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // triangle, so the contact normal is its face's. A farther triangle whose nearest point is on its rim gives no
     // plane: at a convex edge its plane, tangent at the edge and fixed for the frame, lies above the nearer face away
     // from the edge, so a mass sliding down that face would be thrown off it each substep (a glassy 40x2x40 PET sheet
-    // on the pyramid mesh gained 154 J in one step that way). Only the nearest and the triangles the centre lies over
-    // are put in order (nearest first, ties by triangle): sorting every triangle in the search box took 9% of a
-    // vacuum-forming run.
+    // on the pyramid mesh would gain 154 J in one step that way). Only the nearest and the triangles the centre lies
+    // over are put in order (nearest first, ties by triangle): sorting every triangle in the search box would take 9%
+    // of a vacuum-forming run.
     if (found.empty())
     {
         return;
@@ -415,7 +415,7 @@ void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, 
         query.first = first;
         query.batched = 0;
         // The eight's box (each mass's own, as appendMassPlanes tests): an obstacle it does not meet gives none of the
-        // eight a plane, so its pass is skipped (in a chunk spanning two obstacles, half the passes were wasted).
+        // eight a plane, so its pass is skipped (in a chunk spanning two obstacles, half the passes would be wasted).
         Vec3 eightLo = Vec3::Constant(std::numeric_limits<Real>::infinity());
         Vec3 eightHi = -eightLo;
         for (std::size_t i = first; byEights && i < last; ++i)
@@ -459,8 +459,8 @@ void BulletEnvironment::appendMassPlanes(ChunkQuery& query, std::size_t i, std::
             continue;
         }
         // A still surface's velocity, motion.at with zero motion, is +0 in every coordinate for any finite point: the
-        // default plane's. Left so, it is not computed; computed, the cross product's result went through memory and
-        // stalled the loop (perf annotate).
+        // default plane's. Left so, it is not computed; computed, the cross product's result goes through memory and
+        // stalls the loop (perf annotate).
         const bool moving = obstacle.path.isKinematic() && query.dt > 0;
         const Motion& motion = m_frameMotion[std::size_t(index)];
         if ((query.batched >> slot & 1u) != 0 && (query.eights[slot].found >> lane & 1u) != 0)
@@ -469,8 +469,8 @@ void BulletEnvironment::appendMassPlanes(ChunkQuery& query, std::size_t i, std::
             const FacePlanesOfEight& e = query.eights[slot];
             if (e.distance[lane] - query.radius <= searchDistance)
             {
-                // Written in place, coordinate by coordinate: a plane built aside and copied in was read back as pairs
-                // of its coordinates just stored one by one, a stall on every plane (perf annotate).
+                // Written in place, coordinate by coordinate: a plane built aside and copied in would be read back as
+                // pairs of its coordinates just stored one by one, a stall on every plane (perf annotate).
                 ContactPlane& plane = planes.emplace_back();
                 plane.mass = Index(i);
                 plane.obstacle = index;

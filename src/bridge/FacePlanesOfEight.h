@@ -1,8 +1,8 @@
 #pragma once
 /// facePlaneDistance (FacePlaneDistance.h) for eight points at once on the AVX-512 path, carried on to the contact
 /// plane closestFeatures builds from it: the world-frame normal of the nearest face, the nearest surface point and the
-/// plane's offset. Detection asks this of nearly every mass of a sheet lying on a box each frame; one at a time it
-/// was most of detection's time (a quaternion rotation in, one dot product per face twice over, two rotations out).
+/// plane's offset. Detection asks this of nearly every mass of a sheet lying on a box each frame; one at a time it is
+/// most of detection's time (a quaternion rotation in, one dot product per face twice over, two rotations out).
 ///
 /// Each lane does the scalar code's IEEE operations in its order (Eigen's quaternion rotation, its dot products,
 /// face by face, with the branches as masks), so each lane's values have the bits the scalar query gives.

@@ -255,7 +255,7 @@ SoftBodyTwin::SoftBodyTwin(const MassSpringSystem& sheet, const BulletEnvironmen
     info.m_sparsesdf.setDefaultVoxelsz(m_settings.sdfCellSize);
     info.m_sparsesdf.Reset();
 
-    // Nodes. Built from arrays: with Debian's 3.24, appending nodes to an empty btSoftBody crashed.
+    // Nodes. Built from arrays: with Debian's 3.24, appending nodes to an empty btSoftBody crashes.
     const Particles& p = sheet.particles;
     std::vector<btVector3> x(p.size());
     std::vector<btScalar> m(p.size());

@@ -215,7 +215,7 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     const Real spacingPixels = m_spacing / (depth * camera.pixelSizeAtUnitDepth(viewport));
     // Masses under a couple of pixels apart are thinned to every 2nd, 4th... row and column, in the surface modes as
     // in masses mode: the sheet reads the same, and drawing 130,000 points (each a quad made on this thread by Mesa's
-    // software rasteriser) or 260,000 triangles was most of a 256x2x256 frame.
+    // software rasteriser) or 260,000 triangles is most of a 256x2x256 frame.
     m_massStride = viewer::massStride(spacingPixels);
     const std::size_t level = std::size_t(std::countr_zero(unsigned(m_massStride)));
     const bool thinned = level > 0 && level <= m_coarseMassIndices.size() && level <= m_coarseSurfaceIndices.size();

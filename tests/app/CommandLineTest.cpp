@@ -314,8 +314,8 @@ TEST(CommandLine, DemoHeadlessPlotsFigure18)
     EXPECT_GT(std::filesystem::file_size(folder / "figure18.png"), 1000u);
 }
 
-// Issue 16, rows 6 and 11: flags out of range, and steps the integrator cannot take, exit with 2 naming the flag and
-// the range before the output folder exists.
+// Flags out of range, and steps the integrator cannot take, exit with 2 naming the flag and the range before the output
+// folder exists.
 TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)
 {
     const std::filesystem::path out = freshFolder("bad-steps");
@@ -342,8 +342,8 @@ TEST(CommandLine, BadStepsAndDurationsAreRefusedBeforeAnythingIsWritten)
     EXPECT_FALSE(std::filesystem::exists(out)) << "the first frame was written before the step was refused";
 }
 
-// Issue 16, row 7: a second run into a folder holding a run is refused; with --force it replaces it whole, so no
-// frame of the first run stays beside the second's summary.
+// A second run into a folder holding a run is refused; with --force it replaces it whole, so no frame of the first run
+// stays beside the second's summary.
 TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
 {
     const std::filesystem::path out = freshFolder("mixed");
@@ -363,10 +363,9 @@ TEST(CommandLine, RunsIntoTheSameFolderNeverMix)
     }
 }
 
-// Issue 51, row 8: a gravity of 1e100 or 1e308 m/s^2 ran to exit code 0 with every mass at y = 0 (the floor at
-// -2.81 m); 1e200 overflowed the run (issue 16, row 3). A scene file giving a gravity no machine has is refused when
-// read: exit code 2, the file and the key named, nothing written. (HostileInput has the runs the library can still
-// be given.)
+// A scene file giving a gravity no machine has (1e100, 1e200 or 1e308 m/s^2) is refused when read: exit code 2, the
+// file and the key named, nothing written. Run, 1e100 and 1e308 would end with exit code 0 and every mass at y = 0 (the
+// floor at -2.81 m), and 1e200 would overflow the run. (HostileInput has the runs the library can still be given.)
 TEST(CommandLine, AGravityBeyondAnyMachineIsRefusedNamingTheKey)
 {
     const std::filesystem::path folder = freshFolder("beyond-range");
@@ -392,8 +391,8 @@ TEST(CommandLine, AGravityBeyondAnyMachineIsRefusedNamingTheKey)
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-// Issue 16, row 12: output paths that cannot be written are refused before the experiment runs (masse paper ran all
-// five sizes, then failed on a file given as --out).
+// Output paths that cannot be written are refused before the experiment runs, so masse paper does not run all five
+// sizes and then fail on a file given as --out.
 TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)
 {
     const std::filesystem::path folder = freshFolder("unwritable");
@@ -413,12 +412,12 @@ TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)
     EXPECT_NE(longName.output.find("has a name of 300 bytes"), std::string::npos) << longName.output;
 }
 
-// Issue 16, row 12: a read-only --out (the folder itself, its parent, or a missing parent inside a read-only one) is
-// refused with exit code 2 and one line naming the path, before the scene runs. The suite runs as root in CI, where
-// permission bits stop no write (CAP_DAC_OVERRIDE), so the read-only folder is one where no one, root included, can
-// create anything: the masse process's own folder in procfs, /proc/self. Nothing can be written there, so what this
-// checks is when and how the run is refused: with every frame written (--frames-every 1), a check left to the first
-// write or to the end would stop the run with exit code 1 and another message, after it had started.
+// A read-only --out (the folder itself, its parent, or a missing parent inside a read-only one) is refused with exit
+// code 2 and one line naming the path, before the scene runs. The suite runs as root in CI, where permission bits stop
+// no write (CAP_DAC_OVERRIDE), so the read-only folder is one where no one, root included, can create anything: the
+// masse process's own folder in procfs, /proc/self. Nothing can be written there, so what this checks is when and how
+// the run is refused: with every frame written (--frames-every 1), a check left to the first write or to the end would
+// stop the run with exit code 1 and another message, after it had started.
 TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
 {
     const std::string run = "run " + source + "/data/scenes/slope.json --duration 0.3 --frames-every 1 --out ";
@@ -443,9 +442,9 @@ TEST(CommandLine, AReadOnlyOutputIsRefusedBeforeTheRun)
     EXPECT_EQ(std::count(sweep.output.begin(), sweep.output.end(), '\n'), 1) << "the study started:\n" << sweep.output;
 }
 
-// Issue 51, row 1: MaSSE deletes only what it wrote. A folder holding the user's own files (the scene beside its
-// results, notes.txt) is refused, with --force or without, by a message naming them, and they stay; so is the folder
-// of an earlier run the user has added a file to. Without the file, --force replaces the earlier run.
+// MaSSE deletes only what it wrote. A folder holding the user's own files (the scene beside its results, notes.txt) is
+// refused, with --force or without, by a message naming them, and they stay; so is the folder of an earlier run the
+// user has added a file to. Without the file, --force replaces the earlier run.
 TEST(CommandLine, OutputFoldersHoldingTheUsersFilesAreRefusedAndKept)
 {
     const std::filesystem::path out = freshFolder("users-files");
@@ -480,8 +479,8 @@ TEST(CommandLine, OutputFoldersHoldingTheUsersFilesAreRefusedAndKept)
     EXPECT_EQ(forced.exitCode, 0) << forced.output;
 }
 
-// Issue 51, row 2: only leftovers in MaSSE's own form are removed, never an entry a user may have named so: a
-// folder thesis.tmp-N, a file notes.tmp-N or .x.partial-N, a folder .run1.old-N (N a process that has exited).
+// Only leftovers in MaSSE's own form are removed, never an entry a user may have named so: a folder thesis.tmp-N, a
+// file notes.tmp-N or .x.partial-N, a folder .run1.old-N (N a process that has exited).
 TEST(CommandLine, EntriesBesideTheOutputFolderNamedLikeLeftoversStay)
 {
     const std::filesystem::path folder = freshFolder("users-leftover-names");
@@ -501,9 +500,9 @@ TEST(CommandLine, EntriesBesideTheOutputFolderNamedLikeLeftoversStay)
     EXPECT_EQ(readText(folder / (".run1.old-" + dead) / "old.txt"), "old");
 }
 
-// Issue 51, row 3: a --force run killed between its two renames leaves the earlier result under the old-folder's name
-// and the new one in its staging folder, with no folder under the output's own name. The next run into the folder
-// restores the earlier result (and, without --force, refuses to replace it) instead of deleting both.
+// A --force run killed between its two renames leaves the earlier result under the old-folder's name and the new one in
+// its staging folder, with no folder under the output's own name. The next run into the folder restores the earlier
+// result (and, without --force, refuses to replace it) instead of deleting both.
 TEST(CommandLine, AForcedReplacementKilledBetweenItsRenamesIsRestored)
 {
     const std::filesystem::path out = freshFolder("interrupted");
@@ -537,8 +536,8 @@ TEST(CommandLine, AForcedReplacementKilledBetweenItsRenamesIsRestored)
     EXPECT_FALSE(std::filesystem::exists(partial));
 }
 
-// Issue 51, row 4: runs into one folder take a lock; a run started while another writes there is refused with exit
-// code 2 (both printed "wrote" and the folder held one result). Here the test holds the lock the way a run does; then
+// Runs into one folder take a lock; a run started while another writes there is refused with exit code 2, so two runs
+// cannot both print "wrote" while the folder holds one result. Here the test holds the lock the way a run does; then
 // two runs started together end with one result and one refusal.
 TEST(CommandLine, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstWrites)
 {
@@ -591,9 +590,9 @@ TEST(CommandLine, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstWrites)
     EXPECT_FALSE(nlohmann::json::parse(readText(fresh / "summary.json"), nullptr, false).is_discarded());
 }
 
-// Issue 51, row 5: --size is applied after the scene file was read; the mass indices the scene names are checked
-// against the sheet that is built, whatever made it (a 16 x 2 x 16 sheet's masses 128 and 200 do not exist in the
-// 113 of an 8 x 2 x 8 one: the runs aborted, crashed, corrupted the heap or reported a sag of 0).
+// --size is applied after the scene file is read; the mass indices the scene names are checked against the sheet that
+// is built, whatever made it. A 16 x 2 x 16 sheet's masses 128 and 200 do not exist in the 113 of an 8 x 2 x 8 one, and
+// a run that used them could abort, crash, corrupt the heap or report a sag of 0.
 TEST(CommandLine, MassIndicesAreCheckedAgainstTheSizeGivenOnTheCommandLine)
 {
     const std::filesystem::path folder = freshFolder("size-override");
@@ -625,8 +624,8 @@ TEST(CommandLine, MassIndicesAreCheckedAgainstTheSizeGivenOnTheCommandLine)
     }
 }
 
-// Issue 51, row 7: a thread the system cannot start (a 1 GB address-space limit, and 1024 threads of 2 MB stacks or
-// more) ended in std::terminate (exit code 134); it is refused naming --threads, with exit code 2 and nothing written.
+// A thread the system cannot start (a 1 GB address-space limit, and 1024 threads of 2 MB stacks or more) is refused
+// naming --threads, with exit code 2 and nothing written, rather than ending in std::terminate.
 TEST(CommandLine, ThreadsTheSystemCannotStartAreRefusedNamingTheFlag)
 {
     if (masse::test::underAddressSanitizer || masse::test::underThreadSanitizer)
@@ -652,9 +651,9 @@ TEST(CommandLine, ThreadsTheSystemCannotStartAreRefusedNamingTheFlag)
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-// Issue 51, row 11: an empty value (`--dt ''`, most often a shell variable never set) was taken as "not given" and the
-// run went on with the scene's own value; --threads 0 was taken though the message says 1 to 1024. Each is refused
-// naming the flag: exit code 2, nothing written.
+// An empty value (`--dt ''`, most often a shell variable never set) is refused naming the flag, not taken as "not
+// given" with the run going on with the scene's own value; so is --threads 0, outside the 1 to 1024 the message gives.
+// Each exits with code 2, nothing written.
 TEST(CommandLine, EmptyFlagValuesAndZeroThreadsAreRefused)
 {
     const std::filesystem::path folder = freshFolder("empty-flags");
@@ -672,9 +671,9 @@ TEST(CommandLine, EmptyFlagValuesAndZeroThreadsAreRefused)
     }
 }
 
-// Issue 51, row 10: messages name where the mistake is. A mistyped command got "A subcommand is required"; a --set of
-// a list under a misspelt name got "heat.heater is a null"; a --set that made another key wrong (an integrator that
-// edge contact refuses) blamed the scene file alone.
+// Messages name where the mistake is: a mistyped command gets the nearest command, not "A subcommand is required"; a
+// --set of a list under a misspelt name gets the nearest name, not "heat.heater is a null"; a --set that makes another
+// key wrong (an integrator that edge contact refuses) names the --set, not the scene file alone.
 TEST(CommandLine, MistakesAreNamedWhereTheyAreWithTheNearestName)
 {
     const Outcome command = runMasse("runn " + source + "/data/scenes/slope.json");

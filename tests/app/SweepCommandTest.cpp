@@ -268,8 +268,8 @@ TEST(Sweep, ACaseRunsAsMasseRunWouldInAFreshProcess)
     }
 }
 
-// Issue 51, row 11: --threads 100000 made the study folder, failed every case inside (masse run refuses the count),
-// and a later good sweep skipped those "finished" cases. The count is refused before anything is written.
+// A thread count masse run refuses (--threads 100000) is refused before anything is written; otherwise the study folder
+// would hold cases that all failed, and a later good sweep would skip them as finished.
 TEST(Sweep, AThreadCountMasseRunRefusesIsRefusedBeforeAnythingIsWritten)
 {
     const fs::path dir = freshFolder("sweep-threads");
@@ -283,10 +283,9 @@ TEST(Sweep, AThreadCountMasseRunRefusesIsRefusedBeforeAnythingIsWritten)
     }
 }
 
-// Issue 51, row 12: --collect blocked for ever on a case whose summary.json is a pipe, and stopped the whole collection
-// with the JSON library's message on one whose events are not objects; a study name with a newline ran every case and
-// then broke the plots. The name is refused when the study is read; each broken summary fails its own case, and
-// results.csv holds the others.
+// A case whose summary.json is a pipe, or whose events are not objects, fails on its own, rather than blocking
+// --collect for ever or stopping the whole collection with the JSON library's message; results.csv holds the others. A
+// study name with a newline, which would break the plots after every case had run, is refused when the study is read.
 TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
 {
     const fs::path folder = freshFolder("sweep-broken-summaries");
@@ -326,8 +325,8 @@ TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
     EXPECT_NE(results.find("\n2,done,0,"), std::string::npos) << results;
 }
 
-// Issue 51, row 14: --slurm where sbatch is installed but no cluster answers printed sbatch's raw DNS errors. The
-// message says that no cluster answers and what to do. (An sbatch of the test's own stands in for the installed one.)
+// --slurm where sbatch is installed but no cluster answers says that no cluster answers and what to do, rather than
+// printing sbatch's raw DNS errors. (An sbatch of the test's own stands in for the installed one.)
 TEST(Sweep, SlurmWithoutAClusterSaysWhatToDo)
 {
     const fs::path folder = freshFolder("sweep-no-cluster");

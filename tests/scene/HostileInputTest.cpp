@@ -70,7 +70,8 @@ pid_t deadProcess()
 }
 } // namespace
 
-// Row 2: 120 KB of "[" used to overflow the stack (the error message dumped the document recursively).
+// 120 KB of "[" is refused as bad input without overflowing the stack (the error message does not dump the document
+// recursively).
 TEST(HostileInput, DeeplyNestedJsonIsRefusedWithTheDepth)
 {
     const std::filesystem::path folder = freshFolder("deep");
@@ -84,7 +85,7 @@ TEST(HostileInput, DeeplyNestedJsonIsRefusedWithTheDepth)
     EXPECT_NE(material.find("deep-material.json: forming_window"), std::string::npos) << material;
 }
 
-// Row 4: a number beyond double range is bad input (exit 2) naming the file and the key, in a scene, the base it
+// A number beyond double range is bad input (exit 2) naming the file and the key, in a scene, the base it
 // extends, or its material file.
 TEST(HostileInput, NumbersBeyondDoubleRangeNameFileAndKey)
 {
@@ -98,7 +99,7 @@ TEST(HostileInput, NumbersBeyondDoubleRangeNameFileAndKey)
         << material;
 }
 
-// Row 12: a folder where a scene, base or material file should be is named, not read as an empty file.
+// A folder where a scene, base or material file should be is named, not read as an empty file.
 TEST(HostileInput, AFolderForAFileIsRefusedByName)
 {
     const std::filesystem::path folder = freshFolder("folder-scene");
@@ -107,7 +108,7 @@ TEST(HostileInput, AFolderForAFileIsRefusedByName)
     EXPECT_NE(message.find("scene.json: is a folder, not a JSON file"), std::string::npos) << message;
 }
 
-// Row 12: a scene file name that is not UTF-8 would make summary.json unwritable at the end of the run.
+// A scene file name that is not UTF-8 is handled before the run: it would make summary.json unwritable at its end.
 TEST(HostileInput, ASceneFileNameThatIsNotUtf8IsRefusedUpFront)
 {
     const std::filesystem::path folder = freshFolder("utf8");
@@ -117,8 +118,8 @@ TEST(HostileInput, ASceneFileNameThatIsNotUtf8IsRefusedUpFront)
     EXPECT_NE(message.find("sc\\xE9ne.json: the file name is not valid UTF-8"), std::string::npos) << message;
 }
 
-// Row 5: a pinned mass index beyond the index type was cast from a double (undefined behaviour: it pinned mass 1 or
-// 0); it is refused with the index and the range.
+// A pinned mass index beyond the index type is refused with the index and the range, rather than cast from a double
+// (undefined behaviour, which would pin mass 1 or 0).
 TEST(HostileInput, PinnedMassesBeyondTheIndexRangeAreRefused)
 {
     const std::string past = buildError(badScenes + "pin-past-index-range.json");
@@ -130,7 +131,7 @@ TEST(HostileInput, PinnedMassesBeyondTheIndexRangeAreRefused)
     EXPECT_NE(huge.find("(got 1e+300)"), std::string::npos) << huge;
 }
 
-// Rows 9 and 11: values that make a run that never ends or flings the sheet are refused by range, naming the key.
+// Values that make a run that never ends or flings the sheet are refused by range, naming the key.
 TEST(HostileInput, AbsurdValuesAreRefusedByRange)
 {
     const std::pair<const char*, const char*> cases[] = {
@@ -148,8 +149,8 @@ TEST(HostileInput, AbsurdValuesAreRefusedByRange)
     }
 }
 
-// Row 6: a step the explicit integrator cannot take is found when the scene is built, not at its first step (after
-// the output folder and the first frame were written); row 13: the message's numbers are readable.
+// A step the explicit integrator cannot take is found when the scene is built, not at its first step (after the output
+// folder and the first frame are written); the message's numbers are readable.
 TEST(HostileInput, AStepTooLargeIsRefusedWhenTheSceneIsBuilt)
 {
     const std::string message = buildError(badScenes + "stiff-explicit-step.json");
@@ -158,8 +159,8 @@ TEST(HostileInput, AStepTooLargeIsRefusedWhenTheSceneIsBuilt)
     EXPECT_EQ(message.find("-9223372036854775808"), std::string::npos) << message;
 }
 
-// Row 10: tinyobjloader reads "nan" and "inf" as 0; row 2 of the third-party findings: it casts a vw line's vertex
-// number to int unchecked. Both are refused naming the file and the line.
+// tinyobjloader reads "nan" and "inf" as 0, and casts a vw line's vertex number to int unchecked: both are refused
+// naming the file and the line.
 TEST(HostileInput, ObjVerticesThatAreNotFiniteNumbersNameTheLine)
 {
     const std::string nan = buildError(badScenes + "mesh-nan-vertex.json");
@@ -174,9 +175,9 @@ TEST(HostileInput, ObjVerticesThatAreNotFiniteNumbersNameTheLine)
         << weight;
 }
 
-// Issue 51, row 13: tinyobjloader drops a face of one or two vertices without a word; row 10: a mesh file that is a
-// symbolic link to itself ended in a raw filesystem error. Both are refused naming the obstacle and the file (and the
-// line of the face).
+// An OBJ face of one or two vertices, which tinyobjloader would drop without a word, and a mesh file that is a symbolic
+// link to itself are both refused naming the obstacle and the file (and the line of the face), rather than the face
+// vanishing or the run ending in a raw filesystem error.
 TEST(HostileInput, ObjFacesOfFewerThanThreeVerticesAndLinkLoopsAreNamed)
 {
     const std::filesystem::path folder = freshFolder("short-faces");
@@ -196,9 +197,9 @@ TEST(HostileInput, ObjFacesOfFewerThanThreeVerticesAndLinkLoopsAreNamed)
                         "' is a symbolic link that leads back to itself (a loop): link it to the mesh file");
 }
 
-// Issue 51, row 10: a missing "extends" base was named alone ("missing.json: cannot be read"), not the file that
-// refers to it; row 13: a valid chain of 11 files was refused as "too many levels (a loop?)". A chain is as long as
-// its files, a loop is found by the files it visits, and a missing base names the file and key that refer to it.
+// A chain of "extends" is as long as its files, so a valid chain of 11 files is followed, not refused as "too many
+// levels (a loop?)"; a loop is found by the files it visits; and a missing base names the file and key that refer to
+// it, not the missing file alone.
 TEST(HostileInput, ExtendsChainsAreFollowedAndLoopsAndMissingBasesNamed)
 {
     const std::filesystem::path folder = freshFolder("extends-chain");
@@ -228,8 +229,8 @@ TEST(HostileInput, ExtendsChainsAreFollowedAndLoopsAndMissingBasesNamed)
         << missing;
 }
 
-// Row 1: past 2^21 triangles Bullet's BVH indexes other memory (SIGSEGV when the sheet neared such a triangle); the
-// mesh is refused at the face that goes past the limit.
+// Past 2^21 triangles Bullet's BVH indexes other memory (a SIGSEGV when the sheet nears such a triangle): the mesh is
+// refused at the face that goes past the limit.
 TEST(HostileInput, AMeshPastBulletsTriangleLimitIsRefused)
 {
     const std::filesystem::path folder = freshFolder("huge-mesh");
@@ -253,8 +254,8 @@ TEST(HostileInput, AMeshPastBulletsTriangleLimitIsRefused)
         << message;
 }
 
-// Row 8: a sheet inside the documented size range that cannot fit in memory is refused at once (it allocated for
-// 98 s, then threw std::bad_alloc), and reading its scene no longer builds the lattice to count its masses.
+// A sheet inside the documented size range that cannot fit in memory is refused at once, rather than allocating for
+// minutes and ending in std::bad_alloc; reading its scene counts its masses without building the lattice.
 TEST(HostileInput, ASheetThatCannotFitInMemoryIsRefusedAtOnce)
 {
     LatticeSpec spec;
@@ -276,7 +277,7 @@ TEST(HostileInput, ASheetThatCannotFitInMemoryIsRefusedAtOnce)
         << message;
 }
 
-// Row 3: gravity of 1e200 m/s^2 keeps positions and velocities finite but their speed and kinetic energy overflow;
+// Gravity of 1e200 m/s^2 keeps positions and velocities finite but their speed and kinetic energy overflow;
 // the run stops with a NumericalError before a frame or summary could hold them. A scene file cannot give such a
 // gravity (SceneFile.ImplausibleValuesAreRefusedNamingTheLikelyMistake); the library's caller can.
 TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
@@ -321,10 +322,10 @@ TEST(HostileInput, ARunBeyondDoubleRangeStopsBeforeWritingInfinity)
     }
 }
 
-// Issue 51, row 8: a gravity of 1e100 or 1e308 m/s^2 carried every mass some 1e94 m below the floor in one substep;
-// the contact pass put them back at rest, but on no surface (the sheet flat at y = 0, the floor at -2.81 m), and the
-// run ended with exit code 0. A scene file refuses such a gravity; given through the library, the guard's speed bound
-// before the contact pass stops the run as a diverged one.
+// A gravity of 1e100 or 1e308 m/s^2 carries every mass some 1e94 m below the floor in one substep, and the contact pass
+// would put them back at rest on no surface (the sheet flat at y = 0, the floor at -2.81 m), ending with exit code 0. A
+// scene file refuses such a gravity; given through the library, the guard's speed bound before the contact pass stops
+// the run as a diverged one.
 TEST(HostileInput, ExtremeGravityStopsAsADivergedRunBeforeTheContactHidesIt)
 {
     for (const Real gravity : {1e100, 1e308})
@@ -340,9 +341,9 @@ TEST(HostileInput, ExtremeGravityStopsAsADivergedRunBeforeTheContactHidesIt)
     }
 }
 
-// Issue 51, row 6: edge contact under extreme motion (the knife-edge scene with a gravity of 1e150 m/s^2) ended in
-// "double free or corruption" inside Bullet's tree of the sheet's edge contact, built from boxes too large for it.
-// The run stops as a diverged one, naming the mass.
+// Edge contact under extreme motion (the knife-edge scene with a gravity of 1e150 m/s^2) stops the run as a diverged
+// one, naming the mass, rather than ending in "double free or corruption" inside Bullet's tree of the sheet's edge
+// contact, which boxes that large break.
 TEST(HostileInput, EdgeContactUnderExtremeMotionStopsAsADivergedRun)
 {
     SceneFlags flags;
@@ -356,7 +357,7 @@ TEST(HostileInput, EdgeContactUnderExtremeMotionStopsAsADivergedRun)
     EXPECT_NE(message.find("mass "), std::string::npos) << message;
 }
 
-// Row 15: the last step is shortened so the run ends on its duration: 0.1 s at dt = 0.03 s is 0.1 s, not 0.12 s.
+// The last step is shortened so the run ends on its duration: 0.1 s at dt = 0.03 s is 0.1 s, not 0.12 s.
 TEST(HostileInput, ARunEndsOnItsDurationExactly)
 {
     SceneSpec spec = loadScene(source + "/data/scenes/slope.json");
@@ -372,7 +373,7 @@ TEST(HostileInput, ARunEndsOnItsDurationExactly)
     EXPECT_NEAR(scene.time(), 0.1, 1e-12);
 }
 
-// Row 7: an output folder that holds files is refused without force; with it, the old folder is replaced only when
+// An output folder that holds files is refused without force; with it, the old folder is replaced only when
 // the run commits, and a run that fails (never commits) leaves the old folder as it was and no staging folder.
 TEST(HostileInput, OutputFoldersNeverMixRuns)
 {
@@ -449,7 +450,7 @@ TEST(HostileInput, OutputFoldersKeepTheFilesAStudyPutThere)
     EXPECT_TRUE(std::filesystem::exists(folder / "case" / "notes.txt"));
 }
 
-// Row 12: names the file system cannot hold and files where a folder should be are refused before anything runs.
+// Names the file system cannot hold and files where a folder should be are refused before anything runs.
 TEST(HostileInput, OutputFoldersThatCannotBeWrittenAreRefusedUpFront)
 {
     const std::filesystem::path folder = freshFolder("out-bad");
@@ -464,9 +465,9 @@ TEST(HostileInput, OutputFoldersThatCannotBeWrittenAreRefusedUpFront)
               std::string::npos);
 }
 
-// Row 14: what a run killed with -9 leaves (a staging folder with its marker, a temporary file, in MaSSE's own
-// forms) is removed by the next run that writes there; a live process's are kept. (Issue 51 row 2: names of any
-// other form stay, tests/scene/output/OutputFolderTest.cpp.)
+// What a run killed with -9 leaves (a staging folder with its marker, a temporary file, in MaSSE's own forms) is
+// removed by the next run that writes there; a live process's are kept. Names of any other form stay
+// (tests/scene/output/OutputFolderTest.cpp).
 TEST(HostileInput, LaterRunsRemoveTheLeftoversOfKilledOnes)
 {
     const std::filesystem::path folder = freshFolder("leftovers");
@@ -490,9 +491,9 @@ TEST(HostileInput, LaterRunsRemoveTheLeftoversOfKilledOnes)
     EXPECT_FALSE(std::filesystem::exists(single / ("expected.json.masse-tmp-" + dead)));
 }
 
-// Issue 51, row 5: whatever changes a scene's sheet after its file was read (--size, the paper's sizes, the viewer's
-// panel), building the scene checks every mass index it names against the sheet that is built: the sag of mass 200
-// of a 16 x 2 x 16 sheet, made 8 x 2 x 8 (113 masses), was reported as 0.
+// Whatever changes a scene's sheet after its file is read (--size, the paper's sizes, the viewer's panel), building the
+// scene checks every mass index it names against the sheet that is built: mass 200 of a 16 x 2 x 16 sheet does not
+// exist in an 8 x 2 x 8 one (113 masses), and its sag must not be reported as 0.
 TEST(HostileInput, MassIndicesAreCheckedAgainstTheSheetThatIsBuilt)
 {
     const std::filesystem::path folder = freshFolder("resized");

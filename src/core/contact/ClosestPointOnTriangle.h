@@ -1,9 +1,9 @@
 #pragma once
 /// The point of a triangle closest to a point, as barycentric weights (Ericson, Real-Time Collision Detection, 5.1.5):
-/// the narrowphase of the sheet's self-contact and of a mesh obstacle's triangles against each mass (where it replaced
-/// GJK, an iterative search on a shape whose nearest point has a closed form: over half of a 64x2x64 vacuum-forming
-/// run went to GJK on the mould's triangles). The Voronoi region of the triangle (a vertex, an edge or the face) the
-/// point lies in is found from signed dot products, then the point is projected onto that feature.
+/// the narrowphase of the sheet's self-contact and of a mesh obstacle's triangles against each mass (rather than GJK,
+/// an iterative search on a shape whose nearest point has a closed form: GJK on the mould's triangles takes over half
+/// of a 64x2x64 vacuum-forming run). The Voronoi region of the triangle (a vertex, an edge or the face) the point lies
+/// in is found from signed dot products, then the point is projected onto that feature.
 
 #include "core/Types.h"
 

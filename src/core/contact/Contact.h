@@ -112,7 +112,7 @@ public:
     /// obstacle along its own path. The planes come in lists (one per chunk of masses a thread searched, or a single
     /// one): `out` is resized to the lists used and each is replaced. Joined in order, the lists give a mass's planes
     /// together. (Lists kept from frame to frame keep their capacity, and are joined once, by ContactPlanes::index,
-    /// into the arrays the projection reads: joining them here too was a copy of every plane a frame.)
+    /// into the arrays the projection reads: joining them here too would copy every plane once more a frame.)
     virtual void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Real dt,
                               ContactPlaneLists& out) = 0;
     /// The first surface a sphere of `radius` meets moving from `from` to `to`, if any.

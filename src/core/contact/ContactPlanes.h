@@ -8,7 +8,8 @@
 /// array per field, so eight planes' normals load as three vectors and what the projection reads of a plane each time
 /// (normal, offset, obstacle, face: 40 bytes) comes without the rest; a run of masses whose planes all lie on still
 /// surfaces is marked as such, so the pass reads no velocity there. The detector's lists are joined straight into these
-/// arrays: joined first into one list of planes and then copied into the arrays, every plane was copied twice a frame.
+/// arrays: joined first into one list of planes and then copied into the arrays, every plane would be copied twice a
+/// frame.
 
 #include "core/contact/Contact.h"
 

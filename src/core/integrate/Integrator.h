@@ -30,7 +30,7 @@ enum class PreconditionerKind
 {
     Multigrid, ///< an aggregation multigrid V-cycle built from a recent matrix, rebuilt only when it has drifted
     Cholesky,  ///< a sparse LDL^T factor of a recent matrix, refactored only when it has drifted
-    Jacobi,    ///< the diagonal: the old solver's; iterations grow with size and stiffness
+    Jacobi,    ///< the diagonal; iterations grow with size and stiffness
 };
 
 /// "multigrid", "cholesky" or "jacobi".

@@ -2,8 +2,8 @@
 /// The springs at each mass, as compressed rows (CSR): built once from a sheet's immutable spring ends, so force
 /// kernels can gather each mass's springs instead of scattering each spring into two shared masses.
 ///
-/// A mass's springs are listed in increasing spring index: a mass then sums its spring forces in the order the old
-/// serial scatter did, whatever the thread count, which keeps the results bit for bit.
+/// A mass's springs are listed in increasing spring index: a mass then sums its spring forces in the order a serial
+/// scatter over the springs would, whatever the thread count, so the results have the same bits at any thread count.
 
 #include "core/Types.h"
 

@@ -1,13 +1,13 @@
 #pragma once
 /// An algebraic multigrid V-cycle over the sheet's aggregates (Aggregation.h), used as the conjugate gradient's
 /// preconditioner: each level's operator is the Galerkin product P^T A P of the finer one, built from a recent matrix
-/// and rebuilt only when it has drifted (as the Cholesky factor was); each level but the coarsest is smoothed by a
+/// and rebuilt only when it has drifted (as the Cholesky factor is); each level but the coarsest is smoothed by a
 /// Chebyshev polynomial in its block-diagonal (per node 3x3) scaling, and the coarsest is factored (LDL^T).
 ///
 /// Every kernel of a cycle (the smoothing sweeps, residuals, restriction and interpolation) is a gather over node
 /// ranges on the task pool, so a cycle's bits do not depend on the thread count; its cost is a few products with
 /// the fine matrix, where a factor's two triangular solves stream a factor many times the matrix's size (25.8 M
-/// nonzeros against 2.9 M at 128x2x128) and its refactorisation took seconds.
+/// nonzeros against 2.9 M at 128x2x128) and its refactorisation takes seconds.
 ///
 /// Contact filters: the fine level is built with the filter of the step it is refreshed at (its interpolation is S P,
 /// so a coarse motion never moves a mass along a direction it is held in, and a pinned or wholly held mass not at

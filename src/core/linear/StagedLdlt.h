@@ -5,7 +5,7 @@
 /// The factorisation is up-looking, as Eigen's: row k of L comes from a sparse triangular solve with the rows above it
 /// that k's elimination-tree subtree holds. The ranges of one dissection stage are separate subtrees (see
 /// DissectionOrder), so their rows read and write disjoint columns of L and can be computed at once. Eigen's
-/// factorisation runs on one core and was most of a refresh (4.6 s of 5.4 at 128x2x128).
+/// factorisation runs on one core and is most of a refresh (4.6 s of 5.4 at 128x2x128).
 ///
 /// The first stage's ranges (the dissection's parts) are factored row by row with Eigen's arithmetic. The later
 /// stages' ranges are separators, whose rows hold most of the arithmetic (at 128x2x128 the top one alone, 765 rows,
@@ -16,7 +16,7 @@
 /// 2); then the separator's dense block, row by row (step 3). Each entry of a separator's rows sums the columns below
 /// in increasing order (Eigen sums in each row's own topological order), so it may differ from Eigen's in its last
 /// bits; the order is fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
-/// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount). At 128x2x128 a refactorisation took 0.8-0.9
+/// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount). At 128x2x128 a refactorisation takes 0.8-0.9
 /// s this way against 2.8-3.3 s row by row (choleskyRefresh in masse_benchmarks).
 
 #include "core/Types.h"

@@ -122,7 +122,7 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
                                                       : std::string();
     // Pixels off the sheet are NaN, which gnuplot's image leaves blank. They must not be declared missing data
     // (`set datafile missing 'NaN'`): image then drops them from their scan lines, the grid no longer lines up, and
-    // every row shifts by the pixels dropped before it; the cup's cavity came out as a sheared ellipse 5 cm off
+    // every row shifts by the pixels dropped before it; the cup's cavity comes out as a sheared ellipse 5 cm off
     // centre (FormingReports.MapsStayOnTheSheetsOwnGrid).
     return "set title \"" + title + "\\n{/*0.8 " + subtitle +
            "}\" enhanced\n"

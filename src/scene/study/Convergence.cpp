@@ -178,7 +178,9 @@ Convergence compareRuns(const std::vector<ConvergenceRun>& runs)
         }
         c.meanDifference.push_back(sum / Real(c.coordinate.size()));
         c.largestDifference.push_back(largest);
-        c.thinnestChange.push_back(std::abs(runs[k + 1].thinnest - runs[k].thinnest) / runs[k + 1].thinnest);
+        // Relative to the finer run's thinnest wall; a wall drawn to nothing there gives the change itself.
+        const Real change = std::abs(runs[k + 1].thinnest - runs[k].thinnest);
+        c.thinnestChange.push_back(runs[k + 1].thinnest > 0 ? change / runs[k + 1].thinnest : change);
     }
 
     std::vector<Real> cellSizes;

@@ -128,13 +128,12 @@ INSTANTIATE_TEST_SUITE_P(FiveMaterialsTwoGrabs, MaterialSheetUnderAGrab,
                                     (std::get<2>(param.param) ? "Hot" : "Cold");
                          });
 
-// Issue 15, point 4, at the issue's own size: a cold 2 mm PET sheet 40x2x40 (20 mm between masses), unclamped, drops
-// 20 mm onto the shipped pyramid mesh (scale 0.5, apex at 0.4 m) with the default contact (friction 0.3, radius
-// 10 mm), implicit at dt 0.03, and must run to its end without the guard firing. It used to be stopped at t = 1.14 s
-// (154 J of motion in one step, mass 1581 at 15 m/s): a mass near a ridge took a second plane from the neighbouring
-// triangle's edge, tangent there and fixed for the frame, which lies above the nearer face away from the ridge, so
-// the glassy sheet sliding down that face was thrown off it each substep. A mesh now gives a mass more than its
-// nearest triangle's plane only from triangles the mass lies over (BulletEnvironment::closestFeatures). About 10 s.
+// A cold 2 mm PET sheet 40x2x40 (20 mm between masses), unclamped, drops 20 mm onto the shipped pyramid mesh (scale
+// 0.5, apex at 0.4 m) with the default contact (friction 0.3, radius 10 mm), implicit at dt 0.03, and must run to its
+// end without the guard firing. A mesh gives a mass more than its nearest triangle's plane only from triangles the mass
+// lies over (BulletEnvironment::closestFeatures): near a ridge, a second plane from the neighbouring triangle's edge,
+// tangent there and fixed for the frame, lies above the nearer face away from the ridge, and would throw the glassy
+// sheet sliding down that face off it each substep. About 10 s.
 TEST(MaterialSheetOnAMesh, Pet40x2x40OnThePyramidMeshRunsToTheEnd)
 {
     const std::string json = R"({ "sheet": { "size": "40x2x40", "min": [-0.4, 0.42, -0.4], "max": [0.4, 0.43, 0.4] },
@@ -147,16 +146,14 @@ TEST(MaterialSheetOnAMesh, Pet40x2x40OnThePyramidMeshRunsToTheEnd)
     expectSound(scene, json);
 }
 
-// Issue 15, point 4's grab, at the issue's size: a cold PET sheet 20x2x20 on a table at 120 C (the air's temperature:
-// the table gives none), a corner pulled 0.5 m up and out over 2 s by a 50 N/m grab capped at 1 N. The guard used to
-// stop it at t = 1.26 s (9.6 J against 0.73 J put in; mass 379, beside the grabbed corner, at 10.6 m/s). The cause
-// was the landing, not the grab: the sheet falls 10 mm onto the table, and the second step carried it 18 mm, farther
-// than its layers are apart (10 mm); the implicit solve moved it as if free and the projection after it put both
-// layers on the table, squashed flat with its glassy cross-layer springs compressed. That stored energy (which the
-// guard's motion account does not weigh) came out once the hot table softened the lower layer: the layers crossed,
-// the sheet curled and slid at 0.3 m/s under a 1 N pull, and flew apart. A mass about to touch now arrives at the
-// surface inside the solve (speculative constraints, ContactConstraints.h), so the lower layer stops the upper one.
-// About 1 s.
+// A cold PET sheet 20x2x20 on a table at 120 C (the air's temperature: the table gives none), a corner pulled 0.5 m up
+// and out over 2 s by a 50 N/m grab capped at 1 N, must run to its end without the guard firing. The hard part is the
+// landing, not the grab: the sheet falls 10 mm onto the table, and its second step carries it 18 mm, farther than its
+// layers are apart (10 mm). Solved as if free and then projected, both layers would land on the table squashed flat,
+// their glassy cross-layer springs compressed; that stored energy (which the guard's motion account does not weigh)
+// comes out once the hot table softens the lower layer, and the layers cross, the sheet curls, slides at 0.3 m/s under
+// a 1 N pull and flies apart. A mass about to touch arrives at the surface inside the solve (speculative constraints,
+// ContactConstraints.h), so the lower layer stops the upper one. About 1 s.
 TEST(MaterialSheetUnderAGrabOnAHotTable, Pet20x2x20RunsToTheEnd)
 {
     const std::string json = R"({ "sheet": { "size": "20x2x20", "min": [-0.3, 0, -0.3], "max": [0.3, 0.01, 0.3] },

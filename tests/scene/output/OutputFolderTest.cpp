@@ -56,9 +56,9 @@ std::string deadProcess()
 }
 } // namespace
 
-// Row 2: a run removed, recursively, anything beside its folder named like its leftovers ("*.tmp-N", ".*.partial-N",
-// ".*.old-N") whose N was not a running process. Now only MaSSE's own forms go, and a folder only with MaSSE's marker
-// inside (or empty).
+// Of the entries beside a run's folder named like its leftovers ("*.tmp-N", ".*.partial-N", ".*.old-N", N not a running
+// process), only MaSSE's own forms are removed, and a folder only with MaSSE's marker inside (or empty); a user's
+// entry that merely looks like one stays.
 TEST(OutputFolder, OnlyLeftoversInMassesOwnFormAreRemoved)
 {
     const fs::path folder = freshFolder("leftovers");
@@ -108,7 +108,7 @@ TEST(OutputFolder, OnlyLeftoversInMassesOwnFormAreRemoved)
     EXPECT_EQ(readText(single / ("expected.json.tmp-" + dead)), "a user's");
 }
 
-// Row 3: a forced replacement killed between its two renames (the earlier result in the old-folder, the new one in
+// A forced replacement killed between its two renames (the earlier result in the old-folder, the new one in
 // the staging folder, nothing under the folder's own name) is undone by the next run into the folder: the earlier
 // result is back, and the new run then replaces it (with force) or refuses (without).
 TEST(OutputFolder, AReplacementKilledBetweenItsRenamesIsUndone)
@@ -148,7 +148,7 @@ TEST(OutputFolder, AReplacementKilledBetweenItsRenamesIsUndone)
     EXPECT_EQ(entries, 1u) << "a staging folder, an old folder or a lock file was left beside the output";
 }
 
-// Row 4: a second run into a folder another is writing is refused at once (InputError: exit code 2), and once the
+// A second run into a folder another is writing is refused at once (InputError: exit code 2), and once the
 // first has finished the folder is free again.
 TEST(OutputFolder, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstWrites)
 {
@@ -171,7 +171,7 @@ TEST(OutputFolder, ASecondRunIntoTheSameFolderIsRefusedWhileTheFirstWrites)
     EXPECT_EQ(readText(folder / "run" / "summary.json"), "later");
 }
 
-// Row 1: what a user put into an output folder during the run is not replaced with it: the run fails at its commit
+// What a user put into an output folder during the run is not replaced with it: the run fails at its commit
 // (exit code 1), and the folder keeps the earlier result and the user's file.
 TEST(OutputFolder, AFileAddedDuringTheRunIsNotReplaced)
 {

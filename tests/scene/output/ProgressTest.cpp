@@ -8,8 +8,8 @@
 
 using masse::scene::Progress;
 
-// Issue 51, row 14: the bar had no ETA, and a run that stopped at rest ended its bar at, say, 32%, which read as an
-// abort.
+// The bar shows the time left (ETA), and its end says how the run ended: a run that stops at rest at, say, 32% of its
+// duration ends with a full bar saying so, since a bar left at 32% reads as an abort.
 TEST(Progress, ShowsTheTimeLeftAndEndsSayingHowTheRunEnded)
 {
     std::ostringstream out;
