@@ -22,7 +22,8 @@
 namespace masse
 {
 class LayerGap;
-}
+class MotionLimit;
+} // namespace masse
 
 namespace masse::scene
 {
@@ -149,6 +150,7 @@ private:
     std::unique_ptr<EdgeContactDetector> m_edgeContactPairs;
     std::unique_ptr<EdgeContact> m_edgeContact;
     std::unique_ptr<LayerGap> m_layerGap;
+    std::unique_ptr<MotionLimit> m_motionLimit;
     std::unique_ptr<ThermalModel> m_thermal;
     std::unique_ptr<ViscoelasticSprings> m_springs;
     std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat

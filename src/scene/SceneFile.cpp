@@ -274,6 +274,10 @@ TimeSpec readTime(const JsonObject& o)
         o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit", "bdf2", "trbdf2"}));
     time.dt = o.number("dt", time.dt, limits::minTimeStep, limits::maxTimeStep);
     time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
+    if (o.has("max_motion"))
+    {
+        time.maxMotion = o.number("max_motion", 0, 0, 1000);
+    }
     time.implicit.tolerance = o.number("tolerance", time.implicit.tolerance, 1e-14, 0.1);
     time.implicit.maxIterations = o.integer("max_iterations", time.implicit.maxIterations, 1, 1000000);
     time.implicit.preconditioner =

@@ -93,6 +93,10 @@ struct TimeSpec
     Real dt = 0.03;             ///< s, the step asked for (explicit integrators substep it)
     Real stabilitySafety = 0.5; ///< explicit integrators: fraction of the estimated stable step
     ImplicitSettings implicit;
+    /// Implicit integrators: the most a mass may move in one solve, in lattice spacings; a frame that would move one
+    /// further is split into shorter solves (core/integrate/MotionLimit.h). Unset: 3 in forming scenes, none elsewhere;
+    /// 0: none.
+    std::optional<Real> maxMotion;
 };
 
 /// When the run ends.

@@ -27,8 +27,9 @@
 /// a mould's rim (warped: its diagonals' midpoints apart along its normal) has no plane to stand over, so the floor
 /// falls with the warp, to nothing at a warp of the rest height; and no correction moves a mass more than eight
 /// floor heights, so that a tangled mass comes back over a few substeps rather than being thrown across the mould.
-/// After the implicit solve the velocity takes each correction as dx / h (the step's x = x0 + h v holds for the
-/// corrected position); after a substep only the approach velocity is removed.
+/// After a substep the approach velocity is removed; after the implicit solve, no more of it than the deficit / h the
+/// solve itself can have closed (as position-based dynamics sets v = (x - x0) / h), so that a deficit older than the
+/// solve is put right in position and not thrown into the velocity.
 ///
 /// Order and threads: every constraint is solved from the same positions (Jacobi), and each mass gathers its
 /// corrections in a fixed order (its own constraint first, then those of the upper masses over it), so the result is
@@ -70,8 +71,8 @@ public:
     std::vector<Real> heightRatios(const std::vector<Vec3>& x) const;
 
 private:
-    /// solveStep: the implicit solve's step h, whose velocity takes each correction as dx / h; 0 after a substep,
-    /// where only the approach velocity is removed.
+    /// Removes each constraint's approach velocity; solveStep: the implicit solve's step h, after which no more of it
+    /// than the deficit / h that the solve itself can have closed; 0 after a substep.
     void correct(MassSpringSystem& system, const StepContext& context, Real solveStep);
     /// The height of upper mass i over its cell and the cell's unit normal turned to the side i stands on at rest.
     Real height(const std::vector<Vec3>& x, Index i, Vec3& normal, Vec3& centroid) const;
