@@ -7,8 +7,8 @@ point out of the solid (into the cavity for a cavity's wall). Run from this fold
   tray-mould.obj  OBJ: a 0.40 x 0.30 m block with a tray cavity (0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep)
   cone-45.stl, cone-60.stl, cone-70.stl   ASCII STL: a block with a conical cavity of half-angle 45, 60 and 70
                   degrees (rim radius 0.08 m, to the apex), for the cone-law test
-  plug.obj        OBJ: a closed cylinder, radius 0.045 m, height 0.06 m, rounded bottom edge, centred on its axis with
-                  its bottom at y = 0 (the plug of the plug-assist scene)
+  plug.obj        OBJ: a closed cylinder, radius 0.045 m, height 0.06 m, bottom edge rounded to a 0.01 m radius,
+                  centred on its axis with its bottom at y = 0 (the plug of the plug-assist scene)
 """
 import math
 import struct
@@ -190,15 +190,21 @@ def main():
         cone = block_with_cavity(ring_on_square(0.12, n, 0.0), ring_on_square(0.12, n, -depth - 0.03), rings,
                                  (0.0, -depth, 0.0))
         cone.write_ascii_stl(f"cone-{half_angle}.stl", f"cone_{half_angle}")
-    # Plug: a closed cylinder with a chamfered bottom edge, bottom at y = 0.
+    # Plug: a closed cylinder whose bottom edge is rounded to a quarter circle of 10 mm in six facets (15 degrees
+    # between neighbours), bottom at y = 0. Plugs are radiused so as not to mark the sheet; a sharp or chamfered edge
+    # (two 45-degree turns) made the sheet wrapped over it chatter against the layer floor at 64x2x64.
     plug = Mesh()
-    rings = [plug.add(circle(0.045, 32, 0.06)), plug.add(circle(0.045, 32, 0.01)), plug.add(circle(0.035, 32, 0.0))]
-    plug.strip(rings[1], rings[0], True)
-    plug.strip(rings[2], rings[1], True)
+    fillet = 0.01
+    rings = [plug.add(circle(0.045, 32, 0.06))]
+    for k in range(7):
+        angle = math.pi / 2 * k / 6  # 0 on the side, pi / 2 on the bottom
+        rings.append(plug.add(circle(0.045 - fillet + fillet * math.cos(angle), 32, fillet - fillet * math.sin(angle))))
+    for k in range(len(rings) - 1):
+        plug.strip(rings[k + 1], rings[k], True)
     plug.fan(rings[0], plug.add([(0.0, 0.06, 0.0)])[0], True)
-    plug.fan(rings[2], plug.add([(0.0, 0.0, 0.0)])[0], False)
+    plug.fan(rings[-1], plug.add([(0.0, 0.0, 0.0)])[0], False)
     plug.orient_outward()
-    plug.write_obj("plug.obj", "MaSSE plug: cylinder r 0.045 m, 0.06 m tall, chamfered bottom edge, bottom at y = 0")
+    plug.write_obj("plug.obj", "MaSSE plug: cylinder r 0.045 m, 0.06 m tall, bottom edge rounded to r 0.01 m, bottom at y = 0")
 
 
 if __name__ == "__main__":
