@@ -25,8 +25,9 @@ int MotionLimit::solvesFor(MassSpringSystem& system, Real dt)
     if (!hasBefore)
     {
         // Nothing tells yet how fast the loads will move the sheet: the first frame is taken in the most solves.
-        // A sheet at rest under a load that rises over the frame (the vacuum cup's) has no speed to predict from,
-        // and one solve of the whole frame crushed its upper layer through the lower one.
+        // A sheet at rest under a load that rises over the frame (the vacuum cup's) has no speed to predict from;
+        // one solve of the whole frame carried the 64x2x64 cup's sheet 1.4 cm (3.4 spacings), and two frames later
+        // the guard stopped it at 10 m/s.
         m_velocityBefore = velocity;
         m_predictedMotion = std::numeric_limits<Real>::infinity();
         return m_maxSolves;
