@@ -3,8 +3,8 @@
 /// boxes, refitted and queried by every surface vertex's box when the core lists its pairs (SelfContactBroadphase.h
 /// says what the pairs mean): at each frame's start, and again within a frame only when a mass has moved beyond its
 /// skin (SelfContact.h), or, under one solve a frame, by each vertex's box over its motion in the step (findSweptPairs:
-/// at the frame's start and after the solve). Not every substep: a query per vertex per substep cost 4.2 times the
-/// step; the core tests the listed pairs after every substep.
+/// at the frame's start and after the solve). Not every substep: a query per vertex per substep would cost 4.2 times
+/// the step; the core tests the listed pairs after every substep.
 
 #include "core/contact/SelfContactBroadphase.h"
 #include "core/parallel/PerChunk.h"

@@ -33,7 +33,7 @@ struct SoftBodyTwinSettings
     Real kCHR = 1;
     /// Hardness of contact with static and kinematic obstacles, dimensionless, range [0, 1], default 1: the fraction
     /// of a node's depth below the margin that one pass removes. Bullet's own default is 0.1, with which a cloth at
-    /// dt = 0.03 was seen to sink through a static box; 1 is the fair baseline.
+    /// dt = 0.03 sinks through a static box; 1 is the fair baseline.
     Real kKHR = 1;
     /// Contact distance, m, range (0, 1]: a node is pushed back to this distance from an obstacle's surface. Unset:
     /// MaSSE's contact radius, so both engines keep mass centres equally far from surfaces. Bullet's default 0.25 m

@@ -259,7 +259,7 @@ void Scene::addHooks()
     // the lattice. 3 spacings splits the shipped scenes at their own sizes in their first frame and a few after it;
     // 1 splits the vacuum cup's early frames into as many as 8 and leaves its bottom 3% thicker.
     const Real maxMotion = m_spec.time.maxMotion.value_or(m_spec.forming.enabled ? Real(3) : Real(0));
-    const Real spacing = std::min(m_lattice.spacingX, m_lattice.spacingZ);
+    const Real spacing = m_lattice.smallerSpacing();
     if (maxMotion > 0 && spacing > 0 && !isExplicit(m_spec.time.integrator))
     {
         m_motionLimit = std::make_unique<MotionLimit>(maxMotion * spacing, maxSolvesForMotion);

@@ -10,8 +10,8 @@
 
 namespace masse::viewer
 {
-/// Shares of wall time. Measured under Xvfb on two shared cores, a 64x2x64 sheet's steps took 85-96% of the
-/// clock while the rasteriser ran beside them, so the minimum share and the margin are kept small: a sheet that
+/// Shares of wall time. Measured under Xvfb on two shared cores, a 64x2x64 sheet's steps take 85-96% of the
+/// clock while the rasteriser runs beside them, so the minimum share and the margin are kept small: a sheet that
 /// keeps real time alone keeps it with the viewer open, at a few frames a second if need be.
 struct DrawPacing
 {

@@ -20,7 +20,7 @@ std::shared_ptr<const SheetTopology> buildTopology(const scene::Scene& scene)
         topology->springIndices.push_back(std::uint32_t(ends.b));
     }
     topology->surfaceTriangles = sheetSurfaceTriangles(lattice);
-    topology->spacing = std::min(lattice.spacingX, lattice.spacingZ);
+    topology->spacing = lattice.smallerSpacing();
     topology->layers = lattice.spec.layers;
     for (int stride = 2; stride <= maxMassStride; stride *= 2)
     {

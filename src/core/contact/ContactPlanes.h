@@ -36,8 +36,8 @@ public:
         std::uint32_t firstPlane;
     };
     /// Entries per run of the list marked still or not (and per chunk of the projection's parallel pass). Fewer,
-    /// longer chunks cost less to hand out: on the 256x2x256 contact bench the pass took 0.103-0.105 s at 2048 against
-    /// 0.108-0.110 s at 1024; 2048 still gives a 64x2x64 sheet's 4,000 entries two chunks (4096 ran them on one
+    /// longer chunks cost less to hand out: on the 256x2x256 contact bench the pass takes 0.103-0.105 s at 2048 against
+    /// 0.108-0.110 s at 1024; 2048 still gives a 64x2x64 sheet's 4,000 entries two chunks (4096 would run them on one
     /// thread, a third slower).
     static constexpr std::size_t runLength = 2048;
 

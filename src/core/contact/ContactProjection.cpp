@@ -219,7 +219,7 @@ void ContactProjection::projectRange(std::size_t begin, std::size_t end, std::ve
 
 // The arithmetic is spelt out per coordinate, in the order Eigen's 3-vector operations take (a dot product sums
 // (x + y) + z): the same bits as the vector form, in about a third fewer instructions than Eigen's two-and-one split
-// of a 3-vector into SSE2 registers, which is what this kernel's time went to.
+// of a 3-vector into SSE2 registers, which is what this kernel's time would go to.
 template <bool Still, bool Constrained>
 void ContactProjection::projectEntry(std::size_t j, std::vector<int>& firstTouches, bool& madeStuck) const
 {
@@ -336,8 +336,9 @@ void ContactProjection::projectEntry(std::size_t j, std::vector<int>& firstTouch
         // The integrator already moved the mass with its velocity from before the contact. Move it by the
         // tangential change too, as if the impulse had come first; otherwise a mass held by static friction
         // would creep by h^2 g sin(a) every substep. (The normal part is handled by the projection.) BDF2 moves a
-        // mass by 2h/3 of its new velocity: moved by h, a mass against an obstacle's side lost more of its slide
-        // than its velocity did, and the two never agreed again (the drop scene's sheet slid on along the valley).
+        // mass by 2h/3 of its new velocity: moved by h, a mass against an obstacle's side would lose more of its slide
+        // than its velocity does, and the two would never agree again (the drop scene's sheet would slide on along the
+        // valley).
         const Real along = (dx * nx + dy * ny) + dz * nz;
         x[0] += moveStep * (dx - along * nx);
         x[1] += moveStep * (dy - along * ny);

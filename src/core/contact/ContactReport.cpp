@@ -39,9 +39,9 @@ void ContactReport::recordFirstTouches(const std::vector<int>& obstacles, Real t
 void ContactReport::endFrame(Real dt)
 {
     // Over chunks of masses on all threads. Each chunk lists its touched faces without the repeats of its
-    // neighbours (a sheet on a table touches one face with thousands of masses in a row): sorting every touching
-    // mass's pair was most of this pass on a 256x2x256 sheet resting on two boxes. The sorted, unique list and the
-    // count do not depend on how the masses were split.
+    // neighbours (a sheet on a table touches one face with thousands of masses in a row): sorting every touching mass's
+    // pair would be most of this pass on a 256x2x256 sheet resting on two boxes. The sorted, unique list and the count
+    // do not depend on how the masses are split.
     const Real inverseDt = dt > 0 ? Real(1) / dt : Real(0);
     const std::size_t masses = m_impulse.size();
     const std::size_t chunks = chunkCount(masses, massChunkSize);

@@ -265,8 +265,8 @@ void LayerGap::correct(MassSpringSystem& system, const StepContext& context, Rea
                 // The approach is taken out of the velocity. After the implicit solve only as much of it as the
                 // solve closed the gap by, deficit / h, as position-based dynamics sets v = (x - x0) / h: a deficit
                 // older than the solve (left by a longer step before, or by a mass thrown across its cell) is put
-                // right in position only. Turned into velocity, it threw a mass that a short solve found 8 floors
-                // down at 8 floors per solve, 10 m/s in the vacuum cup at 64x2x64 split into solves of 1.25 ms.
+                // right in position only: turned into velocity, a deficit of 8 floors that a short solve finds would
+                // throw the mass out at 8 floors per solve, 10 m/s in the vacuum cup at 64x2x64 in solves of 1.25 ms.
                 const Real approach = (p.velocity[i] - cornerVelocity / k).dot(normal);
                 const Real removed = approach < 0 ? -approach : Real(0);
                 m_velocityShare[u] = (solveStep > 0 ? std::min(removed, deficit / solveStep) : removed) / weights;

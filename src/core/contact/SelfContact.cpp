@@ -49,7 +49,7 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_skin.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
     m_restPosition = lattice.position;
-    const Real spacing = std::min(lattice.spacingX, lattice.spacingZ);
+    const Real spacing = lattice.smallerSpacing();
     m_spacing = spacing > 0 ? spacing : m_settings.radius; // a lattice one mass wide has no spacing along that side
     m_triangleLow.resize(m_triangles.size());
     m_triangleHigh.resize(m_triangles.size());
@@ -176,11 +176,11 @@ void SelfContact::listSweptPairs(const Particles& p, Real dt)
     // One solve takes the frame: the pairs are the ones that may meet during it, each mass moving from where it is
     // along its velocity and the surface's mean change of velocity over the last frame, within twice its own
     // change's difference from that mean plus a quarter radius (swept boxes, not spheres about each mass: two
-    // halves of a fold swinging towards each other at metres per second come centimetres closer in a step, more
-    // than a skin capped at the radius covered, and crossed each other unseen by the constraints; the 96x2x96
-    // fold then diverged where they met, pushed back by up to 6.5 cm after the solve). The constraints are then
-    // set from the present velocities: from the velocities plus their last change (backward Euler moves a mass
-    // by its velocity at the step's end), the 64x2x64 fold diverged where its halves met.
+    // halves of a fold swinging towards each other at metres per second come centimetres closer in a step, more than a
+    // skin capped at the radius covers, and with such a skin they would cross each other unseen by the constraints; the
+    // 96x2x96 fold would then diverge where they meet, pushed back by up to 6.5 cm after the solve). The constraints
+    // are then set from the present velocities: set from the velocities plus their last change (backward Euler moves a
+    // mass by its velocity at the step's end), the 64x2x64 fold diverges where its halves meet.
     Vec3 meanChange = Vec3::Zero();
     for (const Index i : m_vertices)
     {
@@ -222,11 +222,10 @@ int SelfContact::solvesFor(MassSpringSystem& system, Real dt)
     // The frame's pairs are listed and weighed now, as beginFrame would (it keeps them unless a stage before it has
     // moved a mass), and the frame is split when some pair would close by more than closingPerSolve lattice spacings
     // in one solve: the constraints are set once a solve, along each pair's normal at its start, and where a fold
-    // meets faster the sheet between crumples through itself within the solve. The 128x2x128 fold over the rod at
-    // dt 0.03 diverged so at 0.63 s, its fastest pair closing 15 spacings (12 cm) in one solve; at dt 0.015 it ran,
-    // and so did the 64x2x64 fold at dt 0.03 (7.7 spacings). With the split at 6, the 128x2x128
-    // fold runs its 3 s in 105 solves for 100 frames, the 64x2x64 one in 101; the 16x2x16 fold and the wrap never
-    // split.
+    // meets faster the sheet between crumples through itself within the solve. Unsplit, the 128x2x128 fold over the rod
+    // at dt 0.03 diverges so at 0.63 s, its fastest pair closing 15 spacings (12 cm) in one solve; at dt 0.015 it runs,
+    // and so does the 64x2x64 fold at dt 0.03 (7.7 spacings). With the split at 6, the 128x2x128 fold runs its 3 s in
+    // 105 solves for 100 frames, the 64x2x64 one in 101; the 16x2x16 fold and the wrap never split.
     const StageScope stage(m_observer, Stage::SelfContactPairs);
     const Particles& p = system.particles;
     listSweptPairs(p, dt);
@@ -280,11 +279,11 @@ Real SelfContact::weighArrivals(const Particles& p, Real dt)
 void SelfContact::constrainArrivals(const Particles& p, std::vector<VelocityConstraint>& constraints)
 {
     // A pair that the frame's step would carry within the radius is stopped inside the solve, where the springs
-    // behind its masses are stopped with them; the responses after the solve only correct what is left. Stopped
-    // after the solve alone, the 48x2x48 fold over the rod had its meeting layers pushed back by centimetres while
-    // the layers behind them moved on, and the springs between took 24 J in two steps. Each surface vertex is
-    // constrained by its most urgent pair (the one its step would carry deepest, the first in pair order on a tie:
-    // the same at any thread count), unless the obstacle contact holds it or it is pinned; the triangle's masses are
+    // behind its masses are stopped with them; the responses after the solve only correct what is left. Stopped after
+    // the solve alone, the 48x2x48 fold over the rod would have its meeting layers pushed back by centimetres while the
+    // layers behind them move on, and the springs between would take 24 J in two steps. Each surface vertex is
+    // constrained by its most urgent pair (the one its step would carry deepest, the first in pair order on a tie: the
+    // same at any thread count), unless the obstacle contact holds it or it is pinned; the triangle's masses are
     // vertices of their own pairs across the fold, so both sides are stopped.
     const std::vector<Vec3>& v = p.velocity;
     m_constraints.clear();
@@ -591,8 +590,8 @@ SelfContact::Responded SelfContact::respond(Particles& p, const Touch& touch, Re
     // Whether this response moved the pair by more than a thousandth of the radius (or stopped an approach that would
     // have, over the step): the passes after an implicit step go on until none does. A pair pushed apart by an
     // earlier pass is often found again a little inside the radius, its neighbours' pushes having moved it; with
-    // rounding as the bound (a millionth of the radius) most frames of the 64x2x64 fold took all 128 passes, and the
-    // run 31.4 s against 24.4 s with this bound; the halves keep the radius to 0.1% all the same (SelfContactTest).
+    // rounding as the bound (a millionth of the radius) most frames of the 64x2x64 fold would take all 128 passes, and
+    // the run 31.4 s against 24.4 s with this bound; the halves keep the radius to 0.1% all the same (SelfContactTest).
     const Real settled = Real(1e-3) * m_settings.radius;
     const bool moved = m_settings.radius - distance > settled || -normalSpeed * h > settled;
     // A mass's share of an impulse J moves it by at most the largest of these times J.
@@ -654,11 +653,11 @@ void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, R
     if (context.oneSolveAFrame)
     {
         // The passes again, after the obstacle contact, which may have pushed a mass of a pair back towards the other
-        // side (afterImplicitSolve ran them before it). Either order alone fell short: with the self-contact last, the
-        // 64x2x64 fold's masses ended frames 8.6 mm inside the rod; with the obstacles last, the wrap's flaps came to
-        // 0.01 mm of each other and 11.7% of the 16x2x16 fold's left half ended past its mirror. Both: the 16x2x16
-        // checks hold, and the 64x2x64 fold still ends frames up to 6.8 mm inside the rod (the two would need one
-        // loop, the obstacle planes inside the passes).
+        // side (afterImplicitSolve runs them before it). Either order alone falls short: with the self-contact last,
+        // the 64x2x64 fold's masses end frames 8.6 mm inside the rod; with the obstacles last, the wrap's flaps come to
+        // 0.01 mm of each other and 11.7% of the 16x2x16 fold's left half ends past its mirror. Both: the 16x2x16
+        // checks hold, and the 64x2x64 fold still ends frames up to 6.8 mm inside the rod (the two would need one loop,
+        // the obstacle planes inside the passes).
         // The passes of afterImplicitSolve left each pair measured since its masses last moved, apart from those of
         // their last pass's responses and those still waiting (m_moved); since then only the obstacle contact has
         // moved masses. So the first pass here, too, measures only the pairs of those masses, and finds what
@@ -727,9 +726,9 @@ void SelfContact::afterImplicitSolve(MassSpringSystem& system, StepContext& cont
     }
     const StageScope stage(m_observer, Stage::SelfContactSolve);
     // No substep follows the solve to take what a mass pushed by several pairs was left with, so the passes go on
-    // until none moves a mass, at most selfResponsePasses. Under backward Euler the 16x2x16 fold over the rod ended
+    // until none moves a mass, at most selfResponsePasses. Under backward Euler the 16x2x16 fold over the rod ends
     // frames with its halves 0.2 mm apart with one pass and a radius apart from 8 on; the wrap's flaps, pressed
-    // together between the grabs and the box, came to 1.7 mm with 32 and kept the radius with 128 (some frames take
+    // together between the grabs and the box, come to 1.7 mm with 32 and keep the radius with 128 (some frames take
     // 100; the run 1.07 s against 0.79 s).
     const std::size_t firstPass = respondUntilSettled(p, h, time, false);
     m_report.lastSubstep = firstPass;
@@ -742,14 +741,14 @@ void SelfContact::afterImplicitSolve(MassSpringSystem& system, StepContext& cont
 std::size_t SelfContact::respondUntilSettled(Particles& p, Real h, Real time, bool firstOnlyMoved)
 {
     // With one solve a frame the pairs are listed over the whole step's motion (1 to 5 million on the 128x2x128 fold)
-    // and the passes often go on to the last: measuring every pair at every pass was half the 64x2x64 fold's run. A
-    // pass after the first measures only the pairs of the masses a response of the pass before moved by more than the
+    // and the passes often go on to the last: measuring every pair at every pass would be half the 64x2x64 fold's run.
+    // A pass after the first measures only the pairs of the masses a response of the pass before moved by more than the
     // settling bound (pushed or slid by friction). Most responses are pairs that already rest a radius apart and are
-    // put back to it by a hair (78% of them on the 128x2x128 fold's first second): their masses wait, and only when
-    // a pass moves nothing does one more pass measure the pairs of every mass changed since its pairs were last
-    // measured. The passes end when that pass moves nothing either, so they end as measuring every changed mass's
-    // pairs at every pass would: with no response beyond the bound. On that fold the passes' measures fell from 346
-    // to 145 million pairs, in 1,882 passes instead of 1,399.
+    // put back to it by a hair (78% of them on the 128x2x128 fold's first second): their masses wait, and only when a
+    // pass moves nothing does one more pass measure the pairs of every mass changed since its pairs were last measured.
+    // The passes end when that pass moves nothing either, so they end as measuring every changed mass's pairs at every
+    // pass would: with no response beyond the bound. On that fold the passes measure 145 million pairs in 1,882 passes,
+    // against 346 million in 1,399 when every changed mass's pairs are measured at every pass.
     std::size_t firstPass = 0;
     const std::vector<Index>* measured = nullptr;
     if (firstOnlyMoved)
@@ -811,8 +810,8 @@ SelfContact::Passed SelfContact::detectAndRespond(Particles& p, Real h, Real tim
 {
     const std::vector<Vec3>& x = p.position;
     // A pass of some masses' pairs marks them in a bitmap over the list, from each mass's own pairs and its
-    // triangles' (indexPairs), and each range of pairs measures its marked ones in pair order: a scan of every pair
-    // for whether a mass of it moved took as long as the measures, the passes being up to 128 a frame over lists of
+    // triangles' (indexPairs), and each range of pairs measures its marked ones in pair order: a scan of every pair for
+    // whether a mass of it moved would take as long as the measures, the passes being up to 128 a frame over lists of
     // millions of pairs.
     if (measured)
     {

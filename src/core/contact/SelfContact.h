@@ -34,9 +34,9 @@
 /// responses are repeated until none moves a mass (at most 128 passes), and they run both before the obstacle contact
 /// (afterImplicitSolve) and after it. Before a frame the pairs are listed and weighed once (solvesFor), and a frame in
 /// which some pair would close by more than six lattice spacings in one solve is taken as several, each with its own
-/// list and constraints: the 128x2x128 fold's halves, meeting at 2 m/s, otherwise crumpled through each other within
-/// one step at dt 0.03 and the run diverged. Known limit: the 64x2x64 fold over the rod ends frames up to 7 mm inside
-/// the rod.
+/// list and constraints: the 128x2x128 fold's halves, meeting at 2 m/s, otherwise crumple through each other within one
+/// step at dt 0.03 and the run diverges. Known limit: the 64x2x64 fold over the rod ends frames up to 7 mm inside the
+/// rod.
 ///
 /// Detection runs over ranges of pairs on every thread, each range listing its touches; the responses are
 /// applied in one pass in pair order, so the result is the same bit for bit at any thread count. Buffers are sized when

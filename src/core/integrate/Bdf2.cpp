@@ -9,7 +9,7 @@
 /// solve about the latest iterate) until the correction moves no mass more than newtonTolerance over the step: a
 /// single linearised step moves every mass of a rotating sheet along its tangent, and the sheet's stiff springs then
 /// take the stretch out of the rotation. Measured on a Table 1 sheet tumbling at 7.8 rad/s (the drop scene's tipping
-/// over the block's edge, 0.23 rad a step): one step left 1.45 rad/s after ten steps, Newton 7.34
+/// over the block's edge, 0.23 rad a step): one step leaves 1.45 rad/s after ten steps, Newton 7.34
 /// (Bdf2.TumblingSheetKeepsItsSpin). A free fall or a small oscillation is linear and takes one correction of about
 /// zero: one more solve a step.
 ///
@@ -37,7 +37,7 @@ class Bdf2 final : public Bdf2Integrator
 public:
     // Speculative constraints as backward Euler's, friction capped at Coulomb's within each solve, and resting
     // constraints that pull released (ImplicitSolve.h: capFriction, releaseLifting). Left to the contact's projection
-    // instead, arriving masses would be stopped after the solve, while the masses joined to them moved as if they
+    // instead, arriving masses would be stopped after the solve, while the masses joined to them move as if they
     // went on: 0.045 J in the 3x2x3 drop's springs at landing (symplectic 0.008 J), and the drop's wedge after the
     // floor at 9x2x9. The speculative constraints need the solve to place constrained masses where BDF2 puts them
     // (HeldPlacement in ImplicitSolve.h) and the contact's impulses kept out of the extrapolation (step()); without
@@ -105,7 +105,7 @@ public:
             }
             // The solve's reactions are the constraints' forces times a. A reaction is the force times the step
             // (VelocityConstraint.h): the contact sizes the next frame's friction from it, and reports it. Left at a,
-            // the friction was 2/3 of Coulomb's (a sheet on a 30 degree slope slid at 3.17 m/s^2, not 2.36).
+            // the friction would be 2/3 of Coulomb's (a sheet on a 30 degree slope sliding at 3.17 m/s^2, not 2.36).
             for (VelocityConstraint& c : context.constraints)
             {
                 c.reaction *= Real(1.5); // h / a

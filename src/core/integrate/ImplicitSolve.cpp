@@ -187,7 +187,7 @@ Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) cons
     // The conjugate gradient stops at |r| <= tol |b|. With stiff material springs b is dominated by spring forces that
     // nearly cancel in the sheet's slow motion (bending, sliding, falling), so a residual of tol |b| leaves an error in
     // that motion larger than gravity's own impulse: energy appears, b grows with it, and so does the error allowed
-    // (a cold PET sheet over a pyramid reached 149 m/s). The residual is therefore held to tol times the smaller of
+    // (a cold PET sheet over a pyramid reaches 149 m/s). The residual is therefore held to tol times the smaller of
     // |b| and the impulse of the sheet's weight over the step, a |g| sqrt(sum m_i^2).
     const Real gravity = std::max(system.forces.gravity.norm(), standardGravity);
     Real massSquares = 0;

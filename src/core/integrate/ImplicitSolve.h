@@ -42,8 +42,8 @@ namespace masse
 /// Where the integrator places a constrained mass, in its constrained directions, when they differ from x + d + a v'
 /// (BDF2 puts it at x_start + h v' there, see Bdf2.cpp). The solve then uses, in those directions, the offset
 /// that puts it there: d = (x_start - x) + (step - a) v', with v' the constraint's velocity. Without it the springs
-/// of the solve would see the mass where it will not be, and the masses around a contact would be placed for a
-/// contact that is not there (measured: the drop scene's sheet kept sliding along the valley at 12 mm/s).
+/// of the solve would see the mass where it will not be, and the masses around a contact would be placed for a contact
+/// that is not there (measured: the drop scene's sheet would keep sliding along the valley at 12 mm/s).
 struct HeldPlacement
 {
     Real step = 0; ///< 0: the constrained directions follow d + a v' like the others
@@ -113,9 +113,9 @@ private:
     /// After a solve: releases each resting constraint (one direction, not speculative) whose reaction pulls, so
     /// that its mass may leave the surface within the step. Returns whether any was released (then the step is
     /// solved again). A resting constraint is set up at the frame's start from the press of the frame before; without
-    /// the release a mass the rest of the sheet lifts off in this step is held down for the whole step. Measured on
-    /// the drop scene under BDF2: the sheet tipping over the block's edge reached the wedge at 0.96-1.08 s (8x2x8 in
-    /// the same frame as the floor), with the release at 0.93-1.02 s (symplectic: 0.95-0.96 s).
+    /// the release a mass the rest of the sheet lifts off in this step is held down for the whole step. Measured on the
+    /// drop scene under BDF2: without the release the sheet tipping over the block's edge reaches the wedge at
+    /// 0.96-1.08 s (8x2x8 in the same frame as the floor), with it at 0.93-1.02 s (symplectic: 0.95-0.96 s).
     bool releaseLifting(std::vector<VelocityConstraint>& constraints);
 
     ImplicitSettings m_settings;

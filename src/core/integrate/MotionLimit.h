@@ -33,6 +33,7 @@ private:
     Real m_maxMotion;
     int m_maxSolves;
     std::vector<Vec3> m_velocityBefore; ///< at the start of the frame last asked about (empty before the first)
+    std::vector<Real> m_chunkLargest;   ///< each chunk's largest speed bound, kept between frames
     Real m_predictedMotion = 0;
 };
 } // namespace masse

@@ -27,12 +27,12 @@
 /// Why BDF2 there: the trapezoidal stage reflects a stiff mode instead of damping it (its factor tends to -1), and
 /// contact excites the stiff modes. With the constraints honoured in both stages as BDF2 honours them (each stage
 /// placing constrained directions at its start + its length v, the speculative gaps and arrival speeds carried to the
-/// second stage), the paper's drop scene diverged at 12x2x12 and the 6x2x6 sheet never came to rest: a mass touching
-/// the floor as it left it had no constraint, the trapezoidal stage carried it 5 cm into the floor and back out, and
-/// the contact's projection put it back each step, feeding the cycle. Left to the projection alone, the drop diverged
+/// second stage), the paper's drop scene diverges at 12x2x12 and the 6x2x6 sheet never comes to rest: a mass touching
+/// the floor as it leaves it has no constraint, the trapezoidal stage carries it 5 cm into the floor and back out, and
+/// the contact's projection puts it back each step, feeding the cycle. Left to the projection alone, the drop diverges
 /// at the first contact. With BDF2 for the steps with constraints only, or for those and the one after, the drop
-/// diverged at dt 0.02 (3x2x3 tipping over the block, in the BDF2 step after a TR-BDF2 one); from three steps on, all
-/// twelve sizes from 3 to 16 kept the paper's order at dt 0.02, 0.025, 0.03 and 0.035.
+/// diverges at dt 0.02 (3x2x3 tipping over the block, in the BDF2 step after a TR-BDF2 one); from three steps on, all
+/// twelve sizes from 3 to 16 keep the paper's order at dt 0.02, 0.025, 0.03 and 0.035.
 
 #include "core/forces/Forces.h"
 #include "core/integrate/Bdf2Integrator.h"

@@ -9,6 +9,7 @@
 #include "core/Types.h"
 #include "core/lattice/SpringSet.h"
 
+#include <algorithm>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -63,6 +64,8 @@ struct Lattice
     std::vector<Index> layerStart;
     Real spacingX = 0; ///< m, distance between neighbouring columns
     Real spacingZ = 0; ///< m, distance between neighbouring rows
+    /// m, the smaller of the two spacings (0 for a lattice one mass wide along a side).
+    Real smallerSpacing() const { return std::min(spacingX, spacingZ); }
 
     std::size_t massCount() const { return position.size(); }
     std::size_t springCount() const { return springs.size(); }

@@ -44,8 +44,8 @@ public:
         return m_factor.updates() / double(std::max<Eigen::Index>(m_factor.lower().nonZeros(), 1));
     }
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
-    /// on every machine and at any thread count): a refresh took 1.08 and 1.14 times updatesPerEntry() applications
-    /// at 64x2x64 and 128x2x128 (91 ms against 0.68, 895 ms against 3.68: masse_benchmarks' choleskyRefresh and
+    /// on every machine and at any thread count): a refresh takes 1.08 and 1.14 times updatesPerEntry() applications at
+    /// 64x2x64 and 128x2x128 (91 ms against 0.68, 895 ms against 3.68: masse_benchmarks' choleskyRefresh and
     /// choleskyApply, two threads), and an iteration is about 1.3 applications (the product and the vector work).
     double refreshCost() const { return 0.85 * updatesPerEntry(); }
     /// Factorisations since construction.
@@ -61,9 +61,9 @@ private:
     /// L's columns from the last to the first, as rows of runs (see RunLengthRows), copied at each refresh: the
     /// backward solve walks the columns from the last down, gathering each one's entries, and in Eigen's storage that
     /// walk jumps back a column at every column, which the memory prefetcher does not follow (Eigen's own backward
-    /// solve, the same walk, took 3x its forward solve at 128x2x128: 57 against 18 ms). In this order it streams.
-    /// (Scattering each row's final x_i into the rows' runs instead, so that one copy served both solves, took 14 ms
-    /// an application against 10 at 128x2x128.)
+    /// solve, the same walk, takes 3x its forward solve at 128x2x128: 57 against 18 ms). In this order it streams.
+    /// (Scattering each row's final x_i into the rows' runs instead, so that one copy would serve both solves, would
+    /// take 14 ms an application against 10 at 128x2x128.)
     RunLengthRows m_backward;
     /// L by rows, copied at each refresh, so that the forward solve gathers each row's entries as the backward solve
     /// gathers each column's, and runs a stage's ranges on the pool: Eigen's forward solve scatters column by column

@@ -11,13 +11,12 @@
 /// factor only preconditions the conjugate gradient, which converges in double precision whatever the
 /// preconditioner's rounding (both solves read the same rounded factor L~, and L~ D L~^T is symmetric positive definite
 /// for any unit lower triangular L~, so it stays a preconditioner; single-precision arithmetic adds errors of 1e-7 to
-/// the half values' 5e-4). The solves stream the whole factor on every application: at 128x2x128 an application took
-/// 13 ms with double values, 10 ms with single, 4.1-4.6 ms with half values in single arithmetic
-/// (masse_benchmarks' choleskyApply, two threads); half values in double arithmetic were bound by the conversions to
-/// double instead of memory. Drape forming needs 1% more iterations than with single
-/// values (4.03 against 3.99 a step over its first 20 s at 128x2x128), a fresh factor two instead of one. The rounding
-/// to half is done in software (halfFromReal), the same bits whatever the processor; reading a half back is exact on
-/// every SIMD path.
+/// the half values' 5e-4). The solves stream the whole factor on every application: at 128x2x128 an application takes
+/// 13 ms with double values, 10 ms with single, 4.1-4.6 ms with half values in single arithmetic (masse_benchmarks'
+/// choleskyApply, two threads); half values in double arithmetic would be bound by the conversions to double instead of
+/// memory. Drape forming needs 1% more iterations than with single values (4.03 against 3.99 a step over its first 20 s
+/// at 128x2x128), a fresh factor two instead of one. The rounding to half is done in software (halfFromReal), the same
+/// bits whatever the processor; reading a half back is exact on every SIMD path.
 
 #include "core/Types.h"
 
@@ -104,11 +103,12 @@ public:
     /// Two entries of a row at most this many columns apart are in one run, the columns between stored as zeros (1:
     /// only neighbours). A run costs the solves its loads and a masked vector of its last entries whatever its length,
     /// and by columns the factor's runs are short (35 entries on average at 128x2x128, 727,000 of them; 150 by rows),
-    /// so the backward solve took longer than the forward one over the same entries. An application at 128x2x128
-    /// (masse_benchmarks' choleskyApply, alternated): 4.7-4.8 ms with only neighbours joined, 4.1-4.2 at 16, 3.9-4.1 at
-    /// 32; one thread 7.7-8.2 ms against 6.1-7.4 at 32 and 64. Drape forming at 128x2x128 over the whole 60 s: 172.3
-    /// s against 186.7 s, one run each, the same iterations and refactorisations. The zeros add nothing to a sum, but
-    /// they move the entries after them to other running sums, so the last bits differ from storing runs apart.
+    /// so with only neighbours joined the backward solve takes longer than the forward one over the same entries. An
+    /// application at 128x2x128 (masse_benchmarks' choleskyApply, alternated): 4.7-4.8 ms with only neighbours joined,
+    /// 4.1-4.2 at 16, 3.9-4.1 at 32; one thread 7.7-8.2 ms against 6.1-7.4 at 32 and 64. Drape forming at 128x2x128
+    /// over the whole 60 s: 172.3 s against 186.7 s, one run each, the same iterations and refactorisations. The zeros
+    /// add nothing to a sum, but they move the entries after them to other running sums, so the last bits differ from
+    /// storing runs apart.
     static constexpr StorageIndex joinGap = 32;
 
     /// The arrays, for the kernels (rowDot below).

@@ -497,9 +497,9 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
 
     // 1. Each row's entries in the columns below the separator: a sparse triangular solve with those columns alone
     // (their entries so far are all in rows below the separator), for a block of rows at once: each column's entries
-    // are read once for the block rather than once a row (row by row, these reads were most of a refactorisation).
-    // The block's columns come in increasing order; where a row has no entry its y is zero, and its lane's
-    // arithmetic changes nothing.
+    // are read once for the block rather than once a row (row by row, these reads would be most of a refactorisation).
+    // The block's columns come in increasing order; where a row has no entry its y is zero, and its lane's arithmetic
+    // changes nothing.
     runChunks(blocks.size(),
               [&](std::size_t task)
               {
