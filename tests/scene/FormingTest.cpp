@@ -3,6 +3,7 @@
 
 #include "support/MasseCommand.h"
 #include "support/TestSystems.h"
+#include "support/ValidationRow.h"
 
 #include "bridge/MeshTopology.h"
 #include "bridge/StlFile.h"
@@ -12,6 +13,7 @@
 #include "scene/output/Plot.h"
 #include "scene/reports/FormingReports.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 #include "core/lattice/LatticeSurface.h"
 #include "core/lattice/SpringTopology.h"
@@ -233,6 +235,12 @@ void checkConeLaw(int halfAngle, Real pressure)
     const ConeResult r = blowIntoCone(halfAngle, pressure);
     std::printf("cone half-angle %d: %d masses on the wall down to r/r0 = %.2f; error worst %.1f%%, mean %.1f%%\n",
                 halfAngle, r.compared, r.deepest, 100 * r.worst, 100 * r.meanError);
+    test::printValidationRow(
+        "cone of half-angle " + std::to_string(halfAngle) + " degrees", "Crawford's cone law (physics.md)",
+        "10% at each mass, 5% on average",
+        formatNumber("%.1f%%", 100 * r.worst) + " worst, " + formatNumber("%.1f%%", 100 * r.meanError) + " mean over " +
+            std::to_string(r.compared) + " masses down to r/r0 = " + formatNumber("%.2f", r.deepest),
+        r.compared >= 30 && r.deepest < 0.5 && r.worst < 0.10 && r.meanError < 0.05);
     EXPECT_GE(r.compared, 30) << halfAngle;
     EXPECT_LT(r.deepest, 0.5) << halfAngle << ": the sheet did not get far down the wall";
     EXPECT_LT(r.worst, 0.10) << halfAngle;
@@ -305,6 +313,11 @@ TEST(Forming, VolumeIsConservedThroughVacuumForming)
     std::printf("worst volume error %.3g%%, area error %.3g%%, largest stretch %.0f%%, thinnest %.2f of h0\n",
                 100 * worstVolume, 100 * worstArea, 100 * largestStretch,
                 thickness.minimumThickness() / thickness.initialThickness());
+    test::printValidationRow(
+        "volume through vacuum forming (cup, 16x2x16)", "h A summed over the sheet equals h0 A0", "0.5% at every frame",
+        formatNumber("%.2g%%", 100 * worstVolume) + " worst (surface area " + formatNumber("%.2g%%", 100 * worstArea) +
+            "), sheet stretched up to " + formatNumber("%.0f%%", 100 * largestStretch),
+        worstVolume < 0.005 && worstArea < 0.005 && largestStretch > 0.2);
     EXPECT_LT(worstVolume, 0.005);
     EXPECT_LT(worstArea, 0.005);
     // Only a guard against a vacuous run (a sheet that never deformed conserves volume trivially): the 16x2x16 cup
@@ -348,6 +361,12 @@ TEST(Forming, PlugAssistThickensTheCupBottom)
     const Real with = cupBottomThickness("plug-assist-cup.json", "20x2x20", &plugged);
     std::printf("cup bottom h/h0: vacuum only %.3f (%d masses), with the plug %.3f (%d masses)\n", without, plain, with,
                 plugged);
+    test::printValidationRow(
+        "plug assist (cup, 20x2x20)", "the trend plug-assist studies report: the plug thickens the part's bottom",
+        "bottom at least 10% thicker with the plug",
+        "bottom " + formatNumber("%.3f", with) + " h0 with the plug, " + formatNumber("%.3f", without) +
+            " h0 without (" + formatNumber("%+.0f%%", without > 0 ? 100 * (with / without - 1) : 0) + ")",
+        plain > 0 && plugged > 0 && with > without * 1.1);
     ASSERT_GT(plain, 0) << "no sheet reached the cup's bottom without the plug";
     ASSERT_GT(plugged, 0) << "no sheet reached the cup's bottom with the plug";
     EXPECT_GT(with, without * 1.1);
@@ -501,6 +520,12 @@ MirrorDifference mirrorDifference(const std::string& file, const std::string& si
     std::sort(differences.begin(), differences.end());
     result.p99 = differences[std::size_t(0.99 * Real(differences.size() - 1))];
     result.worst = differences.back();
+    test::printValidationRow("mirror symmetry, " + file.substr(0, file.find('.')) + " on SaMM " + size,
+                             "a mirror-symmetric set-up forms a mirror-symmetric part",
+                             "0.03 h0 at the 99th percentile, 0.08 h0 at most",
+                             formatNumber("%.3f", result.p99) + " h0 and " + formatNumber("%.3f", result.worst) +
+                                 " h0 (thinnest " + formatNumber("%.2f", result.thinnest) + " h0)",
+                             result.thinnest < 0.6 && result.p99 <= 0.03 && result.worst <= 0.08);
     std::printf("%s samm %s: thinnest %.3f h0, mirror difference p99 %.4f h0, largest %.4f h0\n", file.c_str(),
                 size.c_str(), result.thinnest, result.p99, result.worst);
     return result;
