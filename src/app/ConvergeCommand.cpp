@@ -63,7 +63,7 @@ void runConverge(const ConvergeOptions& options)
         SceneOverrides overrides = options.overrides;
         overrides.size = size;
         scene::SceneSpec spec = loadSceneWithOverrides(options.scene, overrides);
-        underFlag("--sizes", [&] { scene::checkMemory(spec.sheet.lattice, spec.time.integrator); });
+        underFlag("--sizes", [&] { scene::checkMemory(spec); });
         specs.push_back(std::move(spec));
     }
 

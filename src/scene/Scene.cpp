@@ -30,6 +30,27 @@ constexpr int warnedSubsteps = 1000;
 /// The most solves the motion limit splits a frame into: a sheet slammed onto the mould in one frame (the tray's
 /// first, at 3.5 km/s^2) takes that many and no more, and the layer floor and the contact catch the rest.
 constexpr int maxSolvesForMotion = 64;
+
+/// Runs a check of the sheet's size (its lattice, the memory it needs) under the scene's names; an error of a size
+/// given elsewhere than the scene file (`--size`, the viewer's panel, the paper's sizes) names where it came from
+/// instead of `sheet.size`, and Scene::build does not put it under the file's name.
+template <typename Check> void checkSheetSize(const SceneSpec& spec, Check&& check)
+{
+    try
+    {
+        checkUnder("sheet", latticeKeys, check);
+    }
+    catch (const InputError& e)
+    {
+        const std::string fileKey = "sheet.size: ";
+        const std::string message = e.what();
+        if (spec.sheet.sizeGiven != "sheet.size" && message.rfind(fileKey, 0) == 0)
+        {
+            throw InputError(spec.sheet.sizeGiven + ": " + message.substr(fileKey.size()));
+        }
+        throw;
+    }
+}
 } // namespace
 
 Scene::Scene(SceneSpec spec) : m_spec(std::move(spec))
@@ -54,7 +75,7 @@ void Scene::build()
         // masses the scene names; the engine would index past its arrays.
         checkMassIndices(m_spec);
         // A sheet that cannot fit in memory is refused before anything is allocated for it.
-        checkUnder("sheet", latticeKeys, [&] { checkMemory(m_spec.sheet.lattice, m_spec.time.integrator); });
+        checkSheetSize(m_spec, [&] { checkMemory(m_spec); });
         m_lattice = buildSheetLattice();
         const Real startTemperature =
             m_spec.heat.enabled ? m_spec.heat.settings.initialTemperature : m_spec.material.springs.initialTemperature;
@@ -70,7 +91,12 @@ void Scene::build()
     }
     catch (const InputError& e)
     {
-        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + e.what());
+        const std::string message = e.what();
+        if (m_spec.sheet.sizeGiven != "sheet.size" && message.rfind(m_spec.sheet.sizeGiven + ": ", 0) == 0)
+        {
+            throw; // a size from outside the file (checkSheetSize)
+        }
+        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + message);
     }
     m_scriptedMotionEnd = scriptedMotionEnd(m_spec);
     m_restPrerequisites.clear();
@@ -106,7 +132,7 @@ void Scene::tearDown()
 Lattice Scene::buildSheetLattice() const
 {
     Lattice lattice;
-    checkUnder("sheet", latticeKeys, [&] { lattice = buildLattice(m_spec.sheet.lattice); });
+    checkSheetSize(m_spec, [&] { lattice = buildLattice(m_spec.sheet.lattice); });
     if (m_spec.sheet.rotationDegrees != Vec3::Zero())
     {
         const Vec3 centre = 0.5 * (m_spec.sheet.lattice.minCorner + m_spec.sheet.lattice.maxCorner);

@@ -210,6 +210,20 @@ TEST(ViewerSession, RebuildsFromAnEditedSpecOrKeepsTheSceneWhenItCannot)
     EXPECT_EQ(session.scene().system().massCount(), 61u);
 }
 
+// A size typed into the panel that cannot make a sheet is the panel's mistake, not the scene file's: the message
+// names the panel's field and not the file the scene came from.
+TEST(ViewerSession, ABadSizeFromThePanelIsNamedAsThePanels)
+{
+    ViewerSession session(dropScene());
+    scene::SceneSpec spec = session.spec();
+    spec.sheet.lattice.layers = 70;
+    spec.sheet.sizeGiven = "the panel's size";
+    EXPECT_FALSE(session.rebuild(spec));
+    EXPECT_EQ(session.error().rfind("the panel's size: ", 0), 0u) << session.error();
+    EXPECT_EQ(session.error().find(".json"), std::string::npos) << session.error();
+    EXPECT_NE(session.error().find("64 layers"), std::string::npos) << session.error();
+}
+
 // A step the integrator cannot take is bad input, refused when the scene is built (before any frame is drawn), so
 // the viewer keeps the scene it showed (see ViewerApp's reset).
 TEST(ViewerSession, AStepTooLargeIsRefusedWhenTheSceneIsBuilt)

@@ -23,6 +23,10 @@ constexpr int selfResponsePasses = 128;
 constexpr Real closingPerSolve = 6;
 /// The most solves a frame is split into.
 constexpr int maxSolvesAFrame = 8;
+/// Vertices whose pairs at rest are sought at once while the exclusions are listed: few enough that their pairs
+/// (about 4 (3 radius / spacing)^2 each, held twice) are a small part of the lists they leave, and two of the
+/// broadphase's ranges of 512. Listing happens once per scene, so its speed matters little.
+constexpr std::size_t exclusionBatchSize = 1024;
 } // namespace
 
 void validate(const SelfContactSettings& settings)
@@ -92,28 +96,43 @@ void SelfContact::listExclusions(const SpringAdjacency& springsAt)
     // Near at rest: with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one),
     // the flat sheet itself would be in contact with itself everywhere. Every pair within twice the radius at rest is
     // among the broadphase's pairs for the rest positions with a skin of one radius (their boxes are then within
-    // three radii); the exact test sorts them out once, instead of at every list.
+    // three radii); the exact test sorts them out once, instead of at every list. The pairs are sought for a batch of
+    // vertices at a time: each vertex's pairs do not depend on the others asked with it, and the broadphase's pairs
+    // of the whole sheet at once (about (3 radius / spacing)^2 per vertex, kept twice) would be the largest
+    // allocation of a run on a fine lattice.
     m_excluded.start.assign(n + 1, 0); // nothing excluded while they are sought
     m_excluded.triangles.clear();
     std::fill(m_skin.begin(), m_skin.end(), m_settings.radius);
-    m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, m_vertices, m_excluded, m_pairs);
     const Real limitSquared = 4 * m_settings.radius * m_settings.radius;
-    for (const SelfContactPair& pair : m_pairs)
+    std::vector<Index> batch;
+    for (std::size_t first = 0; first < m_vertices.size(); first += exclusionBatchSize)
     {
-        const Triangle& t = m_triangles[pair.triangle];
-        const std::vector<Vec3>& x = m_restPosition;
-        if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
-            limitSquared)
+        const auto from = m_vertices.begin() + std::ptrdiff_t(first);
+        batch.assign(from, from + std::ptrdiff_t(std::min(exclusionBatchSize, m_vertices.size() - first)));
+        m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, batch, m_excluded, m_pairs);
+        for (const SelfContactPair& pair : m_pairs)
         {
-            excluded[pair.vertex].push_back(pair.triangle);
+            const Triangle& t = m_triangles[pair.triangle];
+            const std::vector<Vec3>& x = m_restPosition;
+            if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+                limitSquared)
+            {
+                excluded[pair.vertex].push_back(pair.triangle);
+            }
         }
     }
-    m_pairs.clear();
+    std::vector<SelfContactPair>().swap(m_pairs);
+    std::size_t total = 0;
+    for (std::vector<Index>& list : excluded)
+    {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        total += list.size();
+    }
+    m_excluded.triangles.reserve(total);
     for (std::size_t i = 0; i < n; ++i)
     {
         std::vector<Index>& list = excluded[i];
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
         m_excluded.start[i + 1] = m_excluded.start[i] + list.size();
         m_excluded.triangles.insert(m_excluded.triangles.end(), list.begin(), list.end());
         std::vector<Index>().swap(list);
