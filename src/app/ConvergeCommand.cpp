@@ -4,6 +4,7 @@
 #include "Commands.h"
 #include "SceneOptions.h"
 
+#include "core/Format.h"
 #include "core/InputError.h"
 #include "core/NumericalError.h"
 #include "scene/MemoryBudget.h"
@@ -12,12 +13,15 @@
 #include "scene/output/AtomicFile.h"
 #include "scene/output/OutputFolder.h"
 #include "scene/output/Plot.h"
+#include "scene/reports/FormingReports.h"
 #include "scene/reports/SheetReports.h"
 #include "scene/study/Convergence.h"
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -28,6 +32,80 @@ namespace masse::app
 {
 namespace
 {
+/// The bottom layer of a run at rest, with each mass's h / h0 at the end (RestLayerField).
+scene::RestLayerField restLayerField(const scene::Scene& scene)
+{
+    const Lattice& lattice = scene.lattice();
+    const SheetThickness& thickness = *scene.thickness();
+    scene::RestLayerField field;
+    field.rows = lattice.spec.countZ;
+    field.columns = lattice.spec.countX;
+    const std::size_t count = std::size_t(field.rows) * std::size_t(field.columns);
+    field.x.resize(count);
+    field.ratio.resize(count);
+    field.z.resize(std::size_t(field.rows));
+    for (Index i = lattice.layerStart[0]; i < lattice.layerStart[1]; ++i)
+    {
+        const LatticeCoord& c = lattice.coord[i];
+        const std::size_t k = std::size_t(c.row) * std::size_t(field.columns) + std::size_t(c.column);
+        field.x[k] = lattice.position[i].x();
+        field.z[std::size_t(c.row)] = lattice.position[i].z();
+        field.ratio[k] = thickness.thickness()[i] / thickness.initialThickness();
+    }
+    return field;
+}
+
+struct BandMap
+{
+    Real largest = 0;
+    Real mean = 0;
+};
+
+/// The error band of each bottom-layer mass of the finest run: its h / h0 against the run before it read at the same
+/// rest point, times the section's Richardson factor 1 / (r^p - 1) when the section was extrapolated (1 otherwise,
+/// the difference itself), drawn on the finest run's formed sheet seen from above.
+BandMap drawBandMap(const scene::Scene& finest, const scene::RestLayerField& coarser,
+                    const std::vector<scene::ConvergenceRun>& runs, const scene::Convergence& convergence,
+                    const std::string& pngPath)
+{
+    const scene::RichardsonEstimate& order = convergence.sectionOrder;
+    const Real ratio = runs[runs.size() - 2].cellSize / runs.back().cellSize;
+    const Real factor = order.extrapolated ? 1 / (std::pow(ratio, order.order) - 1) : Real(1);
+    const Lattice& lattice = finest.lattice();
+    const SheetThickness& thickness = *finest.thickness();
+    std::vector<Real> band(lattice.massCount(), 0);
+    BandMap figures;
+    for (Index i = lattice.layerStart[0]; i < lattice.layerStart[1]; ++i)
+    {
+        const Vec3& rest = lattice.position[i];
+        const Real fine = thickness.thickness()[i] / thickness.initialThickness();
+        band[i] = factor * std::abs(fine - coarser.at(rest.x(), rest.z()));
+        figures.largest = std::max(figures.largest, band[i]);
+        figures.mean += band[i];
+    }
+    figures.mean /= Real(std::max<Index>(1, lattice.layerStart[1] - lattice.layerStart[0]));
+    const std::string subtitle =
+        runs[runs.size() - 2].size + " against " + runs.back().size +
+        (order.extrapolated ? " (Richardson, order " + formatNumber("%.2f", order.order) + ")" : " (the difference)") +
+        ": " + formatNumber("%.3f", figures.largest) + " h0 at most, " + formatNumber("%.3f", figures.mean) +
+        " on average";
+    const int pixels = finest.spec().formingReport.mapPixels;
+    const std::string dataPath = pngPath + ".dat.tmp";
+    scene::writeFileAtomically(dataPath, scene::mapData(scene::topViewMap(finest, band, pixels / 3)));
+    try
+    {
+        scene::plotPng(scene::mapPlotScript(dataPath, finest.spec().name + ": thickness error band, top view", subtitle,
+                                            "band (h/h0)", "rgb 21,22,23"),
+                       pngPath, pixels, pixels * 4 / 5);
+    }
+    catch (...)
+    {
+        std::filesystem::remove(dataPath);
+        throw;
+    }
+    std::filesystem::remove(dataPath);
+    return figures;
+}
 struct ConvergeOptions
 {
     std::string scene;
@@ -69,6 +147,10 @@ void runConverge(const ConvergeOptions& options)
 
     scene::OutputFolder folder(options.out, options.force);
     std::vector<scene::ConvergenceRun> runs;
+    // The finest run is kept to draw the band map on its formed sheet, with the field of the run before it.
+    std::unique_ptr<scene::Scene> finest;
+    scene::RestLayerField coarser;
+    scene::RestLayerField latest;
     for (std::size_t k = 0; k < specs.size(); ++k)
     {
         const scene::SceneSpec& spec = specs[k];
@@ -79,7 +161,8 @@ void runConverge(const ConvergeOptions& options)
             std::fprintf(stderr, "converge: %s (%zu of %zu)\n", sizes[k].c_str(), k + 1, specs.size());
         }
         const auto start = std::chrono::steady_clock::now();
-        scene::Scene scene(spec);
+        auto built = std::make_unique<scene::Scene>(spec);
+        scene::Scene& scene = *built;
         scene::RunOptions run;
         run.outDir = runFolder;
         run.showProgress = !options.quiet;
@@ -110,6 +193,9 @@ void runConverge(const ConvergeOptions& options)
             entry.ratio.push_back(point.ratio);
         }
         runs.push_back(std::move(entry));
+        coarser = std::move(latest);
+        latest = restLayerField(scene);
+        finest = std::move(built);
     }
 
     const scene::Convergence convergence = scene::compareRuns(runs);
@@ -117,8 +203,10 @@ void runConverge(const ConvergeOptions& options)
     scene::writeFileAtomically(csv, scene::convergenceCsv(runs, convergence));
     scene::plotPng(scene::convergencePlotScript(csv, base.name, runs, convergence.sectionOrder.extrapolated),
                    folder.staging() + "/convergence_section.png");
-    scene::writeFileAtomically(folder.staging() + "/convergence.json",
-                               scene::convergenceSummary(base.name, runs, convergence).dump(2) + "\n");
+    const BandMap band = drawBandMap(*finest, coarser, runs, convergence, folder.staging() + "/convergence_map.png");
+    nlohmann::json summary = scene::convergenceSummary(base.name, runs, convergence);
+    summary["map"] = {{"largest_band_ratio", band.largest}, {"mean_band_ratio", band.mean}};
+    scene::writeFileAtomically(folder.staging() + "/convergence.json", summary.dump(2) + "\n");
     folder.commit();
 
     std::printf("%-12s %8s %10s %10s %12s %12s\n", "size", "masses", "thinnest", "wall s", "section mean",
@@ -145,7 +233,10 @@ void runConverge(const ConvergeOptions& options)
                     "last difference)\n",
                     t.value, t.band);
     }
-    std::printf("wrote %s/convergence.json, convergence_section.csv and .png, and each size's run\n",
+    std::printf("thickness map: band %.4f h0 at most, %.4f on average over the bottom layer (convergence_map.png)\n",
+                band.largest, band.mean);
+    std::printf("wrote %s/convergence.json, convergence_section.csv and .png, convergence_map.png, and each size's "
+                "run\n",
                 options.out.c_str());
 }
 } // namespace

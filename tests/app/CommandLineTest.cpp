@@ -724,7 +724,7 @@ TEST(Converge, BadRequestsExitWithCode2AndWriteNothing)
 }
 
 // A small convergence run: each size's own run in its folder, the comparison's JSON with one difference per pair of
-// sizes, and the section CSV with a column per size, all of it finite.
+// sizes, the section CSV with a column per size and the band map, all of it finite.
 TEST(Converge, WritesEachSizesRunAndTheComparison)
 {
     const std::filesystem::path out = freshFolder("converge-cup");
@@ -751,4 +751,12 @@ TEST(Converge, WritesEachSizesRunAndTheComparison)
     std::getline(csv, header);
     EXPECT_EQ(header, "coordinate_m,ratio_8x2x8,ratio_12x2x12,ratio_16x2x16,estimate,band");
     EXPECT_TRUE(std::filesystem::exists(out / "convergence_section.png"));
+    // The band map of the finest run's bottom layer: its figures in the JSON, its picture beside it.
+    const double largest = summary["map"]["largest_band_ratio"].get<double>();
+    const double mean = summary["map"]["mean_band_ratio"].get<double>();
+    EXPECT_TRUE(std::isfinite(largest));
+    EXPECT_GT(largest, 0) << "the sheet was not drawn in, or the band map compares a run with itself";
+    EXPECT_GE(largest, mean);
+    EXPECT_GE(mean, 0);
+    EXPECT_TRUE(std::filesystem::exists(out / "convergence_map.png"));
 }

@@ -224,6 +224,37 @@ Convergence compareRuns(const std::vector<ConvergenceRun>& runs)
     return c;
 }
 
+Real RestLayerField::at(Real px, Real pz) const
+{
+    const auto alongRow = [&](int row)
+    {
+        const Real* xs = x.data() + std::size_t(row) * std::size_t(columns);
+        const Real* values = ratio.data() + std::size_t(row) * std::size_t(columns);
+        if (columns == 1 || px <= xs[0])
+        {
+            return values[0];
+        }
+        if (px >= xs[columns - 1])
+        {
+            return values[columns - 1];
+        }
+        const int right = int(std::upper_bound(xs, xs + columns, px) - xs);
+        const Real t = (px - xs[right - 1]) / (xs[right] - xs[right - 1]);
+        return (1 - t) * values[right - 1] + t * values[right];
+    };
+    if (rows == 1 || pz <= z.front())
+    {
+        return alongRow(0);
+    }
+    if (pz >= z.back())
+    {
+        return alongRow(rows - 1);
+    }
+    const int above = int(std::upper_bound(z.begin(), z.end(), pz) - z.begin());
+    const Real t = (pz - z[std::size_t(above - 1)]) / (z[std::size_t(above)] - z[std::size_t(above - 1)]);
+    return (1 - t) * alongRow(above - 1) + t * alongRow(above);
+}
+
 nlohmann::json convergenceSummary(const std::string& scene, const std::vector<ConvergenceRun>& runs,
                                   const Convergence& c)
 {

@@ -70,6 +70,21 @@ struct Convergence
 };
 Convergence compareRuns(const std::vector<ConvergenceRun>& runs);
 
+/// A run's bottom layer at rest: h / h0 of each of its masses, row by row (a row runs along x at one z) with their rest
+/// positions, read anywhere on the sheet to compare a finer run's masses with it (the band map of `masse converge`).
+/// Rows may be shifted against each other along x (a triangular lattice's are): a point is read along x within the
+/// rows on either side of it, then between those rows along z.
+struct RestLayerField
+{
+    int rows = 0;
+    int columns = 0;
+    std::vector<Real> x;     ///< m, rest, rows x columns, increasing along each row
+    std::vector<Real> z;     ///< m, rest, one per row, increasing
+    std::vector<Real> ratio; ///< h / h0, rows x columns
+    /// h / h0 at the rest point (x, z), linear between the masses around it; a point beyond the edge takes the edge's.
+    Real at(Real px, Real pz) const;
+};
+
 /// convergence.json's document, convergence_section.csv and its gnuplot script.
 nlohmann::json convergenceSummary(const std::string& scene, const std::vector<ConvergenceRun>& runs,
                                   const Convergence& convergence);

@@ -136,3 +136,32 @@ TEST(Convergence, SizesAreReadAsTheFlagSays)
         }
     }
 }
+
+// The band map reads a coarser run's bottom layer at a finer run's rest points: a field linear in x and z is read back
+// exactly between the masses, also where the rows are shifted against each other along x (a triangular lattice's
+// are), and a point beyond the sheet's edge takes the edge's value.
+TEST(Convergence, ARestLayerFieldIsReadLinearlyBetweenItsMasses)
+{
+    RestLayerField field;
+    field.rows = 3;
+    field.columns = 4;
+    const auto linear = [](Real x, Real z) { return 0.5 + 2 * x - 3 * z; };
+    for (int row = 0; row < field.rows; ++row)
+    {
+        const Real z = 0.1 * row;
+        field.z.push_back(z);
+        for (int column = 0; column < field.columns; ++column)
+        {
+            const Real x = 0.1 * column + (row % 2 == 1 ? 0.05 : 0.0);
+            field.x.push_back(x);
+            field.ratio.push_back(linear(x, z));
+        }
+    }
+    for (const auto& [x, z] : {std::pair<Real, Real>{0.12, 0.03}, {0.21, 0.17}, {0.05, 0.1}, {0.26, 0.0}})
+    {
+        EXPECT_NEAR(field.at(x, z), linear(x, z), 1e-12) << x << ", " << z;
+    }
+    EXPECT_NEAR(field.at(-1, 0), linear(0, 0), 1e-12);
+    EXPECT_NEAR(field.at(1, 0.2), linear(0.3, 0.2), 1e-12);
+    EXPECT_NEAR(field.at(0.1, 5), linear(0.1, 0.2), 1e-12);
+}
