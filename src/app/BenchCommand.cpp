@@ -343,8 +343,7 @@ void addBenchCommand(CLI::App& app)
                         "--contact); its run length and rest are ignored");
     command->add_option("--structure", options->structure, "square2d, samm, slamm or trimm (default: the scene's)");
     command->add_option("--size", options->size, "NxLxN (default: the scene's, 256x2x256 in the bench scenes)");
-    command->add_option("--integrator", options->integrator,
-                        "euler, symplectic, verlet, implicit, bdf2 or trbdf2 (default: the scene's)");
+    command->add_option("--integrator", options->integrator, integratorNameList() + " (default: the scene's)");
     command->add_option("--preconditioner", options->preconditioner, "implicit solver: multigrid, cholesky or jacobi");
     command->add_option(
         "--material", options->material,

@@ -41,10 +41,7 @@ const CLI::Validator threadCount(
 
 void addSceneOverrides(CLI::App& command, SceneOverrides& overrides)
 {
-    command
-        .add_option("--integrator", overrides.integrator,
-                    "Override: euler, symplectic, verlet, implicit, bdf2 or trbdf2")
-        ->check(nonEmpty);
+    command.add_option("--integrator", overrides.integrator, "Override: " + integratorNameList())->check(nonEmpty);
     command.add_option("--dt", overrides.dt, "Override: step in seconds")->check(nonEmpty);
     command.add_option("--duration", overrides.duration, "Override: simulated seconds at most")->check(nonEmpty);
     command.add_option("--size", overrides.size, "Override: sheet size NxLxN")->check(nonEmpty);

@@ -57,8 +57,7 @@ double estimatedBytes(const SceneSpec& spec)
     const IntegratorKind integrator = spec.time.integrator;
     if (!isExplicit(integrator))
     {
-        // TR-BDF2 keeps a solve (matrix and factor) for each of its two stages and BDF2's for its steps with contact.
-        const double solves = integrator == IntegratorKind::TrBdf2 ? 2.0 : 1.0;
+        const double solves = double(solvesKept(integrator));
         double preconditioner = 0;
         switch (spec.time.implicit.preconditioner)
         {

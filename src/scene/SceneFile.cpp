@@ -270,8 +270,12 @@ ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& self
 TimeSpec readTime(const JsonObject& o)
 {
     TimeSpec time;
-    time.integrator = parseIntegrator(
-        o.choice("type", "symplectic", {"euler", "symplectic", "verlet", "implicit", "bdf2", "trbdf2"}));
+    std::vector<std::string> integratorNames;
+    for (const IntegratorEntry& entry : integrators())
+    {
+        integratorNames.emplace_back(entry.name);
+    }
+    time.integrator = parseIntegrator(o.choice("type", "symplectic", integratorNames));
     time.dt = o.number("dt", time.dt, limits::minTimeStep, limits::maxTimeStep);
     time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
     if (o.has("max_motion"))

@@ -19,16 +19,14 @@ constexpr float hudLines = 11;
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
 constexpr std::array<Structure, 4> structures{Structure::Square2D, Structure::SaMM, Structure::SLaMM, Structure::TRiMM};
-constexpr std::array<IntegratorKind, 6> integrators{IntegratorKind::ExplicitEuler,  IntegratorKind::SymplecticEuler,
-                                                    IntegratorKind::VelocityVerlet, IntegratorKind::ImplicitEuler,
-                                                    IntegratorKind::Bdf2,           IntegratorKind::TrBdf2};
+
 constexpr std::array<ContactResponse, 3> responses{ContactResponse::Sticky, ContactResponse::Friction,
                                                    ContactResponse::Frictionless};
 constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
 
 /// A combo box over an enum, labelled by the enum's own names (the same words the scene files use).
-template <typename Enum, std::size_t N, typename NameOf>
-bool enumCombo(const char* label, Enum& value, const std::array<Enum, N>& values, NameOf nameOf)
+template <typename Enum, typename Values, typename NameOf>
+bool enumCombo(const char* label, Enum& value, const Values& values, NameOf nameOf)
 {
     bool changed = false;
     if (ImGui::BeginCombo(label, std::string(nameOf(value)).c_str()))
@@ -293,7 +291,12 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
             changed = true;
         }
         changed |= nonNegativeDouble("air damping (1/s)", spec.environment.airDampingRate, "%.4g");
-        changed |= enumCombo("integrator", spec.time.integrator, integrators, integratorName);
+        std::vector<IntegratorKind> kinds; // the registry's, in its order
+        for (const IntegratorEntry& entry : integrators())
+        {
+            kinds.push_back(entry.kind);
+        }
+        changed |= enumCombo("integrator", spec.time.integrator, kinds, integratorName);
         changed |= positiveDouble("dt (s)", spec.time.dt, "%.4g");
     }
     if (ImGui::CollapsingHeader("Contact"))

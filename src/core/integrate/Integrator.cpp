@@ -2,20 +2,50 @@
 
 #include "core/NamedEnum.h"
 
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
 #include <string>
 
 namespace masse
 {
 namespace
 {
-constexpr EnumName<IntegratorKind> integratorNames[] = {
-    {IntegratorKind::ExplicitEuler, "euler"},
-    {IntegratorKind::SymplecticEuler, "symplectic"},
-    {IntegratorKind::VelocityVerlet, "verlet"},
-    {IntegratorKind::ImplicitEuler, "implicit"},
-    {IntegratorKind::Bdf2, "bdf2"},
-    {IntegratorKind::TrBdf2, "trbdf2"},
+std::unique_ptr<Integrator> explicitEuler(const ImplicitSettings&)
+{
+    return makeExplicitEuler();
+}
+std::unique_ptr<Integrator> symplecticEuler(const ImplicitSettings&)
+{
+    return makeSymplecticEuler();
+}
+std::unique_ptr<Integrator> velocityVerlet(const ImplicitSettings&)
+{
+    return makeVelocityVerlet();
+}
+
+// TR-BDF2 keeps a solve (matrix and factor) for each of its two stages; BDF2 one, for its steps with contact too.
+constexpr IntegratorEntry integratorTable[] = {
+    {IntegratorKind::ExplicitEuler, "euler", true, 0, explicitEuler},
+    {IntegratorKind::SymplecticEuler, "symplectic", true, 0, symplecticEuler},
+    {IntegratorKind::VelocityVerlet, "verlet", true, 0, velocityVerlet},
+    {IntegratorKind::ImplicitEuler, "implicit", false, 1, makeImplicitEuler},
+    {IntegratorKind::Bdf2, "bdf2", false, 1, makeBdf2},
+    {IntegratorKind::TrBdf2, "trbdf2", false, 2, makeTrBdf2},
 };
+
+const IntegratorEntry& entryOf(IntegratorKind kind)
+{
+    for (const IntegratorEntry& entry : integratorTable)
+    {
+        if (entry.kind == kind)
+        {
+            return entry;
+        }
+    }
+    throw std::logic_error("an integrator without an entry in integratorTable");
+}
+
 constexpr EnumName<PreconditionerKind> preconditionerNames[] = {
     {PreconditionerKind::Multigrid, "multigrid"},
     {PreconditionerKind::Cholesky, "cholesky"},
@@ -33,38 +63,55 @@ PreconditionerKind parsePreconditioner(std::string_view name)
     return parseEnum(preconditionerNames, name, "preconditioner", "preconditioner");
 }
 
+std::span<const IntegratorEntry> integrators()
+{
+    return integratorTable;
+}
+
+std::string integratorNameList()
+{
+    std::string list;
+    const std::size_t count = std::size(integratorTable);
+    for (std::size_t k = 0; k < count; ++k)
+    {
+        list += (k == 0 ? "" : k + 1 == count ? " or " : ", ") + std::string(integratorTable[k].name);
+    }
+    return list;
+}
+
 IntegratorKind parseIntegrator(std::string_view name)
 {
-    return parseEnum(integratorNames, name, "integrator", "integrator");
+    std::string lower(name);
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::string list;
+    for (const IntegratorEntry& entry : integratorTable)
+    {
+        if (entry.name == lower)
+        {
+            return entry.kind;
+        }
+        list += (list.empty() ? "" : ", ") + std::string(entry.name);
+    }
+    throw InputError("integrator", "unknown integrator '" + std::string(name) + "' (expected one of " + list + ")");
 }
 
 std::string_view integratorName(IntegratorKind kind)
 {
-    return enumName(integratorNames, kind);
+    return entryOf(kind).name;
 }
 
 bool isExplicit(IntegratorKind kind)
 {
-    return kind != IntegratorKind::ImplicitEuler && kind != IntegratorKind::Bdf2 && kind != IntegratorKind::TrBdf2;
+    return entryOf(kind).explicitStep;
+}
+
+int solvesKept(IntegratorKind kind)
+{
+    return entryOf(kind).solvesKept;
 }
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSettings& implicit)
 {
-    switch (kind)
-    {
-    case IntegratorKind::ExplicitEuler:
-        return makeExplicitEuler();
-    case IntegratorKind::SymplecticEuler:
-        return makeSymplecticEuler();
-    case IntegratorKind::VelocityVerlet:
-        return makeVelocityVerlet();
-    case IntegratorKind::ImplicitEuler:
-        return makeImplicitEuler(implicit);
-    case IntegratorKind::Bdf2:
-        return makeBdf2(implicit);
-    case IntegratorKind::TrBdf2:
-        return makeTrBdf2(implicit);
-    }
-    return nullptr;
+    return entryOf(kind).make(implicit);
 }
 } // namespace masse

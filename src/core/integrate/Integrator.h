@@ -6,6 +6,8 @@
 #include "core/StepContext.h"
 
 #include <memory>
+#include <span>
+#include <string>
 #include <string_view>
 
 namespace masse
@@ -20,10 +22,30 @@ enum class IntegratorKind
     TrBdf2, ///< trapezoidal rule then BDF2 in each step (TR-BDF2), BDF2 steps in contact; keeps slow motion best
 };
 
-/// Parses "euler", "symplectic", "verlet", "implicit", "bdf2" or "trbdf2"; throws InputError naming the allowed names.
+class Integrator;
+struct ImplicitSettings;
+
+/// The registry of integrators: one entry each, in the order menus and help list them. The names the scene files and
+/// flags take, the viewer's menu, the help strings and the memory estimate all read it, so adding an integrator is
+/// its own file, its entry here (Integrator.cpp) and the CMake list.
+struct IntegratorEntry
+{
+    IntegratorKind kind;
+    std::string_view name; ///< in scene files and flags
+    bool explicitStep;     ///< conditionally stable: substepped from the stability estimate
+    int solvesKept;        ///< implicit solves (matrix and preconditioner) held at once, for the memory estimate
+    std::unique_ptr<Integrator> (*make)(const ImplicitSettings& implicit);
+};
+std::span<const IntegratorEntry> integrators();
+/// "euler, symplectic, verlet, implicit, bdf2 or trbdf2", from the registry, for help strings.
+std::string integratorNameList();
+
+/// Parses a registered name (any case); throws InputError naming the allowed names.
 IntegratorKind parseIntegrator(std::string_view name);
 std::string_view integratorName(IntegratorKind kind);
 bool isExplicit(IntegratorKind kind);
+/// Implicit solves an integrator holds at once (0 for the explicit ones).
+int solvesKept(IntegratorKind kind);
 
 /// The implicit solver's preconditioner (see MultigridPreconditioner.h, and docs/model.md for when each suits).
 enum class PreconditionerKind
