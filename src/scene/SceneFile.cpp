@@ -10,6 +10,7 @@
 #include "core/InputError.h"
 #include "core/forces/Damping.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -1027,6 +1028,66 @@ std::string escaped(const std::string& text)
 
 namespace
 {
+/// The name of a list item that has one ("heaters", "obstacles"... give their items names), or "".
+std::string itemName(const nlohmann::json& item)
+{
+    return item.is_object() && item.contains("name") && item["name"].is_string() ? item["name"].get<std::string>()
+                                                                                 : std::string();
+}
+
+/// RFC 7386's merge patch (objects merge key by key, a null removes a key, values replace), except that an item of a
+/// list that has the name of an item of the base's list at the same place is merged over that item: a scene that
+/// extends another and gives `"heaters": [{"name": "panel", "power": 5000}]` changes the panel's power and keeps its
+/// place and size, where a plain merge patch would put the defaults in their place without a word. The patch's list
+/// still decides which items there are and in what order; an item without a name, with a new one, or of another
+/// `type` than the base's item of its name, is taken as given.
+void mergeScenePatch(nlohmann::json& target, const nlohmann::json& patch)
+{
+    if (!patch.is_object())
+    {
+        if (patch.is_array() && target.is_array())
+        {
+            nlohmann::json merged = nlohmann::json::array();
+            for (const nlohmann::json& item : patch)
+            {
+                const std::string name = itemName(item);
+                const auto base = std::find_if(target.begin(), target.end(),
+                                               [&](const nlohmann::json& candidate)
+                                               { return !name.empty() && itemName(candidate) == name; });
+                // An obstacle of another shape under the same name is a new one.
+                if (base == target.end() ||
+                    (item.contains("type") && base->contains("type") && item["type"] != (*base)["type"]))
+                {
+                    merged.push_back(item);
+                    continue;
+                }
+                nlohmann::json combined = *base;
+                mergeScenePatch(combined, item);
+                merged.push_back(std::move(combined));
+            }
+            target = std::move(merged);
+            return;
+        }
+        target = patch;
+        return;
+    }
+    if (!target.is_object())
+    {
+        target = nlohmann::json::object();
+    }
+    for (auto entry = patch.begin(); entry != patch.end(); ++entry)
+    {
+        if (entry.value().is_null())
+        {
+            target.erase(entry.key());
+        }
+        else
+        {
+            mergeScenePatch(target[entry.key()], entry.value());
+        }
+    }
+}
+
 /// The files a chain of "extends" has read so far, outermost first, as given and as the files they are.
 struct ExtendsChain
 {
@@ -1083,7 +1144,7 @@ nlohmann::json readSceneDocument(const std::string& path, ExtendsChain& chain)
     merged.erase("expect");
     nlohmann::json patch = document;
     patch.erase("extends");
-    merged.merge_patch(patch);
+    mergeScenePatch(merged, patch);
     return merged;
 }
 

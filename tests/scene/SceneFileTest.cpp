@@ -322,3 +322,40 @@ TEST(SceneFile, BulletKeysSetTheTwinsSettings)
     EXPECT_EQ(errorOfDocument(R"({"bullet": {"collisions": "VF_SS"}})"),
               "doc: bullet.collisions: must be SDF_RS (got 'VF_SS')");
 }
+
+// A scene that extends another and gives one item of a named list (a heater, an obstacle) by its name with one key
+// changes that key and keeps the item's others, where a plain merge patch would replace the item and put the defaults
+// in place of its size and position without a word. The extending file's list still decides which items there are.
+TEST(SceneFile, ExtendsMergesANamedListItemOverTheBasesItemOfThatName)
+{
+    namespace fs = std::filesystem;
+    const fs::path mine = fs::path(testing::TempDir()) / "masse-extends-named";
+    fs::remove_all(mine);
+    fs::create_directories(mine);
+    std::ofstream(mine / "hotter.json") << R"({ "extends": ")" + source + R"(/data/scenes/sag.json",
+      "heat": { "heaters": [ { "name": "panel", "power": 5000 } ] } })";
+    const SceneSpec base = loadScene(source + "/data/scenes/sag.json");
+    const SceneSpec hotter = loadScene((mine / "hotter.json").string());
+    ASSERT_EQ(base.heat.heaterNames.size(), 1u);
+    ASSERT_EQ(hotter.heat.heaterNames.size(), 1u);
+    ASSERT_EQ(hotter.heat.heaterNames[0], "panel");
+    const RadiantHeater& before = base.heat.settings.heaters[0];
+    const RadiantHeater& after = hotter.heat.settings.heaters[0];
+    EXPECT_EQ(after.power, 5000);
+    EXPECT_NE(before.power, 5000) << "the test changes nothing";
+    EXPECT_EQ(after.centre, before.centre);
+    EXPECT_EQ(after.width, before.width);
+    EXPECT_EQ(after.length, before.length);
+
+    // A new name is a new item, taken as given; the list is the extending file's, in its order.
+    std::ofstream(mine / "two.json") << R"({ "extends": ")" + source + R"(/data/scenes/sag.json",
+      "heat": { "heaters": [ { "name": "second", "power": 100, "centre": [0, 0.5, 0], "width": 0.2, "length": 0.2 },
+                             { "name": "panel" } ] } })";
+    const SceneSpec two = loadScene((mine / "two.json").string());
+    ASSERT_EQ(two.heat.heaterNames.size(), 2u);
+    EXPECT_EQ(two.heat.heaterNames[0], "second");
+    EXPECT_EQ(two.heat.settings.heaters[0].width, 0.2);
+    EXPECT_EQ(two.heat.heaterNames[1], "panel");
+    EXPECT_EQ(two.heat.settings.heaters[1].power, before.power);
+    EXPECT_EQ(two.heat.settings.heaters[1].centre, before.centre);
+}
