@@ -352,11 +352,12 @@ void DivergenceGuard::checkSpeedBeforeContact(const MassSpringSystem& system, co
         // Written so that a NaN speed fails too (the finite check at the step's end would name it later).
         if (!p.pinned[i] && !((p.velocity[i] * inverse).squaredNorm() <= 1))
         {
-            fail(step, "mass " + std::to_string(i) + " moves at " + formatNumber("%.3g", p.velocity[i].stableNorm()) +
-                           " m/s before the contact pass, above this "
-                           "scene's bound of " +
-                           formatNumber("%.3g", m_settings.speedLimit) +
-                           " m/s (100 times the fastest that gravity and the scripted motions can give)");
+            fail(step,
+                 "mass " + std::to_string(i) + " moves at " + formatNumber("%.3g", p.velocity[i].stableNorm()) +
+                     " m/s before the contact pass, above this "
+                     "scene's bound of " +
+                     formatNumber("%.3g", m_settings.speedLimit) +
+                     " m/s (100 times the fastest that gravity, the scripted motions and a forming pressure can give)");
         }
     }
 }
@@ -398,10 +399,11 @@ void DivergenceGuard::check(const MassSpringSystem& system, const GuardStep& ste
     if (fastest > m_settings.speedLimit)
     {
         // stableNorm: the squared speed may have overflowed where the speed has not.
-        fail(step, "mass " + std::to_string(fastestMass) + " moves at " +
-                       formatNumber("%.3g", p.velocity[fastestMass].stableNorm()) +
-                       " m/s, above this scene's bound of " + formatNumber("%.3g", m_settings.speedLimit) +
-                       " m/s (100 times the fastest that gravity and the scripted motions can give)");
+        fail(step,
+             "mass " + std::to_string(fastestMass) + " moves at " +
+                 formatNumber("%.3g", p.velocity[fastestMass].stableNorm()) + " m/s, above this scene's bound of " +
+                 formatNumber("%.3g", m_settings.speedLimit) +
+                 " m/s (100 times the fastest that gravity, the scripted motions and a forming pressure can give)");
     }
     m_inStep = false;
     if (!m_settings.checkEnergy)

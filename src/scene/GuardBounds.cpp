@@ -107,7 +107,27 @@ Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
         }
         grabs = std::max(grabs, std::sqrt(2 * a.maxForce * farthest / lightestMass));
     }
-    return std::max({fall, grabs, fastestObstacleSpeed(spec)});
+    // A forming pressure: the work p d it does on a sheet of areal mass rho h0 over the sheet's size d, and with air
+    // drag no more than its terminal speed p / (rho h0 c). A wall the forming has thinned moves faster than either
+    // (its areal mass is smaller), which the guard's margin covers down to a hundredth of h0. Without this, a
+    // thinned wall that the vacuum draws onto the mould at tens of metres a second (the plug-assist cup at
+    // 128x2x128, where the plug's speed set the bound at 24 m/s) is stopped as if it had diverged.
+    Real pressure = 0;
+    if (spec.forming.enabled && spec.material.enabled && spec.material.thickness > 0)
+    {
+        Real strongest = 0;
+        for (const PressureKey& key : spec.forming.pressure)
+        {
+            strongest = std::max(strongest, std::abs(key.pressure));
+        }
+        const Real arealMass = spec.material.material.density * spec.material.thickness;
+        pressure = std::sqrt(2 * strongest * size / arealMass);
+        if (spec.environment.airDampingRate > 0)
+        {
+            pressure = std::min(pressure, strongest / (arealMass * spec.environment.airDampingRate));
+        }
+    }
+    return std::max({fall, grabs, pressure, fastestObstacleSpeed(spec)});
 }
 
 GuardSettings guardSettings(const SceneSpec& spec, Real lightestMass)

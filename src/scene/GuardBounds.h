@@ -14,8 +14,8 @@ inline constexpr Real guardSpeedMargin = 100;
 /// m/s, the fastest any kinematic obstacle's surface moves along its path or its scripted moves.
 Real fastestObstacleSpeed(const SceneSpec& spec);
 
-/// m/s, the fastest speed gravity (with the air's drag and the room's height) and the scripted motions (obstacles,
-/// grab targets and the pull of grabs) can give a mass of `lightestMass` kg.
+/// m/s, the fastest speed gravity (with the air's drag and the room's height), the scripted motions (obstacles, grab
+/// targets and the pull of grabs) and a forming pressure can give a mass of `lightestMass` kg.
 Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass);
 
 /// The guard's settings for a scene whose lightest mass is `lightestMass` kg.

@@ -2,6 +2,7 @@
 
 #include "support/TestSystems.h"
 
+#include "scene/GuardBounds.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 
@@ -170,4 +171,24 @@ TEST(FormingScene, ObstaclesAndTheRoomWithoutATemperatureTakeTheAirs)
     EXPECT_GT(coolest, celsiusToKelvin(20)); // every mass warmed: the table (or its neighbours) is at 60 C
     const Real warmest = *std::max_element(temperature.begin(), temperature.end());
     EXPECT_LT(warmest, celsiusToKelvin(60) + 1e-9);
+}
+
+// The divergence guard's speed bound counts a forming pressure among the causes that move the sheet: the work of the
+// strongest pressure over the sheet's size on its areal mass, sqrt(2 p d / (rho h0)), and with air drag at most the
+// terminal speed p / (rho h0 c). The vacuum cup's 80 kPa on 2 mm of ABS with a drag of 200/s: the smaller of the two.
+// Without it the bound was the fall under gravity through the drag (0.05 m/s), so a wall the vacuum draws onto the
+// mould at a few metres a second was stopped as diverged.
+TEST(FormingScene, TheGuardCountsTheFormingPressureAmongWhatMovesTheSheet)
+{
+    const SceneSpec cup = loadScene(source + "/data/scenes/vacuum-forming-cup.json");
+    const Real arealMass = cup.material.material.density * cup.material.thickness;
+    const Real size = (cup.sheet.lattice.maxCorner - cup.sheet.lattice.minCorner).norm();
+    const Real work = std::sqrt(2 * 80000 * size / arealMass);
+    const Real terminal = 80000 / (arealMass * cup.environment.airDampingRate);
+    EXPECT_NEAR(fastestScriptedSpeed(cup, 1e-3), std::min(work, terminal), 1e-9 * work);
+    EXPECT_GT(fastestScriptedSpeed(cup, 1e-3), 100.0) << "tens of metres a second are within the bound";
+
+    SceneSpec still = cup;
+    still.forming.pressure = {{0, 0}, {1, 0}};
+    EXPECT_LT(fastestScriptedSpeed(still, 1e-3), 0.1) << "without pressure only gravity through the drag remains";
 }
