@@ -45,7 +45,14 @@ void SimulationThread::waitFor(std::uint64_t ticket)
 void SimulationThread::setScalar(const std::string& name)
 {
     std::lock_guard lock(m_mutex);
-    m_scalar = name;
+    if (name != m_scalar)
+    {
+        // Paused, no step would publish the new scalar's values and the sheet would stay grey ("waiting for
+        // values"): the thread is woken to publish them now.
+        m_scalar = name;
+        m_scalarChanged = true;
+        m_wake.notify_one();
+    }
 }
 
 std::shared_ptr<const SceneSnapshot> SimulationThread::latest() const
@@ -108,25 +115,28 @@ void SimulationThread::run()
     {
         std::vector<SessionCommand> commands;
         std::uint64_t ticket = 0;
+        bool scalarChanged = false;
         {
             std::unique_lock lock(m_mutex);
             // Paused or following commands only, nothing is due until a command comes; running, the next step is
             // due within a few milliseconds (the scheduler takes as many as the clock owes).
             const bool idle = !m_realTime || m_session.paused();
             m_wake.wait_for(lock, std::chrono::milliseconds(idle ? 50 : 2),
-                            [&] { return m_stop || !m_commands.empty(); });
+                            [&] { return m_stop || !m_commands.empty() || m_scalarChanged; });
             if (m_stop)
             {
                 return;
             }
             commands.swap(m_commands);
             ticket = m_posted;
+            scalarChanged = m_scalarChanged;
+            m_scalarChanged = false;
         }
         for (SessionCommand& command : commands)
         {
             command(m_session);
         }
-        if (!commands.empty())
+        if (!commands.empty() || scalarChanged)
         {
             // What the commands did (a pick taken, a scene loaded) is published before the next step, not after it:
             // on a large sheet a step takes a good part of a second.

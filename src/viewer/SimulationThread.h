@@ -65,6 +65,7 @@ private:
     std::uint64_t m_posted = 0;
     std::uint64_t m_applied = 0;
     std::string m_scalar;
+    bool m_scalarChanged = false; ///< a new scalar was asked for: published at once, also while paused
     bool m_stop = false;
     std::shared_ptr<SceneSnapshot> m_front; ///< the latest, handed to the window
     std::shared_ptr<SceneSnapshot> m_back;  ///< filled by the simulation thread

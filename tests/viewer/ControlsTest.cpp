@@ -212,4 +212,26 @@ TEST(SimulationThread, CommandsAreCarriedOutAndPublishedWhileTheWindowNeverWaits
     simulation.stop();
     EXPECT_NEAR(session.scene().time(), 5 * 0.03, 1e-12);
 }
+
+// A scalar chosen while the viewer is paused is painted at once: the thread publishes its values without waiting for
+// a step, so the sheet is not left grey ("waiting for values") until the user resumes.
+TEST(SimulationThread, AScalarChosenWhilePausedIsPublishedWithoutAStep)
+{
+    ViewerSession session(dropScene());
+    session.setPaused(true);
+    const MassScalarRegistry scalars = standardMassScalars();
+    SimulationThread simulation(session, scalars, true, 0.02);
+    simulation.start();
+    ASSERT_TRUE(simulation.latest()->scalar.empty());
+    simulation.setScalar("speed");
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (simulation.latest()->scalar.empty() && std::chrono::steady_clock::now() < deadline)
+    {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    const std::shared_ptr<const SceneSnapshot> painted = simulation.latest();
+    EXPECT_EQ(painted->scalar.size(), painted->positions.size());
+    EXPECT_EQ(painted->steps, 0u) << "paused: no step was taken";
+    simulation.stop();
+}
 } // namespace masse::viewer
