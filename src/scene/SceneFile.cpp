@@ -8,6 +8,7 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/NearestName.h"
 #include "core/forces/Damping.h"
 
 #include <algorithm>
@@ -696,14 +697,16 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
     auto exists = [&](const std::string& name) { return std::find(names.begin(), names.end(), name) != names.end(); };
     if (!scene.forming.mould.empty() && !exists(scene.forming.mould))
     {
-        top.fail("forming.mould", "no obstacle is named '" + scene.forming.mould + "'");
+        top.fail("forming.mould",
+                 "no obstacle is named '" + scene.forming.mould + "'" + didYouMean(scene.forming.mould, names));
     }
     for (std::size_t i = 0; i < scene.run.restAfterContactWith.size(); ++i)
     {
         if (!exists(scene.run.restAfterContactWith[i]))
         {
-            top.fail("run.stop_at_rest.after_contact_with",
-                     "no obstacle is named '" + scene.run.restAfterContactWith[i] + "'");
+            top.fail("run.stop_at_rest.after_contact_with", "no obstacle is named '" +
+                                                                scene.run.restAfterContactWith[i] + "'" +
+                                                                didYouMean(scene.run.restAfterContactWith[i], names));
         }
     }
     ScriptTargets targets;
@@ -817,7 +820,8 @@ void checkScriptAction(const ScriptAction& a, const ScriptTargets& targets)
     case ScriptAction::Kind::Move:
         if (!has(targets.obstacles, a.obstacle))
         {
-            throw InputError("obstacle", "no obstacle is named '" + a.obstacle + "'");
+            throw InputError("obstacle",
+                             "no obstacle is named '" + a.obstacle + "'" + didYouMean(a.obstacle, targets.obstacles));
         }
         if (has(targets.staticObstacles, a.obstacle))
         {
@@ -830,7 +834,7 @@ void checkScriptAction(const ScriptAction& a, const ScriptTargets& targets)
     case ScriptAction::Kind::Heater:
         if (!has(targets.heaters, a.heater))
         {
-            throw InputError("heater", "no heater is named '" + a.heater + "'");
+            throw InputError("heater", "no heater is named '" + a.heater + "'" + didYouMean(a.heater, targets.heaters));
         }
         break;
     case ScriptAction::Kind::Ambient:

@@ -689,6 +689,18 @@ TEST(CommandLine, MistakesAreNamedWhereTheyAreWithTheNearestName)
               std::string::npos)
         << list.output;
 
+    // The names a scene gives its heaters and obstacles are suggested too, where a script or a key refers to one.
+    const Outcome heater =
+        runMasse("run " + source + "/data/scenes/sag.json --set script[0].heater=panle --out " + out.string());
+    EXPECT_EQ(heater.exitCode, 2) << heater.output;
+    EXPECT_NE(heater.output.find("no heater is named 'panle' (did you mean 'panel'?)"), std::string::npos)
+        << heater.output;
+    const Outcome obstacle = runMasse(
+        "run " + source + "/data/scenes/vacuum-forming-cup.json --set forming.mould=mold " + "--out " + out.string());
+    EXPECT_EQ(obstacle.exitCode, 2) << obstacle.output;
+    EXPECT_NE(obstacle.output.find("no obstacle is named 'mold' (did you mean 'mould'?)"), std::string::npos)
+        << obstacle.output;
+
     const std::string knife = source + "/data/scenes/knife-edge.json";
     const Outcome other = runMasse("run " + knife + " --set integrator.type=implicit --out " + out.string());
     EXPECT_EQ(other.exitCode, 2) << other.output;
