@@ -89,21 +89,8 @@ BandMap drawBandMap(const scene::Scene& finest, const scene::RestLayerField& coa
         (order.extrapolated ? " (Richardson, order " + formatNumber("%.2f", order.order) + ")" : " (the difference)") +
         ": " + formatNumber("%.3f", figures.largest) + " h0 at most, " + formatNumber("%.3f", figures.mean) +
         " on average";
-    const int pixels = finest.spec().formingReport.mapPixels;
-    const std::string dataPath = pngPath + ".dat.tmp";
-    scene::writeFileAtomically(dataPath, scene::mapData(scene::topViewMap(finest, band, pixels / 3)));
-    try
-    {
-        scene::plotPng(scene::mapPlotScript(dataPath, finest.spec().name + ": thickness error band, top view", subtitle,
-                                            "band (h/h0)", "rgb 21,22,23"),
-                       pngPath, pixels, pixels * 4 / 5);
-    }
-    catch (...)
-    {
-        std::filesystem::remove(dataPath);
-        throw;
-    }
-    std::filesystem::remove(dataPath);
+    scene::drawTopViewMap(finest, band, pngPath, finest.spec().name + ": thickness error band, top view", subtitle,
+                          "band (h/h0)", "rgb 21,22,23");
     return figures;
 }
 struct ConvergeOptions

@@ -17,24 +17,33 @@ template <typename Enum> struct EnumName
     std::string_view name;
 };
 
-/// The value named `name` (any case); throws InputError for `field` (the setting the name is for, in the caller's
-/// terms): "<field>: unknown <what> '<name>' (expected one of a, b, c)".
-template <typename Enum, std::size_t N>
-Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view field, std::string_view what)
+/// The value of the entry named `name` (any case) in a table whose entries have a `name` (a registry such as the
+/// integrators'), `valueOf` giving an entry's value; throws InputError for `field` (the setting the name is for, in
+/// the caller's terms): "<field>: unknown <what> '<name>' (expected one of a, b, c)".
+template <typename Entries, typename ValueOf>
+auto parseNamed(const Entries& entries, std::string_view name, std::string_view field, std::string_view what,
+                ValueOf valueOf)
 {
     std::string lower(name);
     std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     std::string list;
-    for (const EnumName<Enum>& entry : names)
+    for (const auto& entry : entries)
     {
         if (entry.name == lower)
         {
-            return entry.value;
+            return valueOf(entry);
         }
         list += (list.empty() ? "" : ", ") + std::string(entry.name);
     }
     throw InputError(std::string(field),
                      "unknown " + std::string(what) + " '" + std::string(name) + "' (expected one of " + list + ")");
+}
+
+/// The value named `name` (any case) in an enum's name table (parseNamed).
+template <typename Enum, std::size_t N>
+Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view field, std::string_view what)
+{
+    return parseNamed(names, name, field, what, [](const EnumName<Enum>& entry) { return entry.value; });
 }
 
 template <typename Enum, std::size_t N> std::string_view enumName(const EnumName<Enum> (&names)[N], Enum value)

@@ -109,9 +109,9 @@ Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
     }
     // A forming pressure: the work p d it does on a sheet of areal mass rho h0 over the sheet's size d, and with air
     // drag no more than its terminal speed p / (rho h0 c). A wall the forming has thinned moves faster than either
-    // (its areal mass is smaller), which the guard's margin covers down to a hundredth of h0. Without this, a
-    // thinned wall that the vacuum draws onto the mould at tens of metres a second (the plug-assist cup at
-    // 128x2x128, where the plug's speed set the bound at 24 m/s) is stopped as if it had diverged.
+    // (its areal mass is smaller), which the guard's margin covers down to a hundredth of h0. The pressure must be
+    // among the causes: a wall thinned to 0.1 h0 is drawn onto the mould at tens of metres a second (the plug-assist
+    // cup at 128x2x128), past the 24 m/s that the plug's speed alone would allow.
     Real pressure = 0;
     if (spec.forming.enabled && spec.material.enabled && spec.material.thickness > 0)
     {

@@ -49,7 +49,11 @@ std::size_t massCountOf(const LatticeSpec& spec)
     return masses;
 }
 
-double estimatedBytes(const SceneSpec& spec)
+namespace
+{
+/// estimatedBytes with the implicit solve's preconditioner given apart from the spec's, so that checkMemory can weigh
+/// another one without copying the spec.
+double estimatedBytesWith(const SceneSpec& spec, PreconditionerKind preconditionerKind)
 {
     const LatticeSpec& lattice = spec.sheet.lattice;
     const double masses = double(massCountOf(lattice));
@@ -59,7 +63,7 @@ double estimatedBytes(const SceneSpec& spec)
     {
         const double solves = double(solvesKept(integrator));
         double preconditioner = 0;
-        switch (spec.time.implicit.preconditioner)
+        switch (preconditionerKind)
         {
         case PreconditionerKind::Jacobi:
             break;
@@ -84,6 +88,12 @@ double estimatedBytes(const SceneSpec& spec)
         bytes += masses * (surfaceBytesPerMass + surfaceBytesPerMassAndRatio * ratio);
     }
     return bytes;
+}
+} // namespace
+
+double estimatedBytes(const SceneSpec& spec)
+{
+    return estimatedBytesWith(spec, spec.time.implicit.preconditioner);
 }
 
 double availableBytes()
@@ -132,9 +142,7 @@ void checkMemory(const SceneSpec& spec)
     // The factor is most of an implicit run's memory: say so when the multigrid preconditioner would fit.
     if (!isExplicit(spec.time.integrator) && spec.time.implicit.preconditioner == PreconditionerKind::Cholesky)
     {
-        SceneSpec multigrid = spec;
-        multigrid.time.implicit.preconditioner = PreconditionerKind::Multigrid;
-        const double lighter = estimatedBytes(multigrid);
+        const double lighter = estimatedBytesWith(spec, PreconditionerKind::Multigrid);
         if (lighter <= available)
         {
             message += " (with --set integrator.preconditioner=multigrid about " + gibibytes(lighter) + ")";

@@ -38,17 +38,15 @@ template <typename Check> void checkSheetSize(const SceneSpec& spec, Check&& che
 {
     try
     {
-        checkUnder("sheet", latticeKeys, check);
+        check();
     }
     catch (const InputError& e)
     {
-        const std::string fileKey = "sheet.size: ";
-        const std::string message = e.what();
-        if (spec.sheet.sizeGiven != "sheet.size" && message.rfind(fileKey, 0) == 0)
+        if (spec.sheet.sizeGiven != "sheet.size" && keyOf(latticeKeys, e.field()) == "size")
         {
-            throw InputError(spec.sheet.sizeGiven + ": " + message.substr(fileKey.size()));
+            throw InputError(spec.sheet.sizeGiven, e.problem());
         }
-        throw;
+        throw InputError(messageUnder("sheet", latticeKeys, e));
     }
 }
 } // namespace
@@ -91,12 +89,11 @@ void Scene::build()
     }
     catch (const InputError& e)
     {
-        const std::string message = e.what();
-        if (m_spec.sheet.sizeGiven != "sheet.size" && message.rfind(m_spec.sheet.sizeGiven + ": ", 0) == 0)
+        if (m_spec.sheet.sizeGiven != "sheet.size" && e.field() == m_spec.sheet.sizeGiven)
         {
             throw; // a size from outside the file (checkSheetSize)
         }
-        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + message);
+        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + e.what());
     }
     m_scriptedMotionEnd = scriptedMotionEnd(m_spec);
     m_restPrerequisites.clear();

@@ -1039,56 +1039,45 @@ std::string itemName(const nlohmann::json& item)
                                                                                  : std::string();
 }
 
-/// RFC 7386's merge patch (objects merge key by key, a null removes a key, values replace), except that an item of a
-/// list that has the name of an item of the base's list at the same place is merged over that item: a scene that
-/// extends another and gives `"heaters": [{"name": "panel", "power": 5000}]` changes the panel's power and keeps its
-/// place and size, where a plain merge patch would put the defaults in their place without a word. The patch's list
-/// still decides which items there are and in what order; an item without a name, with a new one, or of another
-/// `type` than the base's item of its name, is taken as given.
-void mergeScenePatch(nlohmann::json& target, const nlohmann::json& patch)
+/// Prepares `patch` for RFC 7386's merge patch over `base` (objects merge key by key, a null removes a key, lists and
+/// values replace): an item of a list that has the name of an item of the base's list at the same place becomes that
+/// base item with the patch's item merged over it. A scene that extends another and gives `"heaters": [{"name":
+/// "panel", "power": 5000}]` so changes the panel's power and keeps its place and size, where the plain merge patch
+/// would put the defaults in their place without a word. The patch's list still decides which items there are and in
+/// what order; an item without a name, with a new one, or of another `type` than the base's item of its name (an
+/// obstacle of another shape) is taken as given.
+void fillNamedItems(const nlohmann::json& base, nlohmann::json& patch)
 {
-    if (!patch.is_object())
+    if (base.is_object() && patch.is_object())
     {
-        if (patch.is_array() && target.is_array())
+        for (auto entry = patch.begin(); entry != patch.end(); ++entry)
         {
-            nlohmann::json merged = nlohmann::json::array();
-            for (const nlohmann::json& item : patch)
+            if (base.contains(entry.key()))
             {
-                const std::string name = itemName(item);
-                const auto base = std::find_if(target.begin(), target.end(),
-                                               [&](const nlohmann::json& candidate)
-                                               { return !name.empty() && itemName(candidate) == name; });
-                // An obstacle of another shape under the same name is a new one.
-                if (base == target.end() ||
-                    (item.contains("type") && base->contains("type") && item["type"] != (*base)["type"]))
-                {
-                    merged.push_back(item);
-                    continue;
-                }
-                nlohmann::json combined = *base;
-                mergeScenePatch(combined, item);
-                merged.push_back(std::move(combined));
+                fillNamedItems(base[entry.key()], entry.value());
             }
-            target = std::move(merged);
-            return;
         }
-        target = patch;
         return;
     }
-    if (!target.is_object())
+    if (!base.is_array() || !patch.is_array())
     {
-        target = nlohmann::json::object();
+        return;
     }
-    for (auto entry = patch.begin(); entry != patch.end(); ++entry)
+    for (nlohmann::json& item : patch)
     {
-        if (entry.value().is_null())
+        const std::string name = itemName(item);
+        const auto match =
+            std::find_if(base.begin(), base.end(),
+                         [&](const nlohmann::json& candidate) { return !name.empty() && itemName(candidate) == name; });
+        if (match == base.end() ||
+            (item.contains("type") && match->contains("type") && item["type"] != (*match)["type"]))
         {
-            target.erase(entry.key());
+            continue;
         }
-        else
-        {
-            mergeScenePatch(target[entry.key()], entry.value());
-        }
+        fillNamedItems(*match, item);
+        nlohmann::json combined = *match;
+        combined.merge_patch(item);
+        item = std::move(combined);
     }
 }
 
@@ -1148,7 +1137,8 @@ nlohmann::json readSceneDocument(const std::string& path, ExtendsChain& chain)
     merged.erase("expect");
     nlohmann::json patch = document;
     patch.erase("extends");
-    mergeScenePatch(merged, patch);
+    fillNamedItems(merged, patch);
+    merged.merge_patch(patch);
     return merged;
 }
 

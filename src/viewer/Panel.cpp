@@ -291,11 +291,15 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
             changed = true;
         }
         changed |= nonNegativeDouble("air damping (1/s)", spec.environment.airDampingRate, "%.4g");
-        std::vector<IntegratorKind> kinds; // the registry's, in its order
-        for (const IntegratorEntry& entry : integrators())
+        static const std::vector<IntegratorKind> kinds = [] // the registry's, in its order
         {
-            kinds.push_back(entry.kind);
-        }
+            std::vector<IntegratorKind> all;
+            for (const IntegratorEntry& entry : integrators())
+            {
+                all.push_back(entry.kind);
+            }
+            return all;
+        }();
         changed |= enumCombo("integrator", spec.time.integrator, kinds, integratorName);
         changed |= positiveDouble("dt (s)", spec.time.dt, "%.4g");
     }

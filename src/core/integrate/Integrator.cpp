@@ -2,8 +2,6 @@
 
 #include "core/NamedEnum.h"
 
-#include <algorithm>
-#include <cctype>
 #include <stdexcept>
 #include <string>
 
@@ -81,18 +79,8 @@ std::string integratorNameList()
 
 IntegratorKind parseIntegrator(std::string_view name)
 {
-    std::string lower(name);
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    std::string list;
-    for (const IntegratorEntry& entry : integratorTable)
-    {
-        if (entry.name == lower)
-        {
-            return entry.kind;
-        }
-        list += (list.empty() ? "" : ", ") + std::string(entry.name);
-    }
-    throw InputError("integrator", "unknown integrator '" + std::string(name) + "' (expected one of " + list + ")");
+    return parseNamed(integratorTable, name, "integrator", "integrator",
+                      [](const IntegratorEntry& entry) { return entry.kind; });
 }
 
 std::string_view integratorName(IntegratorKind kind)

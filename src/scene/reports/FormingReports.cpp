@@ -220,6 +220,26 @@ nlohmann::json formingSummary(const Scene& scene)
     return out;
 }
 
+void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
+                    const std::string& title, const std::string& subtitle, const std::string& unitLabel,
+                    const std::string& palette, const std::vector<Real>& colourRange)
+{
+    const int pixels = scene.spec().formingReport.mapPixels;
+    const std::string dataPath = pngPath + ".dat.tmp";
+    writeFileAtomically(dataPath, mapData(topViewMap(scene, perMass, pixels / 3)));
+    try
+    {
+        plotPng(mapPlotScript(dataPath, title, subtitle, unitLabel, palette, colourRange), pngPath, pixels,
+                pixels * 4 / 5);
+    }
+    catch (...)
+    {
+        std::filesystem::remove(dataPath);
+        throw;
+    }
+    std::filesystem::remove(dataPath);
+}
+
 void writeFormingReports(Scene& scene, const std::string& directory)
 {
     const FormingReportSpec& report = scene.spec().formingReport;
@@ -232,20 +252,8 @@ void writeFormingReports(Scene& scene, const std::string& directory)
                        const std::string& subtitle, const std::string& unit, const std::string& palette,
                        const std::vector<Real>& colourRange)
     {
-        const TopViewMap map = topViewMap(scene, perMass, report.mapPixels / 3);
-        const std::string dataPath = directory + "/" + stem + ".dat.tmp";
-        writeFileAtomically(dataPath, mapData(map));
-        try
-        {
-            plotPng(mapPlotScript(dataPath, title + ": " + heading, subtitle, unit, palette, colourRange),
-                    directory + "/" + stem + ".png", report.mapPixels, report.mapPixels * 4 / 5);
-        }
-        catch (...)
-        {
-            std::filesystem::remove(dataPath);
-            throw;
-        }
-        std::filesystem::remove(dataPath);
+        drawTopViewMap(scene, perMass, directory + "/" + stem + ".png", title + ": " + heading, subtitle, unit, palette,
+                       colourRange);
     };
     const SheetThickness* thickness = scene.thickness();
     if (report.thicknessMap && thickness)

@@ -32,6 +32,12 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
                           const std::string& unitLabel, const std::string& palette,
                           const std::vector<Real>& colourRange = {});
 
+/// Draws `perMass` on the scene's sheet seen from above into `pngPath` (the scene's map width), through a
+/// data file beside it that is removed afterwards, whatever happens.
+void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
+                    const std::string& title, const std::string& subtitle, const std::string& unitLabel,
+                    const std::string& palette, const std::vector<Real>& colourRange = {});
+
 /// Share (0..1) of the bottom layer's current area whose thickness is below `ratio` times h0.
 Real thinAreaShare(const SheetThickness& thickness, Real ratio);
 
