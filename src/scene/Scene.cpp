@@ -206,6 +206,16 @@ void Scene::buildMaterialSprings(const MassSpringSystem& sheet, Real startTemper
                });
 }
 
+Real Scene::motionLimit() const
+{
+    // Forming scenes load a sheet at rest hard enough to throw it across cells in one solve, and more cells the finer
+    // the lattice. 3 spacings splits the shipped scenes at their own sizes in their first frame and a few after it;
+    // 1 splits the vacuum cup's early frames into as many as 8 and leaves its bottom 3% thicker.
+    const Real maxMotion = m_spec.time.maxMotion.value_or(m_spec.forming.enabled ? Real(3) : Real(0));
+    const Real spacing = m_lattice.smallerSpacing();
+    return maxMotion > 0 && spacing > 0 && !isExplicit(m_spec.time.integrator) ? maxMotion * spacing : Real(0);
+}
+
 void Scene::buildContact()
 {
     m_environment = std::make_unique<bridge::BulletEnvironment>();
@@ -215,6 +225,7 @@ void Scene::buildContact()
         m_environment->addObstacle(obstacleBody(obstacle));
     }
     ContactSettings contact = m_spec.contact;
+    contact.drivenReach = motionLimit();
     contact.perObstacle.assign(std::size_t(m_environment->obstacleCount()), ObstacleContact{});
     for (std::size_t k = 0; k < m_spec.obstacles.size() && k < m_spec.obstacleContact.size(); ++k)
     {
@@ -278,14 +289,9 @@ void Scene::addHooks()
         m_edgeContact = std::make_unique<EdgeContact>(m_lattice, *m_edgeContactPairs, m_contact->settings());
         m_simulator->addHook(m_edgeContact.get());
     }
-    // Forming scenes load a sheet at rest hard enough to throw it across cells in one solve, and more cells the finer
-    // the lattice. 3 spacings splits the shipped scenes at their own sizes in their first frame and a few after it;
-    // 1 splits the vacuum cup's early frames into as many as 8 and leaves its bottom 3% thicker.
-    const Real maxMotion = m_spec.time.maxMotion.value_or(m_spec.forming.enabled ? Real(3) : Real(0));
-    const Real spacing = m_lattice.smallerSpacing();
-    if (maxMotion > 0 && spacing > 0 && !isExplicit(m_spec.time.integrator))
+    if (const Real motion = motionLimit(); motion > 0)
     {
-        m_motionLimit = std::make_unique<MotionLimit>(maxMotion * spacing, maxSolvesForMotion);
+        m_motionLimit = std::make_unique<MotionLimit>(motion, maxSolvesForMotion);
         m_simulator->addHook(m_motionLimit.get());
     }
     // On by default where a pressure presses the layers together against a mould (LayerGap.h says why not on a free

@@ -123,6 +123,8 @@ private:
     /// The heat model, if the scene has a "heat" section.
     void buildHeat();
     MassSpringSystem buildSheet(Real startTemperature) const;
+    /// m: the most an implicit frame may carry a mass before the motion limit splits it; 0 when it never does.
+    Real motionLimit() const;
     /// The Bullet environment (room and obstacles) and the contact solver over it.
     void buildContact();
     /// The material's springs (and the sheet's thickness, when no heat model keeps it), if the scene has a material.

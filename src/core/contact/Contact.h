@@ -41,6 +41,10 @@ struct ContactSettings
     /// m/s. Below this slip the implicit integrator's friction turns viscous (regularised Coulomb), so a mass under
     /// static friction creeps at less than this fraction of it: (push / (mu press)) times this speed.
     Real slipRegularization = 1e-4;
+    /// m. The most a mass's force is taken to carry it in one frame when the contact search reaches ahead of it (its
+    /// velocity's travel is added in full); 0: no cap. Set to the motion limit of an implicit integrator, which splits
+    /// a frame that would carry a mass further. A mass that outruns its search is swept at the end of the frame.
+    Real drivenReach = 0;
     /// Per obstacle (the detector's index): a response of its own, where `own` is set; obstacles past the end use
     /// the response above.
     std::vector<ObstacleContact> perObstacle;

@@ -5,7 +5,9 @@
 #include "support/TestSystems.h"
 #include "support/TestThreads.h"
 
+#include "core/StepContext.h"
 #include "core/contact/ContactReport.h"
+#include "core/contact/ContactSolver.h"
 #include "core/forces/Energy.h"
 #include "core/parallel/TaskPool.h"
 
@@ -347,6 +349,76 @@ TEST(Contact, FrameReportOverChunksMatchesTheSerialOne)
         {
             const Vec3 expected = i % 5 != 4 ? Vec3(Vec3(Real(i), -1, 0.5) * (Real(1) / dt)) : Vec3::Zero();
             EXPECT_EQ(report.contactForce()[i], expected) << "mass " << i;
+        }
+    }
+}
+
+namespace
+{
+/// Finds nothing; keeps the reach each mass was searched with.
+class ReachRecorder final : public ContactDetector
+{
+public:
+    std::vector<Real> reach;
+    int obstacleCount() const override { return 1; }
+    void setTime(Real /*time*/) override {}
+    void findContacts(const std::vector<Vec3>& /*x*/, const std::vector<Real>& searched, Real /*radius*/, Real /*dt*/,
+                      ContactPlaneLists& out) override
+    {
+        reach = searched;
+        out.resize(1);
+        out[0].clear();
+    }
+    std::optional<SweepHit> sweep(const Vec3& /*from*/, const Vec3& /*to*/, Real /*radius*/) override
+    {
+        return std::nullopt;
+    }
+    SurfaceDistance nearestSurface(const Vec3& /*x*/, Real maxDistance) override { return {maxDistance, -1, -1}; }
+    Vec3 pointVelocity(int /*obstacle*/, const Vec3& /*point*/, Real /*dt*/) override { return Vec3::Zero(); }
+};
+} // namespace
+
+// A mass's contact search reaches as far as its velocity and its force could carry it in the frame. A forming
+// pressure is some 1e5 m/s^2 on a thin sheet's masses, which in a frame of 0.01 s would be a search of metres, the
+// whole mould for every mass; an implicit frame is split by the motion limit long before a mass goes that far, so
+// the force's share is capped at drivenReach (the velocity's share stays whole). Checked mass by mass against the
+// formula, with and without the cap.
+TEST(Contact, TheForcesShareOfTheSearchIsCappedAtTheDrivenReach)
+{
+    LatticeSpec spec;
+    spec.countX = 3;
+    spec.countZ = 3;
+    MassSpringSystem sheet = makeSheet(buildLattice(spec), SheetParams{});
+    Particles& p = sheet.particles;
+    for (std::size_t i = 0; i < p.size(); ++i)
+    {
+        p.pinned[i] = false;
+        p.velocity[i] = Vec3(0, -Real(i % 4), 0);
+        p.force[i] = Vec3(0, -1e5 * p.mass[i] * Real(i % 3), 0); // 0, 1e5 and 2e5 m/s^2
+    }
+    sheet.forces.gravity = Vec3(0, -standardGravity, 0);
+    const Real dt = 0.01;
+    const Real cap = 0.012;
+    for (const Real drivenReach : {Real(0), cap})
+    {
+        ReachRecorder detector;
+        ContactSettings settings;
+        settings.radius = 0.002;
+        settings.drivenReach = drivenReach;
+        ContactSolver solver(detector, settings);
+        StepContext context;
+        solver.beginFrame(sheet, context, 0, dt, true);
+        ASSERT_EQ(detector.reach.size(), p.size());
+        for (std::size_t i = 0; i < p.size(); ++i)
+        {
+            const Real driven = (standardGravity + p.force[i].norm() / p.mass[i]) * dt * dt;
+            const Real expected =
+                Real(i % 4) * dt + (drivenReach > 0 ? std::min(driven, drivenReach) : driven) + settings.radius;
+            EXPECT_NEAR(detector.reach[i], expected, 1e-12 * expected) << "mass " << i << ", cap " << drivenReach;
+        }
+        if (drivenReach > 0)
+        {
+            EXPECT_LT(*std::max_element(detector.reach.begin(), detector.reach.end()), 0.1); // metres uncapped
         }
     }
 }
