@@ -13,8 +13,8 @@
 #include "scene/output/AtomicFile.h"
 #include "scene/output/OutputFolder.h"
 #include "scene/output/Plot.h"
-#include "scene/reports/FormingReports.h"
-#include "scene/reports/SheetReports.h"
+#include "scene/reports/ThicknessSectionReport.h"
+#include "scene/reports/TopViewMap.h"
 #include "scene/study/Convergence.h"
 
 #include <CLI/CLI.hpp>
@@ -116,7 +116,7 @@ void runConverge(const ConvergeOptions& options)
     // Every size is read, checked and costed before the output folder is touched: a bad size or one too large for
     // memory is refused with nothing written.
     const scene::SceneSpec base = loadSceneWithOverrides(options.scene, options.overrides);
-    if (!base.material.enabled || !base.report.section)
+    if (!base.material.enabled || !scene::sectionSettings(base))
     {
         throw InputError(options.scene + ": converge compares the thickness section: the scene needs a material and "
                                          "report.thickness_section");

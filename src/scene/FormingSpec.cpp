@@ -38,37 +38,4 @@ FormingSpec readForming(const JsonObject& o)
     o.finish();
     return forming;
 }
-
-FormingReportSpec readFormingReport(const JsonObject& report)
-{
-    FormingReportSpec spec;
-    if (const nlohmann::json* map = report.raw("thickness_map"))
-    {
-        if (map->is_boolean())
-        {
-            spec.thicknessMap = map->get<bool>();
-        }
-        else
-        {
-            const JsonObject m(*map, report.pathOf("thickness_map"));
-            spec.thicknessMap = true;
-            spec.thinBelow = m.number("below", 0.5, 1e-6, 1.0);
-            spec.mapPixels = m.integer("pixels", 900, 200, 4000);
-            if (m.raw("range"))
-            {
-                const std::vector<Real> range = m.numbers("range");
-                if (range.size() != 2 || !(range[0] >= 0) || !(range[1] > range[0]) || !(range[1] <= 10))
-                {
-                    m.fail("range", "expected [low, high] ratios h/h0 with 0 <= low < high <= 10 (default [0, 1])");
-                }
-                spec.mapRangeLow = range[0];
-                spec.mapRangeHigh = range[1];
-            }
-            m.finish();
-        }
-    }
-    spec.temperatureMap = report.boolean("temperature_map", false);
-    spec.massesCsv = report.boolean("masses_csv", false);
-    return spec;
-}
 } // namespace masse::scene

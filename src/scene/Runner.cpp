@@ -5,9 +5,7 @@
 #include "scene/output/FrameOutput.h"
 #include "scene/output/Plot.h"
 #include "scene/output/Progress.h"
-#include "scene/reports/FormingReports.h"
-#include "scene/reports/SheetReports.h"
-#include "scene/reports/WebbingReport.h"
+#include "scene/reports/ReportRegistry.h"
 
 #include "core/Format.h"
 #include "core/InputError.h"
@@ -261,19 +259,22 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     Clock::duration inStep{};
     std::size_t eventsShown = 0;
     std::string latest;
-    std::optional<SagRecorder> sag;
-    if (scene.spec().report.sag)
+    std::vector<std::unique_ptr<RunningReport>> running;
+    for (const ReportEntry* entry : reports())
     {
-        sag.emplace(scene);
+        if (entry->enabled(scene.spec()))
+        {
+            running.push_back(entry->start(scene));
+        }
     }
     while (!scene.finished())
     {
         const Clock::time_point before = Clock::now();
         scene.step();
         inStep += Clock::now() - before;
-        if (sag)
+        for (const std::unique_ptr<RunningReport>& report : running)
         {
-            sag->record(scene);
+            report->afterStep(scene);
         }
         if (frames && scene.steps() % std::uint64_t(framesEvery) == 0)
         {
@@ -316,22 +317,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
         progressOut << "warning: " << unfired.size() << " script action(s) never fired, the run ended at "
                     << formatNumber(scene.time()) << " s: " << names << "\n";
     }
-    if (scene.spec().forming.enabled || scene.spec().formingReport.thicknessMap)
+    requireFiniteState(scene); // the reports read a finite state only: webbing's broadphase needs finite boxes
+    for (const std::unique_ptr<RunningReport>& report : running)
     {
-        result.summary["forming"] = formingSummary(scene);
-    }
-    if (sag)
-    {
-        result.summary["sag"] = {{"mass", sag->mass()}, {"final", sag->series().back().second}};
-        result.summary["final"]["sag"] = sag->series().back().second; // so an expect block can bound it
-    }
-    requireFiniteState(scene);
-    std::vector<WebbingPlace> webbing; // from finite positions only: the broadphase's boxes need them
-    if (reportsWebbing(scene.spec()))
-    {
-        webbing = webbingPlaces(scene);
-        result.summary["webbing"] = webbingSummary(webbing, webbingDistance(scene.spec()));
-        result.summary["final"]["webbing_masses"] = result.summary["webbing"]["masses"]; // for an expect block
+        report->summarize(scene, result.summary);
     }
     requireFiniteJson(result.summary, "summary.json:");
     if (frames)
@@ -340,23 +329,9 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     }
     if (writing)
     {
-        const std::string title = scene.spec().name;
-        if (sag)
+        for (const std::unique_ptr<RunningReport>& report : running)
         {
-            writeFileAtomically(options.outDir + "/sag.csv", sag->csv());
-            plotPng(SagRecorder::plotScript(options.outDir + "/sag.csv", title), options.outDir + "/sag.png");
-        }
-        if (scene.spec().report.section && scene.thickness())
-        {
-            const std::vector<SectionPoint> section = thicknessSection(scene);
-            writeFileAtomically(options.outDir + "/thickness_section.csv", sectionCsv(section));
-            plotPng(sectionPlotScript(options.outDir + "/thickness_section.csv", title),
-                    options.outDir + "/thickness_section.png");
-        }
-        writeFormingReports(scene, options.outDir);
-        if (reportsWebbing(scene.spec()))
-        {
-            writeFileAtomically(options.outDir + "/webbing.csv", webbingCsv(webbing));
+            report->write(scene, options.outDir);
         }
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");

@@ -5,6 +5,7 @@
 #include "scene/PlausibleRanges.h"
 #include "scene/json/FieldKeys.h"
 #include "scene/json/JsonObject.h"
+#include "scene/reports/ReportRegistry.h"
 
 #include "core/Format.h"
 #include "core/InputError.h"
@@ -564,39 +565,6 @@ HeatSpec readHeat(const JsonObject& o)
     return heat;
 }
 
-ReportSpec readReport(const JsonObject& o, FormingReportSpec& forming)
-{
-    forming = readFormingReport(o);
-    ReportSpec report;
-    if (auto section = o.object("thickness_section"))
-    {
-        report.section = true;
-        report.sectionAxis = section->choice("axis", "x", {"x", "z"}) == "x" ? 0 : 2;
-        report.sectionThrough = plausible::point(*section, "through", Vec3::Zero());
-        section->finish();
-    }
-    if (const nlohmann::json* sag = o.raw("sag"))
-    {
-        if (sag->is_boolean())
-        {
-            report.sag = sag->get<bool>();
-        }
-        else
-        {
-            const JsonObject s(*sag, o.pathOf("sag"));
-            report.sag = true;
-            report.sagMass = s.integer("mass", -1, -1, std::numeric_limits<int>::max());
-            s.finish();
-        }
-    }
-    if (o.has("webbing"))
-    {
-        report.webbing = o.boolean("webbing", false);
-    }
-    o.finish();
-    return report;
-}
-
 BulletSpec readBullet(const JsonObject& o)
 {
     BulletSpec bullet;
@@ -759,9 +727,15 @@ void checkMassIndices(const SceneSpec& scene)
     {
         check(mass, "sheet.pinned.masses");
     }
-    if (scene.report.sag && scene.report.sagMass >= 0)
+    for (const ReportEntry* report : reports())
     {
-        check(std::size_t(scene.report.sagMass), "report.sag.mass");
+        if (report->massesNamed)
+        {
+            for (const NamedMass& named : report->massesNamed(scene))
+            {
+                check(named.mass, named.key);
+            }
+        }
     }
     for (std::size_t i = 0; i < scene.script.size(); ++i)
     {
@@ -917,7 +891,7 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         }
         if (auto report = top.object("report"))
         {
-            scene.report = readReport(*report, scene.formingReport);
+            scene.report = readReports(*report);
         }
         if (auto forming = top.object("forming"))
         {

@@ -27,9 +27,9 @@ constexpr Real maxContactRadius = 0.1; ///< m: a mass's sphere, far below the sh
 constexpr Real maxRepulsion = 1;       ///< N m^2
 } // namespace limits
 
-/// Checks every mass index the scene names (sheet.pinned.masses, a grab's mass, a script pin's masses,
-/// report.sag.mass) against the sheet it describes now; throws InputError naming the key, e.g. "script[0].mass: 200
-/// is beyond the sheet's 113 masses, 0 to 112 (--size 8x2x8)". Reading the file calls it, and so does building the
+/// Checks every mass index the scene names (sheet.pinned.masses, a report's such as report.sag.mass, a grab's mass, a
+/// script pin's masses) against the sheet it describes now; throws InputError naming the key, e.g. "script[0].mass:
+/// 200 is beyond the sheet's 113 masses, 0 to 112 (--size 8x2x8)". Reading the file calls it, and so does building the
 /// scene (Scene), after every override (--size, the paper's sizes, the viewer's panel), whatever made the spec.
 void checkMassIndices(const SceneSpec& scene);
 

@@ -18,6 +18,9 @@
 #include "core/material/ThermalModel.h"
 #include "core/material/ViscoelasticSprings.h"
 
+#include <any>
+#include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -65,19 +68,11 @@ struct HeatSpec
     std::vector<std::string> zoneNames;
 };
 
-/// Reports written by `masse run` besides the summary.
+/// The scene's "report" object: each report it names, by its key, with the settings that report read from it
+/// (scene/reports/ReportRegistry.h, one entry a report); a report finds its own with reportSettings.
 struct ReportSpec
 {
-    /// Thickness along a section of the bottom layer: the masses nearest the line through `through` along `axis`.
-    bool section = false;
-    int sectionAxis = 0; ///< 0: x, 2: z
-    Vec3 sectionThrough = Vec3::Zero();
-    /// Sag against time: how far a mass (the bottom-layer centre by default) has dropped below its start.
-    bool sag = false;
-    int sagMass = -1; ///< -1: the bottom-layer mass nearest the sheet's centre
-    /// Where the sheet lies on itself at the end ("report.webbing"; WebbingReport.h): unset, forming and material
-    /// scenes and scenes with self-collision report it.
-    std::optional<bool> webbing;
+    std::map<std::string, std::any, std::less<>> asked;
 };
 
 struct EnvironmentSpec
@@ -207,8 +202,7 @@ struct SceneSpec
     MaterialSpec material;
     HeatSpec heat;
     ReportSpec report;
-    FormingSpec forming;             ///< pressure across the sheet (vacuum and pressure forming)
-    FormingReportSpec formingReport; ///< maps and per-mass CSV
+    FormingSpec forming; ///< pressure across the sheet (vacuum and pressure forming)
     ContactSettings contact;
     /// The sheet against itself ("contact.self_collision", off by default); its radius is contact.radius.
     bool selfCollision = false;

@@ -11,7 +11,8 @@
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 #include "scene/output/Plot.h"
-#include "scene/reports/FormingReports.h"
+#include "scene/reports/ThicknessMapReport.h"
+#include "scene/reports/TopViewMap.h"
 
 #include "core/Format.h"
 #include "core/InputError.h"
@@ -563,11 +564,11 @@ TEST(FormingReports, ThicknessMapColourBarHasFixedEnds)
     EXPECT_EQ(mapPlotScript("d.dat", "t", "", "mm", "rgb 3,3,3").find("cbrange"), std::string::npos);
 
     nlohmann::json document = readSceneDocument(source + "/data/scenes/vacuum-forming-cup.json");
-    EXPECT_EQ(parseScene(document, source + "/data/scenes", "cup").formingReport.mapRangeHigh, 1.0);
+    EXPECT_EQ(thicknessMapSettings(parseScene(document, source + "/data/scenes", "cup")).rangeHigh, 1.0);
     document["report"]["thickness_map"] = {{"range", {0.2, 1.2}}};
     const SceneSpec ranged = parseScene(document, source + "/data/scenes", "cup");
-    EXPECT_EQ(ranged.formingReport.mapRangeLow, 0.2);
-    EXPECT_EQ(ranged.formingReport.mapRangeHigh, 1.2);
+    EXPECT_EQ(thicknessMapSettings(ranged).rangeLow, 0.2);
+    EXPECT_EQ(thicknessMapSettings(ranged).rangeHigh, 1.2);
     for (const nlohmann::json& bad :
          {nlohmann::json{1.0, 0.5}, nlohmann::json{-0.1, 1.0}, nlohmann::json{0.0}, nlohmann::json{0.0, 11.0}})
     {

@@ -1,11 +1,15 @@
 // data/scenes/README.md documents every key the scene readers accept: this test reads the readers' own source (every
 // key they ask a JSON object for) and the document, and names each key the document lacks. The readers are every file
-// of src/scene that reads a scene's or a material's JSON: the scene file itself, material files, the `forming` and
-// `report` sections (FormingSpec.cpp) and the `expect` block (Regression.cpp). Study files have their own reference
-// (data/studies/README.md).
+// of src/scene that reads a scene's or a material's JSON: the scene file itself, material files, the `forming` section
+// (FormingSpec.cpp), each report (src/scene/reports/) and the `expect` block (Regression.cpp). The report registry is
+// checked against its table too: each registered report has its row in the `report` table. Study files have their
+// own reference (data/studies/README.md).
+
+#include "scene/reports/ReportRegistry.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -63,6 +67,18 @@ std::set<std::string> actionNames(const std::string& code)
     return names;
 }
 
+/// The rows of the document's section whose heading is `heading` (the lines from it to the next heading).
+std::string section(const std::string& document, const std::string& heading)
+{
+    const std::size_t start = document.find("\n" + heading + "\n");
+    if (start == std::string::npos)
+    {
+        return "";
+    }
+    const std::size_t end = document.find("\n#", start + 1);
+    return document.substr(start, end == std::string::npos ? std::string::npos : end - start);
+}
+
 /// The key appears in the document in code quotes, alone or as the last part of a dotted path (`heaters[].power`).
 bool documented(const std::string& document, const std::string& key)
 {
@@ -76,11 +92,25 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
     const std::string document = readText(source + "/data/scenes/README.md");
     ASSERT_FALSE(document.empty());
     int checked = 0;
-    for (const char* reader : {"/src/scene/SceneFile.cpp", "/src/scene/MaterialFile.cpp", "/src/scene/FormingSpec.cpp",
-                               "/src/scene/compare/Regression.cpp"})
+    std::vector<std::string> readers = {"/src/scene/SceneFile.cpp", "/src/scene/MaterialFile.cpp",
+                                        "/src/scene/FormingSpec.cpp", "/src/scene/compare/Regression.cpp"};
+    std::string reportReaders;
+    for (const auto& file : std::filesystem::directory_iterator(source + "/src/scene/reports"))
+    {
+        if (file.path().extension() == ".cpp")
+        {
+            readers.push_back("/src/scene/reports/" + file.path().filename().string());
+            reportReaders += readText(file.path().string());
+        }
+    }
+    EXPECT_GT(keysAskedFor(reportReaders).size(), 5u); // the pattern still finds the reports' keys
+    for (const std::string& reader : readers)
     {
         const std::set<std::string> keys = keysAskedFor(readText(source + reader));
-        EXPECT_GT(keys.size(), 5u) << reader; // the pattern still finds the readers' keys
+        if (reader.rfind("/src/scene/reports/", 0) != 0)
+        {
+            EXPECT_FALSE(keys.empty()) << reader; // the pattern still finds the reader's keys
+        }
         for (const std::string& key : keys)
         {
             EXPECT_TRUE(documented(document, key))
@@ -95,6 +125,27 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
     {
         EXPECT_TRUE(documented(document, action)) << "data/scenes/README.md lacks the action `" << action << "`";
     }
+}
+
+// A report is registered in one table (src/scene/reports/ReportRegistry.cpp) and described in one: each registered
+// key has its row in the `report` table, whatever its reader asks for.
+TEST(SceneReference, EveryRegisteredReportHasARowInTheReportTable)
+{
+    const std::string table = section(readText(source + "/data/scenes/README.md"), "## `report`");
+    ASSERT_FALSE(table.empty()) << "data/scenes/README.md has no `report` section";
+    int keyed = 0;
+    for (const masse::scene::ReportEntry* report : masse::scene::reports())
+    {
+        if (report->key.empty())
+        {
+            continue; // made without a key: described with summary.json's values
+        }
+        const std::string key(report->key);
+        EXPECT_NE(table.find("\n| `" + key + "` |"), std::string::npos)
+            << "data/scenes/README.md's `report` table lacks a row for the registered report `" << key << "`";
+        ++keyed;
+    }
+    EXPECT_GE(keyed, 6);
 }
 
 // A key has one row in its section's table: two rows for one key can disagree (obstacles[].temperature_c once had a

@@ -1,5 +1,8 @@
 #include "scene/reports/WebbingReport.h"
 
+#include "scene/output/AtomicFile.h"
+#include "scene/reports/ReportRegistry.h"
+
 #include "bridge/SelfContactTree.h"
 
 #include <cstdio>
@@ -7,9 +10,52 @@
 
 namespace masse::scene
 {
+namespace
+{
+std::any readWebbing(const JsonObject& report)
+{
+    return report.boolean("webbing", false);
+}
+
+class Webbing final : public RunningReport
+{
+public:
+    void summarize(const Scene& scene, nlohmann::json& summary) override
+    {
+        m_places = webbingPlaces(scene); // from finite positions only: the broadphase's boxes need them
+        summary["webbing"] = webbingSummary(m_places, webbingDistance(scene.spec()));
+        summary["final"]["webbing_masses"] = summary["webbing"]["masses"]; // for an expect block
+    }
+
+    void write(Scene&, const std::string& directory) override
+    {
+        writeFileAtomically(directory + "/webbing.csv", webbingCsv(m_places));
+    }
+
+private:
+    std::vector<WebbingPlace> m_places;
+};
+
+std::unique_ptr<RunningReport> startWebbing(const Scene&)
+{
+    return std::make_unique<Webbing>();
+}
+
+constexpr std::string_view webbingSummaryKeys[] = {"webbing", "final.webbing_masses"};
+} // namespace
+
+extern const ReportEntry webbingReport = {
+    .key = "webbing",
+    .read = readWebbing,
+    .enabled = reportsWebbing,
+    .start = startWebbing,
+    .summaryKeys = webbingSummaryKeys,
+};
+
 bool reportsWebbing(const SceneSpec& spec)
 {
-    return spec.report.webbing.value_or(spec.forming.enabled || spec.material.enabled || spec.selfCollision);
+    const bool* asked = reportSettings<bool>(spec, "webbing");
+    return asked ? *asked : spec.forming.enabled || spec.material.enabled || spec.selfCollision;
 }
 
 Real webbingDistance(const SceneSpec& spec)

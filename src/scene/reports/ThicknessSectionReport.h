@@ -1,6 +1,6 @@
 #pragma once
-/// What a thermoforming user looks at besides the summary: thickness along a section of the formed part, and the
-/// sag of a heated sheet against time.
+/// report.thickness_section: the thickness along a section of the formed part at the end (thickness_section.csv and
+/// .png), the bottom-layer masses nearest a line along x or z. `masse converge` compares it between lattice sizes.
 
 #include "scene/Scene.h"
 
@@ -9,6 +9,16 @@
 
 namespace masse::scene
 {
+/// The section's line: along `axis` (0: x, 2: z) through `through`.
+struct SectionSettings
+{
+    int axis = 0;
+    Vec3 through = Vec3::Zero();
+};
+
+/// The section the scene's report.thickness_section names, or nullptr when it names none.
+const SectionSettings* sectionSettings(const SceneSpec& spec);
+
 /// One point of a thickness section: a bottom-layer mass near the section line (chosen by its rest position, so the
 /// section follows the material as it deforms).
 struct SectionPoint
@@ -20,26 +30,10 @@ struct SectionPoint
     Real ratio;          ///< h / h0
 };
 
-/// The section the scene's report asks for (needs a material). Sorted along the axis.
+/// The section the scene's report asks for (needs a material and report.thickness_section; empty otherwise). Sorted
+/// along the axis.
 std::vector<SectionPoint> thicknessSection(const Scene& scene);
 std::string sectionCsv(const std::vector<SectionPoint>& section);
 /// A gnuplot script plotting h/h0 against the rest coordinate, reading the CSV at `csvPath`.
 std::string sectionPlotScript(const std::string& csvPath, const std::string& title);
-
-/// Records the sag of one mass (how far it has dropped below where it started) after every step.
-class SagRecorder
-{
-public:
-    explicit SagRecorder(const Scene& scene);
-    void record(const Scene& scene);
-    Index mass() const { return m_mass; }
-    const std::vector<std::pair<Real, Real>>& series() const { return m_series; }
-    std::string csv() const;
-    static std::string plotScript(const std::string& csvPath, const std::string& title);
-
-private:
-    Index m_mass = 0;
-    Real m_startHeight = 0;
-    std::vector<std::pair<Real, Real>> m_series; ///< (s, m)
-};
 } // namespace masse::scene

@@ -1,7 +1,8 @@
-#include "scene/reports/FormingReports.h"
+#include "scene/reports/TopViewMap.h"
 
 #include "scene/output/AtomicFile.h"
 #include "scene/output/Plot.h"
+#include "scene/reports/ThicknessMapReport.h"
 
 #include "core/Format.h"
 #include "core/lattice/LatticeSurface.h"
@@ -15,12 +16,6 @@
 
 namespace masse::scene
 {
-namespace
-{
-constexpr Real kelvinAtZeroCelsius = 273.15;
-
-} // namespace
-
 TopViewMap topViewMap(const Scene& scene, const std::vector<Real>& perMass, int width)
 {
     const std::vector<Vec3>& x = scene.system().particles.position;
@@ -139,92 +134,11 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
            dataPath + "' using 1:2:3 with image\n";
 }
 
-Real thinAreaShare(const SheetThickness& thickness, Real ratio)
-{
-    Real thin = 0;
-    Real total = 0;
-    const Real limit = ratio * thickness.initialThickness();
-    for (std::size_t i = 0; i < thickness.area().size(); ++i)
-    {
-        if (thickness.layer()[i] != 0)
-        {
-            continue;
-        }
-        total += thickness.area()[i];
-        if (thickness.thickness()[i] < limit)
-        {
-            thin += thickness.area()[i];
-        }
-    }
-    return total > 0 ? thin / total : 0;
-}
-
-std::string massesCsv(Scene& scene)
-{
-    const Particles& p = scene.system().particles;
-    const SheetThickness* thickness = scene.thickness();
-    const ThermalModel* thermal = scene.thermal();
-    const std::vector<int>& touching = scene.contact().report().touchingObstacle();
-    std::ostringstream out;
-    out << "mass,layer,x_m,y_m,z_m,thickness_m,thickness_ratio,temperature_c,contact\n";
-    char line[256];
-    for (std::size_t i = 0; i < p.size(); ++i)
-    {
-        const Vec3& x = p.position[i];
-        std::snprintf(line, sizeof(line), "%zu,%d,%.6f,%.6f,%.6f,", i, scene.lattice().coord[i].layer, x.x(), x.y(),
-                      x.z());
-        out << line;
-        if (thickness)
-        {
-            std::snprintf(line, sizeof(line), "%.6e,%.5f,", thickness->thickness()[i],
-                          thickness->thickness()[i] / thickness->initialThickness());
-            out << line;
-        }
-        else
-        {
-            out << ",,";
-        }
-        if (thermal)
-        {
-            std::snprintf(line, sizeof(line), "%.3f,", thermal->temperature()[i] - kelvinAtZeroCelsius);
-            out << line;
-        }
-        else
-        {
-            out << ',';
-        }
-        const int obstacle = i < touching.size() ? touching[i] : -1;
-        if (obstacle >= 0)
-        {
-            out << '"' << scene.environment().obstacle(obstacle).name << '"';
-        }
-        out << '\n';
-    }
-    return out.str();
-}
-
-nlohmann::json formingSummary(const Scene& scene)
-{
-    nlohmann::json out = nlohmann::json::object();
-    if (const PressureLoad* pressure = scene.pressure())
-    {
-        out["pressure_pa"] = pressure->currentPressure();
-        out["sealed_area_m2"] = pressure->sealedArea();
-    }
-    if (const SheetThickness* thickness = scene.thickness())
-    {
-        const Real below = scene.spec().formingReport.thinBelow;
-        out["thin_below_ratio"] = below;
-        out["thin_area_share"] = thinAreaShare(*thickness, below);
-    }
-    return out;
-}
-
 void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
                     const std::string& title, const std::string& subtitle, const std::string& unitLabel,
                     const std::string& palette, const std::vector<Real>& colourRange)
 {
-    const int pixels = scene.spec().formingReport.mapPixels;
+    const int pixels = thicknessMapSettings(scene.spec()).pixels;
     const std::string dataPath = pngPath + ".dat.tmp";
     writeFileAtomically(dataPath, mapData(topViewMap(scene, perMass, pixels / 3)));
     try
@@ -238,56 +152,5 @@ void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const 
         throw;
     }
     std::filesystem::remove(dataPath);
-}
-
-void writeFormingReports(Scene& scene, const std::string& directory)
-{
-    const FormingReportSpec& report = scene.spec().formingReport;
-    const std::string title = scene.spec().name;
-    if (report.massesCsv)
-    {
-        writeFileAtomically(directory + "/masses.csv", massesCsv(scene));
-    }
-    auto drawMap = [&](const std::string& stem, const std::vector<Real>& perMass, const std::string& heading,
-                       const std::string& subtitle, const std::string& unit, const std::string& palette,
-                       const std::vector<Real>& colourRange)
-    {
-        drawTopViewMap(scene, perMass, directory + "/" + stem + ".png", title + ": " + heading, subtitle, unit, palette,
-                       colourRange);
-    };
-    const SheetThickness* thickness = scene.thickness();
-    if (report.thicknessMap && thickness)
-    {
-        std::vector<Real> millimetres;
-        for (Real h : thickness->thickness())
-        {
-            millimetres.push_back(1000 * h);
-        }
-        const Vec3& thinnest = scene.system().particles.position[thickness->thinnestMass()];
-        const std::string subtitle =
-            "thinnest " + formatNumber("%.3f mm", 1000 * thickness->minimumThickness()) + " (" +
-            formatNumber("%.0f%%", 100 * thickness->minimumThickness() / thickness->initialThickness()) + " of " +
-            formatNumber("%.2f mm", 1000 * thickness->initialThickness()) + ") at (" +
-            formatNumber("%.3f", thinnest.x()) + ", " + formatNumber("%.3f", thinnest.y()) + ", " +
-            formatNumber("%.3f", thinnest.z()) + ") m; " +
-            formatNumber("%.1f%%", 100 * thinAreaShare(*thickness, report.thinBelow)) + " of the area below " +
-            formatNumber("%.0f%%", 100 * report.thinBelow) + " of h0";
-        const Real h0 = 1000 * thickness->initialThickness();
-        drawMap("thickness_map", millimetres, "wall thickness, top view", subtitle, "thickness (mm)",
-                "defined (0 '#3b0f70', 0.25 '#8c2981', 0.5 '#de4968', 0.75 '#fe9f6d', 1 '#fcfdbf')",
-                {report.mapRangeLow * h0, report.mapRangeHigh * h0});
-    }
-    if (report.temperatureMap && scene.thermal())
-    {
-        std::vector<Real> celsius;
-        for (Real kelvin : scene.thermal()->temperature())
-        {
-            celsius.push_back(kelvin - kelvinAtZeroCelsius);
-        }
-        const auto [lo, hi] = std::minmax_element(celsius.begin(), celsius.end());
-        drawMap("temperature_map", celsius, "temperature, top view",
-                "from " + formatNumber("%.1f", *lo) + " to " + formatNumber("%.1f", *hi) + " C", "temperature (C)",
-                "rgb 33,13,10", {});
-    }
 }
 } // namespace masse::scene

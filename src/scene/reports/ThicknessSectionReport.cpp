@@ -1,4 +1,9 @@
-#include "scene/reports/SheetReports.h"
+#include "scene/reports/ThicknessSectionReport.h"
+
+#include "scene/PlausibleRanges.h"
+#include "scene/output/AtomicFile.h"
+#include "scene/output/Plot.h"
+#include "scene/reports/ReportRegistry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,17 +13,67 @@
 
 namespace masse::scene
 {
+namespace
+{
+std::any readSection(const JsonObject& report)
+{
+    const JsonObject section = *report.object("thickness_section");
+    SectionSettings settings;
+    settings.axis = section.choice("axis", "x", {"x", "z"}) == "x" ? 0 : 2;
+    settings.through = plausible::point(section, "through", Vec3::Zero());
+    section.finish();
+    return settings;
+}
+
+bool sectionDrawn(const SceneSpec& spec)
+{
+    return sectionSettings(spec) != nullptr;
+}
+
+class ThicknessSection final : public RunningReport
+{
+public:
+    void write(Scene& scene, const std::string& directory) override
+    {
+        if (!scene.thickness())
+        {
+            return;
+        }
+        const std::string csv = directory + "/thickness_section.csv";
+        writeFileAtomically(csv, sectionCsv(thicknessSection(scene)));
+        plotPng(sectionPlotScript(csv, scene.spec().name), directory + "/thickness_section.png");
+    }
+};
+
+std::unique_ptr<RunningReport> startSection(const Scene&)
+{
+    return std::make_unique<ThicknessSection>();
+}
+} // namespace
+
+extern const ReportEntry thicknessSectionReport = {
+    .key = "thickness_section",
+    .read = readSection,
+    .enabled = sectionDrawn,
+    .start = startSection,
+};
+
+const SectionSettings* sectionSettings(const SceneSpec& spec)
+{
+    return reportSettings<SectionSettings>(spec, "thickness_section");
+}
+
 std::vector<SectionPoint> thicknessSection(const Scene& scene)
 {
     std::vector<SectionPoint> points;
     const SheetThickness* thickness = scene.thickness();
-    if (!thickness)
+    const SectionSettings* section = sectionSettings(scene.spec());
+    if (!thickness || !section)
     {
         return points;
     }
     const Lattice& lattice = scene.lattice();
-    const ReportSpec& report = scene.spec().report;
-    const int along = report.sectionAxis;
+    const int along = section->axis;
     const int across = along == 0 ? 2 : 0;
     // The row (or column) of bottom-layer masses nearest the line, by rest position: within half the spacing across.
     const Real halfSpacing = 0.5 * (across == 2 ? lattice.spacingZ : lattice.spacingX) + 1e-12;
@@ -26,7 +81,7 @@ std::vector<SectionPoint> thicknessSection(const Scene& scene)
     for (Index i = lattice.layerStart[0]; i < lattice.layerStart[1]; ++i)
     {
         const Vec3& rest = lattice.position[i];
-        if (std::abs(rest[across] - report.sectionThrough[across]) > halfSpacing)
+        if (std::abs(rest[across] - section->through[across]) > halfSpacing)
         {
             continue;
         }
@@ -64,65 +119,5 @@ std::string sectionPlotScript(const std::string& csvPath, const std::string& tit
            "set grid\n"
            "plot '" +
            csvPath + "' every ::1 using 2:7 with linespoints pt 7 title 'h / h0'\n";
-}
-
-SagRecorder::SagRecorder(const Scene& scene)
-{
-    const Lattice& lattice = scene.lattice();
-    const int requested = scene.spec().report.sagMass;
-    if (requested >= 0)
-    {
-        m_mass = Index(requested);
-    }
-    else
-    {
-        // The bottom-layer mass nearest the middle of the sheet's box.
-        const LatticeSpec& spec = lattice.spec;
-        const Vec3 middle = 0.5 * (spec.minCorner + spec.maxCorner);
-        Real best = std::numeric_limits<Real>::infinity();
-        for (Index i = lattice.layerStart[0]; i < lattice.layerStart[1]; ++i)
-        {
-            const Vec3 d = lattice.position[i] - middle;
-            const Real distance = d.x() * d.x() + d.z() * d.z();
-            if (distance < best)
-            {
-                best = distance;
-                m_mass = i;
-            }
-        }
-    }
-    m_startHeight = scene.system().particles.position[m_mass].y();
-    m_series.emplace_back(scene.time(), 0.0);
-}
-
-void SagRecorder::record(const Scene& scene)
-{
-    m_series.emplace_back(scene.time(), m_startHeight - scene.system().particles.position[m_mass].y());
-}
-
-std::string SagRecorder::csv() const
-{
-    std::ostringstream out;
-    out << "time_s,sag_m\n";
-    char line[64];
-    for (const auto& [t, sag] : m_series)
-    {
-        std::snprintf(line, sizeof(line), "%.4f,%.6e\n", t, sag);
-        out << line;
-    }
-    return out.str();
-}
-
-std::string SagRecorder::plotScript(const std::string& csvPath, const std::string& title)
-{
-    return "set datafile separator ','\n"
-           "set title '" +
-           title +
-           ": sag of the sheet centre'\n"
-           "set xlabel 'time (s)'\n"
-           "set ylabel 'sag (mm)'\n"
-           "set grid\n"
-           "plot '" +
-           csvPath + "' every ::1 using 1:($2*1000) with lines lw 2 title 'sag'\n";
 }
 } // namespace masse::scene

@@ -1,10 +1,8 @@
 #pragma once
-/// What a forming engineer reads from a run: the wall-thickness map seen from above (and the temperature map), every
-/// mass in a CSV, and the share of the part that came out thinner than a threshold.
+/// A scalar of the sheet drawn as a map seen from above, with a colour bar: the thickness and temperature maps and
+/// `masse converge`'s error band.
 
 #include "scene/Scene.h"
-
-#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
@@ -32,22 +30,9 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
                           const std::string& unitLabel, const std::string& palette,
                           const std::vector<Real>& colourRange = {});
 
-/// Draws `perMass` on the scene's sheet seen from above into `pngPath` (the scene's map width), through a
+/// Draws `perMass` on the scene's sheet seen from above into `pngPath` (report.thickness_map.pixels wide), through a
 /// data file beside it that is removed afterwards, whatever happens.
 void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
                     const std::string& title, const std::string& subtitle, const std::string& unitLabel,
                     const std::string& palette, const std::vector<Real>& colourRange = {});
-
-/// Share (0..1) of the bottom layer's current area whose thickness is below `ratio` times h0.
-Real thinAreaShare(const SheetThickness& thickness, Real ratio);
-
-/// Every mass: index, layer, position (m), thickness (m) and h/h0 (if a material), temperature (C, if heat) and the
-/// obstacle it touched in the last frame ("" if none).
-std::string massesCsv(Scene& scene);
-
-/// The forming figures for summary.json: thickness min and where, thin area share, sealed area, pressure now.
-nlohmann::json formingSummary(const Scene& scene);
-
-/// Writes the reports the scene asks for (thickness_map.png, temperature_map.png, masses.csv) into `directory`.
-void writeFormingReports(Scene& scene, const std::string& directory);
 } // namespace masse::scene
