@@ -192,6 +192,14 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds)
     return summary;
 }
 
+std::vector<std::string> summaryKeysAddedByTheRun(const SceneSpec& spec)
+{
+    std::vector<std::string> keys = {"runner_overhead", "solver", "events"};
+    const std::vector<std::string> reported = reportSummaryKeys(spec);
+    keys.insert(keys.end(), reported.begin(), reported.end());
+    return keys;
+}
+
 std::string eventsCsv(const Scene& scene)
 {
     std::ostringstream out;

@@ -37,6 +37,10 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
 /// The summary of a scene as it stands now (see data/scenes/README.md for the fields).
 nlohmann::json summarize(Scene& scene, Real wallSeconds);
 
+/// The summary.json values, by path ("runner_overhead", "final.sag"), that a run of `spec` adds or fills as it runs,
+/// which summarize() of a scene that has not run lacks: the runner's own and those of the reports the run makes.
+std::vector<std::string> summaryKeysAddedByTheRun(const SceneSpec& spec);
+
 /// The implicit solver's statistics as summary.json and `masse bench` report them: mean and largest iterations per
 /// step, the steps that stopped at the iteration cap, the final and largest relative residual, the preconditioner.
 nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings);

@@ -19,10 +19,6 @@ namespace
 {
 constexpr std::size_t maxCases = 100000;
 
-/// Keys runScene adds to the summary after summarize(), or that fill only as the scene runs (events): they cannot
-/// be looked up on a scene that has not run.
-const std::vector<std::string> summaryKeysAddedByTheRunner = {"runner_overhead", "sag", "solver", "events"};
-
 bool endsWith(const std::string& text, const std::string& tail)
 {
     return text.size() >= tail.size() && text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
@@ -136,7 +132,30 @@ StudyOutput readOutput(const nlohmann::json& entry, const std::string& where)
     return output;
 }
 
-void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, const std::string& where)
+/// Whether `path` is the summary value `added` names or lies inside it (`webbing.largest[0].masses` in `webbing`).
+bool inside(const JsonPath& path, const std::string& added)
+{
+    const JsonPath prefix = parseJsonPath(added);
+    if (prefix.steps.size() > path.steps.size())
+    {
+        return false;
+    }
+    for (std::size_t k = 0; k < prefix.steps.size(); ++k)
+    {
+        const JsonPathStep& a = prefix.steps[k];
+        const JsonPathStep& b = path.steps[k];
+        if (a.isIndex != b.isIndex || a.key != b.key || a.index != b.index)
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+/// Throws InputError naming `where` when the summary has no value at the output's path. The values a run adds as it
+/// runs (`added`, summaryKeysAddedByTheRun) are taken on trust: the summary of a scene that has not run lacks them.
+void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, const std::vector<std::string>& added,
+                     const std::string& where)
 {
     if (output.path.rfind("event:", 0) == 0)
     {
@@ -159,9 +178,7 @@ void checkOutputPath(const StudyOutput& output, const nlohmann::json& summary, c
     {
         throw InputError(where + ": " + e.what());
     }
-    const std::string top = path.steps.front().key;
-    if (std::find(summaryKeysAddedByTheRunner.begin(), summaryKeysAddedByTheRunner.end(), top) !=
-        summaryKeysAddedByTheRunner.end())
+    if (std::any_of(added.begin(), added.end(), [&](const std::string& key) { return inside(path, key); }))
     {
         return;
     }
@@ -588,9 +605,10 @@ Study loadStudy(const std::string& path)
                 {
                     Scene built(spec);
                     const nlohmann::json summary = summarize(built, 0);
+                    const std::vector<std::string> added = summaryKeysAddedByTheRun(spec);
                     for (std::size_t o = 0; o < study.outputs.size(); ++o)
                     {
-                        checkOutputPath(study.outputs[o], summary, "outputs[" + std::to_string(o) + "]");
+                        checkOutputPath(study.outputs[o], summary, added, "outputs[" + std::to_string(o) + "]");
                     }
                 }
             }
