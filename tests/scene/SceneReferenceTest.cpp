@@ -1,11 +1,13 @@
 // data/scenes/README.md documents every key the scene readers accept: this test reads the readers' own source (every
 // key they ask a JSON object for) and the document, and names each key the document lacks. The readers are every file
 // of src/scene that reads a scene's or a material's JSON: the scene file itself, material files, the `forming` section
-// (FormingSpec.cpp), each report (src/scene/reports/) and the `expect` block (Regression.cpp). The report registry is
-// checked against its table too: each registered report has its row in the `report` table. Study files have their
-// own reference (data/studies/README.md).
+// (FormingSpec.cpp), each report (src/scene/reports/) and the `expect` block (Regression.cpp). The registries are
+// checked against their tables too: each registered report has its row in the `report` table, each integrator its
+// name in the `integrator` table. Study files have their own reference (data/studies/README.md).
 
 #include "scene/reports/ReportRegistry.h"
+
+#include "core/integrate/Integrator.h"
 
 #include <gtest/gtest.h>
 
@@ -146,6 +148,22 @@ TEST(SceneReference, EveryRegisteredReportHasARowInTheReportTable)
         ++keyed;
     }
     EXPECT_GE(keyed, 6);
+}
+
+// The `integrator` table's `type` row names every registered integrator.
+TEST(SceneReference, EveryRegisteredIntegratorIsInTheIntegratorTable)
+{
+    const std::string table = section(readText(source + "/data/scenes/README.md"), "## `integrator`");
+    const std::size_t row = table.find("\n| `type` |");
+    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's `integrator` table has no `type` row";
+    const std::string type = table.substr(row, table.find('\n', row + 1) - row);
+    for (const masse::IntegratorEntry& integrator : masse::integrators())
+    {
+        std::string quoted = "`";
+        quoted.append(integrator.name).append("`");
+        EXPECT_NE(type.find(quoted), std::string::npos)
+            << "data/scenes/README.md's integrator `type` row lacks `" << integrator.name << "`";
+    }
 }
 
 // A key has one row in its section's table: two rows for one key can disagree (obstacles[].temperature_c once had a

@@ -31,7 +31,7 @@ public:
 };
 } // namespace
 
-std::unique_ptr<Integrator> makeExplicitEuler()
+std::unique_ptr<Integrator> makeExplicitEuler(const ImplicitSettings&)
 {
     return std::make_unique<ExplicitEuler>();
 }

@@ -9,29 +9,6 @@ namespace masse
 {
 namespace
 {
-std::unique_ptr<Integrator> explicitEuler(const ImplicitSettings&)
-{
-    return makeExplicitEuler();
-}
-std::unique_ptr<Integrator> symplecticEuler(const ImplicitSettings&)
-{
-    return makeSymplecticEuler();
-}
-std::unique_ptr<Integrator> velocityVerlet(const ImplicitSettings&)
-{
-    return makeVelocityVerlet();
-}
-
-// TR-BDF2 keeps a solve (matrix and factor) for each of its two stages; BDF2 one, for its steps with contact too.
-constexpr IntegratorEntry integratorTable[] = {
-    {IntegratorKind::ExplicitEuler, "euler", true, 0, explicitEuler},
-    {IntegratorKind::SymplecticEuler, "symplectic", true, 0, symplecticEuler},
-    {IntegratorKind::VelocityVerlet, "verlet", true, 0, velocityVerlet},
-    {IntegratorKind::ImplicitEuler, "implicit", false, 1, makeImplicitEuler},
-    {IntegratorKind::Bdf2, "bdf2", false, 1, makeBdf2},
-    {IntegratorKind::TrBdf2, "trbdf2", false, 2, makeTrBdf2},
-};
-
 const IntegratorEntry& entryOf(IntegratorKind kind)
 {
     for (const IntegratorEntry& entry : integratorTable)

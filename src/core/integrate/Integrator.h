@@ -25,9 +25,8 @@ enum class IntegratorKind
 class Integrator;
 struct ImplicitSettings;
 
-/// The registry of integrators: one entry each, in the order menus and help list them. The names the scene files and
-/// flags take, the viewer's menu, the help strings and the memory estimate all read it, so adding an integrator is
-/// its own file, its entry here (Integrator.cpp) and the CMake list.
+/// One registered integrator: its kind, the name scene files and flags take, and how to make it. The names the scene
+/// reader takes, the viewer's menu, the help strings and the memory estimate all read the registry.
 struct IntegratorEntry
 {
     IntegratorKind kind;
@@ -36,6 +35,29 @@ struct IntegratorEntry
     int solvesKept;        ///< implicit solves (matrix and preconditioner) held at once, for the memory estimate
     std::unique_ptr<Integrator> (*make)(const ImplicitSettings& implicit);
 };
+
+// Each integrator's factory, defined in its own file; the explicit ones take the implicit settings and ignore them,
+// so that every entry makes its integrator the same way.
+std::unique_ptr<Integrator> makeExplicitEuler(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeSymplecticEuler(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeVelocityVerlet(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeImplicitEuler(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeBdf2(const ImplicitSettings& settings);
+std::unique_ptr<Integrator> makeTrBdf2(const ImplicitSettings& settings);
+
+/// The registry of integrators, one entry each in the order menus and help list them. It sits beside IntegratorKind
+/// so that an integrator is its own file in this folder (which src/core/CMakeLists.txt globs), its value, factory and
+/// entry here, and its name in data/scenes/README.md's `integrator` table. TR-BDF2 keeps a solve (matrix and factor)
+/// for each of its two stages; BDF2 one, for its steps with contact too.
+inline constexpr IntegratorEntry integratorTable[] = {
+    {IntegratorKind::ExplicitEuler, "euler", true, 0, makeExplicitEuler},
+    {IntegratorKind::SymplecticEuler, "symplectic", true, 0, makeSymplecticEuler},
+    {IntegratorKind::VelocityVerlet, "verlet", true, 0, makeVelocityVerlet},
+    {IntegratorKind::ImplicitEuler, "implicit", false, 1, makeImplicitEuler},
+    {IntegratorKind::Bdf2, "bdf2", false, 1, makeBdf2},
+    {IntegratorKind::TrBdf2, "trbdf2", false, 2, makeTrBdf2},
+};
+
 std::span<const IntegratorEntry> integrators();
 /// "euler, symplectic, verlet, implicit, bdf2 or trbdf2", from the registry, for help strings.
 std::string integratorNameList();
@@ -114,12 +136,4 @@ public:
 };
 
 std::unique_ptr<Integrator> makeIntegrator(IntegratorKind kind, const ImplicitSettings& implicit = {});
-
-// Factories of each integrator, defined in their own files.
-std::unique_ptr<Integrator> makeExplicitEuler();
-std::unique_ptr<Integrator> makeSymplecticEuler();
-std::unique_ptr<Integrator> makeVelocityVerlet();
-std::unique_ptr<Integrator> makeImplicitEuler(const ImplicitSettings& settings);
-std::unique_ptr<Integrator> makeBdf2(const ImplicitSettings& settings);
-std::unique_ptr<Integrator> makeTrBdf2(const ImplicitSettings& settings);
 } // namespace masse

@@ -35,7 +35,7 @@ public:
 };
 } // namespace
 
-std::unique_ptr<Integrator> makeSymplecticEuler()
+std::unique_ptr<Integrator> makeSymplecticEuler(const ImplicitSettings&)
 {
     return std::make_unique<SymplecticEuler>();
 }

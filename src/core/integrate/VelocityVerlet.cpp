@@ -53,7 +53,7 @@ private:
 };
 } // namespace
 
-std::unique_ptr<Integrator> makeVelocityVerlet()
+std::unique_ptr<Integrator> makeVelocityVerlet(const ImplicitSettings&)
 {
     return std::make_unique<VelocityVerlet>();
 }
