@@ -84,6 +84,28 @@ scene::StudyResults collectAndReport(const std::string& dir, bool plots)
     return results;
 }
 
+/// Names each failed case of a collection on stderr, its folder and why, as the local sweep names a case when it
+/// fails; throws (exit 1) if there is one. Cases not run yet are no failure: a study still running on Slurm is
+/// collected as far as it has got.
+void failOnFailedCases(const scene::StudyResults& results, const std::string& dir)
+{
+    if (results.failed == 0)
+    {
+        return;
+    }
+    std::fflush(stdout);
+    for (const scene::CollectedCase& c : results.cases)
+    {
+        if (c.status == "failed")
+        {
+            std::fprintf(stderr, "case %04zu failed (exit code %d) in %s: %s\n", c.index, c.exitCode,
+                         scene::caseFolder(dir, c.index).c_str(),
+                         c.message.empty() ? "its run.log names no error" : c.message.c_str());
+        }
+    }
+    throw std::runtime_error(std::to_string(results.failed) + " case(s) failed; results.csv says why");
+}
+
 void checkOptions(const SweepOptions& options)
 {
     if (!options.collect.empty())
@@ -233,7 +255,7 @@ void runSweep(const SweepOptions& options)
     checkOptions(options);
     if (!options.collect.empty())
     {
-        collectAndReport(options.collect, !options.noPlots);
+        failOnFailedCases(collectAndReport(options.collect, !options.noPlots), options.collect);
         return;
     }
     // Every case's scene is read and checked before the output folder is touched.
@@ -254,10 +276,11 @@ void runSweep(const SweepOptions& options)
         if (submitToSlurm(study, dir, cases, options) == 1)
         {
             const scene::StudyResults results = collectAndReport(dir, !options.noPlots);
-            if (results.failed > 0 || results.notRun > 0)
+            failOnFailedCases(results, dir);
+            if (results.notRun > 0)
             {
-                throw std::runtime_error(std::to_string(results.failed + results.notRun) +
-                                         " case(s) failed or did not run; results.csv says which");
+                throw std::runtime_error(std::to_string(results.notRun) +
+                                         " case(s) did not run; results.csv says which");
             }
         }
         return;

@@ -214,6 +214,19 @@ TEST(Sweep, AFailedCaseIsRecordedAndTheOthersRun)
     EXPECT_NE(results.find("\n0,done,0,"), std::string::npos) << results;
     EXPECT_NE(results.find("\n1,failed,2,"), std::string::npos) << results;
     EXPECT_NE(results.find("missing.obj"), std::string::npos) << results;
+
+    // --collect writes the same results and names the failed case, its folder and why, and exits 1 as the sweep
+    // does: a study with a failed case is a run that went wrong.
+    fs::remove(dir / "results.csv");
+    const Outcome collected = runMasse("sweep --collect " + dir.string() + " --no-plots");
+    EXPECT_EQ(collected.exitCode, 1) << collected.output;
+    EXPECT_EQ(readText(dir / "results.csv"), results);
+    const std::string named = "case 0001 failed (exit code 2) in " + (dir / "cases" / "0001").string() + ": ";
+    const std::size_t at = collected.output.find(named);
+    ASSERT_NE(at, std::string::npos) << collected.output;
+    EXPECT_NE(collected.output.find("missing.obj", at), std::string::npos) << collected.output;
+    EXPECT_EQ(collected.output.find("case 0000 failed"), std::string::npos) << collected.output;
+    EXPECT_NE(collected.output.find("1 case(s) failed; results.csv says why"), std::string::npos) << collected.output;
 }
 
 TEST(Sweep, BadStudiesExitWithCode2AndWriteNothing)
@@ -315,7 +328,14 @@ TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
     summary["events"] = {1, 2};
     std::ofstream(dir / "cases" / "0001" / "summary.json") << summary.dump();
     const Outcome collected = runMasse("sweep --collect " + dir.string() + " --no-plots");
-    EXPECT_EQ(collected.exitCode, 0) << collected.output; // a collection reports failed cases, it does not fail
+    // The collection goes on past the broken cases, names them and exits 1: their runs went wrong.
+    EXPECT_EQ(collected.exitCode, 1) << collected.output;
+    EXPECT_NE(collected.output.find("case 0000 failed (exit code 0) in " + (dir / "cases" / "0000").string() +
+                                    ": exit code 0 but no readable summary.json"),
+              std::string::npos)
+        << collected.output;
+    EXPECT_NE(collected.output.find("case 0001 failed (exit code 0) in "), std::string::npos) << collected.output;
+    EXPECT_NE(collected.output.find("2 case(s) failed"), std::string::npos) << collected.output;
     const std::string results = readText(dir / "results.csv");
     EXPECT_NE(results.find("\n0,failed,0,"), std::string::npos) << results;
     EXPECT_NE(results.find("no readable summary.json"), std::string::npos) << results;
