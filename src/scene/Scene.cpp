@@ -519,7 +519,28 @@ Real Scene::nextStep() const
 StepReport Scene::step()
 {
     const PoolScope threads(m_simulator->pool()); // the rest test's energy too
-    const StepReport report = m_simulator->step(nextStep());
+    StepReport report;
+    try
+    {
+        report = m_simulator->step(nextStep());
+    }
+    catch (const InputError& e)
+    {
+        // A grab's spring joins the stability estimate when it fires: a step that then needs more substeps than the
+        // integrator takes is that grab's doing, and the message names it where the scene gave it.
+        const std::vector<const ScriptAction*>& grabs = m_script->grabsFiredThisFrame();
+        if (e.field() != "dt" || grabs.empty())
+        {
+            throw;
+        }
+        const ScriptAction& grab = *grabs.back();
+        const std::string origin =
+            grab.origin.empty() ? "the grab added at t = " + formatNumber(grab.time) + " s" : grab.origin;
+        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + origin + ".stiffness: the grab" +
+                         (grab.label.empty() ? std::string() : " '" + grab.label + "'") + " of " +
+                         formatNumber(grab.stiffness) + " N/m, firing at t = " + formatNumber(time()) +
+                         " s, makes the step too stiff: " + e.problem());
+    }
     ++m_steps;
     const std::vector<ContactEvent>& contacts = m_contact->report().firstContacts();
     for (; m_contactsSeen < contacts.size(); ++m_contactsSeen)

@@ -905,6 +905,7 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         for (const JsonObject& a : top.objects("script"))
         {
             scene.script.push_back(readAction(a));
+            scene.script.back().origin = "script[" + std::to_string(scene.script.size() - 1) + "]";
         }
         checkTemperatures(scene, top);
         scene.output = readOutput(top.object("output").value_or(JsonObject(empty, "output")));

@@ -120,8 +120,9 @@ struct ScriptAction
         Ambient, ///< sets the room air temperature (`temperature`, K)
     };
     Kind kind = Kind::Grab;
-    Real time = 0;     ///< s
-    std::string label; ///< names a grab, for its release and in events
+    Real time = 0;      ///< s
+    std::string label;  ///< names a grab, for its release and in events
+    std::string origin; ///< where it was given, for messages: "script[2]" in a file; empty for one added while running
     // Grab
     bool grabNearest = false; ///< grab the mass nearest `point` (else `mass`)
     Index mass = 0;

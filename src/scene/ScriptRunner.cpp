@@ -132,6 +132,7 @@ void ScriptRunner::fire(MassSpringSystem& system, ScriptAction& action, Real tim
         aim(spring, action, time);
         const UserSpringId id = system.userSprings.add(spring);
         m_grabs.push_back({action.label, id, mass, &action});
+        m_grabsFiredThisFrame.push_back(&action);
         system.markChanged();
         m_sink("grab", action.label.empty() ? "mass " + std::to_string(mass) : action.label, time);
         break;
@@ -185,6 +186,7 @@ void ScriptRunner::fire(MassSpringSystem& system, ScriptAction& action, Real tim
 
 void ScriptRunner::beforeFrame(MassSpringSystem& system, StepContext& /*context*/, Real time)
 {
+    m_grabsFiredThisFrame.clear();
     // A small tolerance so an action at t = 0.3 fires at the frame that starts at 0.29999999999999999.
     while (m_next < m_actions.size() && m_actions[m_next]->time <= time + 1e-9)
     {

@@ -46,6 +46,8 @@ public:
 
     /// The mass a grab holds now, or -1 (for drawing).
     std::vector<std::pair<Index, UserSpringId>> activeGrabs() const;
+    /// The grabs that fired at the start of the latest frame: a step the integrator cannot then take is their doing.
+    const std::vector<const ScriptAction*>& grabsFiredThisFrame() const { return m_grabsFiredThisFrame; }
 
 private:
     struct Grab
@@ -66,6 +68,7 @@ private:
     EventSink m_sink;
     HeatAction m_heat;
     std::vector<Grab> m_grabs;
+    std::vector<const ScriptAction*> m_grabsFiredThisFrame;
 };
 
 /// The action's name as a scene file writes it ("grab", "heater"...).

@@ -4,6 +4,7 @@
 #include "scene/PaperExperiment.h"
 #include "scene/Runner.h"
 #include "scene/SceneFile.h"
+#include "support/TestSystems.h"
 
 #include <gtest/gtest.h>
 
@@ -170,6 +171,27 @@ TEST(Scene, ActionsAtAFramesStartAreInThatFramesStabilityEstimate)
     ASSERT_EQ(scene.system().userSprings.size(), 1u);
     EXPECT_EQ(grabbed.substeps, scene.simulator().substepsFor(0.03));
     EXPECT_GT(grabbed.substeps, 150);
+}
+
+// A grab stiff enough that the step would need more substeps than the integrator takes (1e6 N/m on a 1e-5 kg mass at
+// dt = 1 s: h omega < 2 needs h < 6.3e-6 s, over 150,000 substeps) is refused when it fires, naming the script action
+// that made it (its place in the file and its label), not only the step.
+TEST(Scene, AGrabTooStiffForTheStepIsNamedAsTheCause)
+{
+    Scene scene(sceneFrom(R"({
+        "sheet": { "size": "4x2x4", "min": [-0.2, 0.3, -0.2], "max": [0.2, 0.31, 0.2], "mass": 1e-5 },
+        "environment": { "room": { "enabled": false } },
+        "integrator": { "type": "symplectic", "dt": 1 },
+        "script": [ { "time": 0, "action": "grab", "label": "hand", "mass": 0, "stiffness": 1e6,
+                      "path": [ { "position": [-0.2, 0.3, -0.2] } ] } ],
+        "run": { "duration": 2 } })"));
+    const std::string message = masse::test::inputErrorOf([&] { scene.step(); });
+    EXPECT_EQ(message.rfind("inline: script[0].stiffness: the grab 'hand' of 1e+06 N/m, firing at t = 0 s, makes the "
+                            "step too stiff: the symplectic integrator needs ",
+                            0),
+              0u)
+        << message;
+    EXPECT_NE(message.find("over the limit of 100000"), std::string::npos) << message;
 }
 
 // A run whose duration ends before some actions' times says which never fired, in its output and its summary.
