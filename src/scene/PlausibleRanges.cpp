@@ -94,6 +94,60 @@ Real density(const JsonObject& o, const std::string& key)
     o.fail(key, message);
 }
 
+void checkSheetHeight(const JsonObject& o, const std::string& key, const Vec3& minCorner, const Vec3& maxCorner)
+{
+    const Real height = maxCorner.y() - minCorner.y();
+    if (!(height > maxSheetHeight))
+    {
+        return;
+    }
+    std::string message = "the sheet's box is " + formatNumber(height) + " m tall (min y " +
+                          formatNumber(minCorner.y()) + " to max y " + formatNumber(maxCorner.y()) +
+                          "), beyond a sheet's plausible " + formatNumber(maxSheetHeight) + " m";
+    const Real metres = height / 1e3;
+    if (metres <= maxSheetHeight)
+    {
+        message += ": did you mean a max y of " + formatNumber(minCorner.y() + metres) + " (" + formatNumber(height) +
+                   " mm above min y)?";
+    }
+    o.fail(key, message);
+}
+
+void checkHeaterSide(const JsonObject& o, const std::string& key, Real value)
+{
+    if (value >= minHeaterSide && value <= maxHeaterSide)
+    {
+        return;
+    }
+    std::string message = formatNumber(value) + " m is outside a heater panel's plausible " +
+                          formatNumber(minHeaterSide) + " to " + formatNumber(maxHeaterSide) + " m";
+    const Real metres = value / 1e3;
+    if (metres >= minHeaterSide && metres <= maxHeaterSide)
+    {
+        message += ": did you mean " + formatNumber(metres) + " (" + formatNumber(value) + " mm)?";
+    }
+    o.fail(key, message);
+}
+
+void checkHeaterPower(const JsonObject& o, const std::string& key, Real power, Real width, Real length)
+{
+    const Real area = width * length;
+    const Real flux = power / area;
+    if (!(power > 0) || (flux >= minHeaterFlux && flux <= maxHeaterFlux))
+    {
+        return; // (a negative power is the heat model's to refuse)
+    }
+    std::string message = formatNumber(power) + " W from a " + formatNumber(width) + " m x " + formatNumber(length) +
+                          " m panel is " + formatNumber(flux) + " W/m^2, outside a radiant heater's plausible " +
+                          formatNumber(minHeaterFlux) + " to " + formatNumber(maxHeaterFlux) + " W/m^2";
+    const Real watts = power * 1e3;
+    if (watts / area >= minHeaterFlux && watts / area <= maxHeaterFlux)
+    {
+        message += ": did you mean " + formatNumber(watts) + " (" + formatNumber(power) + " kW)?";
+    }
+    o.fail(key, message);
+}
+
 void checkTemperature(const JsonObject& o, const std::string& key, Real kelvin, const Material& material)
 {
     if (!(kelvin > material.upperTemperature))

@@ -86,6 +86,7 @@ SheetSpec readSheet(const JsonObject& o)
     lattice.minCorner = plausible::point(o, "min", lattice.minCorner);
     lattice.maxCorner = plausible::point(o, "max", lattice.maxCorner);
     checkUnder("sheet", latticeKeys, [&] { validate(lattice); });
+    plausible::checkSheetHeight(o, "max", lattice.minCorner, lattice.maxCorner);
 
     SheetParams& params = sheet.params;
     params.massPerMass = o.number("mass", params.massPerMass, limits::minMass, limits::maxMass);
@@ -529,9 +530,10 @@ HeatSpec readHeat(const JsonObject& o)
         heater.widthAxis = h.vec3("width_axis", heater.widthAxis);
         heater.width = h.number("width", heater.width);
         heater.length = h.number("length", heater.length);
-        plausible::checkLength(h, "width", heater.width);
-        plausible::checkLength(h, "length", heater.length);
+        plausible::checkHeaterSide(h, "width", heater.width);
+        plausible::checkHeaterSide(h, "length", heater.length);
         heater.power = h.number("power", heater.power);
+        plausible::checkHeaterPower(h, "power", heater.power, heater.width, heater.length);
         const bool on = h.boolean("on", true);
         h.finish();
         heat.heaterNames.push_back(name);

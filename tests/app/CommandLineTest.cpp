@@ -391,6 +391,21 @@ TEST(CommandLine, AGravityBeyondAnyMachineIsRefusedNamingTheKey)
     EXPECT_FALSE(std::filesystem::exists(out));
 }
 
+// A heater's power in kilowatts typed as watts (through --set as through the file) is refused when the scene is read:
+// exit code 2, the key and the likely mistake named, nothing written.
+TEST(CommandLine, AHeaterPowerInKilowattsIsRefusedNamingTheKey)
+{
+    const std::filesystem::path out = freshFolder("heater-kilowatts");
+    const Outcome o = runMasse("run " + source + "/data/scenes/sag.json --set heat.heaters[0].power=10 --quiet --out " +
+                               out.string());
+    EXPECT_EQ(o.exitCode, 2) << o.output;
+    EXPECT_NE(o.output.find("heat.heaters[0].power: 10 W from a 0.8 m x 0.8 m panel is 15.625 W/m^2"),
+              std::string::npos)
+        << o.output;
+    EXPECT_NE(o.output.find("did you mean 10000 (10 kW)?"), std::string::npos) << o.output;
+    EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 // Output paths that cannot be written are refused before the experiment runs, so masse paper does not run all five
 // sizes and then fail on a file given as --out.
 TEST(CommandLine, UnwritableOutputsAreRefusedUpFront)

@@ -197,6 +197,20 @@ TEST(SceneFile, ImplausibleValuesAreRefusedNamingTheLikelyMistake)
         {R"({"script": [)" + grab + R"(, "max_force": 1e300}]})", "script[0].max_force: must be in (0, 1e+06] N"},
         {R"({"script": [{"action": "grab", "near": [0, 0, -2e3], "path": [{"time": 0, "position": [0, 1, 0]}]}]})",
          "script[0].near: (0, 0, -2000) m is farther than 1000 m"},
+        {R"({"sheet": {"min": [0, 0, 0], "max": [1, 3, 1]}})",
+         "sheet.max: the sheet's box is 3 m tall (min y 0 to max y 3), beyond a sheet's plausible 0.5 m: did you mean "
+         "a max y of 0.003 (3 mm above min y)?"},
+        {R"({"sheet": {"min": [0, -2, 0], "max": [1, 0, 1]}})", "sheet.max: the sheet's box is 2 m tall"},
+        {"{" + pmma + R"(, "heat": {"heaters": [{"name": "p", "power": 10, "width": 0.8, "length": 0.8}]}})",
+         "heat.heaters[0].power: 10 W from a 0.8 m x 0.8 m panel is 15.625 W/m^2, outside a radiant heater's "
+         "plausible 100 to 1e+06 W/m^2: did you mean 10000 (10 kW)?"},
+        {"{" + pmma + R"(, "heat": {"heaters": [{"name": "p", "power": 1e9, "on": false}]}})",
+         "heat.heaters[0].power: 1e+09 W from a 1 m x 1 m panel is 1e+09 W/m^2, outside a radiant heater's "
+         "plausible 100 to 1e+06 W/m^2"},
+        {"{" + pmma + R"(, "heat": {"heaters": [{"name": "p", "power": 10000, "width": 800}]}})",
+         "heat.heaters[0].width: 800 m is outside a heater panel's plausible 0.01 to 10 m: did you mean 0.8 (800 mm)?"},
+        {"{" + pmma + R"(, "heat": {"heaters": [{"name": "p", "length": 0.001}]}})",
+         "heat.heaters[0].length: 0.001 m is outside a heater panel's plausible 0.01 to 10 m"},
     };
     for (const auto& [json, expected] : cases)
     {
