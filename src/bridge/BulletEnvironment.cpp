@@ -81,15 +81,17 @@ struct TriangleCollector : btTriangleCallback
         {
             return;
         }
+        // A centre on the triangle, to the rounding of its nearest point (a sheet laid on a mesh's face), has no offset
+        // to point along, or one whose direction is rounding alone: the face's own normal (outward for a mesh wound
+        // outward) stands in, as EPA's answer would.
+        const Real onTriangle = Real(1e-9) * radius + Real(1e-12) * localCentre.cwiseAbs().maxCoeff();
         Vec3 localNormal;
-        if (gap > 0)
+        if (gap > onTriangle)
         {
             localNormal = offset / gap;
         }
         else
         {
-            // A centre on the triangle itself has no offset to point along: the face's own normal (outward for a
-            // mesh wound outward) stands in, as EPA's answer would.
             const Vec3 face = (b - a).cross(c - a);
             const Real length = face.norm();
             if (!(length > 0))

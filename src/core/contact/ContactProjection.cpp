@@ -47,6 +47,16 @@ template <bool Constrained> MASSE_AVX512 bool projectEightStill(const ContactPro
             return false;
         }
     }
+    if (c.startOverlap.any)
+    {
+        for (Index i = i0; i < i0 + 8; ++i)
+        {
+            if (c.startOverlap.depth[i] != 0)
+            {
+                return false;
+            }
+        }
+    }
     const int* const obstacles = planes.obstacles() + k0;
     const int obstacle = obstacles[0];
     for (int l = 1; l < 8; ++l)
@@ -244,7 +254,11 @@ void ContactProjection::projectEntry(std::size_t j, std::vector<int>& firstTouch
         const Real uz = surfaceVelocity.z();
         Real* const x = p.position[i].data();
         const Real offset = plane.offset + ((nx * ux + ny * uy) + nz * uz) * elapsed;
-        const Real separation = ((nx * x[0] + ny * x[1]) + nz * x[2]) - offset - radius;
+        Real separation = ((nx * x[0] + ny * x[1]) + nz * x[2]) - offset - radius;
+        if (startOverlap.any)
+        {
+            separation += startOverlap.depth[i]; // (+0 for a mass without one: the comparisons below see the same)
+        }
         bool arrived = false;
         if constexpr (Constrained)
         {

@@ -7,6 +7,7 @@
 #include "core/contact/ContactConstraints.h"
 #include "core/contact/ContactPlanes.h"
 #include "core/contact/ContactReport.h"
+#include "core/contact/StartOverlap.h"
 #include "core/contact/StuckContacts.h"
 
 #include <vector>
@@ -21,6 +22,7 @@ struct ContactProjection
     const ContactSettings& settings;
     const ContactConstraints& constraints; ///< resting masses are only mended, not projected
     StuckContacts& stuck;
+    const StartOverlap& startOverlap; ///< masses that may stay as deep within the radius as they started
     ContactReport& report;
     Real elapsed; ///< s since the frame began (kinematic surfaces have moved by their velocity times this)
     /// s: how far a velocity change moves a mass after the substep just taken (StepContext::moveStep: the

@@ -116,6 +116,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
     m_detector.setTime(time);
     m_detector.findContacts(p.position, m_reach, m_settings.radius, dt, m_planes.lists());
     m_planes.index();
+    m_startOverlap.update(p, m_planes, m_settings.radius);
     // A stuck mass moves with the point of its obstacle it is stuck to, as that point moves during this frame.
     m_stuck.followSurfaces(m_detector, dt);
     m_detector.setTime(time + dt);
@@ -146,7 +147,8 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
     }
     m_chunkMadeStuck.assign(m_chunkFirstTouches.size(), 0);
     const Real moveStep = context.moveStep > 0 ? context.moveStep : h;
-    const ContactProjection projection{p, m_planes, m_settings, m_constraints, m_stuck, m_report, m_elapsed, moveStep};
+    const ContactProjection projection{p,        m_planes,  m_settings, m_constraints, m_stuck, m_startOverlap,
+                                       m_report, m_elapsed, moveStep};
     parallelFor(masses, ContactPlanes::runLength,
                 [&](std::size_t begin, std::size_t end)
                 {

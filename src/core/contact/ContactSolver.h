@@ -18,6 +18,7 @@
 #include "core/contact/ContactConstraints.h"
 #include "core/contact/ContactPlanes.h"
 #include "core/contact/ContactReport.h"
+#include "core/contact/StartOverlap.h"
 #include "core/contact/StuckContacts.h"
 #include "core/parallel/PerChunk.h"
 
@@ -80,6 +81,7 @@ private:
     ContactSettings m_settings;
     ContactPlanes m_planes;
     StuckContacts m_stuck;
+    StartOverlap m_startOverlap;
     ContactConstraints m_constraints;
     ContactReport m_report;
     std::vector<Vec3> m_frameStart;                 ///< each mass's position at the frame's start (for the sweep)
