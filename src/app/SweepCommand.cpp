@@ -270,7 +270,7 @@ void runSweep(const SweepOptions& options)
     {
         if (cases.empty())
         {
-            collectAndReport(dir, !options.noPlots);
+            failOnFailedCases(collectAndReport(dir, !options.noPlots), dir);
             return;
         }
         if (submitToSlurm(study, dir, cases, options) == 1)

@@ -227,6 +227,12 @@ TEST(Sweep, AFailedCaseIsRecordedAndTheOthersRun)
     EXPECT_NE(collected.output.find("missing.obj", at), std::string::npos) << collected.output;
     EXPECT_EQ(collected.output.find("case 0000 failed"), std::string::npos) << collected.output;
     EXPECT_NE(collected.output.find("1 case(s) failed; results.csv says why"), std::string::npos) << collected.output;
+
+    // So does a --slurm sweep of the finished study, which has nothing to submit and only collects.
+    const Outcome slurm =
+        runMasse("sweep " + (folder / "failing.json").string() + " --out " + dir.string() + " --slurm --no-plots");
+    EXPECT_EQ(slurm.exitCode, 1) << slurm.output;
+    EXPECT_NE(slurm.output.find(named), std::string::npos) << slurm.output;
 }
 
 TEST(Sweep, BadStudiesExitWithCode2AndWriteNothing)
