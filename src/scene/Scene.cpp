@@ -534,12 +534,11 @@ StepReport Scene::step()
             throw;
         }
         const ScriptAction& grab = *grabs.back();
-        const std::string origin =
-            grab.origin.empty() ? "the grab added at t = " + formatNumber(grab.time) + " s" : grab.origin;
-        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " + origin + ".stiffness: the grab" +
+        throw InputError((m_spec.path.empty() ? m_spec.name : m_spec.path) + ": " +
+                         (grab.origin.empty() ? std::string() : grab.origin + ".stiffness: ") + "the grab" +
                          (grab.label.empty() ? std::string() : " '" + grab.label + "'") + " of " +
-                         formatNumber(grab.stiffness) + " N/m, firing at t = " + formatNumber(time()) +
-                         " s, makes the step too stiff: " + e.problem());
+                         formatNumber(grab.stiffness) + " N/m" + (grab.origin.empty() ? " added while running" : "") +
+                         ", firing at t = " + formatNumber(time()) + " s, makes the step too stiff: " + e.problem());
     }
     ++m_steps;
     const std::vector<ContactEvent>& contacts = m_contact->report().firstContacts();

@@ -195,6 +195,23 @@ TEST(Scene, AGrabTooStiffForTheStepIsNamedAsTheCause)
               0u)
         << message;
     EXPECT_NE(message.find("over the limit of 100000"), std::string::npos) << message;
+
+    // The same grab added while running (the Python module's act, the viewer) has no place in the file: it is named
+    // as such.
+    Scene running(sceneFrom(R"({
+        "sheet": { "size": "4x2x4", "min": [-0.2, 0.3, -0.2], "max": [0.2, 0.31, 0.2], "mass": 1e-5 },
+        "environment": { "room": { "enabled": false } },
+        "integrator": { "type": "symplectic", "dt": 1 },
+        "run": { "duration": 2 } })"));
+    running.addAction(readScriptAction(nlohmann::json::parse(R"({ "time": 0, "action": "grab", "label": "hand",
+        "mass": 0, "stiffness": 1e6, "path": [ { "position": [-0.2, 0.3, -0.2] } ] })"),
+                                       "action"));
+    const std::string added = masse::test::inputErrorOf([&] { running.step(); });
+    EXPECT_EQ(added.rfind("inline: the grab 'hand' of 1e+06 N/m added while running, firing at t = 0 s, makes the "
+                          "step too stiff: the symplectic integrator needs ",
+                          0),
+              0u)
+        << added;
 }
 
 // A sheet laid with its bottom layer exactly on an obstacle's top face (the box-landing sheet on a box whose top is
