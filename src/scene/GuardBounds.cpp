@@ -10,22 +10,23 @@ namespace
 /// m, how far a point of the obstacle can be from its own origin (turning about it moves the surface this fast).
 Real reach(const ObstacleSpec& o)
 {
-    switch (o.kind)
+    const bridge::ObstacleShape& s = o.shape;
+    switch (s.kind)
     {
-    case ObstacleKind::Box:
-        return o.halfExtents.norm();
-    case ObstacleKind::Prism:
-        return 0.5 * Vec3(o.prismWidth + 2 * std::abs(o.prismApex), o.prismHeight, o.prismLength).norm();
-    case ObstacleKind::Hull:
+    case bridge::ShapeKind::Box:
+        return s.halfExtents.norm();
+    case bridge::ShapeKind::Prism:
+        return 0.5 * Vec3(s.prismWidth + 2 * std::abs(s.prismApex), s.prismHeight, s.prismLength).norm();
+    case bridge::ShapeKind::Hull:
     {
         Real r = 0;
-        for (const Vec3& p : o.hullPoints)
+        for (const Vec3& p : s.hullPoints)
         {
             r = std::max(r, p.norm());
         }
         return r;
     }
-    case ObstacleKind::Mesh:
+    case bridge::ShapeKind::Mesh:
         return 10 * o.meshScale; // the file is not read here: a generous size
     }
     return 1;

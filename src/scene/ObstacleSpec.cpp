@@ -20,32 +20,14 @@ bridge::ObstacleBody obstacleBody(const ObstacleSpec& spec)
     body.name = spec.name;
     body.path.rest = {spec.position, spec.orientation};
     body.path.keys = spec.path;
-    bridge::ObstacleShape& shape = body.shape;
-    switch (spec.kind)
+    body.shape = spec.shape;
+    if (spec.shape.kind == bridge::ShapeKind::Mesh)
     {
-    case ObstacleKind::Box:
-        shape.kind = bridge::ShapeKind::Box;
-        shape.halfExtents = spec.halfExtents;
-        break;
-    case ObstacleKind::Prism:
-        shape.kind = bridge::ShapeKind::Prism;
-        shape.prismWidth = spec.prismWidth;
-        shape.prismHeight = spec.prismHeight;
-        shape.prismLength = spec.prismLength;
-        shape.prismApex = spec.prismApex;
-        break;
-    case ObstacleKind::Hull:
-        shape.kind = bridge::ShapeKind::Hull;
-        shape.hullPoints = spec.hullPoints;
-        break;
-    case ObstacleKind::Mesh:
-        shape.kind = bridge::ShapeKind::Mesh;
-        shape.mesh = bridge::loadMeshFile(spec.meshPath, spec.name);
-        for (Vec3& v : shape.mesh.vertices)
+        body.shape.mesh = bridge::loadMeshFile(spec.meshPath, spec.name);
+        for (Vec3& v : body.shape.mesh.vertices)
         {
             v = spec.meshScale * v;
         }
-        break;
     }
     return body;
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// The description of one obstacle (a polyhedron in the paper's room), as a scene file gives it, and the bridge's
-/// obstacle made from it.
+/// obstacle made from it. Its solid is the bridge's own ObstacleShape, so a shape's parameters are declared once.
 
 #include "bridge/BulletEnvironment.h"
 
@@ -13,31 +13,16 @@
 
 namespace masse::scene
 {
-enum class ObstacleKind
-{
-    Box,   ///< half extents
-    Prism, ///< triangular prism: a triangle in the local x-y plane extruded along z
-    Hull,  ///< convex hull of given points (local coordinates)
-    Mesh,  ///< triangle mesh from an OBJ or STL file (may be concave)
-};
-
 struct ObstacleSpec
 {
     std::string name;
-    ObstacleKind kind = ObstacleKind::Box;
     Vec3 position = Vec3::Zero();                                              ///< m, local origin in the room
     Eigen::Quaternion<Real> orientation = Eigen::Quaternion<Real>::Identity(); ///< local to room
 
-    Vec3 halfExtents = Vec3(0.5, 0.5, 0.5); ///< m (Box)
-    /// Prism: base width along x, height along y, length along z, and the apex's x offset from the centre (see
-    /// bridge::ObstacleShape).
-    Real prismWidth = 1;
-    Real prismHeight = 1;
-    Real prismLength = 1;
-    Real prismApex = 0;
-    std::vector<Vec3> hullPoints; ///< m (Hull)
-    std::string meshPath;         ///< OBJ or STL file (Mesh); relative paths are resolved by the scene loader
-    Real meshScale = 1;           ///< applied to the file's coordinates (Mesh)
+    /// The solid in its own frame; a Mesh's polygons stay empty here and are read from meshPath by obstacleBody.
+    bridge::ObstacleShape shape;
+    std::string meshPath; ///< OBJ or STL file (Mesh); relative paths are resolved by the scene loader
+    Real meshScale = 1;   ///< applied to the file's coordinates (Mesh)
 
     /// A kinematic obstacle follows its path; with no keys it is static.
     std::vector<bridge::PoseKey> path;

@@ -36,9 +36,9 @@ std::vector<ObstacleSpec> roomObstacles(const RoomSpec& room)
     {
         ObstacleSpec spec;
         spec.name = name;
-        spec.kind = ObstacleKind::Box;
-        spec.halfExtents = half;
-        spec.halfExtents[axis] = t / 2;
+        spec.shape.kind = bridge::ShapeKind::Box;
+        spec.shape.halfExtents = half;
+        spec.shape.halfExtents[axis] = t / 2;
         spec.position = centre;
         spec.position[axis] = high ? hi[axis] + t / 2 : lo[axis] - t / 2;
         return spec;

@@ -201,37 +201,37 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
     spec.orientation = rotationFromDegrees(o.vec3("rotation_deg", Vec3::Zero()));
     if (type == "box")
     {
-        spec.kind = ObstacleKind::Box;
-        spec.halfExtents = o.vec3("half_extents");
-        if (!(spec.halfExtents.array() > 0).all())
+        spec.shape.kind = bridge::ShapeKind::Box;
+        spec.shape.halfExtents = o.vec3("half_extents");
+        if (!(spec.shape.halfExtents.array() > 0).all())
         {
-            o.fail("half_extents", "must be positive numbers of metres (got " + formatNumber(spec.halfExtents.x()) +
-                                       ", " + formatNumber(spec.halfExtents.y()) + ", " +
-                                       formatNumber(spec.halfExtents.z()) + ")");
+            const Vec3& half = spec.shape.halfExtents;
+            o.fail("half_extents", "must be positive numbers of metres (got " + formatNumber(half.x()) + ", " +
+                                       formatNumber(half.y()) + ", " + formatNumber(half.z()) + ")");
         }
-        plausible::checkLength(o, "half_extents", spec.halfExtents.maxCoeff());
+        plausible::checkLength(o, "half_extents", spec.shape.halfExtents.maxCoeff());
     }
     else if (type == "prism")
     {
-        spec.kind = ObstacleKind::Prism;
-        spec.prismWidth = length(o, "width");
-        spec.prismHeight = length(o, "height");
-        spec.prismLength = length(o, "length");
-        spec.prismApex = o.number("apex", 0.0);
-        plausible::checkPoint(o, "apex", Vec3(spec.prismApex, 0, 0));
+        spec.shape.kind = bridge::ShapeKind::Prism;
+        spec.shape.prismWidth = length(o, "width");
+        spec.shape.prismHeight = length(o, "height");
+        spec.shape.prismLength = length(o, "length");
+        spec.shape.prismApex = o.number("apex", 0.0);
+        plausible::checkPoint(o, "apex", Vec3(spec.shape.prismApex, 0, 0));
     }
     else if (type == "hull")
     {
-        spec.kind = ObstacleKind::Hull;
-        spec.hullPoints = o.vec3List("points");
-        for (const Vec3& p : spec.hullPoints)
+        spec.shape.kind = bridge::ShapeKind::Hull;
+        spec.shape.hullPoints = o.vec3List("points");
+        for (const Vec3& p : spec.shape.hullPoints)
         {
             plausible::checkPoint(o, "points", p);
         }
     }
     else
     {
-        spec.kind = ObstacleKind::Mesh;
+        spec.shape.kind = bridge::ShapeKind::Mesh;
         const std::filesystem::path file = o.string("file");
         spec.meshPath = file.is_absolute() ? file.string() : (std::filesystem::path(baseDirectory) / file).string();
         spec.meshScale = o.positive("scale", 1.0);

@@ -107,7 +107,7 @@ TEST(Webbing, ASheetLyingFlatHasNone)
     ObstacleSpec floor;
     floor.name = "floor";
     floor.position = Vec3(0, -0.2, 0);
-    floor.halfExtents = Vec3(1, 0.05, 1);
+    floor.shape.halfExtents = Vec3(1, 0.05, 1);
     spec.obstacles = {floor};
     spec.run.duration = 1.5;
     Scene scene(spec);
