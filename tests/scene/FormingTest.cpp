@@ -263,7 +263,7 @@ TEST(Forming, ConeLawAt70Degrees)
 
 // Disabled because it fails, a known open fault of the forming model. With the sheet clamped at
 // the rim, the upper half of the wall scatters about the law (-10% to +15% mass by mass), but deeper it comes out
-// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 19.7%, mean 5.0%; it was 56%
+// thinner than the law: 0.35 h0 where the law gives 0.42 at r/r0 = 0.18 (worst error 19.7%, mean 5.0%; 56%
 // and 8.2% with the flange free to draw in). A finer lattice (33x2x39) gives the same mean (5.3%) and a worse worst
 // (32%, reaching deeper), so it is not resolution; it fits the law's assumption failing: the law's free bubble thins
 // uniformly, while an elastic sheet's pole thins faster than its edge (not yet measured on the free bubble itself). Run
@@ -689,12 +689,12 @@ TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt64)
     {
         const LayerSeparation s = layerSeparation(file, size);
         const bool holds = s.crossed == 0 && s.touchingOver == 0;
-        test::printValidationRow(
-            "layers kept apart, " + std::string(file).substr(0, std::string(file).size() - 5) + " " + size,
-            "an upper mass over its cell", "none crossed, none on the mould over a cell on it",
-            std::to_string(s.crossed) + " crossed, " + std::to_string(s.touchingOver) + " of " +
-                std::to_string(s.upperMasses) + " on the mould over a cell on it",
-            holds);
+        test::printValidationRow("layers kept apart, " + std::string(file).substr(0, std::string(file).size() - 5) +
+                                     " " + size,
+                                 "an upper mass over its cell", "none crossed, none on the mould over a cell on it",
+                                 std::to_string(s.crossed) + " crossed, " + std::to_string(s.touchingOver) + " of " +
+                                     std::to_string(s.upperMasses) + " on the mould over a cell on it",
+                                 holds);
         EXPECT_EQ(s.crossed, 0) << file;
         EXPECT_EQ(s.touchingOver, 0) << file;
     }

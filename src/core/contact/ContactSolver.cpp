@@ -106,9 +106,9 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
                     {
                         const Real acceleration = gravity + p.force[i].norm() / p.mass[i];
                         const Real driven = p.pinned[i] ? Real(0) : acceleration * dt * dt;
-                        m_reach[i] = m_stuck.stuck[i] ? m_settings.radius
-                                                      : p.velocity[i].norm() * dt + std::min(driven, drivenCap) +
-                                                            m_settings.radius;
+                        m_reach[i] = m_stuck.stuck[i]
+                                         ? m_settings.radius
+                                         : p.velocity[i].norm() * dt + std::min(driven, drivenCap) + m_settings.radius;
                         m_frameStart[i] = p.position[i];
                         m_report.clearMass(i);
                     }

@@ -35,18 +35,13 @@ public:
     }
 };
 
-std::unique_ptr<RunningReport> startFormingSummary(const Scene&)
-{
-    return std::make_unique<FormingSummary>();
-}
-
 constexpr std::string_view formingSummaryKeys[] = {"forming"};
 } // namespace
 
 extern const ReportEntry formingSummaryReport = {
     .key = "",
     .enabled = formingSummarised,
-    .start = startFormingSummary,
+    .start = startReport<FormingSummary>,
     .summaryKeys = formingSummaryKeys,
 };
 } // namespace masse::scene

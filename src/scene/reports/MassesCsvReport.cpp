@@ -78,16 +78,12 @@ public:
     }
 };
 
-std::unique_ptr<RunningReport> startMassesCsv(const Scene&)
-{
-    return std::make_unique<MassesCsv>();
-}
 } // namespace
 
 extern const ReportEntry massesCsvReport = {
     .key = "masses_csv",
     .read = readMassesCsv,
     .enabled = massesCsvWritten,
-    .start = startMassesCsv,
+    .start = startReport<MassesCsv>,
 };
 } // namespace masse::scene

@@ -34,6 +34,12 @@ public:
     virtual void write(Scene& scene, const std::string& directory);
 };
 
+/// The `start` of a report whose running part is made from nothing but its type.
+template <class Report> std::unique_ptr<RunningReport> startReport(const Scene& /*scene*/)
+{
+    return std::make_unique<Report>();
+}
+
 /// A mass a report's settings name, with the key that names it ("report.sag.mass").
 struct NamedMass
 {

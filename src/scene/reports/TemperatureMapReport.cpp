@@ -45,16 +45,12 @@ public:
     }
 };
 
-std::unique_ptr<RunningReport> startTemperatureMap(const Scene&)
-{
-    return std::make_unique<TemperatureMap>();
-}
 } // namespace
 
 extern const ReportEntry temperatureMapReport = {
     .key = "temperature_map",
     .read = readTemperatureMap,
     .enabled = temperatureMapDrawn,
-    .start = startTemperatureMap,
+    .start = startReport<TemperatureMap>,
 };
 } // namespace masse::scene

@@ -74,17 +74,13 @@ public:
     }
 };
 
-std::unique_ptr<RunningReport> startThicknessMap(const Scene&)
-{
-    return std::make_unique<ThicknessMap>();
-}
 } // namespace
 
 extern const ReportEntry thicknessMapReport = {
     .key = "thickness_map",
     .read = readThicknessMap,
     .enabled = thicknessMapDrawn,
-    .start = startThicknessMap,
+    .start = startReport<ThicknessMap>,
 };
 
 ThicknessMapSettings thicknessMapSettings(const SceneSpec& spec)

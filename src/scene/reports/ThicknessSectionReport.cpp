@@ -45,17 +45,13 @@ public:
     }
 };
 
-std::unique_ptr<RunningReport> startSection(const Scene&)
-{
-    return std::make_unique<ThicknessSection>();
-}
 } // namespace
 
 extern const ReportEntry thicknessSectionReport = {
     .key = "thickness_section",
     .read = readSection,
     .enabled = sectionDrawn,
-    .start = startSection,
+    .start = startReport<ThicknessSection>,
 };
 
 const SectionSettings* sectionSettings(const SceneSpec& spec)

@@ -36,11 +36,6 @@ private:
     std::vector<WebbingPlace> m_places;
 };
 
-std::unique_ptr<RunningReport> startWebbing(const Scene&)
-{
-    return std::make_unique<Webbing>();
-}
-
 constexpr std::string_view webbingSummaryKeys[] = {"webbing", "final.webbing_masses"};
 } // namespace
 
@@ -48,7 +43,7 @@ extern const ReportEntry webbingReport = {
     .key = "webbing",
     .read = readWebbing,
     .enabled = reportsWebbing,
-    .start = startWebbing,
+    .start = startReport<Webbing>,
     .summaryKeys = webbingSummaryKeys,
 };
 
