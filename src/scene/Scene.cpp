@@ -68,8 +68,7 @@ void Scene::build()
     tearDown();
     try
     {
-        requireIntegratorForSheetContact(m_spec); // again: --integrator may have changed the scene's
-        // Again too: --size (or the paper's sizes, or the viewer's panel) may have made the sheet smaller than the
+        // Again: --size (or the paper's sizes, or the viewer's panel) may have made the sheet smaller than the
         // masses the scene names; the engine would index past its arrays.
         checkMassIndices(m_spec);
         // A sheet that cannot fit in memory is refused before anything is allocated for it.

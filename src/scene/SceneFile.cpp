@@ -822,21 +822,6 @@ void checkScriptAction(const ScriptAction& a, const ScriptTargets& targets)
     }
 }
 
-void requireIntegratorForSheetContact(const SceneSpec& scene)
-{
-    const std::string integrator(integratorName(scene.time.integrator));
-    if (scene.edgeCollision && !isExplicit(scene.time.integrator))
-    {
-        throw InputError(
-            "contact.edge_collision: works with the explicit integrators only (euler, symplectic, verlet), "
-            "not with " +
-            integrator +
-            " (one implicit step a frame carries a sheet edge across a ridge, and the edge pairs are "
-            "measured only at the step's end); use \"integrator\": {\"type\": \"symplectic\"} or turn "
-            "edge_collision off");
-    }
-}
-
 void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey)
 {
     if (duration / dt > limits::maxSteps)
@@ -902,7 +887,6 @@ SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDire
         scene.contact = readContact(top.object("contact").value_or(JsonObject(empty, "contact")), scene.selfCollision,
                                     scene.selfFriction, scene.edgeCollision, scene.keepLayers);
         scene.time = readTime(top.object("integrator").value_or(JsonObject(empty, "integrator")));
-        requireIntegratorForSheetContact(scene);
         scene.run = readRun(top.object("run").value_or(JsonObject(empty, "run")));
         for (const JsonObject& a : top.objects("script"))
         {

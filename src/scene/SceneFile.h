@@ -51,9 +51,6 @@ struct ScriptTargets
 /// "heater", "action") when the action names something `targets` lacks.
 void checkScriptAction(const ScriptAction& action, const ScriptTargets& targets);
 
-/// Throws InputError naming contact.edge_collision when it is on with an implicit integrator (not built for them).
-void requireIntegratorForSheetContact(const SceneSpec& scene);
-
 /// Throws InputError naming `stepKey` and `durationKey` when duration / dt is more than limits::maxSteps steps.
 void checkRunLength(Real dt, Real duration, const std::string& stepKey, const std::string& durationKey);
 

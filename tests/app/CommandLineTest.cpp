@@ -688,7 +688,8 @@ TEST(CommandLine, EmptyFlagValuesAndZeroThreadsAreRefused)
 
 // Messages name where the mistake is: a mistyped command gets the nearest command, not "A subcommand is required"; a
 // --set of a list under a misspelt name gets the nearest name, not "heat.heater is a null"; a --set that makes another
-// key wrong (an integrator that edge contact refuses) names the --set, not the scene file alone.
+// key wrong (a square lattice that has one layer, where the scene's size has two) names the --set, not the scene file
+// alone.
 TEST(CommandLine, MistakesAreNamedWhereTheyAreWithTheNearestName)
 {
     const Outcome command = runMasse("runn " + source + "/data/scenes/slope.json");
@@ -717,10 +718,9 @@ TEST(CommandLine, MistakesAreNamedWhereTheyAreWithTheNearestName)
         << obstacle.output;
 
     const std::string knife = source + "/data/scenes/knife-edge.json";
-    const Outcome other = runMasse("run " + knife + " --set integrator.type=implicit --out " + out.string());
+    const Outcome other = runMasse("run " + knife + " --set sheet.structure=square2d --out " + out.string());
     EXPECT_EQ(other.exitCode, 2) << other.output;
-    EXPECT_EQ(other.output.rfind("masse: --set integrator.type=implicit: " + knife + ": contact.edge_collision: ", 0),
-              0u)
+    EXPECT_EQ(other.output.rfind("masse: --set sheet.structure=square2d: " + knife + ": sheet.size: ", 0), 0u)
         << other.output;
     EXPECT_FALSE(std::filesystem::exists(out));
 }

@@ -402,6 +402,15 @@ TEST(Determinism, EdgeAndSelfContactFoldHasTheSameHashAtAnyThreadCount)
     expectSameAtEveryThreadCount("knife-edge.json", "48x2x48", 0.6);
 }
 
+// The edge contact under an implicit integrator: the pressure-formed tray with its sheet's edges against the mould's
+// rim and corners (its pairs listed over ranges, the responses after each solve in pair order, the frames split by
+// the motion limit): the same hash, events and solves at 1, 2, 3 and 8 threads.
+TEST(Determinism, ImplicitEdgeContactTrayHasTheSameHashAtAnyThreadCount)
+{
+    expectSameAtEveryThreadCount("pressure-forming-tray.json", "32x2x25", 0.5, std::nullopt,
+                                 {"contact.edge_collision=true"});
+}
+
 TEST(Determinism, Bdf2DropSceneHasTheSameHashAtAnyThreadCount)
 {
     expectSameAtEveryThreadCount("paper-drop.json", "48x2x48", bdf2DropSeconds, IntegratorKind::Bdf2);

@@ -25,6 +25,7 @@ EdgeContact::EdgeContact(const Lattice& lattice, EdgeContactDetector& detector, 
     const std::size_t n = lattice.massCount();
     m_reach.assign(n, 0);
     m_listedAt.assign(n, Vec3::Zero());
+    m_frameStart.assign(n, Vec3::Zero());
     m_massTouches.assign(n, 0);
     m_detector.setSurface(m_surface);
 }
@@ -32,9 +33,12 @@ EdgeContact::EdgeContact(const Lattice& lattice, EdgeContactDetector& detector, 
 void EdgeContact::computeReach(const Particles& p, const Vec3& gravity, Real dt)
 {
     // As the obstacle contact reckons a mass's reach (its speed plus twice what its acceleration would add over the
-    // frame), with a quarter radius of slack so that a mass at rest does not make every substep list the pairs again.
+    // frame, that share capped at drivenReach in implicit frames: ContactSolver.cpp says why), with a quarter radius
+    // of slack so that a mass at rest does not make every substep list the pairs again. Uncapped, a forming
+    // pressure's 1e5 m/s^2 on a sheet's masses lists every sheet edge against every mould edge.
     const Real g = gravity.norm();
     const Real slack = Real(0.25) * m_settings.radius;
+    const Real drivenCap = m_settings.drivenReach > 0 ? m_settings.drivenReach : std::numeric_limits<Real>::infinity();
     parallelFor(m_surface.vertices.size(), reachChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
@@ -42,7 +46,7 @@ void EdgeContact::computeReach(const Particles& p, const Vec3& gravity, Real dt)
                     {
                         const Index i = m_surface.vertices[k];
                         const Real acceleration = g + p.force[i].norm() * p.inverseMass[i];
-                        m_reach[i] = p.velocity[i].norm() * dt + acceleration * dt * dt + slack;
+                        m_reach[i] = p.velocity[i].norm() * dt + std::min(acceleration * dt * dt, drivenCap) + slack;
                     }
                 });
 }
@@ -91,6 +95,11 @@ void EdgeContact::beginFrame(MassSpringSystem& system, StepContext& /*context*/,
 {
     const StageScope stage(m_observer, Stage::EdgeContactPairs);
     m_frameEnd = time + dt;
+    m_frameStartTime = time;
+    for (const Index i : m_surface.vertices)
+    {
+        m_frameStart[i] = system.particles.position[i];
+    }
     computeReach(system.particles, system.forces.gravity, dt);
     listPairs(system.particles.position, time, dt);
     m_report.lastFrame = 0;
@@ -108,6 +117,8 @@ bool EdgeContact::measure(const std::vector<Vec3>& x, std::size_t k, Real elapse
     bool inside;  // the sheet's point is behind every face at the feature
     Vec3 outward; // the mean of those faces' normals, for a sheet point on the feature itself
     Vec3 obstaclePoint;
+    bool insideAtFrameStart; // the same point of the sheet (the same weights of its masses) was inside then
+    Vec3 startOffset;        // from the obstacle's point to the sheet's at the frame's start
     if (k < m_candidates.edgePairs.size())
     {
         const SheetEdgePair& pair = m_candidates.edgePairs[k];
@@ -126,13 +137,17 @@ bool EdgeContact::measure(const std::vector<Vec3>& x, std::size_t k, Real elapse
         obstaclePoint = a + at.t * (b - a);
         offset = out.point - obstaclePoint;
         inside = offset.dot(o.normals[0]) <= 0 && offset.dot(o.normals[1]) <= 0;
+        const Vec3 obstacleVelocity = o.startVelocity + at.t * (o.endVelocity - o.startVelocity);
+        startOffset = m_frameStart[e[0]] + at.s * (m_frameStart[e[1]] - m_frameStart[e[0]]) -
+                      (o.start + at.t * (o.end - o.start)) - (m_frameStartTime - m_listTime) * obstacleVelocity;
+        insideAtFrameStart = startOffset.dot(o.normals[0]) <= 0 && startOffset.dot(o.normals[1]) <= 0;
         outward = o.normals[0] + o.normals[1];
         out.masses[0] = e[0];
         out.masses[1] = e[1];
         out.weights[0] = 1 - at.s;
         out.weights[1] = at.s;
         out.count = 2;
-        out.obstacleVelocity = o.startVelocity + at.t * (o.endVelocity - o.startVelocity);
+        out.obstacleVelocity = obstacleVelocity;
         out.obstacle = o.obstacle;
     }
     else
@@ -148,12 +163,16 @@ bool EdgeContact::measure(const std::vector<Vec3>& x, std::size_t k, Real elapse
         }
         out.point = w[0] * x[t[0]] + w[1] * x[t[1]] + w[2] * x[t[2]];
         offset = out.point - obstaclePoint;
+        startOffset = w[0] * m_frameStart[t[0]] + w[1] * m_frameStart[t[1]] + w[2] * m_frameStart[t[2]] -
+                      (o.point + (m_frameStartTime - m_listTime) * o.velocity);
         inside = true;
+        insideAtFrameStart = true;
         outward = Vec3::Zero();
         for (std::uint32_t n = o.firstNormal; n < o.firstNormal + o.normalCount; ++n)
         {
             const Vec3& normal = m_candidates.cornerNormals[n];
             inside = inside && offset.dot(normal) <= 0;
+            insideAtFrameStart = insideAtFrameStart && startOffset.dot(normal) <= 0;
             outward += normal;
         }
         for (int j = 0; j < 3; ++j)
@@ -166,7 +185,15 @@ bool EdgeContact::measure(const std::vector<Vec3>& x, std::size_t k, Real elapse
         out.obstacle = o.obstacle;
     }
     const Real distanceSquared = offset.squaredNorm();
-    if (!(distanceSquared < radius * radius))
+    // Further than a radius, a point counts only if it has gone through the feature in this frame: one implicit solve
+    // moves the sheet a whole frame at once and can carry a sheet edge clean over a ridge, which it then straddles
+    // deeper than a radius (a knife's apex between the two masses of a spring). It must have been outside the
+    // feature's faces at the frame's start and be no further from the feature than it has moved since: a point
+    // already behind them did not come through now, and one further in came through another feature (a sheet edge
+    // under a knife's ridge is behind the faces of the ridge's end corner too, a ridge's length away).
+    const Real moved = (offset - startOffset).norm();
+    if (!(distanceSquared < radius * radius) &&
+        !(inside && !insideAtFrameStart && distanceSquared < (radius + moved) * (radius + moved)))
     {
         return false;
     }

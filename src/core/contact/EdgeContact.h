@@ -18,10 +18,11 @@
 /// faces of an edge (or every face of a corner), inside the obstacle, is pushed back out through the edge, not further
 /// in.
 ///
-/// Runs as a StepHook after the obstacle contact of every substep, for the explicit integrators (the implicit ones
-/// would need it inside their solve; the scene refuses the combination). Detection runs over ranges of pairs on every
-/// thread; the responses are applied in one pass in pair order, so the result is the same bit for bit at any thread
-/// count.
+/// Runs as a StepHook after the obstacle contact of every substep, or of every solve under the implicit integrators.
+/// One solve moves the sheet a whole frame at once and can carry a sheet edge clean over a ridge: a sheet point
+/// behind the feature's faces further than a radius still counts if it was outside them at the frame's start and has
+/// moved at least that far since (measure). Detection runs over ranges of pairs on every thread; the responses are
+/// applied in one pass in pair order, so the result is the same bit for bit at any thread count.
 
 #include "core/StageObserver.h"
 #include "core/StepHook.h"
@@ -93,10 +94,12 @@ private:
     EdgeContactCandidates m_candidates;
     std::vector<Real> m_reach;                      ///< per mass, m (surface masses only)
     std::vector<Vec3> m_listedAt;                   ///< per mass, where it was when the pairs were listed
+    std::vector<Vec3> m_frameStart;                 ///< per mass of the surface, where it was at the frame's start
     std::vector<std::uint32_t> m_massTouches;       ///< per mass, touches over the last frame
     std::vector<std::uint8_t> m_chunkOutgrew;       ///< per range of surface masses
     PerChunk<std::vector<std::uint32_t>> m_touches; ///< per range of pairs, the touching ones
     Real m_listTime = 0;
+    Real m_frameStartTime = 0;
     Real m_frameEnd = 0;
     EdgeContactReport m_report;
     StageObserver* m_observer = nullptr;

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 using namespace masse;
 using namespace masse::scene;
@@ -167,6 +168,47 @@ TEST(EdgeContact, AnEdgeInsideTheObstacleIsPushedBackOutThroughTheRidge)
     edges.afterSubstep(sheet.sheet, context, 0.001, 0.002);
     EXPECT_NEAR(nearestToRidge(p, knifeRidge()).sheet.y(), radius, 1e-12);
     EXPECT_EQ(p.velocity[0], Vec3::Zero());
+}
+
+// One step carries an edge from a radius above the knife's ridge to two radii under it, past the radius within which
+// a pair touches: it came through the ridge within the frame, so it is pushed back out the way it came, to a radius
+// above the ridge. An edge that was already under the ridge when the frame began is left alone (it did not come
+// through this ridge now; under a non-convex obstacle's edge it may be outside).
+TEST(EdgeContact, AnEdgeCarriedOverTheRidgeInOneStepIsPushedBackOut)
+{
+    const Real radius = 0.01;
+    for (const bool aboveAtStart : {true, false})
+    {
+        const Real startHeight = aboveAtStart ? radius : -2 * radius;
+        TwoMasses sheet(Vec3(-0.02, startHeight, 0.1), Vec3(0.02, startHeight, 0.1), Vec3::Zero());
+        Particles& p = sheet.sheet.particles;
+        p.mass[1] = p.mass[0];
+        p.inverseMass[1] = p.inverseMass[0];
+        GivenPairs pairs;
+        pairs.candidates.edges = {knifeRidge()};
+        pairs.candidates.edgePairs = {{0, 0}};
+        EdgeContact edges(sheet.lattice, pairs, friction(0.3, radius));
+        StepContext context;
+        edges.beginFrame(sheet.sheet, context, 0, 0.01);
+        for (std::size_t i = 0; i < 2; ++i)
+        {
+            p.position[i].y() = -2 * radius; // where the solve left it
+            p.velocity[i] = Vec3(0, -3 * radius / 0.01, 0);
+        }
+        edges.afterSubstep(sheet.sheet, context, 0.01, 0.01);
+        const Nearest nearest = nearestToRidge(p, knifeRidge());
+        if (aboveAtStart)
+        {
+            EXPECT_EQ(edges.report().lastSubstep, 1u);
+            EXPECT_NEAR(nearest.sheet.y(), radius, 1e-12);
+            EXPECT_NEAR(p.velocity[0].y(), 0, 1e-12) << "inelastic: the approach is stopped";
+        }
+        else
+        {
+            EXPECT_EQ(edges.report().lastSubstep, 0u);
+            EXPECT_EQ(nearest.sheet.y(), -2 * radius);
+        }
+    }
 }
 
 // An apex under a triangle's middle, half a radius below it, while the triangle falls at 1 m/s: the triangle ends a
@@ -458,10 +500,14 @@ struct KnifeOutcome
 };
 
 /// The knife-edge scene, its sheet `size` masses a side (0: the scene's).
-KnifeOutcome dropOnKnife(bool edgeCollision, int size = 0)
+KnifeOutcome dropOnKnife(bool edgeCollision, int size = 0, std::optional<IntegratorKind> integrator = std::nullopt)
 {
     SceneSpec spec = loadScene(source + "/data/scenes/knife-edge.json");
     spec.edgeCollision = edgeCollision;
+    if (integrator)
+    {
+        spec.time.integrator = *integrator;
+    }
     if (size > 0)
     {
         spec.sheet.lattice.countX = size;
@@ -531,21 +577,18 @@ TEST(EdgeContact, FinerSheetDrapedOverAKnifeEdgeKeepsEverySpringOut)
               << with.deepestTriangle << " m (1% of the spacing: " << 0.01 * with.spacing << " m)\n";
 }
 
-// contact.edge_collision is refused with the implicit integrators (not built for them yet), naming the key.
-TEST(EdgeContact, RefusedWithTheImplicitIntegrators)
+// The knife at 48x2x48 under the implicit integrators, one solve a 0.03 s frame: the edge contact acts after each
+// solve, and pushes back out a sheet edge the solve carried over the ridge deeper than a radius (it was outside the
+// ridge's faces at the frame's start), so again no spring or surface triangle ends a step inside by more than 1% of
+// the spacing (measured: none inside, backward Euler and BDF2). A coarser sheet can still be cut: at 16x2x16 and
+// 32x2x32 a spring ends a frame 4.2 and 3.3 mm inside under backward Euler, as data/scenes/README.md says.
+TEST(EdgeContact, ImplicitSheetDrapedOverAKnifeEdgeKeepsEverySpringOut)
 {
-    SceneSpec spec = loadScene(source + "/data/scenes/knife-edge.json");
-    for (const IntegratorKind kind : {IntegratorKind::ImplicitEuler, IntegratorKind::Bdf2})
-    {
-        spec.time.integrator = kind;
-        try
-        {
-            Scene scene(spec);
-            ADD_FAILURE() << "accepted with " << integratorName(kind);
-        }
-        catch (const InputError& e)
-        {
-            EXPECT_NE(std::string(e.what()).find("contact.edge_collision"), std::string::npos) << e.what();
-        }
-    }
+    const KnifeOutcome with = dropOnKnife(true, 48, IntegratorKind::ImplicitEuler);
+    EXPECT_GT(with.touches, 0u);
+    EXPECT_LE(with.deepestSpring, 0.01 * with.spacing);
+    EXPECT_LE(with.deepestTriangle, 0.01 * with.spacing);
+    EXPECT_LT(with.lowestMass, -0.2);
+    std::cout << "implicit 48x2x48: deepest spring / triangle inside the knife " << with.deepestSpring << " / "
+              << with.deepestTriangle << " m (1% of the spacing: " << 0.01 * with.spacing << " m)\n";
 }
