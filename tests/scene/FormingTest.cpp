@@ -675,16 +675,11 @@ LayerSeparation layerSeparation(const std::string& file, const std::string& size
                 result.touchingOver, result.smallestGap);
     return result;
 }
-} // namespace
 
-// The same measure at 64x2x64 on every shipped forming scene, for the validation table (docs/figures.sh runs it): a
-// run of minutes, so not part of the suite. Fails where the layers cross or collapse onto the mould anywhere.
-TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt64)
+/// Runs the layer measure on each (scene, size), prints its validation row and fails where the layers cross or an upper
+/// mass lies on the mould over a cell that lies on it.
+void expectLayersApart(const std::vector<std::pair<const char*, const char*>>& runs)
 {
-    const std::pair<const char*, const char*> runs[] = {{"vacuum-forming-cup.json", "64x2x64"},
-                                                        {"pressure-forming-tray.json", "64x2x50"},
-                                                        {"plug-assist-cup.json", "64x2x64"},
-                                                        {"drape-forming.json", "64x2x64"}};
     for (const auto& [file, size] : runs)
     {
         const LayerSeparation s = layerSeparation(file, size);
@@ -695,9 +690,29 @@ TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt64)
                                  std::to_string(s.crossed) + " crossed, " + std::to_string(s.touchingOver) + " of " +
                                      std::to_string(s.upperMasses) + " on the mould over a cell on it",
                                  holds);
-        EXPECT_EQ(s.crossed, 0) << file;
-        EXPECT_EQ(s.touchingOver, 0) << file;
+        EXPECT_EQ(s.crossed, 0) << file << " " << size;
+        EXPECT_EQ(s.touchingOver, 0) << file << " " << size;
     }
+}
+} // namespace
+
+// The same measure at 64x2x64 on every shipped forming scene, for the validation table (docs/figures.sh runs it): a
+// run of minutes, so not part of the suite. Fails where the layers cross or collapse onto the mould anywhere.
+TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt64)
+{
+    expectLayersApart({{"vacuum-forming-cup.json", "64x2x64"},
+                       {"pressure-forming-tray.json", "64x2x50"},
+                       {"plug-assist-cup.json", "64x2x64"},
+                       {"drape-forming.json", "64x2x64"}});
+}
+
+// And at 128x2x128 (about ten minutes on two cores), also run by docs/figures.sh. The plug-assist cup is left out: at
+// 128x2x128 it does not finish in an hour (docs/limits.md).
+TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt128)
+{
+    expectLayersApart({{"vacuum-forming-cup.json", "128x2x128"},
+                       {"pressure-forming-tray.json", "128x2x100"},
+                       {"drape-forming.json", "128x2x128"}});
 }
 
 // With contact.keep_layers, on every shipped forming scene no upper-layer mass ends on or below the cell of masses
