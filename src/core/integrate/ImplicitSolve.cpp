@@ -188,20 +188,29 @@ Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) cons
     // nearly cancel in the sheet's slow motion (bending, sliding, falling), so a residual of tol |b| leaves an error in
     // that motion larger than gravity's own impulse: energy appears, b grows with it, and so does the error allowed
     // (a cold PET sheet over a pyramid reaches 149 m/s). The residual is therefore held to tol times the smaller of
-    // |b| and the impulse of the sheet's weight over the step, a |g| sqrt(sum m_i^2).
+    // |b| and the impulse of the loads that drive the sheet over the step: its weight, a |g| sqrt(sum m_i^2), or the
+    // loads applied to it (a forming pressure, forces set by a program), a sqrt(sum |f_i|^2), whichever is larger. A
+    // vacuum of 80 kPa on a 2 mm sheet is some 4000 times its weight: held to the weight, the cup at 64x2x64 takes 9.4
+    // iterations a step (21 refactorisations) for a thinnest wall that a residual 100 times larger leaves the same to
+    // seven digits in 7.8 (16).
     const Real gravity = std::max(system.forces.gravity.norm(), standardGravity);
     Real massSquares = 0;
     for (Real m : system.particles.mass)
     {
         massSquares += m * m;
     }
-    const Real weightImpulse = a * gravity * std::sqrt(massSquares);
+    Real loadSquares = 0;
+    for (const Vec3& f : system.particles.externalForce)
+    {
+        loadSquares += f.squaredNorm();
+    }
+    const Real drivingImpulse = std::max(a * gravity * std::sqrt(massSquares), a * std::sqrt(loadSquares));
     const Real rhs = m_rhs.norm();
-    if (!(rhs > weightImpulse))
+    if (!(rhs > drivingImpulse))
     {
         return m_settings.tolerance;
     }
-    return std::max(m_settings.tolerance * weightImpulse / rhs, Real(4) * std::numeric_limits<Real>::epsilon());
+    return std::max(m_settings.tolerance * drivingImpulse / rhs, Real(4) * std::numeric_limits<Real>::epsilon());
 }
 
 IntegratorStats ImplicitSolve::runSolver()

@@ -97,7 +97,8 @@ private:
     bool applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints, Real a);
     IntegratorStats runSolver();
     /// The relative tolerance of this solve: the settings' one, tightened so that the residual never exceeds it times
-    /// the impulse of the sheet's weight over the step (see the definition for why).
+    /// the impulse of the loads that drive the sheet over the step, its weight or the loads applied to it (see the
+    /// definition for why).
     Real solverTolerance(const MassSpringSystem& system, Real a) const;
     void writeReactions(std::vector<VelocityConstraint>& constraints);
     /// After a solve: engages each speculative constraint whose mass the step carries through its surface, releases
