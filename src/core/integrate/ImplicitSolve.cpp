@@ -34,12 +34,13 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
         c.released = false;
     }
     IntegratorStats stats;
+    const Real driving = drivingImpulse(system, a); // the same for every round: masses and loads do not change
     for (int round = 1;; ++round)
     {
         const std::vector<Vec3>& roundOffset = heldOffset(system.particles, constraints, a, offset, held);
         assemble(system, a, roundOffset, momentum);
         const bool constrained = applyConstraints(system, constraints, a);
-        m_tolerance = solverTolerance(system, a);
+        m_tolerance = solverTolerance(driving);
         stats.add(runSolver());
         if (constrained)
         {
@@ -182,17 +183,8 @@ Real ImplicitSolve::largestDeltaV() const
     return largest;
 }
 
-Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) const
+Real ImplicitSolve::drivingImpulse(const MassSpringSystem& system, Real a)
 {
-    // The conjugate gradient stops at |r| <= tol |b|. With stiff material springs b is dominated by spring forces that
-    // nearly cancel in the sheet's slow motion (bending, sliding, falling), so a residual of tol |b| leaves an error in
-    // that motion larger than gravity's own impulse: energy appears, b grows with it, and so does the error allowed
-    // (a cold PET sheet over a pyramid reaches 149 m/s). The residual is therefore held to tol times the smaller of
-    // |b| and the impulse of the loads that drive the sheet over the step: its weight, a |g| sqrt(sum m_i^2), or the
-    // loads applied to it (a forming pressure, forces set by a program), a sqrt(sum |f_i|^2), whichever is larger. A
-    // vacuum of 80 kPa on a 2 mm sheet is some 4000 times its weight: held to the weight, the cup at 64x2x64 takes 9.4
-    // iterations a step (21 refactorisations) for a thinnest wall that a residual 100 times larger leaves the same to
-    // seven digits in 7.8 (16).
     const Real gravity = std::max(system.forces.gravity.norm(), standardGravity);
     Real massSquares = 0;
     for (Real m : system.particles.mass)
@@ -204,7 +196,20 @@ Real ImplicitSolve::solverTolerance(const MassSpringSystem& system, Real a) cons
     {
         loadSquares += f.squaredNorm();
     }
-    const Real drivingImpulse = std::max(a * gravity * std::sqrt(massSquares), a * std::sqrt(loadSquares));
+    return std::max(a * gravity * std::sqrt(massSquares), a * std::sqrt(loadSquares));
+}
+
+Real ImplicitSolve::solverTolerance(Real drivingImpulse) const
+{
+    // The conjugate gradient stops at |r| <= tol |b|. With stiff material springs b is dominated by spring forces that
+    // nearly cancel in the sheet's slow motion (bending, sliding, falling), so a residual of tol |b| leaves an error in
+    // that motion larger than gravity's own impulse: energy appears, b grows with it, and so does the error allowed
+    // (a cold PET sheet over a pyramid reaches 149 m/s). The residual is therefore held to tol times the smaller of
+    // |b| and the impulse of the loads that drive the sheet over the step: its weight, a |g| sqrt(sum m_i^2), or the
+    // loads applied to it (a forming pressure, forces set by a program), a sqrt(sum |f_i|^2), whichever is larger. A
+    // vacuum of 80 kPa on a 2 mm sheet is some 4000 times its weight: held to the weight, the cup at 64x2x64 takes 9.4
+    // iterations a step (21 refactorisations) for a thinnest wall that a residual 100 times larger leaves the same to
+    // seven digits in 7.8 (16).
     const Real rhs = m_rhs.norm();
     if (!(rhs > drivingImpulse))
     {

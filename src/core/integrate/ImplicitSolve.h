@@ -96,10 +96,12 @@ private:
                   const std::vector<Vec3>& momentum);
     bool applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints, Real a);
     IntegratorStats runSolver();
-    /// The relative tolerance of this solve: the settings' one, tightened so that the residual never exceeds it times
-    /// the impulse of the loads that drive the sheet over the step, its weight or the loads applied to it (see the
-    /// definition for why).
-    Real solverTolerance(const MassSpringSystem& system, Real a) const;
+    /// The impulse over a step a of the loads that drive the sheet: its weight, a |g| sqrt(sum m_i^2), or the loads
+    /// applied to it, a sqrt(sum |f_i|^2), whichever is larger.
+    static Real drivingImpulse(const MassSpringSystem& system, Real a);
+    /// The relative tolerance of this round: the settings' one, tightened so that the residual never exceeds it times
+    /// `drivingImpulse` (see the definition for why).
+    Real solverTolerance(Real drivingImpulse) const;
     void writeReactions(std::vector<VelocityConstraint>& constraints);
     /// After a solve: engages each speculative constraint whose mass the step carries through its surface, releases
     /// each engaged one whose reaction pulls. Returns whether any changed (then the step is solved again).

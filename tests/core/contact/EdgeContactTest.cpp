@@ -52,6 +52,15 @@ ObstacleEdge knifeRidge()
     return ridge;
 }
 
+/// The knife's ridge, listed against the sheet's edge 0.
+GivenPairs ridgeAgainstEdge0()
+{
+    GivenPairs pairs;
+    pairs.candidates.edges = {knifeRidge()};
+    pairs.candidates.edgePairs = {{0, 0}};
+    return pairs;
+}
+
 /// A one-layer 2x1x2 sheet (masses 0 and 1 in its first row: its edge 0) of unequal masses; masses 2 and 3 far away.
 struct TwoMasses
 {
@@ -80,6 +89,13 @@ struct TwoMasses
             p.force[i].setZero();
         }
         sheet.forces.gravity.setZero();
+    }
+
+    /// Mass 1 as heavy as mass 0, so that a push shared by the edge's weights moves it level.
+    void equalMasses()
+    {
+        sheet.particles.mass[1] = sheet.particles.mass[0];
+        sheet.particles.inverseMass[1] = sheet.particles.inverseMass[0];
     }
 };
 
@@ -118,9 +134,7 @@ TEST(EdgeContact, AnEdgeOnARidgeStopsInelasticallyWithCoulombFriction)
     const Real radius = 0.01;
     TwoMasses sheet(Vec3(-0.01, 0.5 * radius, 0.2), Vec3(0.03, 0.5 * radius, 0.2), Vec3(0, -1, 2));
     Particles& p = sheet.sheet.particles;
-    GivenPairs pairs;
-    pairs.candidates.edges = {knifeRidge()};
-    pairs.candidates.edgePairs = {{0, 0}};
+    GivenPairs pairs = ridgeAgainstEdge0();
     EdgeContact edges(sheet.lattice, pairs, friction(0.3, radius));
     ASSERT_EQ(edges.surface().edges[0], (Edge{0, 1}));
     StepContext context;
@@ -151,11 +165,8 @@ TEST(EdgeContact, AnEdgeInsideTheObstacleIsPushedBackOutThroughTheRidge)
     const Real radius = 0.01;
     TwoMasses sheet(Vec3(-0.02, -0.3 * radius, 0.1), Vec3(0.02, -0.3 * radius, 0.1), Vec3::Zero());
     Particles& p = sheet.sheet.particles;
-    p.mass[1] = p.mass[0]; // equal, so the edge rises level
-    p.inverseMass[1] = p.inverseMass[0];
-    GivenPairs pairs;
-    pairs.candidates.edges = {knifeRidge()};
-    pairs.candidates.edgePairs = {{0, 0}};
+    sheet.equalMasses(); // so the edge rises level
+    GivenPairs pairs = ridgeAgainstEdge0();
     EdgeContact edges(sheet.lattice, pairs, friction(0.3, radius));
     StepContext context;
     edges.beginFrame(sheet.sheet, context, 0, 0.01);
@@ -182,11 +193,8 @@ TEST(EdgeContact, AnEdgeCarriedOverTheRidgeInOneStepIsPushedBackOut)
         const Real startHeight = aboveAtStart ? radius : -2 * radius;
         TwoMasses sheet(Vec3(-0.02, startHeight, 0.1), Vec3(0.02, startHeight, 0.1), Vec3::Zero());
         Particles& p = sheet.sheet.particles;
-        p.mass[1] = p.mass[0];
-        p.inverseMass[1] = p.inverseMass[0];
-        GivenPairs pairs;
-        pairs.candidates.edges = {knifeRidge()};
-        pairs.candidates.edgePairs = {{0, 0}};
+        sheet.equalMasses();
+        GivenPairs pairs = ridgeAgainstEdge0();
         EdgeContact edges(sheet.lattice, pairs, friction(0.3, radius));
         StepContext context;
         edges.beginFrame(sheet.sheet, context, 0, 0.01);
