@@ -118,103 +118,188 @@ StepReport Simulator::step(Real dt)
     return report;
 }
 
-StepReport Simulator::stepFrame(Real dt)
+void Simulator::addHook(StepHook* hook)
 {
-    // Every stage of the hooks, in the order added; the guard accounts for the energy they put in or take out.
-    const auto runHooks = [this](const auto& stage)
+    m_hooks.push_back(hook);
+    const StageSet joined = hook->stages();
+    for (const StepStageEntry& entry : stepStageTable)
     {
-        m_guard.beforeHooks(m_system);
-        for (StepHook* hook : m_hooks)
+        if (entry.hooksJoin && joined.contains(entry.stage))
         {
-            stage(*hook);
-        }
-        m_guard.afterHooks(m_system);
-    };
-    StepReport report;
-    runHooks([&](StepHook& hook) { hook.beforeFrame(m_system, m_context, m_time); });
-    report.substeps = substepsFor(dt);
-    report.substep = dt / Real(report.substeps);
-    m_context.oneSolveAFrame = !isExplicit(m_settings.integrator);
-    m_context.constraints.clear(); // the contact solver clears them too; without one, the self-contact's are here
-    if (m_contact)
-    {
-        m_contact->beginFrame(m_system, m_context, m_time, dt, m_integrator->honoursConstraints());
-        publishContact();
-    }
-    runHooks([&](StepHook& hook) { hook.beginFrame(m_system, m_context, m_time, dt); });
-    // Only the symplectic pass skips zero external forces; the hooks may write them (a pressure load does).
-    const bool watchExternalForces = m_settings.integrator == IntegratorKind::SymplecticEuler;
-    const auto lookForExternalForces = [&]
-    { m_context.externalForces = !watchExternalForces || !noExternalForces(m_system.particles); };
-    lookForExternalForces();
-    const bool hooksWriteExternalForces =
-        watchExternalForces && std::any_of(m_hooks.begin(), m_hooks.end(),
-                                           [](const StepHook* hook) { return hook->writesExternalForcesMidFrame(); });
-    const bool hooksReadForces =
-        std::any_of(m_hooks.begin(), m_hooks.end(), [](const StepHook* hook) { return hook->readsForcesMidFrame(); });
-    for (int i = 0; i < report.substeps; ++i)
-    {
-        m_context.forcesRead = i + 1 == report.substeps || hooksReadForces || (m_contact && m_contact->readsForces());
-        m_guard.beforeSubstep(m_system, m_settings.integrator);
-        m_context.moveStep = report.substep;
-        const IntegratorStats stats = m_integrator->step(m_system, m_context, report.substep);
-        report.solverIterations += stats.solverIterations;
-        report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
-        report.solverCapHits += stats.hitIterationCap ? 1 : 0;
-        if (!isExplicit(m_settings.integrator))
-        {
-            m_solverTally.add(stats);
-        }
-        m_guard.afterIntegrator(m_system, m_settings.integrator);
-        const Real substepEnd = m_time + Real(i + 1) * report.substep;
-        if (m_context.oneSolveAFrame)
-        {
-            runHooks([&](StepHook& hook) { hook.afterImplicitSolve(m_system, m_context, report.substep, substepEnd); });
-        }
-        if (m_contact)
-        {
-            if (i == 0)
-            {
-                GuardStep first;
-                first.time = substepEnd;
-                first.dt = dt;
-                first.substep = report.substep;
-                first.integrator = m_settings.integrator;
-                m_guard.checkSpeedBeforeContact(m_system, first);
-            }
-            m_contact->afterSubstep(m_system, m_context, report.substep);
-            publishContact();
-            m_guard.afterContact(m_system, m_settings.integrator);
-        }
-        runHooks([&](StepHook& hook) { hook.afterSubstep(m_system, m_context, report.substep, substepEnd); });
-        if (hooksWriteExternalForces)
-        {
-            lookForExternalForces();
+            m_stageHooks[int(entry.stage)].push_back(hook);
         }
     }
-    m_substepCount += std::uint64_t(report.substeps);
-    m_time += dt;
-    if (m_contact)
-    {
-        m_contact->endFrame(m_system, m_context, m_time);
-        publishContact();
-    }
-    runHooks([&](StepHook& hook) { hook.endFrame(m_system, m_context, m_time); });
-    checkFinite(); // on every core; the guard's own finite check then only names the mass again
-    GuardStep guarded;
-    guarded.time = m_time;
-    guarded.dt = dt;
-    guarded.substep = report.substep;
-    guarded.integrator = m_settings.integrator;
-    guarded.contactForce = m_contact ? &m_contact->report().contactForce() : nullptr;
-    m_guard.check(m_system, guarded);
-    return report;
 }
 
-void Simulator::publishContact()
+void Simulator::setContactSolver(ContactSolver* contact)
 {
-    // After every contact stage: the report's per-mass vector may have been resized by it.
-    m_context.touchingObstacle = m_contact->report().touchingObstacle();
+    if (m_contact)
+    {
+        const auto without = [this](std::vector<StepHook*>& hooks) { std::erase(hooks, m_contact); };
+        without(m_hooks);
+        for (std::vector<StepHook*>& hooks : m_stageHooks)
+        {
+            without(hooks);
+        }
+    }
+    m_contact = contact;
+    if (m_contact)
+    {
+        addHook(m_contact);
+    }
+}
+
+StepReport Simulator::stepFrame(Real dt)
+{
+    Frame frame;
+    frame.plan.start = m_time;
+    frame.plan.dt = dt;
+    // The table's once-a-frame stages in order; at its run of every-substep stages, that run once per substep.
+    for (int k = 0; k < stepStageCount;)
+    {
+        if (!stepStageTable[k].everySubstep)
+        {
+            runStage(stepStageTable[k].stage, frame);
+            ++k;
+            continue;
+        }
+        int end = k;
+        while (end < stepStageCount && stepStageTable[end].everySubstep)
+        {
+            ++end;
+        }
+        for (int i = 0; i < frame.plan.substeps; ++i)
+        {
+            frame.plan.substepIndex = i;
+            for (int j = k; j < end; ++j)
+            {
+                runStage(stepStageTable[j].stage, frame);
+            }
+        }
+        m_substepCount += std::uint64_t(frame.plan.substeps);
+        m_time += dt; // the stages after the substeps stand at the frame's end
+        frame.substepsDone = true;
+        k = end;
+    }
+    return frame.report;
+}
+
+void Simulator::runHooks(StepStage stage, const Frame& frame)
+{
+    const Real time = frame.substepsDone               ? m_time
+                      : stageEntry(stage).everySubstep ? frame.plan.substepEnd()
+                                                       : frame.plan.start;
+    const StageCall call{m_system, m_context, frame.plan, time};
+    for (StepHook* hook : m_stageHooks[int(stage)])
+    {
+        hook->run(stage, call);
+    }
+}
+
+void Simulator::runStage(StepStage stage, Frame& frame)
+{
+    FramePlan& plan = frame.plan;
+    const bool hooksHere = !m_stageHooks[int(stage)].empty();
+    switch (stage)
+    {
+    case StepStage::PlanFrame:
+        plan.substeps = substepsFor(plan.dt);
+        plan.substep = plan.dt / Real(plan.substeps);
+        plan.oneSolveAFrame = !isExplicit(m_settings.integrator);
+        plan.constrain = m_integrator->honoursConstraints();
+        frame.report.substeps = plan.substeps;
+        frame.report.substep = plan.substep;
+        m_context.constraints.clear(); // the contact solver clears them too; without one, the self-contact's are here
+        return;
+    case StepStage::Integrate:
+        m_guard.beforeSubstep(m_system, m_settings.integrator);
+        integrate(frame);
+        m_guard.afterIntegrator(m_system, m_settings.integrator);
+        return;
+    case StepStage::AfterSolve:
+        if (!plan.oneSolveAFrame)
+        {
+            return; // the explicit integrators' substeps have no solve to follow
+        }
+        break;
+    case StepStage::ContactProjection:
+        if (hooksHere && plan.substepIndex == 0)
+        {
+            // A solve that went wrong is named before the contact's projection hides it.
+            GuardStep first;
+            first.time = plan.substepEnd();
+            first.dt = plan.dt;
+            first.substep = plan.substep;
+            first.integrator = m_settings.integrator;
+            m_guard.checkSpeedBeforeContact(m_system, first);
+        }
+        runHooks(stage, frame);
+        if (hooksHere)
+        {
+            m_guard.afterContact(m_system, m_settings.integrator);
+        }
+        return;
+    case StepStage::Check:
+    {
+        checkFinite(); // on every core; the guard's own finite check then only names the mass again
+        GuardStep guarded;
+        guarded.time = m_time;
+        guarded.dt = plan.dt;
+        guarded.substep = plan.substep;
+        guarded.integrator = m_settings.integrator;
+        guarded.contactForce = m_contact ? &m_contact->report().contactForce() : nullptr;
+        m_guard.check(m_system, guarded);
+        return;
+    }
+    default:
+        break;
+    }
+    // The hook stages. Around those of the models the guard accounts for the energy they put in or take out.
+    const bool accountEnergy = stageEntry(stage).guard == StageGuard::HookEnergy;
+    if (accountEnergy)
+    {
+        m_guard.beforeHooks(m_system);
+    }
+    runHooks(stage, frame);
+    if (accountEnergy)
+    {
+        m_guard.afterHooks(m_system);
+    }
+    if (stage == StepStage::BeginFrame)
+    {
+        lookForExternalForces(frame);
+        frame.hooksWriteExternalForces = std::any_of(
+            m_hooks.begin(), m_hooks.end(), [](const StepHook* hook) { return hook->writesExternalForcesMidFrame(); });
+    }
+    else if (stage == StepStage::AfterSubstep && frame.hooksWriteExternalForces)
+    {
+        lookForExternalForces(frame);
+    }
+}
+
+void Simulator::integrate(Frame& frame)
+{
+    FramePlan& plan = frame.plan;
+    plan.hints.forcesRead =
+        plan.substepIndex + 1 == plan.substeps ||
+        std::any_of(m_hooks.begin(), m_hooks.end(), [](const StepHook* hook) { return hook->readsForcesMidFrame(); });
+    m_context.moveStep = plan.substep;
+    const IntegratorStats stats = m_integrator->step(m_system, m_context, plan.substep, plan.hints);
+    StepReport& report = frame.report;
+    report.solverIterations += stats.solverIterations;
+    report.solverResidual = std::max(report.solverResidual, stats.solverResidual);
+    report.solverCapHits += stats.hitIterationCap ? 1 : 0;
+    if (!isExplicit(m_settings.integrator))
+    {
+        m_solverTally.add(stats);
+    }
+}
+
+void Simulator::lookForExternalForces(Frame& frame) const
+{
+    // Only the symplectic pass skips zero external forces; the hooks may write them (a pressure load does).
+    frame.plan.hints.externalForces =
+        m_settings.integrator != IntegratorKind::SymplecticEuler || !noExternalForces(m_system.particles);
 }
 
 void Simulator::checkFinite() const

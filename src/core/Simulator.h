@@ -1,5 +1,6 @@
 #pragma once
-/// Advances a sheet in time: splits each requested step into stable substeps for the explicit integrators, keeps the
+/// Advances a sheet in time: splits each requested step into stable substeps for the explicit integrators, runs the
+/// frame's stages in the order of one table (StepStage.h) with the models that joined them (StepHook.h), keeps the
 /// clock, and refuses to go on silently with a non-finite state. Its kernels run on a task pool of its own, or one
 /// it is given: nothing in the engine is shared between simulators unless their program shares it.
 
@@ -12,6 +13,7 @@
 #include "core/integrate/StabilityEstimate.h"
 #include "core/parallel/TaskPool.h"
 
+#include <array>
 #include <memory>
 #include <stdexcept>
 
@@ -65,10 +67,12 @@ public:
     StepContext& context() { return m_context; }
     const SimulatorSettings& settings() const { return m_settings; }
     void setIntegrator(IntegratorKind kind);
-    /// Contact with obstacles, applied after every substep; nullptr for none. The solver must outlive its use here.
-    void setContactSolver(ContactSolver* contact) { m_contact = contact; }
-    /// Models advanced with the mechanics, in the order added (see StepHook.h). Each must outlive its use here.
-    void addHook(StepHook* hook) { m_hooks.push_back(hook); }
+    /// Contact with obstacles (the three contact stages), replacing any earlier one; nullptr for none. The solver must
+    /// outlive its use here. Its report's contact forces are the guard's.
+    void setContactSolver(ContactSolver* contact);
+    /// Models advanced with the mechanics (see StepHook.h): called at the stages hook->stages() names, in the order
+    /// added within a stage. Each must outlive its use here.
+    void addHook(StepHook* hook);
     Real time() const { return m_time; }
     /// The pool its kernels run on. A program that calls kernels between steps (a report, an energy) binds it with a
     /// PoolScope to run them on the same threads.
@@ -83,10 +87,24 @@ public:
     const SolverTally& solverTally() const { return m_solverTally; }
 
 private:
-    /// One frame of dt with every stage: what step does when no hook asks for more solves.
+    /// A frame under way: its plan and what it reports.
+    struct Frame
+    {
+        FramePlan plan;
+        StepReport report;
+        bool substepsDone = false;
+        bool hooksWriteExternalForces = false; ///< some hook writes external forces after a substep
+    };
+    /// One frame of dt with every stage: what step does when no hook asks for more solves. Walks stepStageTable.
     StepReport stepFrame(Real dt);
+    /// One stage of the frame: its hooks, and what the Simulator itself does there (the plan, the integrator, the
+    /// checks); the one place the divergence guard is told of stage boundaries.
+    void runStage(StepStage stage, Frame& frame);
+    void runHooks(StepStage stage, const Frame& frame);
+    void integrate(Frame& frame);
+    /// Looks whether every external force is +0 (SubstepHints::externalForces); only the symplectic pass reads it.
+    void lookForExternalForces(Frame& frame) const;
     void checkFinite() const;
-    void publishContact();
     /// The stability estimate, recomputed only when the system changed (its revision) or the repulsion makes it
     /// depend on the current spring lengths.
     const StabilityEstimate& stability() const;
@@ -97,7 +115,8 @@ private:
     std::shared_ptr<TaskPool> m_pool;
     std::unique_ptr<Integrator> m_integrator;
     ContactSolver* m_contact = nullptr;
-    std::vector<StepHook*> m_hooks;
+    std::vector<StepHook*> m_hooks; ///< every hook, the contact solver among them, in the order added
+    std::array<std::vector<StepHook*>, stepStageCount> m_stageHooks; ///< per stage, the hooks that joined it
     DivergenceGuard m_guard;
     Real m_time = 0;
     std::uint64_t m_substepCount = 0;

@@ -25,6 +25,7 @@ public:
     ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice, bridge::BulletEnvironment& environment,
                  EventSink sink, HeatAction heat = {});
 
+    StageSet stages() const override { return {StepStage::BeforeFrame, StepStage::AfterSubstep}; }
     /// Fires the actions due at the frame's start, before its stability estimate and contact detection.
     void beforeFrame(MassSpringSystem& system, StepContext& context, Real time) override;
     /// Aims every grab's spring along its path.

@@ -164,6 +164,26 @@ void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& co
     }
 }
 
+void ContactSolver::run(StepStage stage, const StageCall& call)
+{
+    switch (stage)
+    {
+    case StepStage::ContactDetection:
+        beginFrame(call.system, call.context, call.time, call.plan.dt, call.plan.constrain);
+        break;
+    case StepStage::ContactProjection:
+        afterSubstep(call.system, call.context, call.plan.substep);
+        break;
+    case StepStage::ContactReport:
+        endFrame(call.system, call.context, call.time);
+        break;
+    default:
+        return;
+    }
+    // After every stage: the report's per-mass vector may have been resized by it.
+    call.context.touchingObstacle = m_report.touchingObstacle();
+}
+
 void ContactSolver::endFrame(MassSpringSystem& system, StepContext& context, Real time)
 {
     const StageScope stage(m_observer, Stage::ContactSweep);

@@ -14,6 +14,7 @@
 #include "core/MassSpringSystem.h"
 #include "core/StageObserver.h"
 #include "core/StepContext.h"
+#include "core/StepHook.h"
 #include "core/contact/Contact.h"
 #include "core/contact/ContactConstraints.h"
 #include "core/contact/ContactPlanes.h"
@@ -27,19 +28,28 @@
 
 namespace masse
 {
-/// The frame's contact stages, in order: detection and the implicit integrator's constraints (beginFrame), the
-/// projection after every substep (afterSubstep, ContactProjection.h), the sweep and the report (endFrame). Each
+/// A StepHook of the frame's three contact stages (StepStage.h), in order: detection and the implicit integrator's
+/// constraints (contactDetection: beginFrame), the projection after every substep (contactProjection: afterSubstep,
+/// ContactProjection.h), the sweep and the report (contactReport: endFrame). After each it publishes the report's
+/// per-mass obstacles in StepContext::touchingObstacle. Each
 /// concept has its own file: the frame's planes indexed by mass (ContactPlanes.h), the masses held by sticky contact
 /// (StuckContacts.h), the constraint builder (ContactConstraints.h) and what the frame did (ContactReport.h).
-class ContactSolver
+class ContactSolver final : public StepHook
 {
 public:
     ContactSolver(ContactDetector& detector, const ContactSettings& settings);
 
+    StageSet stages() const override
+    {
+        return {StepStage::ContactDetection, StepStage::ContactProjection, StepStage::ContactReport};
+    }
+    void run(StepStage stage, const StageCall& call) override;
+    bool readsForcesMidFrame() const override { return readsForces(); }
+
     void setSettings(const ContactSettings& settings);
     const ContactSettings& settings() const { return m_settings; }
 
-    /// Called by the Simulator around the substeps of every frame. With `constrain`, the integrator honours velocity
+    /// The three stages (run calls them). With `constrain`, the integrator honours velocity
     /// constraints, and stuck and resting masses are handed to it as such in context.constraints (see
     /// VelocityConstraint.h), whose reactions afterSubstep reads; endFrame clears them.
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain);

@@ -57,6 +57,7 @@ public:
     /// `settings` gives the radius and each obstacle's response and friction.
     EdgeContact(const Lattice& lattice, EdgeContactDetector& detector, const ContactSettings& settings);
 
+    StageSet stages() const override { return {StepStage::BeginFrame, StepStage::AfterSubstep}; }
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
 

@@ -55,6 +55,7 @@ public:
     /// The obstacle contact, whose stuck masses an upper mass lifted off an obstacle is released from (nullptr: none).
     void setContactSolver(ContactSolver* contact) { m_contact = contact; }
 
+    StageSet stages() const override { return {StepStage::AfterSolve, StepStage::AfterSubstep}; }
     /// With an implicit integrator, after its solve and before the obstacle contact's projection: a mass the solve
     /// carried through its cell is put back over it before the contact can take it for a touch of the mould (and
     /// hold it there, if the contact is sticky); the projection then puts back whatever the correction pushed into an

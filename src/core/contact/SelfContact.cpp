@@ -143,7 +143,7 @@ void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Rea
 {
     const StageScope stage(m_observer, Stage::SelfContactPairs);
     const Particles& p = system.particles;
-    if (context.oneSolveAFrame)
+    if (m_oneSolveAFrame)
     {
         if (!preparedFor(p, dt))
         {
@@ -669,7 +669,7 @@ void SelfContact::measureTriangle(const std::vector<Vec3>& x, std::size_t k, boo
 void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time)
 {
     Particles& p = system.particles;
-    if (context.oneSolveAFrame)
+    if (m_oneSolveAFrame)
     {
         // The passes again, after the obstacle contact, which may have pushed a mass of a pair back towards the other
         // side (afterImplicitSolve runs them before it). Either order alone falls short: with the self-contact last,

@@ -23,7 +23,7 @@
 /// would otherwise touch itself everywhere.
 ///
 /// Runs as a StepHook, after the obstacle contact of every substep. With the integrators that take a frame in one
-/// solve (`implicit`, `bdf2`, `trbdf2`: StepContext::oneSolveAFrame), four things change. The pairs are listed by
+/// solve (`implicit`, `bdf2`, `trbdf2`: FramePlan::oneSolveAFrame), four things change. The pairs are listed by
 /// boxes over each mass's motion in the step (swept, SelfContactBroadphase::findSweptPairs), not spheres about it: at
 /// the frame's start from where each mass is to where its velocity would carry it, keeping only the pairs the
 /// arrivals below may take (findSweptArrivingPairs), after the solve over the motion it made. At the frame's start each
@@ -85,6 +85,13 @@ public:
     /// With one solve a frame: lists and weighs the frame's pairs (kept for beginFrame) and asks for the frame to be
     /// split when some pair would close by more than six lattice spacings in one solve.
     int solvesFor(MassSpringSystem& system, Real dt) override;
+    StageSet stages() const override { return {StepStage::BeginFrame, StepStage::AfterSolve, StepStage::AfterSubstep}; }
+    /// Takes the frame's plan (one solve a frame or substeps) before handing the stage to the functions below.
+    void run(StepStage stage, const StageCall& call) override
+    {
+        m_oneSolveAFrame = call.plan.oneSolveAFrame;
+        StepHook::run(stage, call);
+    }
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
     void afterImplicitSolve(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
@@ -278,5 +285,7 @@ private:
     bool m_settledAfterSolve = false;
     SelfContactReport m_report;
     StageObserver* m_observer = nullptr;
+    /// Whether the integrator takes the frame in one solve (FramePlan::oneSolveAFrame), as the last stage was told.
+    bool m_oneSolveAFrame = false;
 };
 } // namespace masse

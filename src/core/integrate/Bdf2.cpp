@@ -44,7 +44,7 @@ public:
     // that they put energy into landings (6x2x6: 0.67 J in one step).
     explicit Bdf2(const ImplicitSettings& settings) : m_solve(settings, true, true, true) {}
 
-    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h, const SubstepHints& /*hints*/) override
     {
         Particles& p = system.particles;
         const std::size_t n = p.size();

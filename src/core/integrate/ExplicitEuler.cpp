@@ -12,7 +12,8 @@ namespace
 class ExplicitEuler final : public Integrator
 {
 public:
-    IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h,
+                         const SubstepHints& /*hints*/) override
     {
         Particles& p = system.particles;
         evaluateForces(system, p.position, p.velocity, p.force);

@@ -16,7 +16,7 @@ class ImplicitEuler final : public Integrator
 public:
     explicit ImplicitEuler(const ImplicitSettings& settings) : m_solve(settings, true) {}
 
-    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h, const SubstepHints& /*hints*/) override
     {
         Particles& p = system.particles;
         evaluateForces(system, p.position, p.velocity, p.force);

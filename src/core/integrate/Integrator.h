@@ -4,6 +4,7 @@
 
 #include "core/MassSpringSystem.h"
 #include "core/StepContext.h"
+#include "core/StepStage.h"
 
 #include <memory>
 #include <span>
@@ -122,8 +123,14 @@ class Integrator
 public:
     virtual ~Integrator() = default;
     /// Advances the system by one step of h seconds, with the frame's velocity constraints in `context` (the
-    /// integrators whose honoursConstraints() is true honour them and write their reactions; the others ignore it).
-    virtual IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) = 0;
+    /// integrators whose honoursConstraints() is true honour them and write their reactions; the others ignore it)
+    /// and what the step may skip (`hints`: only the symplectic pass reads them).
+    virtual IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h, const SubstepHints& hints) = 0;
+    /// A step that skips nothing.
+    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h)
+    {
+        return step(system, context, h, SubstepHints{});
+    }
     /// A step without constraints.
     IntegratorStats step(MassSpringSystem& system, Real h)
     {

@@ -24,6 +24,8 @@ public:
     /// maxMotion: m a mass may move in one solve (> 0); maxSolves: the most solves a frame is split into (>= 1).
     MotionLimit(Real maxMotion, int maxSolves);
 
+    /// Joins no stage: it only answers solvesFor before a frame.
+    StageSet stages() const override { return {}; }
     int solvesFor(MassSpringSystem& system, Real dt) override;
 
     /// m, the largest predicted motion of the frame last asked about, before it was split (infinite for the first).

@@ -12,10 +12,10 @@ namespace
 class SymplecticEuler final : public Integrator
 {
 public:
-    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h, const SubstepHints& hints) override
     {
         Particles& p = system.particles;
-        if (symplecticSubstep(system, h, context.externalForces, context.forcesRead))
+        if (symplecticSubstep(system, h, hints.externalForces, hints.forcesRead))
         {
             return {};
         }

@@ -59,7 +59,7 @@ public:
     {
     }
 
-    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& context, Real h, const SubstepHints& hints) override
     {
         if (!context.constraints.empty())
         {
@@ -68,7 +68,7 @@ public:
         if (m_stepsSinceContact < bdf2StepsAfterContact)
         {
             ++m_stepsSinceContact;
-            return m_contactSteps->step(system, context, h);
+            return m_contactSteps->step(system, context, h, hints);
         }
         Particles& p = system.particles;
         const std::size_t n = p.size();

@@ -14,7 +14,8 @@ namespace
 class VelocityVerlet final : public Integrator
 {
 public:
-    IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h) override
+    IntegratorStats step(MassSpringSystem& system, StepContext& /*context*/, Real h,
+                         const SubstepHints& /*hints*/) override
     {
         Particles& p = system.particles;
         const std::size_t n = p.size();

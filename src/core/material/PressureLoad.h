@@ -65,6 +65,7 @@ public:
     /// mass, the obstacle it touched or -1) decides which triangles are sealed (see above). Off: nothing is sealed.
     void setSealing(bool sealing) { m_sealing = sealing; }
 
+    StageSet stages() const override { return {StepStage::BeginFrame, StepStage::AfterSubstep, StepStage::EndFrame}; }
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time) override;
     void endFrame(MassSpringSystem& system, StepContext& context, Real time) override;

@@ -99,6 +99,7 @@ public:
     /// the obstacle it touches or -1 (empty: no contact exchange).
     void advance(const MassSpringSystem& system, Real dt, std::span<const int> touchingObstacle = {});
 
+    StageSet stages() const override { return {StepStage::BeginFrame, StepStage::EndFrame}; }
     /// Publishes the temperatures and the sheet's thickness in the step context for the hooks after it.
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;
     void endFrame(MassSpringSystem& system, StepContext& context, Real time) override;

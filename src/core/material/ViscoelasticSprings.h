@@ -86,6 +86,7 @@ public:
     /// Temperature of every spring while the step context carries no per-mass temperatures (K).
     void setUniformTemperature(Real temperature);
 
+    StageSet stages() const override { return {StepStage::BeginFrame, StepStage::AfterSubstep}; }
     /// Reads the context's temperatures (if any) and, with followThickness, updates its thickness (if any) from the
     /// positions; without one the springs keep the initial thickness.
     void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt) override;

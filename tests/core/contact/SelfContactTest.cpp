@@ -255,22 +255,30 @@ TEST(SelfContact, AFrameIsSplitWhereAPairWouldCloseMoreThanSixSpacingsInOneSolve
     SelfContact prepared(touch.lattice, pairs, touch.settings(0));
     SelfContact unprepared(touch.lattice, pairs, touch.settings(0));
     StepContext context;
-    context.oneSolveAFrame = true;
+    // The frame as an implicit integrator takes it: one solve.
+    const auto beginSolve = [&](SelfContact& contact, Real frame)
+    {
+        FramePlan plan;
+        plan.dt = frame;
+        plan.substep = frame;
+        plan.oneSolveAFrame = true;
+        contact.run(StepStage::BeginFrame, StageCall{touch.sheet, context, plan, 0});
+    };
     ASSERT_EQ(prepared.solvesFor(touch.sheet, dt), 2);
     EXPECT_EQ(prepared.report().queries, 1u);
-    prepared.beginFrame(touch.sheet, context, 0, dt);
+    beginSolve(prepared, dt);
     EXPECT_EQ(prepared.report().queries, 1u);
     ASSERT_EQ(context.constraints.size(), 1u);
     const VelocityConstraint kept = context.constraints[0];
     context.constraints.clear();
-    unprepared.beginFrame(touch.sheet, context, 0, dt);
+    beginSolve(unprepared, dt);
     ASSERT_EQ(context.constraints.size(), 1u);
     EXPECT_EQ(context.constraints[0].mass, kept.mass);
     EXPECT_EQ(context.constraints[0].normal, kept.normal);
     EXPECT_EQ(context.constraints[0].velocity, kept.velocity);
     prepared.solvesFor(touch.sheet, dt);
     context.constraints.clear();
-    prepared.beginFrame(touch.sheet, context, 0, dt / 2);
+    beginSolve(prepared, dt / 2);
     EXPECT_EQ(prepared.report().queries, 3u);
 }
 
