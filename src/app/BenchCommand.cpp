@@ -341,7 +341,7 @@ void addBenchCommand(CLI::App& app)
     command->add_option("scene", options->scene,
                         "Scene file to time (default data/scenes/bench-free-fall.json, or bench-contact.json with "
                         "--contact); its run length and rest are ignored");
-    command->add_option("--structure", options->structure, "square2d, samm, slamm or trimm (default: the scene's)");
+    command->add_option("--structure", options->structure, structureNameList() + " (default: the scene's)");
     command->add_option("--size", options->size, "NxLxN (default: the scene's, 256x2x256 in the bench scenes)");
     command->add_option("--integrator", options->integrator, integratorNameList() + " (default: the scene's)");
     command->add_option("--preconditioner", options->preconditioner, "implicit solver: multigrid, cholesky or jacobi");

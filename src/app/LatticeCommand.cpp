@@ -71,7 +71,7 @@ void addLatticeCommand(CLI::App& app)
 {
     auto options = std::make_shared<LatticeOptions>();
     CLI::App* command = app.add_subcommand("lattice", "Print the mass and spring counts of a sheet lattice");
-    command->add_option("--structure", options->structure, "square2d, samm, slamm or trimm")->capture_default_str();
+    command->add_option("--structure", options->structure, structureNameList())->capture_default_str();
     command->add_option("--size", options->size, "NxLxN: masses along x, layers, masses along z")
         ->capture_default_str();
     command->add_flag("--json", options->json, "Print one JSON object");

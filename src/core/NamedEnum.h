@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <iterator>
 #include <string>
 #include <string_view>
 
@@ -44,6 +45,20 @@ template <typename Enum, std::size_t N>
 Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view field, std::string_view what)
 {
     return parseNamed(names, name, field, what, [](const EnumName<Enum>& entry) { return entry.value; });
+}
+
+/// "a, b, c or d": the names of a table whose entries have a `name`, for help strings.
+template <typename Entries> std::string nameList(const Entries& entries)
+{
+    std::string list;
+    const std::size_t count = std::size(entries);
+    std::size_t k = 0;
+    for (const auto& entry : entries)
+    {
+        list += (k == 0 ? "" : k + 1 == count ? " or " : ", ") + std::string(entry.name);
+        ++k;
+    }
+    return list;
 }
 
 template <typename Enum, std::size_t N> std::string_view enumName(const EnumName<Enum> (&names)[N], Enum value)

@@ -80,8 +80,12 @@ SheetSpec readSheet(const JsonObject& o)
 {
     SheetSpec sheet;
     LatticeSpec& lattice = sheet.lattice;
-    const std::string structure = o.choice("structure", "trimm", {"square2d", "samm", "slamm", "trimm"});
-    lattice.structure = parseStructure(structure);
+    std::vector<std::string> structureNames;
+    for (const EnumName<Structure>& entry : structureTable)
+    {
+        structureNames.emplace_back(entry.name);
+    }
+    lattice.structure = parseStructure(o.choice("structure", "trimm", structureNames));
     checkUnder("sheet", latticeKeys, [&] { parseSize(o.string("size", "8x2x8"), lattice); });
     lattice.minCorner = plausible::point(o, "min", lattice.minCorner);
     lattice.maxCorner = plausible::point(o, "max", lattice.maxCorner);

@@ -18,8 +18,6 @@ const ImVec4 errorColour(1.0f, 0.45f, 0.4f, 1.0f);
 constexpr float hudLines = 11;
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
-constexpr std::array<Structure, 4> structures{Structure::Square2D, Structure::SaMM, Structure::SLaMM, Structure::TRiMM};
-
 constexpr std::array<ContactResponse, 3> responses{ContactResponse::Sticky, ContactResponse::Friction,
                                                    ContactResponse::Frictionless};
 constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
@@ -265,6 +263,15 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
     bool changed = false;
     if (ImGui::CollapsingHeader("Sheet"))
     {
+        static const std::vector<Structure> structures = [] // the registry's, in its order
+        {
+            std::vector<Structure> all;
+            for (const EnumName<Structure>& entry : structureTable)
+            {
+                all.push_back(entry.value);
+            }
+            return all;
+        }();
         changed |= enumCombo("structure", spec.sheet.lattice.structure, structures, structureName);
         int size[3] = {spec.sheet.lattice.countX, spec.sheet.lattice.layers, spec.sheet.lattice.countZ};
         if (ImGui::InputInt3("size N x L x N", size))

@@ -666,7 +666,7 @@ void SelfContact::measureTriangle(const std::vector<Vec3>& x, std::size_t k, boo
     }
 }
 
-void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& context, Real h, Real time)
+void SelfContact::afterSubstep(MassSpringSystem& system, StepContext& /*context*/, Real h, Real time)
 {
     Particles& p = system.particles;
     if (m_oneSolveAFrame)

@@ -45,13 +45,7 @@ std::span<const IntegratorEntry> integrators()
 
 std::string integratorNameList()
 {
-    std::string list;
-    const std::size_t count = std::size(integratorTable);
-    for (std::size_t k = 0; k < count; ++k)
-    {
-        list += (k == 0 ? "" : k + 1 == count ? " or " : ", ") + std::string(integratorTable[k].name);
-    }
-    return list;
+    return nameList(integratorTable);
 }
 
 IntegratorKind parseIntegrator(std::string_view name)

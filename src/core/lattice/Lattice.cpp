@@ -11,13 +11,6 @@ namespace masse
 {
 namespace
 {
-constexpr EnumName<Structure> structureNames[] = {
-    {Structure::Square2D, "square2d"},
-    {Structure::SaMM, "samm"},
-    {Structure::SLaMM, "slamm"},
-    {Structure::TRiMM, "trimm"},
-};
-
 // The largest count per side: 4096 x 4096 x 2 is about 33 million masses, far past interactive use, and keeps every
 // index inside 32 bits.
 constexpr int maxCount = 4096;
@@ -26,12 +19,17 @@ constexpr int maxLayers = 64;
 
 Structure parseStructure(std::string_view name)
 {
-    return parseEnum(structureNames, name, "structure", "structure");
+    return parseEnum(structureTable, name, "structure", "structure");
 }
 
 std::string_view structureName(Structure structure)
 {
-    return enumName(structureNames, structure);
+    return enumName(structureTable, structure);
+}
+
+std::string structureNameList()
+{
+    return nameList(structureTable);
 }
 
 void parseSize(std::string_view text, LatticeSpec& spec)

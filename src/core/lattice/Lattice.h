@@ -6,6 +6,7 @@
 /// paper describes, so the sheet tapers by one mass per side and layer. Masses are numbered layer by layer, row (z) by
 /// row, column (x) fastest. Layouts and pictures: SquareLattice.cpp and TriangularLattice.cpp.
 
+#include "core/NamedEnum.h"
 #include "core/Types.h"
 #include "core/lattice/SpringSet.h"
 
@@ -24,9 +25,20 @@ enum class Structure
     TRiMM,    ///< triangular layers; each upper mass joined to the three masses of the triangle below (figure 7)
 };
 
-/// Parses "square2d", "samm", "slamm" or "trimm" (any case); throws InputError naming the allowed names.
+/// The registry of structures, one entry each in the order menus and help list them: the scene reader's choice, the
+/// viewer's menu and the commands' help read it, and data/scenes/README.md's `sheet` table names each (SceneReference).
+inline constexpr EnumName<Structure> structureTable[] = {
+    {Structure::Square2D, "square2d"},
+    {Structure::SaMM, "samm"},
+    {Structure::SLaMM, "slamm"},
+    {Structure::TRiMM, "trimm"},
+};
+
+/// Parses a registered name (any case); throws InputError naming the allowed names.
 Structure parseStructure(std::string_view name);
 std::string_view structureName(Structure structure);
+/// "square2d, samm, slamm or trimm", from the registry, for help strings.
+std::string structureNameList();
 
 /// Paper Table 1 defaults, in SI units.
 struct LatticeSpec
