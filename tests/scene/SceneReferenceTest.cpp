@@ -1,15 +1,18 @@
 // data/scenes/README.md documents every key the scene readers accept: this test reads the readers' own source (every
 // key they ask a JSON object for) and the document, and names each key the document lacks. The readers are every file
 // of src/scene that reads a scene's or a material's JSON: the scene file itself, material files, the `forming` section
-// (FormingSpec.cpp), each report (src/scene/reports/), each obstacle shape (src/scene/shapes/) and the `expect` block
-// (Regression.cpp). The registries are checked against their tables too: each registered report has its row in the
-// `report` table, each integrator its name in the `integrator` table, each shape its name in the `obstacles[]` table.
+// (FormingSpec.cpp), each report (src/scene/reports/), each obstacle shape (src/scene/shapes/), the `expect` block
+// (Regression.cpp) and each material law (src/core/material/*Law.cpp, which reads its keys through the material
+// reader). The registries are checked against their tables too: each registered report has its row in the `report`
+// table, each integrator its name in the `integrator` table, each shape its name in the `obstacles[]` table, each
+// material law its name in the material-file table.
 // Study files have their own reference (data/studies/README.md).
 
 #include "scene/reports/ReportRegistry.h"
 #include "scene/shapes/ShapeRegistry.h"
 
 #include "core/integrate/Integrator.h"
+#include "core/material/MaterialLaw.h"
 
 #include <gtest/gtest.h>
 
@@ -118,10 +121,22 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
         }
     }
     EXPECT_GT(keysAskedFor(shapeReaders).size(), 6u); // the pattern still finds the shapes' keys
+    std::string lawReaders;
+    for (const auto& file : std::filesystem::directory_iterator(source + "/src/core/material"))
+    {
+        const std::string name = file.path().filename().string();
+        if (name.size() > 7 && name.compare(name.size() - 7, 7, "Law.cpp") == 0)
+        {
+            readers.push_back("/src/core/material/" + name);
+            lawReaders += readText(file.path().string());
+        }
+    }
+    EXPECT_GE(keysAskedFor(lawReaders).size(), 7u); // the pattern still finds the laws' keys
     for (const std::string& reader : readers)
     {
         const std::set<std::string> keys = keysAskedFor(readText(source + reader));
-        if (reader.rfind("/src/scene/reports/", 0) != 0 && reader.rfind("/src/scene/shapes/", 0) != 0)
+        if (reader.rfind("/src/scene/reports/", 0) != 0 && reader.rfind("/src/scene/shapes/", 0) != 0 &&
+            reader.rfind("/src/core/material/", 0) != 0)
         {
             EXPECT_FALSE(keys.empty()) << reader; // the pattern still finds the reader's keys
         }
@@ -194,6 +209,24 @@ TEST(SceneReference, EveryRegisteredShapeIsInTheObstaclesTable)
             << "data/scenes/README.md's obstacles[] `type` row lacks `" << shape->name << "`";
     }
     EXPECT_GE(masse::scene::shapes().size(), 4u);
+}
+
+// A material law is registered in one table (src/core/material/MaterialLaw.cpp): the material-file table's `law` row
+// names every registered law.
+TEST(SceneReference, EveryRegisteredMaterialLawIsInTheMaterialFileTable)
+{
+    const std::string table = section(readText(source + "/data/scenes/README.md"),
+                                      "### Material files (`data/materials/*.json`, or `material.properties`)");
+    const std::size_t row = table.find("\n| `law` |");
+    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's material-file table has no `law` row";
+    const std::string law = table.substr(row, table.find('\n', row + 1) - row);
+    for (const masse::MaterialLawEntry* entry : masse::materialLaws())
+    {
+        std::string quoted = "`";
+        quoted.append(entry->name).append("`");
+        EXPECT_NE(law.find(quoted), std::string::npos)
+            << "data/scenes/README.md's material-file `law` row lacks `" << entry->name << "`";
+    }
 }
 
 // A key has one row in its section's table: two rows for one key can disagree (obstacles[].temperature_c once had a
