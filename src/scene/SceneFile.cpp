@@ -441,7 +441,7 @@ MaterialSpec readMaterialSection(const JsonObject& o, const std::string& baseDir
         spec.material = parseMaterial(*o.object("properties"));
     }
     spec.thickness = plausible::thickness(o, "thickness", spec.thickness);
-    spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", {"elastic", "maxwell", "burgers"}));
+    spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", springModelNames()));
     spec.springs.dampingRatio = o.number("damping_ratio", spec.springs.dampingRatio, 0.0, 1.0);
     spec.springs.followThickness = o.boolean("follow_thickness", spec.springs.followThickness);
     o.finish();
