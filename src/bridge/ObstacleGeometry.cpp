@@ -2,7 +2,6 @@
 
 #include "BulletMath.h"
 
-#include "core/Format.h"
 #include "core/InputError.h"
 
 #include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
@@ -23,14 +22,6 @@ ObstacleGeometry& ObstacleGeometry::operator=(ObstacleGeometry&&) noexcept = def
 
 namespace
 {
-void requirePositive(const char* field, Real value)
-{
-    if (!(value > 0) || !std::isfinite(value))
-    {
-        throw InputError(field, "must be a positive number of metres (got " + formatNumber(value) + ")");
-    }
-}
-
 /// Outward normal and plane offset of a polygon (Newell's method, robust for any planar polygon).
 void finishFace(const std::vector<Vec3>& vertices, const Vec3& interior, Face& face)
 {
@@ -71,54 +62,6 @@ Vec3 centroid(const std::vector<Vec3>& points)
         sum += p;
     }
     return sum / Real(points.size());
-}
-
-void makeBox(const ObstacleShape& shape, ObstacleGeometry& g)
-{
-    requirePositive("halfExtents.x", shape.halfExtents.x());
-    requirePositive("halfExtents.y", shape.halfExtents.y());
-    requirePositive("halfExtents.z", shape.halfExtents.z());
-    const Vec3 h = shape.halfExtents;
-    // Vertex k has x sign from bit 0, y from bit 1, z from bit 2.
-    for (int k = 0; k < 8; ++k)
-    {
-        g.vertices.emplace_back((k & 1) ? h.x() : -h.x(), (k & 2) ? h.y() : -h.y(), (k & 4) ? h.z() : -h.z());
-    }
-    const Vec3 inside = Vec3::Zero();
-    addFace(g, {1, 3, 7, 5}, inside); // +x
-    addFace(g, {0, 4, 6, 2}, inside); // -x
-    addFace(g, {2, 6, 7, 3}, inside); // +y
-    addFace(g, {0, 1, 5, 4}, inside); // -y
-    addFace(g, {4, 5, 7, 6}, inside); // +z
-    addFace(g, {0, 2, 3, 1}, inside); // -z
-}
-
-void makePrism(const ObstacleShape& shape, ObstacleGeometry& g)
-{
-    requirePositive("prismWidth", shape.prismWidth);
-    requirePositive("prismHeight", shape.prismHeight);
-    requirePositive("prismLength", shape.prismLength);
-    if (!std::isfinite(shape.prismApex))
-    {
-        throw InputError("prismApex", "must be a finite number of metres");
-    }
-    const Real w = shape.prismWidth / 2;
-    const Real h = shape.prismHeight / 2;
-    const Real l = shape.prismLength / 2;
-    const Vec3 triangle[3] = {Vec3(-w, -h, 0), Vec3(w, -h, 0), Vec3(shape.prismApex, h, 0)};
-    for (Real z : {l, -l})
-    {
-        for (const Vec3& corner : triangle)
-        {
-            g.vertices.push_back(corner + Vec3(0, 0, z));
-        }
-    }
-    const Vec3 inside = centroid(g.vertices);
-    addFace(g, {0, 1, 4, 3}, inside); // base
-    addFace(g, {1, 2, 5, 4}, inside); // +x side
-    addFace(g, {2, 0, 3, 5}, inside); // -x side
-    addFace(g, {0, 1, 2}, inside);    // +z end
-    addFace(g, {3, 4, 5}, inside);    // -z end
 }
 
 /// Throws unless the points span three dimensions.
@@ -203,43 +146,61 @@ void makeHull(const ObstacleShape& shape, ObstacleGeometry& g)
     }
 }
 
-void makeMesh(const ObstacleShape& shape, ObstacleGeometry& g)
+/// Throws InputError naming `field` unless every face has three vertices or more, all of them the mesh's and finite,
+/// and Bullet can index every triangle. A mesh read from a file has passed these checks already (MeshFile.h); one
+/// built in code may not have.
+void requirePolygons(const PolygonMesh& mesh, const char* field)
 {
-    // A mesh read from a file has passed these checks already (MeshFile.h); one built in code may not have.
-    const PolygonMesh& mesh = shape.mesh;
     if (mesh.faces.empty())
     {
-        throw InputError("mesh", "has no faces");
+        throw InputError(field, "has no faces");
     }
     std::size_t triangles = 0;
     for (const std::vector<int>& face : mesh.faces)
     {
         if (face.size() < 3)
         {
-            throw InputError("mesh", "a face has fewer than three vertices");
+            throw InputError(field, "a face has fewer than three vertices");
         }
         triangles += face.size() - 2;
         for (int v : face)
         {
             if (v < 0 || std::size_t(v) >= mesh.vertices.size())
             {
-                throw InputError("mesh", "a face names vertex " + std::to_string(v) + " of " +
-                                             std::to_string(mesh.vertices.size()));
+                throw InputError(field, "a face names vertex " + std::to_string(v) + " of " +
+                                            std::to_string(mesh.vertices.size()));
             }
         }
     }
     if (triangles > maxMeshTriangles)
     {
-        throw InputError("mesh", "has " + std::to_string(triangles) + " triangles, more than Bullet's " +
-                                     std::to_string(maxMeshTriangles));
+        throw InputError(field, "has " + std::to_string(triangles) + " triangles, more than Bullet's " +
+                                    std::to_string(maxMeshTriangles));
     }
     for (const Vec3& v : mesh.vertices)
     {
         if (!v.allFinite())
         {
-            throw InputError("mesh", "a vertex is not a finite number");
+            throw InputError(field, "a vertex is not a finite number");
         }
     }
+}
+
+void makePolyhedron(const ObstacleShape& shape, ObstacleGeometry& g)
+{
+    requirePolygons(shape.polygons, "polyhedron");
+    g.vertices = shape.polygons.vertices;
+    const Vec3 inside = centroid(g.vertices);
+    for (const std::vector<int>& face : shape.polygons.faces)
+    {
+        addFace(g, face, inside);
+    }
+}
+
+void makeMesh(const ObstacleShape& shape, ObstacleGeometry& g)
+{
+    const PolygonMesh& mesh = shape.polygons;
+    requirePolygons(mesh, "mesh");
     g.vertices = mesh.vertices;
     g.convex = false;
     g.triangles = std::make_unique<btTriangleMesh>(true, false);
@@ -303,16 +264,13 @@ ObstacleGeometry makeObstacleGeometry(const ObstacleShape& shape)
     ObstacleGeometry g;
     switch (shape.kind)
     {
-    case ShapeKind::Box:
-        makeBox(shape, g);
+    case SolidKind::Polyhedron:
+        makePolyhedron(shape, g);
         break;
-    case ShapeKind::Prism:
-        makePrism(shape, g);
-        break;
-    case ShapeKind::Hull:
+    case SolidKind::Hull:
         makeHull(shape, g);
         break;
-    case ShapeKind::Mesh:
+    case SolidKind::Mesh:
         makeMesh(shape, g);
         break;
     }

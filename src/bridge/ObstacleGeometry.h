@@ -1,13 +1,13 @@
 #pragma once
 /// The shape of an obstacle: its Bullet collision shape, and its own faces (for contact reports and drawing).
 ///
-/// Every convex kind (box, prism, hull) becomes a btConvexHullShape with zero margin, so contact is with the exact
+/// A convex solid (a polyhedron or a hull) becomes a btConvexHullShape with zero margin, so contact is with the exact
 /// polyhedron, not a rounded one; its faces are polygons with outward normals. A mesh becomes a
-/// btBvhTriangleMeshShape whose triangles remember which OBJ face they came from.
+/// btBvhTriangleMeshShape whose triangles remember which face they came from.
 ///
-/// Face order: box 0 +x, 1 -x, 2 +y (top), 3 -y (bottom), 4 +z, 5 -z; prism 0 base (-y), 1 side from the +x base
-/// corner to the apex, 2 side from the apex to the -x base corner, 3 end +z, 4 end -z; hull as Bullet's convex-hull
-/// computer finds them; mesh in the OBJ file's face order.
+/// Face order: a polyhedron's and a mesh's as their polygons are given (each scene shape numbers its own faces, in its
+/// file under src/scene/shapes/, and data/scenes/README.md lists them); a hull's as Bullet's convex-hull computer
+/// finds them.
 
 #include "ObstacleShape.h"
 
@@ -47,8 +47,8 @@ struct ObstacleGeometry
     int faceAt(const Vec3& localPoint, const Vec3& localNormal) const;
 };
 
-/// Builds the geometry of a shape; throws InputError naming the field for a non-positive size ("halfExtents.x"), a
-/// degenerate hull (fewer than 4 points not all in one plane) or a mesh without faces or with a face that names a
-/// vertex it does not have.
+/// Builds the geometry of a solid; throws InputError for a degenerate hull (fewer than 4 points not all in one plane),
+/// or a polyhedron or mesh without faces or with a face that names a vertex it does not have (naming "polyhedron" or
+/// "mesh").
 ObstacleGeometry makeObstacleGeometry(const ObstacleShape& shape);
 } // namespace masse::bridge

@@ -1,6 +1,7 @@
 #pragma once
-/// The solid an obstacle is, in its own frame: what ObstacleGeometry builds its collision shape and faces from. The
-/// scene layer makes one from a scene file's description (reading a mesh's file); tests make them directly.
+/// The solid an obstacle is, in its own frame, in the three forms Bullet is given: a convex polyhedron, the convex hull
+/// of points, or a polygon mesh. The bridge knows no named shapes: each shape a scene file names (src/scene/shapes/)
+/// makes one of these, so that a new shape adds nothing here; tests make them directly.
 
 #include "MeshFile.h"
 
@@ -10,25 +11,17 @@
 
 namespace masse::bridge
 {
-enum class ShapeKind
+enum class SolidKind
 {
-    Box,   ///< halfExtents
-    Prism, ///< triangular prism: a triangle in the local x-y plane extruded along z
-    Hull,  ///< convex hull of hullPoints
-    Mesh,  ///< the polygons of `mesh` (may be concave)
+    Polyhedron, ///< convex: `polygons`, each face turned outward, numbered in the order given
+    Hull,       ///< convex hull of `hullPoints`, its faces as Bullet's hull computer finds them
+    Mesh,       ///< `polygons` as given (may be concave, the winding taken as outward), numbered in their order
 };
 
 struct ObstacleShape
 {
-    ShapeKind kind = ShapeKind::Box;
-    Vec3 halfExtents = Vec3(0.5, 0.5, 0.5); ///< m (Box)
-    /// Prism: base width along x, height along y, length along z, and the apex's x offset from the centre. The
-    /// triangle (-w/2, -h/2), (w/2, -h/2), (apex, h/2) is extruded from z = -length/2 to +length/2.
-    Real prismWidth = 1;
-    Real prismHeight = 1;
-    Real prismLength = 1;
-    Real prismApex = 0;
+    SolidKind kind = SolidKind::Polyhedron;
+    PolygonMesh polygons;         ///< m (Polyhedron, Mesh)
     std::vector<Vec3> hullPoints; ///< m (Hull)
-    PolygonMesh mesh;             ///< m, in the obstacle's frame (Mesh)
 };
 } // namespace masse::bridge

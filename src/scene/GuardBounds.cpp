@@ -7,31 +7,6 @@ namespace masse::scene
 {
 namespace
 {
-/// m, how far a point of the obstacle can be from its own origin (turning about it moves the surface this fast).
-Real reach(const ObstacleSpec& o)
-{
-    const bridge::ObstacleShape& s = o.shape;
-    switch (s.kind)
-    {
-    case bridge::ShapeKind::Box:
-        return s.halfExtents.norm();
-    case bridge::ShapeKind::Prism:
-        return 0.5 * Vec3(s.prismWidth + 2 * std::abs(s.prismApex), s.prismHeight, s.prismLength).norm();
-    case bridge::ShapeKind::Hull:
-    {
-        Real r = 0;
-        for (const Vec3& p : s.hullPoints)
-        {
-            r = std::max(r, p.norm());
-        }
-        return r;
-    }
-    case bridge::ShapeKind::Mesh:
-        return 10 * o.meshScale; // the file is not read here: a generous size
-    }
-    return 1;
-}
-
 Real pathSpeed(const std::vector<bridge::PoseKey>& path, Real radius)
 {
     Real fastest = 0;
@@ -58,7 +33,7 @@ Real fastestObstacleSpeed(const SceneSpec& spec)
                 path.insert(path.end(), a.obstaclePath.begin(), a.obstaclePath.end());
             }
         }
-        fastest = std::max(fastest, pathSpeed(path, reach(o)));
+        fastest = std::max(fastest, pathSpeed(path, o.shape.reach()));
     }
     return fastest;
 }

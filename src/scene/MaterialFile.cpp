@@ -4,6 +4,10 @@
 #include "scene/json/FieldKeys.h"
 
 #include "core/InputError.h"
+#include "core/material/MaterialLaw.h"
+
+#include <iterator>
+#include <vector>
 
 namespace masse::scene
 {
@@ -12,6 +16,29 @@ namespace
 Real celsius(const JsonObject& object, const std::string& key)
 {
     return celsiusToKelvin(object.number(key));
+}
+
+/// A law's keys read from the material's JSON object, with its accessors' messages.
+class JsonLawKeys final : public LawKeys
+{
+public:
+    explicit JsonLawKeys(const JsonObject& object) : m_object(object) {}
+    Real number(const std::string& key) const override { return m_object.number(key); }
+    Real number(const std::string& key, Real fallback) const override { return m_object.number(key, fallback); }
+
+private:
+    const JsonObject& m_object;
+};
+
+/// The material's fields and its law's, with their keys, for the messages of validate().
+std::vector<FieldKey> materialAndLawKeys(const MaterialLawEntry& law)
+{
+    std::vector<FieldKey> keys(std::begin(materialKeys), std::end(materialKeys));
+    for (const LawParameterKey& parameter : law.keys)
+    {
+        keys.push_back({parameter.field, parameter.key});
+    }
+    return keys;
 }
 } // namespace
 
@@ -26,13 +53,13 @@ Material parseMaterial(const JsonObject& object)
     m.glassTransition = celsius(object, "glass_transition_c");
     m.transitionTemperature = object.has("transition_c") ? celsius(object, "transition_c") : m.glassTransition;
     m.upperTemperature = celsius(object, "upper_c");
-    m.glassyModulus = object.number("glassy_modulus");
-    m.rubberyModulus = object.number("rubbery_modulus");
-    m.transitionWidth = object.number("transition_width", m.transitionWidth);
-    m.wlfC1 = object.number("wlf_c1", m.wlfC1);
-    m.wlfC2 = object.number("wlf_c2", m.wlfC2);
-    m.viscosityAtTransition = object.number("viscosity_at_transition");
-    m.solidActivationEnergy = object.number("solid_activation_energy", m.solidActivationEnergy);
+    std::vector<std::string> lawNames;
+    for (const MaterialLawEntry* entry : materialLaws())
+    {
+        lawNames.emplace_back(entry->name);
+    }
+    const MaterialLawEntry& law = materialLawNamed(object.choice("law", lawNames.front(), lawNames));
+    m.law = law.read(JsonLawKeys(object));
     m.kelvinModulusRatio = object.number("kelvin_modulus_ratio", m.kelvinModulusRatio);
     m.kelvinViscosityRatio = object.number("kelvin_viscosity_ratio", m.kelvinViscosityRatio);
     const std::optional<JsonObject> window = object.object("forming_window");
@@ -46,7 +73,7 @@ Material parseMaterial(const JsonObject& object)
     m.forming.upper = celsius(*window, "upper_c");
     window->finish();
     object.finish();
-    checkUnder(object.path(), materialKeys, [&] { validate(m); });
+    checkUnder(object.path(), materialAndLawKeys(law), [&] { validate(m); });
     return m;
 }
 

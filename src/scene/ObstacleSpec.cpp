@@ -1,6 +1,6 @@
 #include "scene/ObstacleSpec.h"
 
-#include "bridge/StlFile.h"
+#include "core/InputError.h"
 
 #include <cmath>
 
@@ -20,15 +20,11 @@ bridge::ObstacleBody obstacleBody(const ObstacleSpec& spec)
     body.name = spec.name;
     body.path.rest = {spec.position, spec.orientation};
     body.path.keys = spec.path;
-    body.shape = spec.shape;
-    if (spec.shape.kind == bridge::ShapeKind::Mesh)
+    if (!spec.shape.entry)
     {
-        body.shape.mesh = bridge::loadMeshFile(spec.meshPath, spec.name);
-        for (Vec3& v : body.shape.mesh.vertices)
-        {
-            v = spec.meshScale * v;
-        }
+        throw InputError("obstacle '" + spec.name + "' has no shape");
     }
+    body.shape = spec.shape.solid(spec.name);
     return body;
 }
 } // namespace masse::scene

@@ -1,6 +1,9 @@
 #pragma once
 /// The description of one obstacle (a polyhedron in the paper's room), as a scene file gives it, and the bridge's
-/// obstacle made from it. Its solid is the bridge's own ObstacleShape, so a shape's parameters are declared once.
+/// obstacle made from it. Its shape is one of the registered shapes (scene/shapes/ShapeRegistry.h) with the
+/// parameters that shape's reader made.
+
+#include "scene/shapes/ShapeRegistry.h"
 
 #include "bridge/BulletEnvironment.h"
 
@@ -19,10 +22,8 @@ struct ObstacleSpec
     Vec3 position = Vec3::Zero();                                              ///< m, local origin in the room
     Eigen::Quaternion<Real> orientation = Eigen::Quaternion<Real>::Identity(); ///< local to room
 
-    /// The solid in its own frame; a Mesh's polygons stay empty here and are read from meshPath by obstacleBody.
-    bridge::ObstacleShape shape;
-    std::string meshPath; ///< OBJ or STL file (Mesh); relative paths are resolved by the scene loader
-    Real meshScale = 1;   ///< applied to the file's coordinates (Mesh)
+    /// Its shape; the solid is made from it by obstacleBody (a mesh's file is read then).
+    ShapeSpec shape;
 
     /// A kinematic obstacle follows its path; with no keys it is static.
     std::vector<bridge::PoseKey> path;
@@ -33,7 +34,7 @@ struct ObstacleSpec
 /// "rotation_deg".
 Eigen::Quaternion<Real> rotationFromDegrees(const Vec3& degrees);
 
-/// The bridge's obstacle for a spec: its solid (a mesh read from its file, scaled) and its pose and path. Throws
-/// InputError naming the obstacle and the file for a mesh that will not load.
+/// The bridge's obstacle for a spec: its shape's solid (a mesh read from its file, scaled) and its pose and path.
+/// Throws InputError naming the obstacle and the file for a mesh that will not load.
 bridge::ObstacleBody obstacleBody(const ObstacleSpec& spec);
 } // namespace masse::scene

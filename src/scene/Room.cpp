@@ -1,5 +1,7 @@
 #include "scene/Room.h"
 
+#include "scene/shapes/BoxShape.h"
+
 #include "core/Format.h"
 #include "core/InputError.h"
 
@@ -36,9 +38,9 @@ std::vector<ObstacleSpec> roomObstacles(const RoomSpec& room)
     {
         ObstacleSpec spec;
         spec.name = name;
-        spec.shape.kind = bridge::ShapeKind::Box;
-        spec.shape.halfExtents = half;
-        spec.shape.halfExtents[axis] = t / 2;
+        Vec3 wallHalf = half;
+        wallHalf[axis] = t / 2;
+        spec.shape = boxShapeSpec(wallHalf);
         spec.position = centre;
         spec.position[axis] = high ? hi[axis] + t / 2 : lo[axis] - t / 2;
         return spec;

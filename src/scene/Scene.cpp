@@ -369,9 +369,12 @@ void Scene::requireSealedMould() const
         return;
     }
     const bridge::Obstacle& mould = m_environment->obstacle(m_environment->findObstacle(m_spec.forming.mould));
-    if (mould.geometry.convex)
+    const auto spec = std::find_if(m_spec.obstacles.begin(), m_spec.obstacles.end(),
+                                   [&](const ObstacleSpec& o) { return o.name == mould.name; });
+    // A mould among the room's walls is a box; any other is a scene's obstacle, whose shape says whether it is closed.
+    if (spec == m_spec.obstacles.end() || spec->shape.entry->closed)
     {
-        return; // a box, prism or hull is closed by construction
+        return;
     }
     std::vector<std::vector<int>> faces;
     for (const bridge::Face& face : mould.geometry.faces)
@@ -380,10 +383,9 @@ void Scene::requireSealedMould() const
     }
     if (const auto open = bridge::findOpenEdge(faces))
     {
-        const auto spec = std::find_if(m_spec.obstacles.begin(), m_spec.obstacles.end(),
-                                       [&](const ObstacleSpec& o) { return o.name == mould.name; });
-        throw InputError("forming.mould: obstacle '" + mould.name + "' (" + spec->meshPath +
-                         ") is not a closed surface: the edge between vertices " + std::to_string(open->a + 1) +
+        const std::string file = spec->shape.file();
+        throw InputError("forming.mould: obstacle '" + mould.name + "'" + (file.empty() ? "" : " (" + file + ")") +
+                         " is not a closed surface: the edge between vertices " + std::to_string(open->a + 1) +
                          " and " + std::to_string(open->b + 1) + " belongs to " + std::to_string(open->faces) +
                          " face(s) instead of 2, so the sheet cannot seal the cavity over its rim");
     }

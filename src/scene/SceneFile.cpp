@@ -6,6 +6,7 @@
 #include "scene/json/FieldKeys.h"
 #include "scene/json/JsonObject.h"
 #include "scene/reports/ReportRegistry.h"
+#include "scene/shapes/ShapeRegistry.h"
 
 #include "core/Format.h"
 #include "core/InputError.h"
@@ -169,18 +170,6 @@ std::vector<bridge::PoseKey> readPath(const JsonObject& owner, const std::string
 
 constexpr Real kelvinAtZeroCelsius = 273.15;
 
-/// A length that must be > 0 (the key is required).
-Real length(const JsonObject& o, const std::string& key)
-{
-    const Real value = o.number(key);
-    if (!(value > 0))
-    {
-        o.fail(key, "must be a positive number of metres (got " + formatNumber(value) + ")");
-    }
-    plausible::checkLength(o, key, value);
-    return value;
-}
-
 ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory, Real& temperature,
                           ObstacleContact& contact)
 {
@@ -200,51 +189,11 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
         temperature = o.number("temperature_c", 20.0, -kelvinAtZeroCelsius + 1e-6) + kelvinAtZeroCelsius;
     }
     spec.name = o.string("name");
-    const std::string type = o.choice("type", "box", {"box", "prism", "hull", "mesh"});
+    const std::vector<std::string> shapeNames = scene::shapeNames();
+    const ShapeEntry& shape = shapeNamed(o.choice("type", shapeNames.front(), shapeNames));
     spec.position = plausible::point(o, "position", Vec3::Zero());
     spec.orientation = rotationFromDegrees(o.vec3("rotation_deg", Vec3::Zero()));
-    if (type == "box")
-    {
-        spec.shape.kind = bridge::ShapeKind::Box;
-        spec.shape.halfExtents = o.vec3("half_extents");
-        if (!(spec.shape.halfExtents.array() > 0).all())
-        {
-            const Vec3& half = spec.shape.halfExtents;
-            o.fail("half_extents", "must be positive numbers of metres (got " + formatNumber(half.x()) + ", " +
-                                       formatNumber(half.y()) + ", " + formatNumber(half.z()) + ")");
-        }
-        plausible::checkLength(o, "half_extents", spec.shape.halfExtents.maxCoeff());
-    }
-    else if (type == "prism")
-    {
-        spec.shape.kind = bridge::ShapeKind::Prism;
-        spec.shape.prismWidth = length(o, "width");
-        spec.shape.prismHeight = length(o, "height");
-        spec.shape.prismLength = length(o, "length");
-        spec.shape.prismApex = o.number("apex", 0.0);
-        plausible::checkPoint(o, "apex", Vec3(spec.shape.prismApex, 0, 0));
-    }
-    else if (type == "hull")
-    {
-        spec.shape.kind = bridge::ShapeKind::Hull;
-        spec.shape.hullPoints = o.vec3List("points");
-        for (const Vec3& p : spec.shape.hullPoints)
-        {
-            plausible::checkPoint(o, "points", p);
-        }
-    }
-    else
-    {
-        spec.shape.kind = bridge::ShapeKind::Mesh;
-        const std::filesystem::path file = o.string("file");
-        spec.meshPath = file.is_absolute() ? file.string() : (std::filesystem::path(baseDirectory) / file).string();
-        spec.meshScale = o.positive("scale", 1.0);
-        if (spec.meshScale > plausible::maxMeshScale)
-        {
-            o.fail("scale", "must be in (0, " + formatNumber(plausible::maxMeshScale) + "] (got " +
-                                formatNumber(spec.meshScale) + ")");
-        }
-    }
+    spec.shape = {&shape, shape.read(o, baseDirectory)};
     spec.path = readPath(o, "path");
     o.finish();
     return spec;
@@ -496,7 +445,7 @@ MaterialSpec readMaterialSection(const JsonObject& o, const std::string& baseDir
         spec.material = parseMaterial(*o.object("properties"));
     }
     spec.thickness = plausible::thickness(o, "thickness", spec.thickness);
-    spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", {"elastic", "maxwell", "burgers"}));
+    spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", springModelNames()));
     spec.springs.dampingRatio = o.number("damping_ratio", spec.springs.dampingRatio, 0.0, 1.0);
     spec.springs.followThickness = o.boolean("follow_thickness", spec.springs.followThickness);
     o.finish();

@@ -8,6 +8,8 @@
 #include "bridge/NearestOnFrontFaces.h"
 #include "bridge/StlFile.h"
 #include "scene/Room.h"
+#include "scene/shapes/BoxShape.h"
+#include "scene/shapes/PrismShape.h"
 
 #include "core/InputError.h"
 #include "core/contact/ClosestPointOnTriangle.h"
@@ -30,8 +32,7 @@ ObstacleBody box(const std::string& name, const Vec3& position, const Vec3& half
 {
     ObstacleBody body;
     body.name = name;
-    body.shape.kind = ShapeKind::Box;
-    body.shape.halfExtents = half;
+    body.shape = scene::boxSolid(half);
     body.path.rest.position = position;
     return body;
 }
@@ -40,11 +41,7 @@ ObstacleBody prism(const std::string& name, Real width, Real height, Real length
 {
     ObstacleBody body;
     body.name = name;
-    body.shape.kind = ShapeKind::Prism;
-    body.shape.prismWidth = width;
-    body.shape.prismHeight = height;
-    body.shape.prismLength = length;
-    body.shape.prismApex = apex;
+    body.shape = scene::prismSolid({width, height, length, apex});
     return body;
 }
 
@@ -104,7 +101,7 @@ TEST(ObstacleGeometry, BoxFacesFollowTheDocumentedOrder)
 TEST(ObstacleGeometry, HullOfCubeCornersHasSixFacesAndPrismFive)
 {
     ObstacleShape hull;
-    hull.kind = ShapeKind::Hull;
+    hull.kind = SolidKind::Hull;
     for (int k = 0; k < 8; ++k)
     {
         hull.hullPoints.emplace_back(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
@@ -145,8 +142,8 @@ TEST(ObstacleGeometry, MeshFromObjKeepsItsFaces)
 {
     ObstacleBody pyramid;
     pyramid.name = "pyramid";
-    pyramid.shape.kind = ShapeKind::Mesh;
-    pyramid.shape.mesh = loadMeshFile(std::string(MASSE_SOURCE_DIR) + "/data/meshes/pyramid.obj", "pyramid");
+    pyramid.shape.kind = SolidKind::Mesh;
+    pyramid.shape.polygons = loadMeshFile(std::string(MASSE_SOURCE_DIR) + "/data/meshes/pyramid.obj", "pyramid");
     BulletEnvironment environment;
     const int index = environment.addObstacle(pyramid);
     const ObstacleGeometry& g = environment.obstacle(index).geometry;
@@ -163,7 +160,7 @@ TEST(ObstacleGeometry, BadObstaclesAreRefusedByName)
 {
     ObstacleBody flat;
     flat.name = "flat";
-    flat.shape.kind = ShapeKind::Hull;
+    flat.shape.kind = SolidKind::Hull;
     flat.shape.hullPoints = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(1, 0, 1)};
     EXPECT_NE(errorOf(flat).find("obstacle 'flat': a hull needs at least 4 points not all in one plane"),
               std::string::npos)
@@ -180,14 +177,14 @@ TEST(ObstacleGeometry, BadObstaclesAreRefusedByName)
     const std::string broken = loadError(std::string(MASSE_SOURCE_DIR) + "/data/meshes/broken.obj", "broken");
     EXPECT_NE(broken.find("obstacle 'broken'"), std::string::npos) << broken;
 
-    EXPECT_EQ(errorOf(box("thin", Vec3::Zero(), Vec3(1, 0, 1))),
-              "obstacle 'thin': halfExtents.y: must be a positive number of metres (got 0)");
+    EXPECT_EQ(masse::test::inputErrorOf([] { scene::boxSolid(Vec3(1, 0, 1)); }),
+              "halfExtents.y: must be a positive number of metres (got 0)");
     ObstacleBody faceless;
     faceless.name = "faceless";
-    faceless.shape.kind = ShapeKind::Mesh;
-    faceless.shape.mesh.vertices = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ()};
+    faceless.shape.kind = SolidKind::Mesh;
+    faceless.shape.polygons.vertices = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitZ()};
     EXPECT_EQ(errorOf(faceless), "obstacle 'faceless': mesh: has no faces");
-    faceless.shape.mesh.faces = {{0, 1, 3}};
+    faceless.shape.polygons.faces = {{0, 1, 3}};
     EXPECT_EQ(errorOf(faceless), "obstacle 'faceless': mesh: a face names vertex 3 of 3");
 
     BulletEnvironment environment;
@@ -392,8 +389,8 @@ ObstacleBody twoSlopes(const std::string& name, Real creaseHeight)
     obj.close();
     ObstacleBody body;
     body.name = name;
-    body.shape.kind = ShapeKind::Mesh;
-    body.shape.mesh = loadMeshFile(path, name);
+    body.shape.kind = SolidKind::Mesh;
+    body.shape.polygons = loadMeshFile(path, name);
     return body;
 }
 
@@ -514,7 +511,7 @@ TEST(ObstacleGeometry, FacePlanesOfEightGiveTheScalarQuerysBits)
     setSimdPath(SimdPath::Avx512);
     ASSERT_TRUE(facePlanesOfEightAvailable());
     ObstacleShape hull;
-    hull.kind = ShapeKind::Hull;
+    hull.kind = SolidKind::Hull;
     hull.hullPoints = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(0.8, 0.7, 0.9)};
     std::vector<ObstacleGeometry> shapes;
     shapes.push_back(makeObstacleGeometry(box("box", Vec3::Zero(), Vec3(0.5, 0.25, 0.75)).shape));

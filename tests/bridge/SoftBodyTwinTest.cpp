@@ -302,8 +302,8 @@ TEST(SoftBodyTwin, MeshObstacleIsNotedAndStopsNodesOffItsSurface)
     BulletEnvironment environment;
     ObstacleBody floor;
     floor.name = "floor_mesh";
-    floor.shape.kind = ShapeKind::Mesh;
-    floor.shape.mesh = loadMeshFile(obj.string(), floor.name);
+    floor.shape.kind = SolidKind::Mesh;
+    floor.shape.polygons = loadMeshFile(obj.string(), floor.name);
     floor.path.rest.position = Vec3(0.3, -0.5, 0.3);
     environment.addObstacle(floor);
     SoftBodyTwinSettings settings;

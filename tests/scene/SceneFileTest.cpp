@@ -270,14 +270,14 @@ TEST(SceneFile, ExtendsResolvesPathsAgainstTheFileThatWroteThem)
     const SceneSpec first = loadScene((mine / "scene.json").string());
     EXPECT_EQ(fs::canonical(first.material.file), fs::canonical(source + "/data/materials/abs.json"));
     ASSERT_EQ(first.obstacles.size(), 1u);
-    EXPECT_EQ(fs::canonical(first.obstacles[0].meshPath), fs::canonical(mine / "meshes" / "mould.obj"));
+    EXPECT_EQ(fs::canonical(first.obstacles[0].shape.file()), fs::canonical(mine / "meshes" / "mould.obj"));
     EXPECT_EQ(errorOf((mine / "scene.json").string()), "");
 
     const SceneSpec second = loadScene((mine / "deeper" / "level2.json").string());
     EXPECT_EQ(fs::canonical(second.material.file), fs::canonical(mine / "deeper" / "materials" / "mine.json"));
     EXPECT_EQ(second.material.material.name, "PET");
     ASSERT_EQ(second.obstacles.size(), 1u);
-    EXPECT_EQ(fs::canonical(second.obstacles[0].meshPath), fs::canonical(mine / "meshes" / "mould.obj"));
+    EXPECT_EQ(fs::canonical(second.obstacles[0].shape.file()), fs::canonical(mine / "meshes" / "mould.obj"));
     EXPECT_EQ(errorOf((mine / "deeper" / "level2.json").string()), "");
     fs::remove_all(mine);
 }

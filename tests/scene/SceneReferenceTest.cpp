@@ -1,13 +1,18 @@
 // data/scenes/README.md documents every key the scene readers accept: this test reads the readers' own source (every
 // key they ask a JSON object for) and the document, and names each key the document lacks. The readers are every file
 // of src/scene that reads a scene's or a material's JSON: the scene file itself, material files, the `forming` section
-// (FormingSpec.cpp), each report (src/scene/reports/) and the `expect` block (Regression.cpp). The registries are
-// checked against their tables too: each registered report has its row in the `report` table, each integrator its
-// name in the `integrator` table. Study files have their own reference (data/studies/README.md).
+// (FormingSpec.cpp), each report (src/scene/reports/), each obstacle shape (src/scene/shapes/), the `expect` block
+// (Regression.cpp) and each material law (src/core/material/*Law.cpp, which reads its keys through the material
+// reader). The registries are checked against their tables too: each registered report has its row in the `report`
+// table, each integrator its name in the `integrator` table, each shape its name in the `obstacles[]` table, each
+// material law its name in the material-file table.
+// Study files have their own reference (data/studies/README.md).
 
 #include "scene/reports/ReportRegistry.h"
+#include "scene/shapes/ShapeRegistry.h"
 
 #include "core/integrate/Integrator.h"
+#include "core/material/MaterialLaw.h"
 
 #include <gtest/gtest.h>
 
@@ -32,13 +37,13 @@ std::string readText(const std::string& path)
 
 /// Every key a reader asks for: the first string argument of JsonObject's readers (o.number("dt", ...),
 /// o.object("heat"), ...) and of the readers' own helpers (celsius(o, "key"), fraction(o, "key"), optional("key"),
-/// plausible::point(o, "key") and its kin).
+/// plausible::point(o, "key") and its kin, prismLength(o, "key")).
 std::set<std::string> keysAskedFor(const std::string& code)
 {
     static const std::regex call(
         R"re((?:\.|->)(?:number|positive|string|boolean|integer|vec3|vec3List|choice|object|objects|raw|numbers)\(\s*"([A-Za-z_0-9]+)")re");
     static const std::regex helper(
-        R"re((?:celsius|fraction|point|gravity|thickness|density)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
+        R"re((?:celsius|fraction|point|gravity|thickness|density|prismLength)\(\s*[A-Za-z_*]+,\s*"([A-Za-z_0-9]+)"|optional\(\s*"([A-Za-z_0-9]+)")re");
     std::set<std::string> keys;
     for (auto it = std::sregex_iterator(code.begin(), code.end(), call); it != std::sregex_iterator(); ++it)
     {
@@ -106,10 +111,32 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
         }
     }
     EXPECT_GT(keysAskedFor(reportReaders).size(), 5u); // the pattern still finds the reports' keys
+    std::string shapeReaders;
+    for (const auto& file : std::filesystem::directory_iterator(source + "/src/scene/shapes"))
+    {
+        if (file.path().extension() == ".cpp")
+        {
+            readers.push_back("/src/scene/shapes/" + file.path().filename().string());
+            shapeReaders += readText(file.path().string());
+        }
+    }
+    EXPECT_GT(keysAskedFor(shapeReaders).size(), 6u); // the pattern still finds the shapes' keys
+    std::string lawReaders;
+    for (const auto& file : std::filesystem::directory_iterator(source + "/src/core/material"))
+    {
+        const std::string name = file.path().filename().string();
+        if (name.size() > 7 && name.compare(name.size() - 7, 7, "Law.cpp") == 0)
+        {
+            readers.push_back("/src/core/material/" + name);
+            lawReaders += readText(file.path().string());
+        }
+    }
+    EXPECT_GE(keysAskedFor(lawReaders).size(), 7u); // the pattern still finds the laws' keys
     for (const std::string& reader : readers)
     {
         const std::set<std::string> keys = keysAskedFor(readText(source + reader));
-        if (reader.rfind("/src/scene/reports/", 0) != 0)
+        if (reader.rfind("/src/scene/reports/", 0) != 0 && reader.rfind("/src/scene/shapes/", 0) != 0 &&
+            reader.rfind("/src/core/material/", 0) != 0)
         {
             EXPECT_FALSE(keys.empty()) << reader; // the pattern still finds the reader's keys
         }
@@ -163,6 +190,42 @@ TEST(SceneReference, EveryRegisteredIntegratorIsInTheIntegratorTable)
         quoted.append(integrator.name).append("`");
         EXPECT_NE(type.find(quoted), std::string::npos)
             << "data/scenes/README.md's integrator `type` row lacks `" << integrator.name << "`";
+    }
+}
+
+// A shape is registered in one table (src/scene/shapes/ShapeRegistry.cpp): the `obstacles[]` table's `type` row names
+// every registered shape.
+TEST(SceneReference, EveryRegisteredShapeIsInTheObstaclesTable)
+{
+    const std::string table = section(readText(source + "/data/scenes/README.md"), "## `obstacles[]`");
+    const std::size_t row = table.find("\n| `type` |");
+    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's `obstacles[]` table has no `type` row";
+    const std::string type = table.substr(row, table.find('\n', row + 1) - row);
+    for (const masse::scene::ShapeEntry* shape : masse::scene::shapes())
+    {
+        std::string quoted = "`";
+        quoted.append(shape->name).append("`");
+        EXPECT_NE(type.find(quoted), std::string::npos)
+            << "data/scenes/README.md's obstacles[] `type` row lacks `" << shape->name << "`";
+    }
+    EXPECT_GE(masse::scene::shapes().size(), 4u);
+}
+
+// A material law is registered in one table (src/core/material/MaterialLaw.cpp): the material-file table's `law` row
+// names every registered law.
+TEST(SceneReference, EveryRegisteredMaterialLawIsInTheMaterialFileTable)
+{
+    const std::string table = section(readText(source + "/data/scenes/README.md"),
+                                      "### Material files (`data/materials/*.json`, or `material.properties`)");
+    const std::size_t row = table.find("\n| `law` |");
+    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's material-file table has no `law` row";
+    const std::string law = table.substr(row, table.find('\n', row + 1) - row);
+    for (const masse::MaterialLawEntry* entry : masse::materialLaws())
+    {
+        std::string quoted = "`";
+        quoted.append(entry->name).append("`");
+        EXPECT_NE(law.find(quoted), std::string::npos)
+            << "data/scenes/README.md's material-file `law` row lacks `" << entry->name << "`";
     }
 }
 

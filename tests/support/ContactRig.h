@@ -5,6 +5,7 @@
 
 #include "bridge/BulletEnvironment.h"
 #include "scene/ObstacleSpec.h"
+#include "scene/shapes/BoxShape.h"
 
 #include "core/Simulator.h"
 #include "core/contact/ContactSolver.h"
@@ -37,8 +38,7 @@ inline bridge::ObstacleBody makeBox(const std::string& name, const Vec3& centre,
 {
     bridge::ObstacleBody box;
     box.name = name;
-    box.shape.kind = bridge::ShapeKind::Box;
-    box.shape.halfExtents = half;
+    box.shape = scene::boxSolid(half);
     box.path.rest = {centre, scene::rotationFromDegrees(rotationDegrees)};
     return box;
 }
@@ -47,7 +47,8 @@ inline bridge::ObstacleBody makeBox(const std::string& name, const Vec3& centre,
 inline Real boxDistance(const Vec3& p, const bridge::ObstacleBody& box)
 {
     const Vec3 local = box.path.rest.orientation.conjugate() * (p - box.path.rest.position);
-    const Vec3 q = local.cwiseAbs() - box.shape.halfExtents;
+    const Vec3 half = box.shape.polygons.vertices.back(); // the (+x, +y, +z) corner
+    const Vec3 q = local.cwiseAbs() - half;
     return q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
 }
 

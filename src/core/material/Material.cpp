@@ -3,9 +3,7 @@
 
 #include "core/InputError.h"
 
-#include <algorithm>
 #include <cmath>
-#include <sstream>
 
 namespace masse
 {
@@ -64,22 +62,11 @@ void validate(const Material& m)
     }
     requireBelow(m.transitionTemperature, "transitionTemperature", m.upperTemperature, "upper temperature",
                  "flow must start inside the model's range");
-    requirePositive(m.rubberyModulus, "rubberyModulus", "Pa");
-    requirePositive(m.glassyModulus, "glassyModulus", "Pa");
-    if (!(m.glassyModulus > m.rubberyModulus))
+    if (!m.law)
     {
-        throw InputError("glassyModulus", "must exceed the rubbery modulus (got " + formatNumber(m.glassyModulus) +
-                                              " Pa and " + formatNumber(m.rubberyModulus) + " Pa)");
+        throw InputError("law", "is missing");
     }
-    requirePositive(m.transitionWidth, "transitionWidth", "K");
-    requirePositive(m.wlfC1, "wlfC1", "");
-    requirePositive(m.wlfC2, "wlfC2", "K");
-    requirePositive(m.viscosityAtTransition, "viscosityAtTransition", "Pa s");
-    if (!(m.solidActivationEnergy >= 0) || !std::isfinite(m.solidActivationEnergy))
-    {
-        throw InputError("solidActivationEnergy",
-                         "must be >= 0 J/mol (got " + formatNumber(m.solidActivationEnergy) + ")");
-    }
+    m.law->validate(m);
     requirePositive(m.kelvinModulusRatio, "kelvinModulusRatio", "");
     requirePositive(m.kelvinViscosityRatio, "kelvinViscosityRatio", "");
 
@@ -96,51 +83,5 @@ void validate(const Material& m)
                                                temperatureText(f.lower) + ", " + temperatureText(f.normal) + ", " +
                                                temperatureText(f.upper) + ")");
     }
-}
-
-Real modulusAt(const Material& m, Real temperature)
-{
-    // exp overflows to infinity far above Tt, which makes the glassy share exactly 0: no NaN.
-    const Real glassyShare =
-        Real(1) / (Real(1) + std::exp((temperature - m.transitionTemperature) / m.transitionWidth));
-    const Real logRubbery = std::log(m.rubberyModulus);
-    const Real logGlassy = std::log(m.glassyModulus);
-    return std::exp(logRubbery + (logGlassy - logRubbery) * glassyShare);
-}
-
-Real activationEnergyBelowTransition(const Material& m)
-{
-    if (m.solidActivationEnergy > 0)
-    {
-        return m.solidActivationEnergy;
-    }
-    const Real tt = m.transitionTemperature;
-    return std::log(Real(10)) * m.wlfC1 * gasConstant * tt * tt / m.wlfC2;
-}
-
-Real log10ShiftAt(const Material& m, Real temperature)
-{
-    const Real tt = m.transitionTemperature;
-    if (!(temperature > 0))
-    {
-        return maxLog10Shift;
-    }
-    Real shift;
-    if (temperature >= tt)
-    {
-        const Real above = std::min(temperature, m.upperTemperature) - tt;
-        shift = -m.wlfC1 * above / (m.wlfC2 + above);
-    }
-    else
-    {
-        const Real lnShift = activationEnergyBelowTransition(m) / gasConstant * (Real(1) / temperature - Real(1) / tt);
-        shift = lnShift / std::log(Real(10));
-    }
-    return std::clamp(shift, -maxLog10Shift, maxLog10Shift);
-}
-
-Real viscosityAt(const Material& m, Real temperature)
-{
-    return m.viscosityAtTransition * std::pow(Real(10), log10ShiftAt(m, temperature));
 }
 } // namespace masse

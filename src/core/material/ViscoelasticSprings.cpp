@@ -18,7 +18,7 @@ namespace masse
 {
 namespace
 {
-constexpr EnumName<SpringModel> springModelNames[] = {
+constexpr EnumName<SpringModel> springModelTable[] = {
     {SpringModel::Elastic, "elastic"},
     {SpringModel::Maxwell, "maxwell"},
     {SpringModel::Burgers, "burgers"},
@@ -30,12 +30,22 @@ constexpr Real troutonRatio = 3;
 
 SpringModel parseSpringModel(std::string_view name)
 {
-    return parseEnum(springModelNames, name, "model", "spring model");
+    return parseEnum(springModelTable, name, "model", "spring model");
 }
 
 std::string_view springModelName(SpringModel model)
 {
-    return enumName(springModelNames, model);
+    return enumName(springModelTable, model);
+}
+
+std::vector<std::string> springModelNames()
+{
+    std::vector<std::string> names;
+    for (const EnumName<SpringModel>& entry : springModelTable)
+    {
+        names.emplace_back(entry.name);
+    }
+    return names;
 }
 
 void validate(const SpringModelSettings& settings)

@@ -46,6 +46,7 @@
 #include "core/material/Thickness.h"
 
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -61,6 +62,8 @@ enum class SpringModel
 /// Parses "elastic", "maxwell" or "burgers"; throws InputError naming the allowed names.
 SpringModel parseSpringModel(std::string_view name);
 std::string_view springModelName(SpringModel model);
+/// Every model's name, in the order messages list them: the scene reader's choice of `spring_model` takes them.
+std::vector<std::string> springModelNames();
 
 struct SpringModelSettings
 {

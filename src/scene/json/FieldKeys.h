@@ -45,20 +45,14 @@ inline constexpr FieldKey contactKeys[] = {{"response", "response"},
 inline constexpr FieldKey selfContactKeys[] = {{"radius", "radius"}, {"friction", "self_friction"}};
 /// The step the simulator is asked for, from "integrator".
 inline constexpr FieldKey integratorKeys[] = {{"integrator", "type"}, {"dt", "dt"}};
-/// Material, from a material file or "material.properties".
+/// Material, from a material file or "material.properties"; its law's parameters are in the law's entry
+/// (MaterialLawEntry::keys).
 inline constexpr FieldKey materialKeys[] = {{"density", "density"},
                                             {"specificHeat", "specific_heat"},
                                             {"conductivity", "conductivity"},
                                             {"glassTransition", "glass_transition_c"},
                                             {"transitionTemperature", "transition_c"},
                                             {"upperTemperature", "upper_c"},
-                                            {"glassyModulus", "glassy_modulus"},
-                                            {"rubberyModulus", "rubbery_modulus"},
-                                            {"transitionWidth", "transition_width"},
-                                            {"wlfC1", "wlf_c1"},
-                                            {"wlfC2", "wlf_c2"},
-                                            {"viscosityAtTransition", "viscosity_at_transition"},
-                                            {"solidActivationEnergy", "solid_activation_energy"},
                                             {"kelvinModulusRatio", "kelvin_modulus_ratio"},
                                             {"kelvinViscosityRatio", "kelvin_viscosity_ratio"},
                                             {"forming.set", "forming_window.set_c"},

@@ -10,6 +10,8 @@
 #include "core/forces/Energy.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
+#include "scene/shapes/BoxShape.h"
+#include "scene/shapes/PrismShape.h"
 
 #include <gtest/gtest.h>
 
@@ -378,10 +380,8 @@ TEST(EdgeContact, TheSheetsFacesHaveEverySpringAsAnEdge)
 // outward normals, each corner with its three faces').
 TEST(EdgeContact, BoxesAndPrismsHaveEverySharpEdgeAndCorner)
 {
-    bridge::ObstacleShape box;
-    box.kind = bridge::ShapeKind::Box;
-    box.halfExtents = Vec3(0.5, 0.2, 0.3);
-    const bridge::ObstacleGeometry boxGeometry = bridge::makeObstacleGeometry(box);
+    const Vec3 half(0.5, 0.2, 0.3);
+    const bridge::ObstacleGeometry boxGeometry = bridge::makeObstacleGeometry(scene::boxSolid(half));
     const bridge::SharpFeatures boxFeatures = bridge::sharpFeatures(boxGeometry);
     EXPECT_EQ(boxFeatures.edges.size(), 12u);
     EXPECT_EQ(boxFeatures.corners.size(), 8u);
@@ -391,20 +391,20 @@ TEST(EdgeContact, BoxesAndPrismsHaveEverySharpEdgeAndCorner)
         // The edge's middle lies on both faces' planes: it is where they meet.
         const Vec3 middle =
             0.5 * (boxGeometry.vertices[std::size_t(edge.start)] + boxGeometry.vertices[std::size_t(edge.end)]);
-        EXPECT_NEAR(edge.normals[0].dot(middle), edge.normals[0].cwiseAbs().dot(box.halfExtents), 1e-12);
-        EXPECT_NEAR(edge.normals[1].dot(middle), edge.normals[1].cwiseAbs().dot(box.halfExtents), 1e-12);
+        EXPECT_NEAR(edge.normals[0].dot(middle), edge.normals[0].cwiseAbs().dot(half), 1e-12);
+        EXPECT_NEAR(edge.normals[1].dot(middle), edge.normals[1].cwiseAbs().dot(half), 1e-12);
     }
     for (const bridge::SharpCorner& corner : boxFeatures.corners)
     {
         EXPECT_EQ(corner.normalCount, 3u);
     }
 
-    bridge::ObstacleShape prism;
-    prism.kind = bridge::ShapeKind::Prism;
-    prism.prismWidth = 0.2;
-    prism.prismHeight = 0.6;
-    prism.prismLength = 1;
-    const bridge::SharpFeatures prismFeatures = bridge::sharpFeatures(bridge::makeObstacleGeometry(prism));
+    scene::PrismSize prism;
+    prism.width = 0.2;
+    prism.height = 0.6;
+    prism.length = 1;
+    const bridge::SharpFeatures prismFeatures =
+        bridge::sharpFeatures(bridge::makeObstacleGeometry(scene::prismSolid(prism)));
     EXPECT_EQ(prismFeatures.edges.size(), 9u);
     EXPECT_EQ(prismFeatures.corners.size(), 6u);
 }

@@ -10,6 +10,7 @@
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
 #include "scene/reports/WebbingReport.h"
+#include "scene/shapes/BoxShape.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -107,7 +108,7 @@ TEST(Webbing, ASheetLyingFlatHasNone)
     ObstacleSpec floor;
     floor.name = "floor";
     floor.position = Vec3(0, -0.2, 0);
-    floor.shape.halfExtents = Vec3(1, 0.05, 1);
+    floor.shape = boxShapeSpec(Vec3(1, 0.05, 1));
     spec.obstacles = {floor};
     spec.run.duration = 1.5;
     Scene scene(spec);

@@ -6,6 +6,7 @@
 
 #include "core/material/BurgersSpring.h"
 #include "core/material/ViscoelasticSprings.h"
+#include "core/material/WlfLaw.h"
 
 #include <gtest/gtest.h>
 
@@ -213,9 +214,11 @@ TEST(BurgersSpring, CreepThroughSimulatorAndHookMatchesClosedForm)
     material.glassTransition = 300;
     material.transitionTemperature = 300;
     material.upperTemperature = 400;
-    material.rubberyModulus = 10;
-    material.glassyModulus = 1e4;
-    material.viscosityAtTransition = 40.0 / 3.0 * std::pow(10.0, 17.44 * 100 / 151.6); // c_M about 40 N s/m at 400 K
+    auto law = std::make_shared<WlfLaw>();
+    law->rubberyModulus = 10;
+    law->glassyModulus = 1e4;
+    law->viscosityAtTransition = 40.0 / 3.0 * std::pow(10.0, 17.44 * 100 / 151.6); // c_M about 40 N s/m at 400 K
+    material.law = law;
     material.kelvinModulusRatio = 0.2;
     material.kelvinViscosityRatio = 0.125;
     material.forming = FormingWindow{350, 380, 390, 290};

@@ -5,6 +5,7 @@
 
 #include "core/InputError.h"
 #include "core/material/Material.h"
+#include "core/material/WlfLaw.h"
 #include "scene/MaterialFile.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <memory>
 
 using namespace masse;
 using masse::test::inputErrorOf;
@@ -24,6 +26,20 @@ std::string materialPath(const std::string& name)
 }
 
 const char* const materialNames[] = {"hips", "abs", "pmma", "pet", "pp"};
+
+/// The material's law, which is WlfLaw for the defaults and every shipped file.
+const WlfLaw& wlf(const Material& m)
+{
+    return dynamic_cast<const WlfLaw&>(*m.law);
+}
+
+/// Gives the material a copy of its law changed by `change`.
+void changeLaw(Material& m, const std::function<void(WlfLaw&)>& change)
+{
+    auto law = std::make_shared<WlfLaw>(wlf(m));
+    change(*law);
+    m.law = law;
+}
 
 /// A valid material file's text with one line replaced.
 std::string writeVariant(const std::string& fileName, const std::string& from, const std::string& to)
@@ -44,21 +60,22 @@ std::string writeVariant(const std::string& fileName, const std::string& from, c
 TEST(Material, ModulusFallsFromGlassyToRubberyThroughTheTransition)
 {
     const Material m;
+    const WlfLaw& law = wlf(m);
     const Real tt = m.transitionTemperature;
-    EXPECT_NEAR(modulusAt(m, tt - 10 * m.transitionWidth), m.glassyModulus, 0.01 * m.glassyModulus);
-    EXPECT_NEAR(modulusAt(m, tt + 10 * m.transitionWidth), m.rubberyModulus, 0.01 * m.rubberyModulus);
-    const Real mean = std::sqrt(m.glassyModulus * m.rubberyModulus);
+    EXPECT_NEAR(modulusAt(m, tt - 10 * law.transitionWidth), law.glassyModulus, 0.01 * law.glassyModulus);
+    EXPECT_NEAR(modulusAt(m, tt + 10 * law.transitionWidth), law.rubberyModulus, 0.01 * law.rubberyModulus);
+    const Real mean = std::sqrt(law.glassyModulus * law.rubberyModulus);
     EXPECT_NEAR(modulusAt(m, tt), mean, 1e-9 * mean);
-    Real previous = modulusAt(m, tt - 8 * m.transitionWidth);
-    for (Real t = tt - 8 * m.transitionWidth + 0.5; t < tt + 8 * m.transitionWidth; t += 0.5)
+    Real previous = modulusAt(m, tt - 8 * law.transitionWidth);
+    for (Real t = tt - 8 * law.transitionWidth + 0.5; t < tt + 8 * law.transitionWidth; t += 0.5)
     {
         const Real e = modulusAt(m, t);
         EXPECT_LT(e, previous) << t;
         previous = e;
     }
     // Far outside, the plateaus, with no overflow into NaN.
-    EXPECT_NEAR(modulusAt(m, 1e6), m.rubberyModulus, 1e-12 * m.rubberyModulus);
-    EXPECT_NEAR(modulusAt(m, 1), m.glassyModulus, 1e-9 * m.glassyModulus);
+    EXPECT_NEAR(modulusAt(m, 1e6), law.rubberyModulus, 1e-12 * law.rubberyModulus);
+    EXPECT_NEAR(modulusAt(m, 1), law.glassyModulus, 1e-9 * law.glassyModulus);
 }
 
 // Above Tt the shift is WLF's; below, Arrhenius with the activation energy that matches WLF's slope at Tt: value
@@ -66,20 +83,21 @@ TEST(Material, ModulusFallsFromGlassyToRubberyThroughTheTransition)
 TEST(Material, ViscosityFollowsWlfAboveAndArrheniusBelowSmoothly)
 {
     const Material m;
+    const WlfLaw& law = wlf(m);
     const Real tt = m.transitionTemperature;
     const Real above = 30;
-    EXPECT_NEAR(log10ShiftAt(m, tt + above), -m.wlfC1 * above / (m.wlfC2 + above), 1e-12);
-    EXPECT_EQ(log10ShiftAt(m, tt), 0.0);
+    EXPECT_NEAR(law.log10ShiftAt(m, tt + above), -law.wlfC1 * above / (law.wlfC2 + above), 1e-12);
+    EXPECT_EQ(law.log10ShiftAt(m, tt), 0.0);
     const Real d = 1e-3;
-    const Real slopeAbove = (log10ShiftAt(m, tt + d) - log10ShiftAt(m, tt)) / d;
-    const Real slopeBelow = (log10ShiftAt(m, tt) - log10ShiftAt(m, tt - d)) / d;
+    const Real slopeAbove = (law.log10ShiftAt(m, tt + d) - law.log10ShiftAt(m, tt)) / d;
+    const Real slopeBelow = (law.log10ShiftAt(m, tt) - law.log10ShiftAt(m, tt - d)) / d;
     EXPECT_NEAR(slopeBelow, slopeAbove, 0.01 * std::abs(slopeAbove));
-    EXPECT_NEAR(slopeAbove, -m.wlfC1 / m.wlfC2, 0.01 * m.wlfC1 / m.wlfC2);
+    EXPECT_NEAR(slopeAbove, -law.wlfC1 / law.wlfC2, 0.01 * law.wlfC1 / law.wlfC2);
     EXPECT_GT(viscosityAt(m, m.glassTransition - 20), 1e20);
     // Clamped: beyond the upper temperature the viscosity stops falling; far below it is capped, not infinite.
     EXPECT_EQ(viscosityAt(m, m.upperTemperature + 100), viscosityAt(m, m.upperTemperature));
     EXPECT_TRUE(std::isfinite(viscosityAt(m, 1.0)));
-    EXPECT_EQ(log10ShiftAt(m, 1.0), maxLog10Shift);
+    EXPECT_EQ(law.log10ShiftAt(m, 1.0), maxLog10Shift);
 }
 
 TEST(Material, DefaultsAreValid)
@@ -100,9 +118,13 @@ TEST(Material, BadValuesAreRefusedWithTheFieldNamed)
     EXPECT_EQ(refusal([](Material& m) { m.density = 0; }).rfind("density: ", 0), 0u);
     EXPECT_EQ(refusal([](Material& m) { m.specificHeat = NAN; }).rfind("specificHeat: ", 0), 0u);
     EXPECT_EQ(refusal([](Material& m) { m.glassTransition = celsiusToKelvin(250); }).rfind("glassTransition: ", 0), 0u);
-    EXPECT_EQ(refusal([](Material& m) { m.glassyModulus = 1e5; }).rfind("glassyModulus: ", 0), 0u);
-    EXPECT_EQ(refusal([](Material& m) { m.wlfC2 = -5; }).rfind("wlfC2: ", 0), 0u);
-    EXPECT_EQ(refusal([](Material& m) { m.viscosityAtTransition = 0; }).rfind("viscosityAtTransition: ", 0), 0u);
+    EXPECT_EQ(refusal([](Material& m) { changeLaw(m, [](WlfLaw& law) { law.glassyModulus = 1e5; }); })
+                  .rfind("glassyModulus: ", 0),
+              0u);
+    EXPECT_EQ(refusal([](Material& m) { changeLaw(m, [](WlfLaw& law) { law.wlfC2 = -5; }); }).rfind("wlfC2: ", 0), 0u);
+    EXPECT_EQ(refusal([](Material& m) { changeLaw(m, [](WlfLaw& law) { law.viscosityAtTransition = 0; }); })
+                  .rfind("viscosityAtTransition: ", 0),
+              0u);
     EXPECT_EQ(refusal([](Material& m) { m.transitionTemperature = m.glassTransition - 10; })
                   .rfind("transitionTemperature: ", 0),
               0u);
@@ -128,19 +150,36 @@ TEST(MaterialFile, EveryMaterialFileLoads)
     EXPECT_NEAR(hips.glassTransition, defaults.glassTransition, 1e-9);
     EXPECT_NEAR(hips.transitionTemperature, defaults.transitionTemperature, 1e-9);
     EXPECT_NEAR(hips.upperTemperature, defaults.upperTemperature, 1e-9);
-    EXPECT_EQ(hips.glassyModulus, defaults.glassyModulus);
-    EXPECT_EQ(hips.rubberyModulus, defaults.rubberyModulus);
-    EXPECT_EQ(hips.transitionWidth, defaults.transitionWidth);
-    EXPECT_EQ(hips.wlfC1, defaults.wlfC1);
-    EXPECT_EQ(hips.wlfC2, defaults.wlfC2);
-    EXPECT_EQ(hips.viscosityAtTransition, defaults.viscosityAtTransition);
-    EXPECT_EQ(hips.solidActivationEnergy, defaults.solidActivationEnergy);
+    EXPECT_EQ(wlf(hips).glassyModulus, wlf(defaults).glassyModulus);
+    EXPECT_EQ(wlf(hips).rubberyModulus, wlf(defaults).rubberyModulus);
+    EXPECT_EQ(wlf(hips).transitionWidth, wlf(defaults).transitionWidth);
+    EXPECT_EQ(wlf(hips).wlfC1, wlf(defaults).wlfC1);
+    EXPECT_EQ(wlf(hips).wlfC2, wlf(defaults).wlfC2);
+    EXPECT_EQ(wlf(hips).viscosityAtTransition, wlf(defaults).viscosityAtTransition);
+    EXPECT_EQ(wlf(hips).solidActivationEnergy, wlf(defaults).solidActivationEnergy);
     EXPECT_EQ(hips.kelvinModulusRatio, defaults.kelvinModulusRatio);
     EXPECT_EQ(hips.kelvinViscosityRatio, defaults.kelvinViscosityRatio);
     EXPECT_NEAR(hips.forming.set, defaults.forming.set, 1e-9);
     EXPECT_NEAR(hips.forming.lower, defaults.forming.lower, 1e-9);
     EXPECT_NEAR(hips.forming.normal, defaults.forming.normal, 1e-9);
     EXPECT_NEAR(hips.forming.upper, defaults.forming.upper, 1e-9);
+}
+
+// A file names its law, or takes the registry's first (wlf, every shipped file's): naming it changes nothing, and a
+// name no law is registered under is refused by the key.
+TEST(MaterialFile, LawIsChosenFromTheRegistry)
+{
+    const Material implicitLaw = scene::readMaterialFile(materialPath("abs"));
+    const Material namedLaw =
+        scene::readMaterialFile(writeVariant("named-law.json", "\"density\"", "\"law\": \"wlf\", \"density\""));
+    EXPECT_EQ(materialLaws().front()->name, "wlf");
+    EXPECT_EQ(wlf(namedLaw).glassyModulus, wlf(implicitLaw).glassyModulus);
+    EXPECT_EQ(wlf(namedLaw).viscosityAtTransition, wlf(implicitLaw).viscosityAtTransition);
+    EXPECT_EQ(modulusAt(namedLaw, 400), modulusAt(implicitLaw, 400));
+    const std::string path = writeVariant("unknown-law.json", "\"density\"", "\"law\": \"cross\", \"density\"");
+    const std::string message = inputErrorOf([&] { scene::readMaterialFile(path); });
+    EXPECT_NE(message.find("law"), std::string::npos) << message;
+    EXPECT_NE(message.find("wlf"), std::string::npos) << message;
 }
 
 // The data make physical sense for forming: at the forming window's normal temperature each sheet relaxes (Maxwell

@@ -12,6 +12,7 @@
 #include "core/material/MembraneStiffness.h"
 #include "core/material/ThermalModel.h"
 #include "core/material/ViscoelasticSprings.h"
+#include "core/material/WlfLaw.h"
 
 #include <gtest/gtest.h>
 
@@ -213,12 +214,14 @@ TEST(ThermoplasticSheet, NewtonianSagGrowsAsCubeRootOfTime)
     liquid.glassTransition = 300;
     liquid.transitionTemperature = 300;
     liquid.upperTemperature = 400;
-    liquid.rubberyModulus = 1e9;
-    liquid.glassyModulus = 1e10;
     liquid.forming = FormingWindow{350, 380, 390, 290};
+    auto law = std::make_shared<WlfLaw>();
+    law->rubberyModulus = 1e9;
+    law->glassyModulus = 1e10;
     const Real temperature = 400;
     const Real targetViscosity = 5e6; // Pa s: a sag of about 4 cm after 30 s
-    liquid.viscosityAtTransition = targetViscosity / std::pow(10.0, log10ShiftAt(liquid, temperature));
+    law->viscosityAtTransition = targetViscosity / std::pow(10.0, law->log10ShiftAt(liquid, temperature));
+    liquid.law = law;
     const Real eta = viscosityAt(liquid, temperature);
     ASSERT_NEAR(eta, targetViscosity, 1e-6 * targetViscosity);
 
