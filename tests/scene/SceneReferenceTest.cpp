@@ -12,6 +12,7 @@
 #include "scene/shapes/ShapeRegistry.h"
 
 #include "core/integrate/Integrator.h"
+#include "core/lattice/Lattice.h"
 #include "core/material/MaterialLaw.h"
 
 #include <gtest/gtest.h>
@@ -22,6 +23,8 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace
 {
@@ -178,55 +181,71 @@ TEST(SceneReference, EveryRegisteredReportHasARowInTheReportTable)
 }
 
 // The `integrator` table's `type` row names every registered integrator.
-TEST(SceneReference, EveryRegisteredIntegratorIsInTheIntegratorTable)
+namespace
 {
-    const std::string table = section(readText(source + "/data/scenes/README.md"), "## `integrator`");
-    const std::size_t row = table.find("\n| `type` |");
-    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's `integrator` table has no `type` row";
-    const std::string type = table.substr(row, table.find('\n', row + 1) - row);
-    for (const masse::IntegratorEntry& integrator : masse::integrators())
+/// Checks that the `key` row of the table under `heading` in data/scenes/README.md names each of `names` (a
+/// registry's), in backquotes.
+void expectRowNames(const std::string& heading, const std::string& key, const std::vector<std::string_view>& names)
+{
+    const std::string table = section(readText(source + "/data/scenes/README.md"), heading);
+    const std::size_t row = table.find("\n| `" + key + "` |");
+    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's table under " << heading << " has no `" << key
+                                      << "` row";
+    const std::string cells = table.substr(row, table.find('\n', row + 1) - row);
+    for (const std::string_view name : names)
     {
         std::string quoted = "`";
-        quoted.append(integrator.name).append("`");
-        EXPECT_NE(type.find(quoted), std::string::npos)
-            << "data/scenes/README.md's integrator `type` row lacks `" << integrator.name << "`";
+        quoted.append(name).append("`");
+        EXPECT_NE(cells.find(quoted), std::string::npos)
+            << "data/scenes/README.md's `" << key << "` row under " << heading << " lacks " << quoted;
     }
+}
+} // namespace
+
+TEST(SceneReference, EveryRegisteredIntegratorIsInTheIntegratorTable)
+{
+    std::vector<std::string_view> names;
+    for (const masse::IntegratorEntry& integrator : masse::integrators())
+    {
+        names.push_back(integrator.name);
+    }
+    expectRowNames("## `integrator`", "type", names);
+}
+
+// A structure is registered in one table (structureTable, src/core/lattice/Lattice.h).
+TEST(SceneReference, EveryRegisteredStructureIsInTheSheetTable)
+{
+    std::vector<std::string_view> names;
+    for (const auto& entry : masse::structureTable)
+    {
+        names.push_back(entry.name);
+    }
+    expectRowNames("## `sheet`", "structure", names);
 }
 
 // A shape is registered in one table (src/scene/shapes/ShapeRegistry.cpp): the `obstacles[]` table's `type` row names
 // every registered shape.
 TEST(SceneReference, EveryRegisteredShapeIsInTheObstaclesTable)
 {
-    const std::string table = section(readText(source + "/data/scenes/README.md"), "## `obstacles[]`");
-    const std::size_t row = table.find("\n| `type` |");
-    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's `obstacles[]` table has no `type` row";
-    const std::string type = table.substr(row, table.find('\n', row + 1) - row);
+    std::vector<std::string_view> names;
     for (const masse::scene::ShapeEntry* shape : masse::scene::shapes())
     {
-        std::string quoted = "`";
-        quoted.append(shape->name).append("`");
-        EXPECT_NE(type.find(quoted), std::string::npos)
-            << "data/scenes/README.md's obstacles[] `type` row lacks `" << shape->name << "`";
+        names.push_back(shape->name);
     }
-    EXPECT_GE(masse::scene::shapes().size(), 4u);
+    EXPECT_GE(names.size(), 4u);
+    expectRowNames("## `obstacles[]`", "type", names);
 }
 
 // A material law is registered in one table (src/core/material/MaterialLaw.cpp): the material-file table's `law` row
 // names every registered law.
 TEST(SceneReference, EveryRegisteredMaterialLawIsInTheMaterialFileTable)
 {
-    const std::string table = section(readText(source + "/data/scenes/README.md"),
-                                      "### Material files (`data/materials/*.json`, or `material.properties`)");
-    const std::size_t row = table.find("\n| `law` |");
-    ASSERT_NE(row, std::string::npos) << "data/scenes/README.md's material-file table has no `law` row";
-    const std::string law = table.substr(row, table.find('\n', row + 1) - row);
+    std::vector<std::string_view> names;
     for (const masse::MaterialLawEntry* entry : masse::materialLaws())
     {
-        std::string quoted = "`";
-        quoted.append(entry->name).append("`");
-        EXPECT_NE(law.find(quoted), std::string::npos)
-            << "data/scenes/README.md's material-file `law` row lacks `" << entry->name << "`";
+        names.push_back(entry->name);
     }
+    expectRowNames("### Material files (`data/materials/*.json`, or `material.properties`)", "law", names);
 }
 
 // A key has one row in its section's table: two rows for one key can disagree (obstacles[].temperature_c once had a
