@@ -14,6 +14,7 @@
 #include "core/integrate/Integrator.h"
 #include "core/lattice/Lattice.h"
 #include "core/material/MaterialLaw.h"
+#include "core/material/ViscoelasticSprings.h"
 
 #include <gtest/gtest.h>
 
@@ -221,6 +222,14 @@ TEST(SceneReference, EveryRegisteredStructureIsInTheSheetTable)
         names.push_back(entry.name);
     }
     expectRowNames("## `sheet`", "structure", names);
+}
+
+// The spring models' names come from one table (springModelNames, core/material/ViscoelasticSprings.h).
+TEST(SceneReference, EverySpringModelIsInTheMaterialTable)
+{
+    const std::vector<std::string> models = masse::springModelNames();
+    EXPECT_GE(models.size(), 3u);
+    expectRowNames("## `material`", "spring_model", std::vector<std::string_view>(models.begin(), models.end()));
 }
 
 // A shape is registered in one table (src/scene/shapes/ShapeRegistry.cpp): the `obstacles[]` table's `type` row names
