@@ -12,7 +12,7 @@
 
 namespace masse
 {
-class MassSpringSystem;
+struct MassSpringSystem;
 struct StepContext;
 
 enum class StepStage : std::uint8_t

@@ -168,9 +168,9 @@ void contactDetection(benchmark::State& state)
     StepContext context;
     for (auto _ : state)
     {
-        contact.beginFrame(sheet, context, 0, paperTimeStep, false);
-        contact.afterSubstep(sheet, context, paperTimeStep);
-        contact.endFrame(sheet, context, paperTimeStep);
+        contact.detect(sheet, context, 0, paperTimeStep, false);
+        contact.project(sheet, context, paperTimeStep);
+        contact.sweepAndReport(sheet, context, paperTimeStep);
     }
     state.counters["planes"] = double(contact.planeCount());
 }

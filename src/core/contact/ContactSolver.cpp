@@ -72,7 +72,7 @@ void ContactSolver::setSettings(const ContactSettings& settings)
     m_settings = settings;
 }
 
-void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain)
+void ContactSolver::detect(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain)
 {
     const StageScope stage(m_observer, Stage::ContactDetection);
     const Particles& p = system.particles;
@@ -125,7 +125,7 @@ void ContactSolver::beginFrame(MassSpringSystem& system, StepContext& context, R
     m_constraints.beginFrame(p, m_planes, m_stuck, m_settings, dt, constrain, context);
 }
 
-void ContactSolver::afterSubstep(MassSpringSystem& system, const StepContext& context, Real h)
+void ContactSolver::project(MassSpringSystem& system, const StepContext& context, Real h)
 {
     const StageScope stage(m_observer, Stage::ContactProjection);
     Particles& p = system.particles;
@@ -169,13 +169,13 @@ void ContactSolver::run(StepStage stage, const StageCall& call)
     switch (stage)
     {
     case StepStage::ContactDetection:
-        beginFrame(call.system, call.context, call.time, call.plan.dt, call.plan.constrain);
+        detect(call.system, call.context, call.time, call.plan.dt, call.plan.constrain);
         break;
     case StepStage::ContactProjection:
-        afterSubstep(call.system, call.context, call.plan.substep);
+        project(call.system, call.context, call.plan.substep);
         break;
     case StepStage::ContactReport:
-        endFrame(call.system, call.context, call.time);
+        sweepAndReport(call.system, call.context, call.time);
         break;
     default:
         return;
@@ -184,7 +184,7 @@ void ContactSolver::run(StepStage stage, const StageCall& call)
     call.context.touchingObstacle = m_report.touchingObstacle();
 }
 
-void ContactSolver::endFrame(MassSpringSystem& system, StepContext& context, Real time)
+void ContactSolver::sweepAndReport(MassSpringSystem& system, StepContext& context, Real time)
 {
     const StageScope stage(m_observer, Stage::ContactSweep);
     context.constraints.clear();

@@ -29,8 +29,8 @@
 namespace masse
 {
 /// A StepHook of the frame's three contact stages (StepStage.h), in order: detection and the implicit integrator's
-/// constraints (contactDetection: beginFrame), the projection after every substep (contactProjection: afterSubstep,
-/// ContactProjection.h), the sweep and the report (contactReport: endFrame). After each it publishes the report's
+/// constraints (contactDetection: detect), the projection after every substep (contactProjection: project,
+/// ContactProjection.h), the sweep and the report (contactReport: sweepAndReport). After each it publishes the report's
 /// per-mass obstacles in StepContext::touchingObstacle. Each
 /// concept has its own file: the frame's planes indexed by mass (ContactPlanes.h), the masses held by sticky contact
 /// (StuckContacts.h), the constraint builder (ContactConstraints.h) and what the frame did (ContactReport.h).
@@ -51,16 +51,16 @@ public:
 
     /// The three stages (run calls them). With `constrain`, the integrator honours velocity
     /// constraints, and stuck and resting masses are handed to it as such in context.constraints (see
-    /// VelocityConstraint.h), whose reactions afterSubstep reads; endFrame clears them.
-    void beginFrame(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain);
-    void afterSubstep(MassSpringSystem& system, const StepContext& context, Real h);
-    void endFrame(MassSpringSystem& system, StepContext& context, Real time);
+    /// VelocityConstraint.h), whose reactions project reads; sweepAndReport clears them.
+    void detect(MassSpringSystem& system, StepContext& context, Real time, Real dt, bool constrain);
+    void project(MassSpringSystem& system, const StepContext& context, Real h);
+    void sweepAndReport(MassSpringSystem& system, StepContext& context, Real time);
 
     /// What the last frame and the run so far did (touches, forces, faces, first contacts).
     const ContactReport& report() const { return m_report; }
     /// Masses held by sticky contact.
     const std::vector<std::uint8_t>& stuck() const { return m_stuck.stuck; }
-    /// Whether the next afterSubstep reads the substep's forces (particles.force): while a mass is stuck, whose pull
+    /// Whether the next project reads the substep's forces (particles.force): while a mass is stuck, whose pull
     /// off its surface decides its release.
     bool readsForces() const { return m_stuck.any; }
     std::size_t planeCount() const { return m_planes.size(); }

@@ -407,7 +407,7 @@ TEST(Contact, TheForcesShareOfTheSearchIsCappedAtTheDrivenReach)
         settings.drivenReach = drivenReach;
         ContactSolver solver(detector, settings);
         StepContext context;
-        solver.beginFrame(sheet, context, 0, dt, true);
+        solver.detect(sheet, context, 0, dt, true);
         ASSERT_EQ(detector.reach.size(), p.size());
         for (std::size_t i = 0; i < p.size(); ++i)
         {
