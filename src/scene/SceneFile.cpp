@@ -177,8 +177,7 @@ ObstacleSpec readObstacle(const JsonObject& o, const std::string& baseDirectory,
     {
         // An obstacle's own response (a plug that slides while the mould grips): response and friction only.
         contact.own = true;
-        contact.response =
-            parseContactResponse(own->choice("response", "friction", {"sticky", "friction", "frictionless"}));
+        contact.response = parseContactResponse(own->choice("response", "friction", contactResponseNames()));
         contact.friction = own->number("friction", 0.3, 0.0);
         own->finish();
     }
@@ -203,7 +202,7 @@ ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& self
                             std::optional<bool>& keepLayers)
 {
     ContactSettings contact;
-    contact.response = parseContactResponse(o.choice("response", "friction", {"sticky", "friction", "frictionless"}));
+    contact.response = parseContactResponse(o.choice("response", "friction", contactResponseNames()));
     contact.radius = o.positive("radius", contact.radius);
     if (contact.radius > limits::maxContactRadius)
     {

@@ -18,8 +18,6 @@ const ImVec4 errorColour(1.0f, 0.45f, 0.4f, 1.0f);
 constexpr float hudLines = 11;
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
-constexpr std::array<ContactResponse, 3> responses{ContactResponse::Sticky, ContactResponse::Friction,
-                                                   ContactResponse::Frictionless};
 constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
 
 /// A combo box over an enum, labelled by the enum's own names (the same words the scene files use).
@@ -312,6 +310,15 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
     }
     if (ImGui::CollapsingHeader("Contact"))
     {
+        static const std::vector<ContactResponse> responses = [] // the registry's, in its order
+        {
+            std::vector<ContactResponse> all;
+            for (const EnumName<ContactResponse>& entry : contactResponseTable)
+            {
+                all.push_back(entry.value);
+            }
+            return all;
+        }();
         changed |= enumCombo("response", spec.contact.response, responses, contactResponseName);
         changed |= nonNegativeDouble("friction", spec.contact.friction, "%.3g");
         changed |= positiveDouble("radius (m)", spec.contact.radius, "%.4g");

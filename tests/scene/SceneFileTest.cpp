@@ -60,6 +60,9 @@ TEST(SceneFile, BadScenesAreRefusedWithTheKeyPath)
         {"negative-dt.json", "integrator.dt: must be in [1e-06, 1] (got -0.03)"},
         {"unknown-structure.json",
          "sheet.structure: unknown value 'hexagon' (expected one of square2d, samm, slamm, trimm)"},
+        {"unknown-response.json",
+         "contact.response: unknown value 'stiky' (did you mean 'sticky'?) (expected one of sticky, friction, "
+         "frictionless)"},
         {"missing-mass.json", "script[0].mass: 5000 is beyond the sheet's 25 masses, 0 to 24 (sheet.size 4x2x4)"},
         {"unknown-top-key.json", "obstacle: unknown key (did you mean 'obstacles'?)"},
         {"bullet-klst.json", "bullet.kLST: must be in (0, 1] (got 1.5)"},

@@ -11,6 +11,7 @@
 #include "scene/reports/ReportRegistry.h"
 #include "scene/shapes/ShapeRegistry.h"
 
+#include "core/contact/Contact.h"
 #include "core/integrate/Integrator.h"
 #include "core/lattice/Lattice.h"
 #include "core/material/MaterialLaw.h"
@@ -222,6 +223,17 @@ TEST(SceneReference, EveryRegisteredStructureIsInTheSheetTable)
         names.push_back(entry.name);
     }
     expectRowNames("## `sheet`", "structure", names);
+}
+
+// The contact responses are registered in one table (contactResponseTable, core/contact/Contact.h).
+TEST(SceneReference, EveryContactResponseIsInTheContactTable)
+{
+    std::vector<std::string_view> names;
+    for (const auto& entry : masse::contactResponseTable)
+    {
+        names.push_back(entry.name);
+    }
+    expectRowNames("## `contact`", "response", names);
 }
 
 // The spring models' names come from one table (springModelNames, core/material/ViscoelasticSprings.h).

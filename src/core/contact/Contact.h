@@ -2,10 +2,12 @@
 /// Contact between sheet masses (spheres of one radius) and obstacles: the settings, the planes a detector finds,
 /// and the detector interface that the Bullet bridge implements. The core knows obstacles only by index.
 
+#include "core/NamedEnum.h"
 #include "core/Types.h"
 #include "core/parallel/PerChunk.h"
 
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -19,9 +21,19 @@ enum class ContactResponse
     Frictionless, ///< only the approach is stopped
 };
 
-/// Parses "sticky", "friction" or "frictionless"; throws InputError naming the allowed names.
+/// The registry of responses, one entry each in the order menus and messages list them: the scene reader's choices,
+/// the viewer's menu and data/scenes/README.md's `contact` table (SceneReference) follow it.
+inline constexpr EnumName<ContactResponse> contactResponseTable[] = {
+    {ContactResponse::Sticky, "sticky"},
+    {ContactResponse::Friction, "friction"},
+    {ContactResponse::Frictionless, "frictionless"},
+};
+
+/// Parses a registered name (any case); throws InputError naming the allowed names.
 ContactResponse parseContactResponse(std::string_view name);
 std::string_view contactResponseName(ContactResponse response);
+/// The registered names, for the scene reader's choices.
+std::vector<std::string> contactResponseNames();
 
 /// An obstacle's own contact response, instead of the scene's (a plug that slides over the sheet while the mould
 /// grips it).

@@ -13,23 +13,24 @@
 
 namespace masse
 {
-namespace
-{
-constexpr EnumName<ContactResponse> responseNames[] = {
-    {ContactResponse::Sticky, "sticky"},
-    {ContactResponse::Friction, "friction"},
-    {ContactResponse::Frictionless, "frictionless"},
-};
-} // namespace
-
 ContactResponse parseContactResponse(std::string_view name)
 {
-    return parseEnum(responseNames, name, "response", "response");
+    return parseEnum(contactResponseTable, name, "response", "response");
 }
 
 std::string_view contactResponseName(ContactResponse response)
 {
-    return enumName(responseNames, response);
+    return enumName(contactResponseTable, response);
+}
+
+std::vector<std::string> contactResponseNames()
+{
+    std::vector<std::string> names;
+    for (const EnumName<ContactResponse>& entry : contactResponseTable)
+    {
+        names.emplace_back(entry.name);
+    }
+    return names;
 }
 
 void validate(const ContactSettings& settings)

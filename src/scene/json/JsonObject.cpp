@@ -312,7 +312,10 @@ std::string JsonObject::choice(const std::string& key, const std::string& fallba
         {
             list += (list.empty() ? "" : ", ") + c;
         }
-        fail(key, "unknown value '" + value + "' (expected one of " + list + ")");
+        // A near miss ("stiky") is named, as a mistyped key is.
+        const std::string nearest = nearestName(value, choices);
+        fail(key, "unknown value '" + value + "'" + (nearest.empty() ? "" : " (did you mean '" + nearest + "'?)") +
+                      " (expected one of " + list + ")");
     }
     return value;
 }
