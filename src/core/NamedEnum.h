@@ -9,6 +9,7 @@
 #include <iterator>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace masse
 {
@@ -45,6 +46,17 @@ template <typename Enum, std::size_t N>
 Enum parseEnum(const EnumName<Enum> (&names)[N], std::string_view name, std::string_view field, std::string_view what)
 {
     return parseNamed(names, name, field, what, [](const EnumName<Enum>& entry) { return entry.value; });
+}
+
+/// The names of a table whose entries have a `name`, in its order: a scene reader's choices.
+template <typename Entries> std::vector<std::string> namesOf(const Entries& entries)
+{
+    std::vector<std::string> names;
+    for (const auto& entry : entries)
+    {
+        names.emplace_back(entry.name);
+    }
+    return names;
 }
 
 /// "a, b, c or d": the names of a table whose entries have a `name`, for help strings.

@@ -255,7 +255,7 @@ void Simulator::runStage(StepStage stage, Frame& frame)
         break;
     }
     // The hook stages. Around those of the models the guard accounts for the energy they put in or take out.
-    const bool accountEnergy = stageEntry(stage).guard == StageGuard::HookEnergy;
+    const bool accountEnergy = stageEntry(stage).guardAccountsEnergy;
     if (accountEnergy)
     {
         m_guard.beforeHooks(m_system);

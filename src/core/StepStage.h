@@ -32,37 +32,29 @@ enum class StepStage : std::uint8_t
 
 inline constexpr int stepStageCount = 11;
 
-/// What the divergence guard does around a stage (Simulator::runStage is the one place that calls it).
-enum class StageGuard : std::uint8_t
-{
-    None,
-    HookEnergy, ///< accounts for the energy the stage's hooks put in or take out
-    Integrator, ///< checks before the substep and after the integrator
-    Contact,    ///< names a solve that went wrong before the first projection hides it, then checks after it
-    Frame,      ///< the frame's finite check and energy account
-};
-
 struct StepStageEntry
 {
     StepStage stage;
     std::string_view name; ///< as docs/step.md and a hook's stages() name it
     bool everySubstep;     ///< run once per substep (or per solve), else once a frame
     bool hooksJoin;        ///< whether StepHooks may join it (the others are the Simulator's own)
-    StageGuard guard;
+    /// Whether the divergence guard accounts for the energy its hooks put in or take out (the models' stages; the
+    /// Simulator's own stages and the contact projection have checks of their own, in Simulator::runStage).
+    bool guardAccountsEnergy;
 };
 
 inline constexpr StepStageEntry stepStageTable[stepStageCount] = {
-    {StepStage::BeforeFrame, "beforeFrame", false, true, StageGuard::HookEnergy},
-    {StepStage::PlanFrame, "planFrame", false, false, StageGuard::None},
-    {StepStage::ContactDetection, "contactDetection", false, true, StageGuard::None},
-    {StepStage::BeginFrame, "beginFrame", false, true, StageGuard::HookEnergy},
-    {StepStage::Integrate, "integrate", true, false, StageGuard::Integrator},
-    {StepStage::AfterSolve, "afterSolve", true, true, StageGuard::HookEnergy},
-    {StepStage::ContactProjection, "contactProjection", true, true, StageGuard::Contact},
-    {StepStage::AfterSubstep, "afterSubstep", true, true, StageGuard::HookEnergy},
-    {StepStage::ContactReport, "contactReport", false, true, StageGuard::None},
-    {StepStage::EndFrame, "endFrame", false, true, StageGuard::HookEnergy},
-    {StepStage::Check, "check", false, false, StageGuard::Frame},
+    {StepStage::BeforeFrame, "beforeFrame", false, true, true},
+    {StepStage::PlanFrame, "planFrame", false, false, false},
+    {StepStage::ContactDetection, "contactDetection", false, true, false},
+    {StepStage::BeginFrame, "beginFrame", false, true, true},
+    {StepStage::Integrate, "integrate", true, false, false},
+    {StepStage::AfterSolve, "afterSolve", true, true, true},
+    {StepStage::ContactProjection, "contactProjection", true, true, false},
+    {StepStage::AfterSubstep, "afterSubstep", true, true, true},
+    {StepStage::ContactReport, "contactReport", false, true, false},
+    {StepStage::EndFrame, "endFrame", false, true, true},
+    {StepStage::Check, "check", false, false, false},
 };
 
 constexpr const StepStageEntry& stageEntry(StepStage stage)

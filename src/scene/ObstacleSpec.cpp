@@ -1,7 +1,5 @@
 #include "scene/ObstacleSpec.h"
 
-#include "core/InputError.h"
-
 #include <cmath>
 
 namespace masse::scene
@@ -20,10 +18,6 @@ bridge::ObstacleBody obstacleBody(const ObstacleSpec& spec)
     body.name = spec.name;
     body.path.rest = {spec.position, spec.orientation};
     body.path.keys = spec.path;
-    if (!spec.shape.entry)
-    {
-        throw InputError("obstacle '" + spec.name + "' has no shape");
-    }
     body.shape = spec.shape.solid(spec.name);
     return body;
 }

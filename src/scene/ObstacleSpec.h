@@ -3,7 +3,7 @@
 /// obstacle made from it. Its shape is one of the registered shapes (scene/shapes/ShapeRegistry.h) with the
 /// parameters that shape's reader made.
 
-#include "scene/shapes/ShapeRegistry.h"
+#include "scene/shapes/BoxShape.h"
 
 #include "bridge/BulletEnvironment.h"
 
@@ -22,8 +22,9 @@ struct ObstacleSpec
     Vec3 position = Vec3::Zero();                                              ///< m, local origin in the room
     Eigen::Quaternion<Real> orientation = Eigen::Quaternion<Real>::Identity(); ///< local to room
 
-    /// Its shape; the solid is made from it by obstacleBody (a mesh's file is read then).
-    ShapeSpec shape;
+    /// Its shape; the solid is made from it by obstacleBody (a mesh's file is read then). A spec built in code without
+    /// one is a box a metre across, so that every obstacle has a registered shape.
+    ShapeSpec shape = boxShapeSpec(Vec3(0.5, 0.5, 0.5));
 
     /// A kinematic obstacle follows its path; with no keys it is static.
     std::vector<bridge::PoseKey> path;

@@ -81,12 +81,7 @@ SheetSpec readSheet(const JsonObject& o)
 {
     SheetSpec sheet;
     LatticeSpec& lattice = sheet.lattice;
-    std::vector<std::string> structureNames;
-    for (const EnumName<Structure>& entry : structureTable)
-    {
-        structureNames.emplace_back(entry.name);
-    }
-    lattice.structure = parseStructure(o.choice("structure", "trimm", structureNames));
+    lattice.structure = parseStructure(o.choice("structure", "trimm", namesOf(structureTable)));
     checkUnder("sheet", latticeKeys, [&] { parseSize(o.string("size", "8x2x8"), lattice); });
     lattice.minCorner = plausible::point(o, "min", lattice.minCorner);
     lattice.maxCorner = plausible::point(o, "max", lattice.maxCorner);
@@ -226,12 +221,7 @@ ContactSettings readContact(const JsonObject& o, bool& selfCollision, Real& self
 TimeSpec readTime(const JsonObject& o)
 {
     TimeSpec time;
-    std::vector<std::string> integratorNames;
-    for (const IntegratorEntry& entry : integrators())
-    {
-        integratorNames.emplace_back(entry.name);
-    }
-    time.integrator = parseIntegrator(o.choice("type", "symplectic", integratorNames));
+    time.integrator = parseIntegrator(o.choice("type", "symplectic", namesOf(integratorTable)));
     time.dt = o.number("dt", time.dt, limits::minTimeStep, limits::maxTimeStep);
     time.stabilitySafety = o.number("safety", time.stabilitySafety, 1e-3, 1.0);
     if (o.has("max_motion"))

@@ -20,6 +20,29 @@ const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
 constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
 
+/// The values of a registry's entries (`value` of an EnumName table, `kind` of the integrators'), in its order: a
+/// menu's choices.
+template <typename Entry, std::size_t N> auto registryValues(const Entry (&entries)[N])
+{
+    const auto valueOf = [](const Entry& entry)
+    {
+        if constexpr (requires { entry.kind; })
+        {
+            return entry.kind;
+        }
+        else
+        {
+            return entry.value;
+        }
+    };
+    std::vector<decltype(valueOf(entries[0]))> values;
+    for (const Entry& entry : entries)
+    {
+        values.push_back(valueOf(entry));
+    }
+    return values;
+}
+
 /// A combo box over an enum, labelled by the enum's own names (the same words the scene files use).
 template <typename Enum, typename Values, typename NameOf>
 bool enumCombo(const char* label, Enum& value, const Values& values, NameOf nameOf)
@@ -261,15 +284,7 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
     bool changed = false;
     if (ImGui::CollapsingHeader("Sheet"))
     {
-        static const std::vector<Structure> structures = [] // the registry's, in its order
-        {
-            std::vector<Structure> all;
-            for (const EnumName<Structure>& entry : structureTable)
-            {
-                all.push_back(entry.value);
-            }
-            return all;
-        }();
+        static const std::vector<Structure> structures = registryValues(structureTable);
         changed |= enumCombo("structure", spec.sheet.lattice.structure, structures, structureName);
         int size[3] = {spec.sheet.lattice.countX, spec.sheet.lattice.layers, spec.sheet.lattice.countZ};
         if (ImGui::InputInt3("size N x L x N", size))
@@ -296,29 +311,13 @@ void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& sim
             changed = true;
         }
         changed |= nonNegativeDouble("air damping (1/s)", spec.environment.airDampingRate, "%.4g");
-        static const std::vector<IntegratorKind> kinds = [] // the registry's, in its order
-        {
-            std::vector<IntegratorKind> all;
-            for (const IntegratorEntry& entry : integrators())
-            {
-                all.push_back(entry.kind);
-            }
-            return all;
-        }();
+        static const std::vector<IntegratorKind> kinds = registryValues(integratorTable);
         changed |= enumCombo("integrator", spec.time.integrator, kinds, integratorName);
         changed |= positiveDouble("dt (s)", spec.time.dt, "%.4g");
     }
     if (ImGui::CollapsingHeader("Contact"))
     {
-        static const std::vector<ContactResponse> responses = [] // the registry's, in its order
-        {
-            std::vector<ContactResponse> all;
-            for (const EnumName<ContactResponse>& entry : contactResponseTable)
-            {
-                all.push_back(entry.value);
-            }
-            return all;
-        }();
+        static const std::vector<ContactResponse> responses = registryValues(contactResponseTable);
         changed |= enumCombo("response", spec.contact.response, responses, contactResponseName);
         changed |= nonNegativeDouble("friction", spec.contact.friction, "%.3g");
         changed |= positiveDouble("radius (m)", spec.contact.radius, "%.4g");

@@ -25,12 +25,7 @@ std::string_view contactResponseName(ContactResponse response)
 
 std::vector<std::string> contactResponseNames()
 {
-    std::vector<std::string> names;
-    for (const EnumName<ContactResponse>& entry : contactResponseTable)
-    {
-        names.emplace_back(entry.name);
-    }
-    return names;
+    return namesOf(contactResponseTable);
 }
 
 void validate(const ContactSettings& settings)

@@ -44,7 +44,9 @@ public:
         return {StepStage::ContactDetection, StepStage::ContactProjection, StepStage::ContactReport};
     }
     void run(StepStage stage, const StageCall& call) override;
-    bool readsForcesMidFrame() const override { return readsForces(); }
+    /// Whether the next projection reads the substep's forces (particles.force): while a mass is stuck, whose pull
+    /// off its surface decides its release.
+    bool readsForcesMidFrame() const override { return m_stuck.any; }
 
     void setSettings(const ContactSettings& settings);
     const ContactSettings& settings() const { return m_settings; }
@@ -60,9 +62,6 @@ public:
     const ContactReport& report() const { return m_report; }
     /// Masses held by sticky contact.
     const std::vector<std::uint8_t>& stuck() const { return m_stuck.stuck; }
-    /// Whether the next project reads the substep's forces (particles.force): while a mass is stuck, whose pull
-    /// off its surface decides its release.
-    bool readsForces() const { return m_stuck.any; }
     std::size_t planeCount() const { return m_planes.size(); }
 
     /// Deepest penetration of any mass's sphere into an obstacle now (m, 0 if none), measured afresh by the detector.

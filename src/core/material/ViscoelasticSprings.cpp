@@ -40,12 +40,7 @@ std::string_view springModelName(SpringModel model)
 
 std::vector<std::string> springModelNames()
 {
-    std::vector<std::string> names;
-    for (const EnumName<SpringModel>& entry : springModelTable)
-    {
-        names.emplace_back(entry.name);
-    }
-    return names;
+    return namesOf(springModelTable);
 }
 
 void validate(const SpringModelSettings& settings)
