@@ -97,23 +97,49 @@ StepReport Simulator::step(Real dt)
     }
     requirePositiveStep(dt); // a bad dt is refused before a hook is asked about it
     int solves = 1;
-    for (StepHook* hook : m_hooks)
+    m_solvesAsked.resize(m_hooks.size());
+    for (std::size_t h = 0; h < m_hooks.size(); ++h)
     {
-        solves = std::max(solves, hook->solvesFor(m_system, dt));
+        m_solvesAsked[h] = std::max(1, m_hooks[h]->solvesFor(m_system, dt));
+        solves = std::max(solves, m_solvesAsked[h]);
     }
     if (solves == 1)
     {
         return stepFrame(dt);
     }
     StepReport report;
-    for (int k = 0; k < solves; ++k)
+    Real length = dt / Real(solves);
+    Real rest = dt;
+    for (int left = solves; left > 0;)
     {
-        const StepReport part = stepFrame(dt / Real(solves));
+        const StepReport part = stepFrame(length);
         report.substeps += part.substeps;
         report.substep = part.substep;
         report.solverIterations += part.solverIterations;
         report.solverResidual = std::max(report.solverResidual, part.solverResidual);
         report.solverCapHits += part.solverCapHits;
+        rest -= length;
+        if (--left == 0)
+        {
+            break;
+        }
+        // A hook that guessed the frame's split corrects it for the rest; the others keep the length they asked for.
+        int asked = 0;
+        Real longest = rest;
+        for (std::size_t h = 0; h < m_hooks.size(); ++h)
+        {
+            const int count = m_hooks[h]->solvesForRest(m_system, length, rest);
+            asked = std::max(asked, count);
+            if (count == 0)
+            {
+                longest = std::min(longest, dt / Real(m_solvesAsked[h]));
+            }
+        }
+        if (asked > 0)
+        {
+            left = std::max(asked, int(std::ceil(rest / longest)));
+            length = rest / Real(left);
+        }
     }
     return report;
 }

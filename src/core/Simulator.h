@@ -116,6 +116,7 @@ private:
     std::unique_ptr<Integrator> m_integrator;
     ContactSolver* m_contact = nullptr;
     std::vector<StepHook*> m_hooks; ///< every hook, the contact solver among them, in the order added
+    std::vector<int> m_solvesAsked; ///< per hook, the solves it asked for the frame being split (step)
     std::array<std::vector<StepHook*>, stepStageCount> m_stageHooks; ///< per stage, the hooks that joined it
     DivergenceGuard m_guard;
     Real m_time = 0;

@@ -52,6 +52,12 @@ public:
     /// many frames of dt / n, each with all its stages, the hook asks the Simulator to split it (the largest ask
     /// wins). For motion that one solve of dt cannot follow: the self-contact asks when its pairs close fast.
     virtual int solvesFor(MassSpringSystem& /*system*/, Real /*dt*/) { return 1; }
+    /// After each solve of a split frame, which took `taken` seconds, with `rest` of the frame still to go: into how
+    /// many solves the hook now asks for the rest to be split, or 0 to keep the frame's split as it was. For a hook
+    /// whose count for the frame was a guess (the motion limit's first frame, with no motion yet to go by), which the
+    /// frame's first solves then tell it how to correct. The Simulator takes the next solve of rest / count and asks
+    /// again.
+    virtual int solvesForRest(MassSpringSystem& /*system*/, Real /*taken*/, Real /*rest*/) { return 0; }
 
     /// beforeFrame: at a frame's very start, before the stability estimate and contact detection, so that what it
     /// changes (a pin released, a grab's spring, an obstacle moved) is seen by both in this frame: script actions.

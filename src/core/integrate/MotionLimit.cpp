@@ -24,14 +24,20 @@ int MotionLimit::solvesFor(MassSpringSystem& system, Real dt)
     const bool hasBefore = m_velocityBefore.size() == n;
     if (!hasBefore)
     {
-        // Nothing tells yet how fast the loads will move the sheet: the first frame is taken in the most solves.
+        // Nothing tells yet how fast the loads will move the sheet: the first frame starts at the most solves, and
+        // solvesForRest corrects the rest after each.
         // A sheet at rest under a load that rises over the frame (the vacuum cup's) has no speed to predict from;
         // in one solve of the whole frame the 64x2x64 cup's sheet moves 1.4 cm (3.4 spacings), and the run then
         // diverges at t = 0.03 s (`--set integrator.max_motion=0`).
         m_velocityBefore = velocity;
         m_predictedMotion = std::numeric_limits<Real>::infinity();
+        m_guessing = true;
+        m_velocityBySolve = velocity;
+        m_frameSoFar = 0;
+        m_solvesSoFar = 0;
         return m_maxSolves;
     }
+    m_guessing = false;
     // Each chunk's largest speed bound, then the largest of those: a maximum does not depend on the split.
     std::vector<Real>& chunkLargest = m_chunkLargest;
     chunkLargest.assign(chunkCount(n, massChunkSize), 0);
@@ -55,5 +61,63 @@ int MotionLimit::solvesFor(MassSpringSystem& system, Real dt)
     }
     const Real solves = std::ceil(m_predictedMotion / m_maxMotion);
     return solves > 1 ? int(std::min(solves, Real(m_maxSolves))) : 1;
+}
+
+int MotionLimit::solvesForRest(MassSpringSystem& system, Real taken, Real rest)
+{
+    if (!m_guessing)
+    {
+        return 0;
+    }
+    const std::vector<Vec3>& velocity = system.particles.velocity;
+    const std::size_t n = velocity.size();
+    m_frameSoFar += taken;
+    ++m_solvesSoFar;
+    // Each chunk's largest speed and largest velocity change over the solve just taken, then the largest of those.
+    const std::size_t chunks = chunkCount(n, massChunkSize);
+    m_chunkLargest.assign(chunks, 0);
+    m_chunkChange.assign(chunks, 0);
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    Real largestSpeed = 0;
+                    Real largestChange = 0;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        largestSpeed = std::max(largestSpeed, velocity[i].norm());
+                        largestChange = std::max(largestChange, (velocity[i] - m_velocityBySolve[i]).norm());
+                    }
+                    m_chunkLargest[begin / massChunkSize] = largestSpeed;
+                    m_chunkChange[begin / massChunkSize] = largestChange;
+                });
+    m_velocityBySolve = velocity;
+    const Real speed = chunks == 0 ? Real(0) : *std::max_element(m_chunkLargest.begin(), m_chunkLargest.end());
+    const Real change = chunks == 0 ? Real(0) : *std::max_element(m_chunkChange.begin(), m_chunkChange.end());
+    // The longest next solve L that keeps (speed + rate L) L within the limit, the velocity changing at the rate it
+    // changed over the solve just taken: the positive root of rate L^2 + speed L - maxMotion.
+    const Real rate = change / taken;
+    Real longest = std::numeric_limits<Real>::infinity();
+    if (rate > 0)
+    {
+        longest = 2 * m_maxMotion / (speed + std::sqrt(speed * speed + 4 * rate * m_maxMotion));
+    }
+    else if (speed > 0)
+    {
+        longest = m_maxMotion / speed;
+    }
+    longest = std::min(longest, 2 * m_frameSoFar);
+    if (!std::isfinite(speed) || !std::isfinite(change) || !(longest > 0))
+    {
+        m_guessing = false;
+        return 0; // the guard names the mass; keep the split as it was
+    }
+    const int most = std::max(1, m_maxSolves - m_solvesSoFar);
+    const Real wanted = std::ceil(rest / longest);
+    const int solves = wanted > 1 ? int(std::min(wanted, Real(most))) : 1;
+    if (solves == 1)
+    {
+        m_guessing = false; // the frame ends with the next solve
+    }
+    return solves;
 }
 } // namespace masse

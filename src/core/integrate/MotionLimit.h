@@ -11,6 +11,12 @@
 /// change over the frame before, (|v_i| + |v_i - v_i,before|) dt, so a sheet that a load is accelerating is split
 /// before it is fast; the first frame, with no change to go by, is taken in the most solves. The largest over the
 /// masses decides, so the count does not depend on the order of the masses or on the threads.
+///
+/// The first frame's count is a guess, so it is corrected as the frame goes (solvesForRest): after each solve the rest
+/// of the frame is split by the speeds and the accelerations that solve showed, each next solve at most twice as long
+/// as the frame so far: a load rising over the frame (the vacuum cup's) does more in each solve than the one before
+/// showed, which the doubling bounds. The 64x2x64 vacuum cup's first frame takes 5 solves this way; in 64 equal ones
+/// it took 0.95 s of a 5.6 s run.
 
 #include "core/StepHook.h"
 
@@ -27,6 +33,7 @@ public:
     /// Joins no stage: it only answers solvesFor before a frame.
     StageSet stages() const override { return {}; }
     int solvesFor(MassSpringSystem& system, Real dt) override;
+    int solvesForRest(MassSpringSystem& system, Real taken, Real rest) override;
 
     /// m, the largest predicted motion of the frame last asked about, before it was split (infinite for the first).
     Real predictedMotion() const { return m_predictedMotion; }
@@ -36,6 +43,12 @@ private:
     int m_maxSolves;
     std::vector<Vec3> m_velocityBefore; ///< at the start of the frame last asked about (empty before the first)
     std::vector<Real> m_chunkLargest;   ///< each chunk's largest speed bound, kept between frames
+    // The first frame's correction (solvesForRest):
+    bool m_guessing = false;             ///< the frame being taken is the first, its split a guess
+    std::vector<Vec3> m_velocityBySolve; ///< at the start of the solve just taken
+    std::vector<Real> m_chunkChange;     ///< each chunk's largest velocity change over that solve
+    Real m_frameSoFar = 0;               ///< s of the first frame taken so far
+    int m_solvesSoFar = 0;               ///< solves of the first frame taken so far
     Real m_predictedMotion = 0;
 };
 } // namespace masse
