@@ -232,18 +232,38 @@ class Scene(_masse._Scene):
         """Sets gravity (m/s^2, a vector)."""
         self._act(_json({"action": "gravity", "value": _point(gravity, "set_gravity"), "time": self.time}))
 
-    def set_heater(self, heater, on=True):
-        """Switches a heater (its name, or its index in ``heaters``) on or off."""
+    def set_heater(self, heater, on=True, power=None):
+        """Switches a heater (its name, or its index in ``heaters``) on or off; ``power`` (W) is its power from now
+        on (its own when left out)."""
         if isinstance(heater, (int, np.integer)) and not isinstance(heater, bool):
             names = self.heaters
             if not 0 <= heater < len(names):
                 raise IndexError("set_heater: heater %d does not exist (the scene has %d)" % (heater, len(names)))
             heater = names[heater]
-        self._act(_json({"action": "heater", "heater": heater, "on": bool(on), "time": self.time}))
+        action = {"action": "heater", "heater": heater, "on": bool(on), "time": self.time}
+        if power is not None:
+            action["power"] = power
+        self._act(_json(action))
 
     def set_ambient(self, temperature_c):
         """Sets the room air's temperature (C)."""
         self._act(_json({"action": "ambient", "temperature_c": temperature_c, "time": self.time}))
+
+    def set_pressure(self, pressure, ramp=0.0):
+        """The forming pressure (Pa) from what it is now to ``pressure`` over ``ramp`` seconds, then held; the rest of
+        the scene's schedule is dropped (forming scenes)."""
+        self._act(_json({"action": "pressure", "pressure": pressure, "ramp": ramp, "time": self.time}))
+
+    def steer(self, obstacle, to, speed):
+        """A kinematic obstacle (a plug) from where it is straight to ``to`` (m) at ``speed`` (m/s), then held; the
+        rest of its path is dropped."""
+        self._act(_json({"action": "steer", "obstacle": obstacle, "to": _point(to, "steer"), "speed": speed,
+                         "time": self.time}))
+
+    def set_obstacle_temperature(self, obstacle, temperature_c):
+        """An obstacle's temperature (C) for contact heat, a mould's or a plug's (heat scenes)."""
+        self._act(_json({"action": "obstacle_temperature", "obstacle": obstacle, "temperature_c": temperature_c,
+                         "time": self.time}))
 
 
 def run(scene, out=None, *, overrides=None, size=None, duration=None, dt=None, integrator=None, force=False,

@@ -96,6 +96,7 @@ void runView(ViewCommandOptions& options)
         throw InputError(std::string("--") + e.what());
     }
     viewer.draw.scalar = options.scalar;
+    viewer.source = scene::RunSource{path, options.overrides};
     viewer.showPanel = !options.hidePanel;
     viewer.showUi = !options.noUi;
     if (viewer.frames < 0 || viewer.stepsPerFrame < 0)
@@ -146,12 +147,17 @@ void addViewCommand(CLI::App& app)
     command->add_flag("--paused", options->viewer.startPaused, "Start paused");
     command->add_flag("--compare", options->viewer.compare,
                       "Run Bullet's soft-body twin beside the sheet and draw it as a ghost (see masse compare)");
+    command->add_option("--save-run", options->viewer.saveRunPath,
+                        "Where \"save run\" (w, or the panel) writes the run as a scene file for masse run to replay "
+                        "(default: SCENE-NAME.run.json in the current folder)");
     addThreadsOption(*command, options->overrides.engine);
     addSceneOverrides(*command, options->overrides);
     command->footer(
         "Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
         "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
-        "v starting view,\nm draw mode, p pick mode, f follow the sheet, Tab panel, q or Esc quit.\nWithout a display: "
+        "v starting view,\nm draw mode, p pick mode, f follow the sheet, Tab panel, q or Esc quit.\nForming: j/k plug "
+        "down/up, h "
+        "hold it, u vacuum or pressure on/off, w save the run (replay it with masse run).\nWithout a display: "
         "xvfb-run -a masse view ... (see --screenshot, --benchmark).");
     command->callback([options] { runView(*options); });
 }

@@ -239,6 +239,19 @@ void BulletEnvironment::extendPath(int index, const std::vector<PoseKey>& keys)
     setTime(m_time);
 }
 
+void BulletEnvironment::steer(int index, Real time, const Vec3& target, Real speed)
+{
+    Obstacle& obstacle = *m_obstacles[std::size_t(index)];
+    const Pose now = poseAt(obstacle.path, time);
+    const Real arrival = time + (target - now.position).norm() / speed;
+    obstacle.path.keys = {PoseKey{time, now.position, now.orientation}};
+    if (arrival > time)
+    {
+        obstacle.path.keys.push_back(PoseKey{arrival, target, now.orientation});
+    }
+    setTime(m_time);
+}
+
 void BulletEnvironment::setTime(Real time)
 {
     m_time = time;

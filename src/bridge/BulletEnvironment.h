@@ -69,6 +69,9 @@ public:
     const Obstacle& obstacle(int index) const { return *m_obstacles[std::size_t(index)]; }
     /// Appends keys to a kinematic obstacle's path (a scripted move); keys must come after its last one.
     void extendPath(int index, const std::vector<PoseKey>& keys);
+    /// Replaces a kinematic obstacle's path from `time` on: from its pose then, straight to `target` at `speed` (m/s,
+    /// > 0), keeping its orientation, then held there (a plug steered live).
+    void steer(int index, Real time, const Vec3& target, Real speed);
     /// Index of the obstacle with that name, or -1.
     int findObstacle(const std::string& name) const;
 

@@ -35,6 +35,13 @@ Real fastestObstacleSpeed(const SceneSpec& spec)
         }
         fastest = std::max(fastest, pathSpeed(path, o.shape.reach()));
     }
+    for (const ScriptAction& a : spec.script)
+    {
+        if (a.kind == ScriptAction::Kind::Steer)
+        {
+            fastest = std::max(fastest, a.speed);
+        }
+    }
     return fastest;
 }
 
@@ -95,6 +102,13 @@ Real fastestScriptedSpeed(const SceneSpec& spec, Real lightestMass)
         for (const PressureKey& key : spec.forming.pressure)
         {
             strongest = std::max(strongest, std::abs(key.pressure));
+        }
+        for (const ScriptAction& a : spec.script)
+        {
+            if (a.kind == ScriptAction::Kind::Pressure)
+            {
+                strongest = std::max(strongest, std::abs(a.pressure));
+            }
         }
         const Real arealMass = spec.material.material.density * spec.material.thickness;
         pressure = std::sqrt(2 * strongest * size / arealMass);

@@ -13,15 +13,17 @@
 
 namespace masse::scene::plausible
 {
-constexpr Real maxCoordinate = 1e3;  ///< m, |x|, |y| and |z| of any point a scene places (machines are metres across)
-constexpr Real maxLength = 1e3;      ///< m, any size: half extents, prism sides, heater sides, wall thickness
-constexpr Real maxMeshScale = 1e3;   ///< a mesh file's scale factor
-constexpr Real maxGravity = 1e3;     ///< m/s^2, about 100 g (Earth's is 9.81)
-constexpr Real minThickness = 1e-5;  ///< m, 0.01 mm: a thin film
-constexpr Real maxThickness = 0.05;  ///< m, 50 mm: thicker than any sheet a forming machine heats
-constexpr Real minDensity = 10;      ///< kg/m^3, a light foam
-constexpr Real maxDensity = 25000;   ///< kg/m^3, beyond the densest metals
-constexpr Real maxGrabForce = 1e6;   ///< N, a grab's cap
+constexpr Real maxCoordinate = 1e3; ///< m, |x|, |y| and |z| of any point a scene places (machines are metres across)
+constexpr Real maxLength = 1e3;     ///< m, any size: half extents, prism sides, heater sides, wall thickness
+constexpr Real maxMeshScale = 1e3;  ///< a mesh file's scale factor
+constexpr Real maxGravity = 1e3;    ///< m/s^2, about 100 g (Earth's is 9.81)
+constexpr Real minThickness = 1e-5; ///< m, 0.01 mm: a thin film
+constexpr Real maxThickness = 0.05; ///< m, 50 mm: thicker than any sheet a forming machine heats
+constexpr Real minDensity = 10;     ///< kg/m^3, a light foam
+constexpr Real maxDensity = 25000;  ///< kg/m^3, beyond the densest metals
+constexpr Real maxGrabForce = 1e6;  ///< N, a grab's cap
+constexpr Real maxSteerSpeed =
+    100; ///< m/s, a steered obstacle's: a forming machine's plug moves at most metres a second
 constexpr Real maxSheetHeight = 0.5; ///< m, the sheet box's height (its layers' span): half a metre is a block
 constexpr Real minHeaterSide = 0.01; ///< m, a heater panel's width or length
 constexpr Real maxHeaterSide = 10;   ///< m, wider than any forming machine's heater bank

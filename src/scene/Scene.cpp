@@ -66,6 +66,7 @@ void Scene::reset()
 void Scene::build()
 {
     tearDown();
+    m_addedActions.clear();
     try
     {
         // Again: --size (or the paper's sizes, or the viewer's panel) may have made the sheet smaller than the
@@ -155,6 +156,7 @@ void Scene::buildHeat()
                                                               m_spec.heat.settings);
                });
     m_heaterOn = m_spec.heat.heaterOn;
+    m_heaterPower = m_spec.heat.heaterPower;
 }
 
 MassSpringSystem Scene::buildSheet(Real startTemperature) const
@@ -258,16 +260,7 @@ void Scene::addHooks()
     m_script = std::make_unique<ScriptRunner>(
         m_spec.script, m_lattice, *m_environment,
         [this](const std::string& name, const std::string& object, Real t) { record(name, object, t); },
-        [this](const ScriptAction& action)
-        {
-            if (action.kind == ScriptAction::Kind::Ambient)
-            {
-                setAmbientTemperature(action.temperature);
-                return;
-            }
-            const auto& names = m_spec.heat.heaterNames;
-            setHeater(std::size_t(std::find(names.begin(), names.end(), action.heater) - names.begin()), action.on);
-        });
+        [this](const ScriptAction& action) { carryOut(action); });
     m_simulator->addHook(m_script.get());
     if (m_spec.selfCollision)
     {
@@ -418,7 +411,16 @@ void Scene::addAction(ScriptAction action)
     targets.grabs = m_script->grabLabels();
     targets.heaters = m_spec.heat.heaterNames;
     targets.heat = m_thermal != nullptr;
+    targets.forming = m_pressure != nullptr;
     checkScriptAction(action, targets);
+    // The guard's bounds from the script with this action in it, as a scene file holding it would have had them: a
+    // faster plug or a stronger pressure than the file's own is not taken for a divergence.
+    m_addedActions.push_back(action);
+    SceneSpec withAdded = m_spec;
+    withAdded.script.insert(withAdded.script.end(), m_addedActions.begin(), m_addedActions.end());
+    const std::vector<Real>& masses = system().particles.mass;
+    m_simulator->guard().setSettings(
+        guardSettings(withAdded, masses.empty() ? Real(1) : *std::min_element(masses.begin(), masses.end())));
     // Rest counts from the end of every scripted motion, this one's included.
     m_scriptedMotionEnd = std::max(m_scriptedMotionEnd, motionEnd(action));
     m_script->add(std::move(action));
@@ -459,8 +461,75 @@ void Scene::setHeater(std::size_t heater, bool on)
     }
     m_heaterOn[heater] = on;
     ThermalSettings settings = m_thermal->settings();
-    settings.heaters[heater].power = on ? m_spec.heat.heaterPower[heater] : Real(0);
+    settings.heaters[heater].power = on ? m_heaterPower[heater] : Real(0);
     m_thermal->setSettings(settings);
+}
+
+void Scene::carryOut(const ScriptAction& action)
+{
+    switch (action.kind)
+    {
+    case ScriptAction::Kind::Ambient:
+        setAmbientTemperature(action.temperature);
+        return;
+    case ScriptAction::Kind::Heater:
+    {
+        const auto& names = m_spec.heat.heaterNames;
+        const auto heater = std::size_t(std::find(names.begin(), names.end(), action.heater) - names.begin());
+        if (action.power >= 0 && heater < m_heaterPower.size())
+        {
+            m_heaterPower[heater] = action.power;
+        }
+        setHeater(heater, action.on);
+        return;
+    }
+    case ScriptAction::Kind::ObstacleTemperature:
+        setObstacleTemperature(m_environment->findObstacle(action.obstacle), action.temperature);
+        return;
+    case ScriptAction::Kind::Pressure:
+        if (m_pressure)
+        {
+            // From the pressure now to the new one over the ramp, then held: the rest of the schedule is replaced.
+            const Real now = time();
+            std::vector<PressureKey> keys = {{now, m_pressure->schedule().at(now)}};
+            keys.push_back({action.ramp > 0 ? now + action.ramp : now, action.pressure});
+            if (!(keys.back().time > now))
+            {
+                keys.erase(keys.begin());
+            }
+            m_pressure->setSchedule(PressureSchedule(std::move(keys)));
+        }
+        return;
+    default:
+        return;
+    }
+}
+
+void Scene::setObstacleTemperature(int obstacle, Real kelvin)
+{
+    if (!m_thermal || obstacle < 0)
+    {
+        return;
+    }
+    std::vector<Real> temperatures = m_thermal->obstacleTemperatures();
+    temperatures.resize(std::max(temperatures.size(), std::size_t(obstacle) + 1),
+                        std::numeric_limits<Real>::quiet_NaN());
+    temperatures[std::size_t(obstacle)] = kelvin;
+    m_thermal->setObstacleTemperatures(std::move(temperatures));
+}
+
+Real Scene::formingPressure() const
+{
+    return m_pressure ? m_pressure->schedule().at(time()) : Real(0);
+}
+
+Real Scene::obstacleTemperature(int obstacle) const
+{
+    if (!m_thermal || obstacle < 0 || std::size_t(obstacle) >= m_thermal->obstacleTemperatures().size())
+    {
+        return std::numeric_limits<Real>::quiet_NaN();
+    }
+    return m_thermal->obstacleTemperatures()[std::size_t(obstacle)];
 }
 
 void Scene::setAmbientTemperature(Real kelvin)
@@ -573,7 +642,20 @@ void Scene::updateRest()
 
 bool Scene::scriptStillMoving() const
 {
-    return !m_script->pending().empty() || time() < m_scriptedMotionEnd - 1e-9;
+    if (!m_script->pending().empty() || time() < m_scriptedMotionEnd - 1e-9)
+    {
+        return true;
+    }
+    // A steered obstacle's path ends where the steer took it, known only once the steer has fired.
+    for (int k = 0; k < m_environment->obstacleCount(); ++k)
+    {
+        const bridge::KinematicPath& path = m_environment->obstacle(k).path;
+        if (path.isKinematic() && time() < path.keys.back().time - 1e-9)
+        {
+            return true;
+        }
+    }
+    return false;
 }
 
 std::vector<const ScriptAction*> Scene::pendingActions() const

@@ -85,11 +85,19 @@ public:
     bool heaterOn(std::size_t heater) const { return m_heaterOn.at(heater); }
     /// Sets the room air temperature (K), as the script's "ambient" action.
     void setAmbientTemperature(Real kelvin);
+    /// W, a heater's power when on (its own, or the last "heater" action's).
+    Real heaterPower(std::size_t heater) const { return m_heaterPower.at(heater); }
+    /// Pa, the forming pressure's schedule now (0 without a "forming" section).
+    Real formingPressure() const;
+    /// K, an obstacle's temperature for contact heat (NaN: the air's, or no heat model).
+    Real obstacleTemperature(int obstacle) const;
 
     /// Adds a script action between steps, at or after the scene's time: it fires as a scene file's action at that
     /// time would, at the start of the next frame at or after it. Throws InputError (the action's key: "mass",
     /// "heater"...), adding nothing, for a time in the past or a mass, grab, obstacle or heater the scene lacks.
     void addAction(ScriptAction action);
+    /// The actions added since the scene was built (reset forgets them), in the order added.
+    const std::vector<ScriptAction>& addedActions() const { return m_addedActions; }
     /// Points the grab labelled `label` from now on straight to `target`, reached `duration` s later (at once for 0);
     /// throws InputError when no grab has that label or the target or duration is not finite.
     void redirectGrab(const std::string& label, const Vec3& target, Real duration);
@@ -139,6 +147,9 @@ private:
     /// Throws InputError when the forming section names a mould that is a mesh with a gap (an edge of one face).
     void requireSealedMould() const;
     void record(const std::string& name, const std::string& object, Real simTime);
+    /// The script's actions on what the scene owns: heat, obstacle temperatures, the forming pressure.
+    void carryOut(const ScriptAction& action);
+    void setObstacleTemperature(int obstacle, Real kelvin);
     void updateRest();
 
     SceneSpec m_spec;
@@ -158,6 +169,8 @@ private:
     std::unique_ptr<SheetThickness> m_thickness; ///< for a material sheet without heat
     std::unique_ptr<PressureLoad> m_pressure;
     std::vector<bool> m_heaterOn;
+    std::vector<Real> m_heaterPower;          ///< W per heater when on
+    std::vector<ScriptAction> m_addedActions; ///< added while running (addAction), for the guard's bounds
     std::vector<SceneEvent> m_events;
     std::size_t m_contactsSeen = 0;
     std::vector<int> m_restPrerequisites;

@@ -286,8 +286,9 @@ ScriptAction readAction(const JsonObject& o)
 {
     ScriptAction action;
     action.time = o.number("time", 0.0, 0.0);
-    const std::string kind =
-        o.choice("action", "grab", {"grab", "release", "pin", "unpin", "gravity", "move", "heater", "ambient"});
+    const std::string kind = o.choice("action", "grab",
+                                      {"grab", "release", "pin", "unpin", "gravity", "move", "steer", "heater",
+                                       "ambient", "pressure", "obstacle_temperature"});
     action.label = o.string("label", "");
     if (kind == "grab")
     {
@@ -342,6 +343,38 @@ ScriptAction readAction(const JsonObject& o)
         action.kind = ScriptAction::Kind::Heater;
         action.heater = o.string("heater");
         action.on = o.boolean("on", true);
+        if (o.has("power"))
+        {
+            action.power = o.number("power", 0.0, 0.0); // checked against the panel's size with the scene
+        }
+    }
+    else if (kind == "pressure")
+    {
+        action.kind = ScriptAction::Kind::Pressure;
+        action.pressure = o.number("pressure");
+        action.ramp = o.number("ramp", 0.0, 0.0, limits::maxDuration);
+    }
+    else if (kind == "steer")
+    {
+        action.kind = ScriptAction::Kind::Steer;
+        action.obstacle = o.string("obstacle");
+        action.target = plausible::point(o, "to");
+        action.speed = o.number("speed");
+        if (!(action.speed > 0) || action.speed > plausible::maxSteerSpeed)
+        {
+            o.fail("speed", "must be in (0, " + formatNumber(plausible::maxSteerSpeed) + "] m/s (got " +
+                                formatNumber(action.speed) + ")");
+        }
+    }
+    else if (kind == "obstacle_temperature")
+    {
+        action.kind = ScriptAction::Kind::ObstacleTemperature;
+        action.obstacle = o.string("obstacle");
+        action.temperature = o.number("temperature_c") + kelvinAtZeroCelsius;
+        if (!(action.temperature > 0))
+        {
+            o.fail("temperature_c", "must be above absolute zero, -273.15 C");
+        }
     }
     else if (kind == "ambient")
     {
@@ -581,10 +614,17 @@ void checkTemperatures(const SceneSpec& scene, const JsonObject& top)
     }
     for (std::size_t i = 0; i < scene.script.size(); ++i)
     {
-        if (scene.script[i].kind == ScriptAction::Kind::Ambient)
+        const ScriptAction& a = scene.script[i];
+        const std::string key = "script[" + std::to_string(i) + "]";
+        if (a.kind == ScriptAction::Kind::Ambient || a.kind == ScriptAction::Kind::ObstacleTemperature)
         {
-            plausible::checkTemperature(top, "script[" + std::to_string(i) + "].temperature_c",
-                                        scene.script[i].temperature, material);
+            plausible::checkTemperature(top, key + ".temperature_c", a.temperature, material);
+        }
+        const auto heater = std::find(scene.heat.heaterNames.begin(), scene.heat.heaterNames.end(), a.heater);
+        if (a.kind == ScriptAction::Kind::Heater && a.power >= 0 && heater != scene.heat.heaterNames.end())
+        {
+            const RadiantHeater& panel = t.heaters[std::size_t(heater - scene.heat.heaterNames.begin())];
+            plausible::checkHeaterPower(top, key + ".power", a.power, panel.width, panel.length);
         }
     }
 }
@@ -633,6 +673,7 @@ void checkReferences(const SceneSpec& scene, const JsonObject& top)
     }
     targets.heaters = scene.heat.heaterNames;
     targets.heat = scene.heat.enabled;
+    targets.forming = scene.forming.enabled;
     for (std::size_t i = 0; i < scene.script.size(); ++i)
     {
         const ScriptAction& a = scene.script[i];
@@ -736,6 +777,7 @@ void checkScriptAction(const ScriptAction& a, const ScriptTargets& targets)
         }
         break;
     case ScriptAction::Kind::Move:
+    case ScriptAction::Kind::Steer:
         if (!has(targets.obstacles, a.obstacle))
         {
             throw InputError("obstacle",
@@ -759,6 +801,23 @@ void checkScriptAction(const ScriptAction& a, const ScriptTargets& targets)
         if (!targets.heat)
         {
             throw InputError("action", "an ambient temperature needs a \"heat\" section");
+        }
+        break;
+    case ScriptAction::Kind::ObstacleTemperature:
+        if (!targets.heat)
+        {
+            throw InputError("action", "an obstacle's temperature needs a \"heat\" section");
+        }
+        if (!has(targets.obstacles, a.obstacle))
+        {
+            throw InputError("obstacle",
+                             "no obstacle is named '" + a.obstacle + "'" + didYouMean(a.obstacle, targets.obstacles));
+        }
+        break;
+    case ScriptAction::Kind::Pressure:
+        if (!targets.forming)
+        {
+            throw InputError("action", "a forming pressure needs a \"forming\" section");
         }
         break;
     }
@@ -865,7 +924,8 @@ void makeAbsolute(nlohmann::json& holder, const char* key, const std::filesystem
     }
 }
 
-/// Every key of a scene document that names a file: "material.file" and "obstacles[].file".
+} // namespace
+
 void makePathsAbsolute(nlohmann::json& document, const std::filesystem::path& folder)
 {
     if (document.contains("material"))
@@ -881,6 +941,8 @@ void makePathsAbsolute(nlohmann::json& document, const std::filesystem::path& fo
     }
 }
 
+namespace
+{
 /// Whether `text` is valid UTF-8 (no overlong forms, no surrogates, nothing past U+10FFFF).
 bool validUtf8(const std::string& text)
 {

@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 namespace masse::scene
 {
 /// Reads and checks a scene file; throws InputError "<file>: <key path>: <what is wrong>" for malformed JSON, an
@@ -45,7 +47,8 @@ struct ScriptTargets
     std::vector<std::string> staticObstacles; ///< the scene's obstacles without a path, which cannot move
     std::vector<std::string> grabs;           ///< labels of the grabs before the action
     std::vector<std::string> heaters;
-    bool heat = false; ///< the scene has a "heat" section
+    bool heat = false;    ///< the scene has a "heat" section
+    bool forming = false; ///< the scene has a "forming" section
 };
 /// Throws InputError for the action's key (relative to the action: "mass", "grab", "masses.masses", "obstacle",
 /// "heater", "action") when the action names something `targets` lacks.
@@ -60,6 +63,9 @@ constexpr std::size_t maxExtendsDepth = 64;
 /// named with the file that refers to it and its "extends" key; a chain that comes back to one of its files is refused
 /// as a loop.
 nlohmann::json readSceneDocument(const std::string& path);
+/// Makes every key of a scene document that names a file ("material.file", "obstacles[].file") absolute, relative
+/// paths taken from `folder`.
+void makePathsAbsolute(nlohmann::json& document, const std::filesystem::path& folder);
 
 /// The same from parsed JSON; `baseDirectory` resolves relative mesh paths, `origin` names the source in messages.
 SceneSpec parseScene(const nlohmann::json& document, const std::string& baseDirectory, const std::string& origin);

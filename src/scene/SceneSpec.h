@@ -114,10 +114,13 @@ struct ScriptAction
         Release, ///< removes a grab's spring
         Pin,
         Unpin,
-        Gravity, ///< sets gravity to `vector`
-        Move,    ///< moves a kinematic obstacle along `obstaclePath` (times absolute)
-        Heater,  ///< switches a heater on or off (`heater`, `on`)
-        Ambient, ///< sets the room air temperature (`temperature`, K)
+        Gravity,  ///< sets gravity to `vector`
+        Move,     ///< moves a kinematic obstacle along `obstaclePath` (times absolute)
+        Heater,   ///< switches a heater on or off (`heater`, `on`), at `power` W when given
+        Ambient,  ///< sets the room air temperature (`temperature`, K)
+        Pressure, ///< the forming pressure goes to `pressure` Pa over `ramp` s and holds, in place of the schedule
+        Steer,    ///< a kinematic obstacle goes from where it is straight to `target` at `speed`, in place of its path
+        ObstacleTemperature, ///< sets an obstacle's temperature (`obstacle`, `temperature`, K)
     };
     Kind kind = Kind::Grab;
     Real time = 0;      ///< s
@@ -138,10 +141,17 @@ struct ScriptAction
     // Move
     std::string obstacle;
     std::vector<bridge::PoseKey> obstaclePath;
-    // Heater, Ambient
+    // Heater, Ambient, ObstacleTemperature
     std::string heater;
     bool on = true;
+    Real power = -1;           ///< W; below 0: the heater's own from the heat section
     Real temperature = 293.15; ///< K
+    // Pressure
+    Real pressure = 0; ///< Pa
+    Real ramp = 0;     ///< s
+    // Steer (and `obstacle`)
+    Vec3 target = Vec3::Zero(); ///< m
+    Real speed = 0;             ///< m/s
 };
 
 /// What the outputs of a run contain.

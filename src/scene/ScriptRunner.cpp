@@ -24,8 +24,8 @@ Index nearestMass(const Particles& particles, const Vec3& point)
 }
 
 ScriptRunner::ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice,
-                           bridge::BulletEnvironment& environment, EventSink sink, HeatAction heat)
-    : m_lattice(lattice), m_environment(environment), m_sink(std::move(sink)), m_heat(std::move(heat))
+                           bridge::BulletEnvironment& environment, EventSink sink, SceneAction sceneAction)
+    : m_lattice(lattice), m_environment(environment), m_sink(std::move(sink)), m_sceneAction(std::move(sceneAction))
 {
     for (ScriptAction& action : actions)
     {
@@ -172,14 +172,34 @@ void ScriptRunner::fire(MassSpringSystem& system, ScriptAction& action, Real tim
         m_environment.extendPath(m_environment.findObstacle(action.obstacle), action.obstaclePath);
         m_sink("move", action.obstacle, time);
         break;
+    case ScriptAction::Kind::Steer:
+        m_environment.steer(m_environment.findObstacle(action.obstacle), time, action.target, action.speed);
+        m_sink("steer", action.obstacle, time);
+        break;
     case ScriptAction::Kind::Heater:
     case ScriptAction::Kind::Ambient:
-        if (m_heat)
+    case ScriptAction::Kind::ObstacleTemperature:
+    case ScriptAction::Kind::Pressure:
+        if (m_sceneAction)
         {
-            m_heat(action);
+            m_sceneAction(action);
         }
-        m_sink(action.kind == ScriptAction::Kind::Heater ? (action.on ? "heater on" : "heater off") : "ambient",
-               action.kind == ScriptAction::Kind::Heater ? action.heater : "air", time);
+        if (action.kind == ScriptAction::Kind::Heater)
+        {
+            m_sink(action.on ? "heater on" : "heater off", action.heater, time);
+        }
+        else if (action.kind == ScriptAction::Kind::Ambient)
+        {
+            m_sink("ambient", "air", time);
+        }
+        else if (action.kind == ScriptAction::Kind::ObstacleTemperature)
+        {
+            m_sink("obstacle temperature", action.obstacle, time);
+        }
+        else
+        {
+            m_sink("pressure", "sheet", time);
+        }
         break;
     }
 }
@@ -253,6 +273,12 @@ std::string actionName(ScriptAction::Kind kind)
         return "heater";
     case ScriptAction::Kind::Ambient:
         return "ambient";
+    case ScriptAction::Kind::Pressure:
+        return "pressure";
+    case ScriptAction::Kind::Steer:
+        return "steer";
+    case ScriptAction::Kind::ObstacleTemperature:
+        return "obstacle_temperature";
     }
     return "action";
 }

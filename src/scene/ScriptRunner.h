@@ -16,14 +16,15 @@ namespace masse::scene
 /// Receives events: a name ("grab", "release", "pin", "unpin", "gravity", "move"), the object concerned, a time.
 using EventSink = std::function<void(const std::string& name, const std::string& object, Real time)>;
 
-/// Carries out the actions on heat (heater, ambient), which the scene owns.
-using HeatAction = std::function<void(const ScriptAction& action)>;
+/// Carries out the actions on what the scene owns: the heat model's (heater, ambient, obstacle_temperature) and the
+/// forming pressure's (pressure).
+using SceneAction = std::function<void(const ScriptAction& action)>;
 
 class ScriptRunner final : public StepHook
 {
 public:
     ScriptRunner(std::vector<ScriptAction> actions, const Lattice& lattice, bridge::BulletEnvironment& environment,
-                 EventSink sink, HeatAction heat = {});
+                 EventSink sink, SceneAction sceneAction = {});
 
     StageSet stages() const override { return {StepStage::BeforeFrame, StepStage::AfterSubstep}; }
     /// Fires the actions due at the frame's start, before its stability estimate and contact detection.
@@ -67,7 +68,7 @@ private:
     const Lattice& m_lattice;
     bridge::BulletEnvironment& m_environment;
     EventSink m_sink;
-    HeatAction m_heat;
+    SceneAction m_sceneAction;
     std::vector<Grab> m_grabs;
     std::vector<const ScriptAction*> m_grabsFiredThisFrame;
 };

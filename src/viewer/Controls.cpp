@@ -76,6 +76,7 @@ void Controls::setView(ViewPreset preset, const SceneSnapshot& snapshot)
 
 void Controls::update(const SceneSnapshot& snapshot)
 {
+    process.update(snapshot);
     if (follow && !snapshot.positions.empty())
     {
         camera.target = sheetCentre(snapshot.positions);
@@ -248,6 +249,21 @@ void Controls::onKey(unsigned char key, const SceneSnapshot& snapshot, const Com
         break;
     case '\t':
         panelVisible = !panelVisible;
+        break;
+    case 'j':
+        process.nudge(snapshot, -1, post);
+        break;
+    case 'k':
+        process.nudge(snapshot, +1, post);
+        break;
+    case 'h':
+        process.stop(snapshot, post);
+        break;
+    case 'u':
+        process.switchPressure(snapshot, post);
+        break;
+    case 'w':
+        process.saveRun(snapshot, post);
         break;
     case 'q':
     case 27:

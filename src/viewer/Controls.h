@@ -6,6 +6,7 @@
 #include "Camera.h"
 #include "InputEvents.h"
 #include "Picking.h"
+#include "ProcessControls.h"
 #include "SceneGeometry.h"
 #include "SceneSnapshot.h"
 #include "SimulationThread.h"
@@ -45,6 +46,8 @@ public:
     bool follow = false; ///< the camera's target follows the sheet's centre
     bool panelVisible = true;
     bool quit = false;
+    /// The forming bench's controls, which the keys j, k, h, u and w reach too.
+    ProcessControls process;
     /// The window's pick (mass, target): drawn at once, before the simulation thread has it.
     std::optional<std::pair<Index, Vec3>> pick;
 

@@ -99,6 +99,13 @@ MassScalarRegistry standardMassScalars()
                           std::transform(thickness->thickness().begin(), thickness->thickness().end(), values.begin(),
                                          [](Real h) { return float(1000 * h); });
                       }
+                  },
+                  [](const scene::Scene& scene) -> std::optional<ScalarRange>
+                  {
+                      const SheetThickness* thickness = scene.thickness();
+                      return thickness ? std::optional<ScalarRange>(
+                                             ScalarRange{0.0f, float(1000 * thickness->initialThickness())})
+                                       : std::nullopt;
                   }});
     registry.add({"thickness_ratio", "", "Local thickness over the sheet's starting thickness, h / h0 (\"material\")",
                   [](const scene::Scene& scene, std::vector<float>& values)
@@ -110,6 +117,9 @@ MassScalarRegistry standardMassScalars()
                           std::transform(thickness->thickness().begin(), thickness->thickness().end(), values.begin(),
                                          [initial](Real h) { return float(h / initial); });
                       }
+                  },
+                  [](const scene::Scene&) -> std::optional<ScalarRange> {
+                      return ScalarRange{0.0f, 1.0f};
                   }});
     return registry;
 }

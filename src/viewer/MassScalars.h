@@ -5,12 +5,20 @@
 #include "scene/Scene.h"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace masse::viewer
 {
+/// Smallest and largest of the values; a range of width zero is widened so colouring never divides by zero.
+struct ScalarRange
+{
+    float low = 0;
+    float high = 1;
+    float normalise(float value) const { return (value - low) / (high - low); }
+};
 struct MassScalar
 {
     std::string name;        ///< the key shown in the panel and given to --scalar, e.g. "speed"
@@ -18,6 +26,9 @@ struct MassScalar
     std::string description; ///< one line for the panel's tooltip
     /// Fills one value per mass of the scene's sheet.
     std::function<void(const scene::Scene& scene, std::vector<float>& values)> evaluate;
+    /// The colour bar's fixed span for this scene (thickness: 0 to h0, so a thinning of a few per cent does not fill
+    /// the bar), or none: the bar then spans the values drawn.
+    std::function<std::optional<ScalarRange>(const scene::Scene& scene)> fixedRange = {};
 };
 
 class MassScalarRegistry
@@ -41,12 +52,5 @@ MassScalarRegistry standardMassScalars();
 /// Mean (length - rest) / rest over the springs of each mass (0 for a mass without springs).
 void meanSpringStrain(const MassSpringSystem& system, std::vector<float>& values);
 
-/// Smallest and largest of the values; a range of width zero is widened so colouring never divides by zero.
-struct ScalarRange
-{
-    float low = 0;
-    float high = 1;
-    float normalise(float value) const { return (value - low) / (high - low); }
-};
 ScalarRange rangeOf(const std::vector<float>& values);
 } // namespace masse::viewer

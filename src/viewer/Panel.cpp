@@ -2,6 +2,8 @@
 
 #include "ColourBar.h"
 
+#include "core/Format.h"
+
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
@@ -16,6 +18,28 @@ namespace
 const ImVec4 errorColour(1.0f, 0.45f, 0.4f, 1.0f);
 /// Lines of text the HUD's region holds.
 constexpr float hudLines = 11;
+
+/// The forming process on the HUD's time line: pressure, the steered obstacle's height and speed, the heaters on.
+std::string processLine(const SceneSnapshot& snapshot)
+{
+    std::string line;
+    if (snapshot.process.forming)
+    {
+        line += "  p " + formatNumber("%.1f", snapshot.process.pressure / 1000) + " kPa";
+    }
+    if (const std::optional<std::size_t> k = ProcessControls::steeredObstacle(snapshot))
+    {
+        const ObstacleShape& plug = snapshot.obstacles[*k];
+        line += "  " + plug.name + " y " + formatNumber("%.4f", plug.position.y()) + " m " +
+                formatNumber("%+.0f", 1000 * plug.velocity.y()) + " mm/s";
+    }
+    if (snapshot.heat && !snapshot.heat->heatersOn.empty())
+    {
+        const auto on = std::count(snapshot.heat->heatersOn.begin(), snapshot.heat->heatersOn.end(), true);
+        line += "  heaters " + std::to_string(on) + "/" + std::to_string(snapshot.heat->heatersOn.size());
+    }
+    return line;
+}
 const ImVec4 warningColour(1.0f, 0.75f, 0.3f, 1.0f);
 
 constexpr std::array<DrawMode, 3> drawModes{DrawMode::MassesAndSprings, DrawMode::Surface, DrawMode::Scalar};
@@ -89,8 +113,8 @@ bool nonNegativeDouble(const char* label, double& value, const char* format)
 } // namespace
 
 PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
-                          bool& pickMode, bool& follow, const FrameStats& stats, const MassScalarRegistry& scalars,
-                          const Renderer& renderer, const ScreenRect& column)
+                          bool& pickMode, bool& follow, ProcessControls& process, const FrameStats& stats,
+                          const MassScalarRegistry& scalars, const Renderer& renderer, const ScreenRect& column)
 {
     PanelRequests requests;
     if (m_generation != snapshot.generation)
@@ -124,7 +148,7 @@ PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simul
     ImGui::Separator();
     if (visible)
     {
-        drawControls(snapshot, simulation, draw, pickMode, follow, scalars, requests);
+        drawControls(snapshot, simulation, draw, pickMode, follow, process, scalars, requests);
     }
     else
     {
@@ -136,7 +160,8 @@ PanelRequests Panel::draw(const SceneSnapshot& snapshot, SimulationThread& simul
 }
 
 void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw,
-                         bool& pickMode, bool& follow, const MassScalarRegistry& scalars, PanelRequests& requests)
+                         bool& pickMode, bool& follow, ProcessControls& process, const MassScalarRegistry& scalars,
+                         PanelRequests& requests)
 {
     ImGui::TextDisabled("Controls (Tab hides them)");
     // Fields narrow enough that their labels fit beside them.
@@ -228,7 +253,7 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
         requests.view = ViewPreset::ElevatedLeft;
     }
 
-    drawHeatControls(snapshot, simulation);
+    drawProcessControls(snapshot, simulation, process);
     drawSceneEditor(snapshot, simulation);
 
     if (ImGui::CollapsingHeader("Mouse and keys"))
@@ -245,36 +270,138 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
     ImGui::PopItemWidth();
 }
 
-void Panel::drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation)
+void Panel::drawProcessControls(const SceneSnapshot& snapshot, SimulationThread& simulation, ProcessControls& process)
 {
-    if (!snapshot.heat || !ImGui::CollapsingHeader("Heat (live)", ImGuiTreeNodeFlags_DefaultOpen))
+    const ProcessState& state = snapshot.process;
+    const std::optional<std::size_t> steered = ProcessControls::steeredObstacle(snapshot);
+    const bool hasTemperatures = std::any_of(snapshot.obstacles.begin(), snapshot.obstacles.end(),
+                                             [](const ObstacleShape& o) { return o.hasTemperature && !o.partOfRoom; });
+    if ((!state.forming && !steered && !snapshot.heat) ||
+        !ImGui::CollapsingHeader("Process (live)", ImGuiTreeNodeFlags_DefaultOpen))
     {
         return;
     }
-    const HeatState& heat = *snapshot.heat;
-    // These act on the running scene at once, as the script's "ambient" and "heater" actions do.
-    float ambient = float(heat.ambientC);
-    if (ImGui::SliderFloat("ambient (C)", &ambient, -20.0f, 250.0f, "%.1f"))
+    // Every change here is a script action at the scene's time (it acts from the next frame) that "save run" writes.
+    const CommandSink post = [&simulation](SessionCommand command) { simulation.post(std::move(command)); };
+    if (state.forming)
     {
-        simulation.post([ambient](ViewerSession& session)
-                        { session.scene().setAmbientTemperature(Real(ambient) + 273.15); });
-    }
-    const std::vector<std::string>& heaters = snapshot.spec->heat.heaterNames;
-    for (std::size_t i = 0; i < heaters.size() && i < heat.heatersOn.size(); ++i)
-    {
-        bool on = heat.heatersOn[i];
-        const std::string label = "heater " + heaters[i] + " (" +
-                                  std::to_string(int(std::lround(snapshot.spec->heat.heaterPower[i]))) + " W)";
-        if (ImGui::Checkbox(label.c_str(), &on))
+        ImGui::Text("pressure now %.1f kPa", state.pressure / 1000);
+        bool on = state.pressure != 0;
+        if (ImGui::Checkbox("vacuum / pressure on (u)", &on))
         {
-            simulation.post([i, on](ViewerSession& session) { session.scene().setHeater(i, on); });
+            process.setPressure(on ? process.level : Real(0), post);
+        }
+        float levelKpa = float(process.level / 1000);
+        if (ImGui::SliderFloat("level (kPa)", &levelKpa, -100.0f, 600.0f, "%.1f"))
+        {
+            process.level = Real(levelKpa) * 1000;
+        }
+        if (ImGui::IsItemDeactivatedAfterEdit() && on)
+        {
+            process.setPressure(process.level, post);
+        }
+        float ramp = float(process.ramp);
+        if (ImGui::SliderFloat("ramp (s)", &ramp, 0.0f, 2.0f, "%.2f"))
+        {
+            process.ramp = Real(ramp);
         }
     }
-    ImGui::Text("sheet %.1f .. %.1f C", heat.lowestC, heat.highestC);
-    if (heat.thinnest)
+    if (steered)
     {
-        ImGui::Text("thinnest %.3f mm (%.0f%% of %.3f)", 1000 * *heat.thinnest,
-                    100 * *heat.thinnest / heat.initialThickness, 1000 * heat.initialThickness);
+        const ObstacleShape& plug = snapshot.obstacles[*steered];
+        ImGui::Text("%s at y = %.4f m, moving %.1f mm/s", plug.name.c_str(), plug.position.y(),
+                    1000 * plug.velocity.y());
+        if (ImGui::Button("down (j)"))
+        {
+            process.nudge(snapshot, -1, post);
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("up (k)"))
+        {
+            process.nudge(snapshot, +1, post);
+        }
+        ImGui::SameLine();
+        if (ImGui::Button("hold (h)"))
+        {
+            process.stop(snapshot, post);
+        }
+        float speed = float(1000 * process.speed);
+        if (ImGui::SliderFloat("speed (mm/s)", &speed, 1.0f, 500.0f, "%.0f"))
+        {
+            process.speed = Real(speed) / 1000;
+        }
+        float step = float(1000 * process.step);
+        if (ImGui::SliderFloat("step (mm)", &step, 1.0f, 50.0f, "%.0f"))
+        {
+            process.step = Real(step) / 1000;
+        }
+    }
+    if (snapshot.heat)
+    {
+        const HeatState& heat = *snapshot.heat;
+        float ambient = float(heat.ambientC);
+        ImGui::SliderFloat("ambient (C)", &ambient, -20.0f, 250.0f, "%.1f");
+        if (ImGui::IsItemDeactivatedAfterEdit())
+        {
+            process.setAmbient(Real(ambient), post);
+        }
+        const std::vector<std::string>& heaters = snapshot.spec->heat.heaterNames;
+        for (std::size_t i = 0; i < heaters.size() && i < heat.heatersOn.size() && i < state.heaterPower.size(); ++i)
+        {
+            ImGui::PushID(int(i));
+            bool on = heat.heatersOn[i];
+            if (ImGui::Checkbox(("heater " + heaters[i]).c_str(), &on))
+            {
+                process.setHeater(heaters[i], on, state.heaterPower[i], post);
+            }
+            float watts = float(state.heaterPower[i]);
+            ImGui::SliderFloat("power (W)", &watts, 0.0f, 50000.0f, "%.0f");
+            if (ImGui::IsItemDeactivatedAfterEdit())
+            {
+                process.setHeater(heaters[i], heat.heatersOn[i], Real(watts), post);
+            }
+            ImGui::PopID();
+        }
+        if (hasTemperatures)
+        {
+            for (const ObstacleShape& obstacle : snapshot.obstacles)
+            {
+                if (!obstacle.hasTemperature || obstacle.partOfRoom)
+                {
+                    continue;
+                }
+                float celsius = float(obstacle.temperatureC);
+                ImGui::SliderFloat((obstacle.name + " (C)").c_str(), &celsius, 0.0f, 250.0f, "%.1f");
+                if (ImGui::IsItemDeactivatedAfterEdit())
+                {
+                    process.setObstacleTemperature(obstacle.name, Real(celsius), post);
+                }
+            }
+        }
+        ImGui::Text("sheet %.1f .. %.1f C", heat.lowestC, heat.highestC);
+        if (heat.thinnest)
+        {
+            ImGui::Text("thinnest %.3f mm (%.0f%% of %.3f)", 1000 * *heat.thinnest,
+                        100 * *heat.thinnest / heat.initialThickness, 1000 * heat.initialThickness);
+        }
+    }
+    ImGui::BeginDisabled(!state.saveable);
+    if (ImGui::Button("Save run (w)"))
+    {
+        process.saveRun(snapshot, post);
+    }
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::Text("%zu action(s) to %s", state.recordedActions, process.savePath(snapshot).c_str());
+    if (!state.saveable)
+    {
+        ImGui::TextDisabled("edited in the panel: only a scene from a file can be saved");
+    }
+    else if (state.mousePulled)
+    {
+        ImGui::PushStyleColor(ImGuiCol_Text, warningColour);
+        ImGui::TextUnformatted("the mouse pulled the sheet: a saved run will not replay that");
+        ImGui::PopStyleColor();
     }
 }
 
@@ -355,7 +482,7 @@ void Panel::drawColourBar(const SceneSnapshot& snapshot, const DrawSettings& dra
     std::optional<ScalarRange> range;
     if (snapshot.scalarName == draw.scalar && !snapshot.scalar.empty())
     {
-        range = rangeOf(snapshot.scalar);
+        range = snapshot.scalarFixedRange.value_or(rangeOf(snapshot.scalar));
     }
     const ColourBar bar = makeColourBar(*scalar, range, missing);
     ImGui::Separator();
@@ -400,7 +527,7 @@ void Panel::drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, cons
                 std::string(contactResponseName(spec.contact.response)).c_str(), spec.sheet.lattice.countX,
                 spec.sheet.lattice.layers, spec.sheet.lattice.countZ,
                 std::string(integratorName(spec.time.integrator)).c_str(), spec.time.dt);
-    ImGui::Text("t = %.3f s%s", snapshot.time, snapshot.paused ? "  (paused)" : "");
+    ImGui::Text("t = %.3f s%s%s", snapshot.time, snapshot.paused ? "  (paused)" : "", processLine(snapshot).c_str());
     ImGui::Text("%zu masses, %zu springs, %zu in contact", snapshot.positions.size(), snapshot.springCount,
                 snapshot.touchingCount);
     if (spec.selfCollision)

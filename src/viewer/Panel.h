@@ -5,6 +5,7 @@
 
 #include "Camera.h"
 #include "MassScalars.h"
+#include "ProcessControls.h"
 #include "Renderer.h"
 #include "SceneSnapshot.h"
 #include "ScreenLayout.h"
@@ -39,19 +40,21 @@ public:
     /// Reads the snapshot only; what the user asks of the scene goes to the simulation thread as commands.
     /// `column`: where the panel goes (ScreenLayout::column).
     PanelRequests draw(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
-                       bool& follow, const FrameStats& stats, const MassScalarRegistry& scalars,
-                       const Renderer& renderer, const ScreenRect& column);
+                       bool& follow, ProcessControls& process, const FrameStats& stats,
+                       const MassScalarRegistry& scalars, const Renderer& renderer, const ScreenRect& column);
 
     bool visible = true; ///< the controls (Tab); the HUD and the colour bar stay
 
 private:
     void drawControls(const SceneSnapshot& snapshot, SimulationThread& simulation, DrawSettings& draw, bool& pickMode,
-                      bool& follow, const MassScalarRegistry& scalars, PanelRequests& requests);
+                      bool& follow, ProcessControls& process, const MassScalarRegistry& scalars,
+                      PanelRequests& requests);
     /// The colour map with its end values and unit, or why the sheet is grey.
     void drawColourBar(const SceneSnapshot& snapshot, const DrawSettings& draw, const MassScalarRegistry& scalars);
     void drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation);
-    /// Ambient temperature and heaters of a heat scene, acting on the running scene.
-    void drawHeatControls(const SceneSnapshot& snapshot, SimulationThread& simulation);
+    /// The forming bench: the pressure, the plug, the heaters, the obstacles' and the air's temperatures (as recorded
+    /// actions on the running scene), and saving the run.
+    void drawProcessControls(const SceneSnapshot& snapshot, SimulationThread& simulation, ProcessControls& process);
     void drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, const DrawSettings& draw,
                  const Renderer& renderer);
 

@@ -339,7 +339,7 @@ void buildSheetArrays(const SceneSnapshot& snapshot, const DrawSettings& setting
     const bool scalarMode = settings.mode == DrawMode::Scalar;
     if (scalarMode && snapshot.scalarName == settings.scalar && snapshot.scalar.size() == n && n > 0)
     {
-        const ScalarRange range = rangeOf(snapshot.scalar);
+        const ScalarRange range = snapshot.scalarFixedRange.value_or(rangeOf(snapshot.scalar));
         out.scalarRange = range;
         for (std::size_t i = 0; i < n; ++i)
         {
@@ -547,6 +547,19 @@ std::vector<Vec3> springCoil(const Vec3& from, const Vec3& to, Real radius, int 
 OverlayGeometry buildOverlays(const SceneSnapshot& snapshot, const std::optional<std::pair<Index, Vec3>>& pick)
 {
     OverlayGeometry out;
+    // The thinnest point of a material sheet: a cross three lattice spacings across, over everything (the HUD's
+    // panel gives its value).
+    if (snapshot.thinnest && snapshot.thinnest->first < snapshot.positions.size())
+    {
+        const Vec3& x = snapshot.positions[snapshot.thinnest->first];
+        const Real arm = Real(1.5) * (snapshot.topology ? snapshot.topology->spacing : Real(0.01));
+        for (int axis = 0; axis < 3; ++axis)
+        {
+            const Vec3 along = arm * Vec3::Unit(axis);
+            addLine(out.lines, x - along, x + along, palette::thinnest);
+        }
+        out.points.push_back(vertex(x, palette::thinnest));
+    }
     for (const auto& [mass, target] : snapshot.grabs)
     {
         addLine(out.lines, mass, target, palette::scriptedGrab);

@@ -4,6 +4,7 @@
 #include "ScreenRegions.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace masse::viewer
 {
@@ -42,6 +43,11 @@ void captureObstacles(scene::Scene& scene, std::vector<ObstacleShape>& out)
         shape.name = obstacle.name;
         shape.partOfRoom = obstacle.partOfRoom;
         shape.position = obstacle.pose.position;
+        shape.kinematic = obstacle.path.isKinematic();
+        shape.velocity = obstacle.motion.linear;
+        const Real temperature = scene.obstacleTemperature(i);
+        shape.hasTemperature = !std::isnan(temperature);
+        shape.temperatureC = shape.hasTemperature ? temperature - 273.15 : 0;
         shape.vertices = obstacleVertices(obstacle);
         const auto& faces = obstacle.geometry.faces;
         shape.faces.resize(faces.size());
@@ -142,9 +148,14 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
     out.scalarName = scalar;
     out.scalarMissing = scalar.empty() ? "" : scalarMissingReason(scene, scalar);
     out.scalar.clear();
+    out.scalarFixedRange.reset();
     if (const MassScalar* found = scalars.find(scalar); found && out.scalarMissing.empty())
     {
         found->evaluate(scene, out.scalar);
+        if (found->fixedRange)
+        {
+            out.scalarFixedRange = found->fixedRange(scene);
+        }
         out.scalar.resize(n, 0.0f);
     }
 
@@ -183,6 +194,23 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
         ghost.bulletDeepest = comparison->results().at(1).penetration.max();
         out.ghost = std::move(ghost);
     }
+
+    out.thinnest.reset();
+    if (const SheetThickness* thickness = scene.thickness(); thickness && !thickness->thickness().empty())
+    {
+        out.thinnest = std::pair<Index, Real>(thickness->thinnestMass(), thickness->minimumThickness());
+    }
+    ProcessState& process = out.process;
+    process.forming = scene.pressure() != nullptr;
+    process.pressure = scene.formingPressure();
+    process.heaterPower.clear();
+    for (std::size_t i = 0; i < scene.spec().heat.heaterNames.size(); ++i)
+    {
+        process.heaterPower.push_back(scene.heaterPower(i));
+    }
+    process.recordedActions = scene.addedActions().size();
+    process.mousePulled = session.mousePulled();
+    process.saveable = session.source().has_value();
 
     out.heat.reset();
     if (const ThermalModel* thermal = scene.thermal())

@@ -38,6 +38,21 @@ struct ObstacleShape
     std::vector<std::vector<int>> faces; ///< vertex indices
     std::vector<Vec3> normals;           ///< world, one per face
     std::vector<bool> touched;           ///< per face: a mass touched it during the last step
+    bool kinematic = false;              ///< it follows a path (a plug): the process controls steer it
+    Vec3 velocity = Vec3::Zero();        ///< m/s, of its origin
+    Real temperatureC = 0;               ///< its temperature for contact heat, when `hasTemperature`
+    bool hasTemperature = false;
+};
+
+/// The forming process as it runs, for the process controls and the HUD (ProcessControls.h).
+struct ProcessState
+{
+    bool forming = false;            ///< the scene has a forming pressure
+    Real pressure = 0;               ///< Pa, now
+    std::vector<Real> heaterPower;   ///< W per heater when on
+    std::size_t recordedActions = 0; ///< actions added while running, which "save run" writes
+    bool mousePulled = false;        ///< the mouse pulled a mass since the scene started (a saved run lacks it)
+    bool saveable = false;           ///< the scene came from a file (not edited in the panel): it can be saved
 };
 
 /// Bullet's twin (--compare) as the ghost draws it.
@@ -94,6 +109,10 @@ struct SceneSnapshot
     std::vector<std::uint8_t> flags; ///< MassFlag per mass
     std::string scalarName;          ///< the scalar `scalar` holds ("" when none was asked for)
     std::vector<float> scalar;
+    /// The scalar's fixed colour span on this scene (MassScalar::fixedRange), else none: the values' own.
+    std::optional<ScalarRange> scalarFixedRange;
+    /// The thinnest mass (any layer) and its thickness in m, on material scenes: marked on the sheet.
+    std::optional<std::pair<Index, Real>> thinnest;
     /// Why the scene has no values for the scalar asked for ("" when it has them): e.g. temperature on a scene
     /// without heat.
     std::string scalarMissing;
@@ -106,6 +125,7 @@ struct SceneSnapshot
     Vec3 pickTarget = Vec3::Zero();
     std::optional<GhostShape> ghost;
     std::optional<HeatState> heat;
+    ProcessState process;
 
     // Totals since the session started, for rates.
     std::uint64_t steps = 0;

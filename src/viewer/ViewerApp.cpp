@@ -231,6 +231,11 @@ ViewerApp::ViewerApp(scene::SceneSpec spec, const ViewerOptions& options, MassSc
     : m_options(options), m_scalars(std::move(scalars)), m_session(std::move(spec), options.compare),
       m_controls(options.view, options.draw)
 {
+    if (!options.source.path.empty())
+    {
+        m_session.setSource(options.source);
+    }
+    m_controls.process.saveRunPath = options.saveRunPath;
     if (m_controls.draw.mode == DrawMode::Scalar && !m_scalars.find(m_controls.draw.scalar))
     {
         throw InputError("--scalar: unknown scalar '" + m_controls.draw.scalar + "' (expected " + m_scalars.names() +
@@ -507,7 +512,7 @@ void ViewerApp::drawFrame(bool last)
             m_panel.visible = m_controls.panelVisible;
             const PanelRequests requests =
                 m_panel.draw(*m_snapshot, *m_simulation, m_controls.draw, m_controls.pickMode, m_controls.follow,
-                             m_stats, m_scalars, *m_renderer, m_layout.column);
+                             m_controls.process, m_stats, m_scalars, *m_renderer, m_layout.column);
             m_controls.panelVisible = m_panel.visible;
             if (requests.view)
             {

@@ -7,6 +7,7 @@
 #include "MassScalars.h"
 #include "Renderer.h"
 
+#include "scene/SavedRun.h"
 #include "scene/SceneSpec.h"
 
 #include <string>
@@ -30,6 +31,8 @@ struct ViewerOptions
     bool startPaused = false;
     bool compare = false;      ///< run Bullet's soft-body twin beside the sheet and draw it as a ghost
     Real computeBudget = 0.05; ///< s of stepping per pass of the loop at most; the rest stays owed to later passes
+    scene::RunSource source;   ///< the scene's file and flags, for "save run" (no path: the run cannot be saved)
+    std::string saveRunPath;   ///< where "save run" writes ("": <scene name>.run.json in the current folder)
 };
 
 /// What a run of the window did (the benchmark's figures).

@@ -4,7 +4,9 @@
 #include "core/InputError.h"
 #include "core/NumericalError.h"
 #include "core/Simulator.h"
+#include "core/StateHash.h"
 #include "scene/SceneFile.h"
+#include "scene/output/AtomicFile.h"
 
 #include <chrono>
 #include <cstdio>
@@ -44,6 +46,7 @@ void ViewerSession::replaceScene(scene::SceneSpec spec)
     }
     // The pick spring lived in the old system; it goes with it.
     m_pick.reset();
+    m_mousePulled = false;
     m_comparison = std::move(comparison);
     m_ownedScene = std::move(owned);
     m_scene = m_comparison ? &m_comparison->scene() : m_ownedScene.get();
@@ -62,6 +65,7 @@ bool ViewerSession::load(const std::string& path)
         scene::SceneSpec spec = scene::loadScene(path);
         spec.engine = m_scene->spec().engine; // the threads and estimate the viewer was started with
         replaceScene(std::move(spec));
+        m_source = scene::RunSource{path, {}};
         return true;
     }
     catch (const std::exception& e)
@@ -71,7 +75,7 @@ bool ViewerSession::load(const std::string& path)
     }
 }
 
-bool ViewerSession::rebuild(const scene::SceneSpec& spec)
+bool ViewerSession::tryReplaceScene(const scene::SceneSpec& spec)
 {
     try
     {
@@ -85,12 +89,67 @@ bool ViewerSession::rebuild(const scene::SceneSpec& spec)
     }
 }
 
+bool ViewerSession::rebuild(const scene::SceneSpec& spec)
+{
+    if (!tryReplaceScene(spec))
+    {
+        return false;
+    }
+    m_source.reset(); // edited in the panel: no file describes it
+    return true;
+}
+
 void ViewerSession::reset()
 {
     // A fresh scene from the same spec rather than Scene::reset, which tears the scene down before building it
     // again: should the build fail now (a mesh file gone since), the scene shown must survive.
     const scene::SceneSpec spec = m_scene->spec();
-    rebuild(spec);
+    tryReplaceScene(spec);
+}
+
+bool ViewerSession::act(scene::ScriptAction action)
+{
+    action.time = m_scene->time();
+    try
+    {
+        m_scene->addAction(std::move(action));
+        return true;
+    }
+    catch (const std::exception& e)
+    {
+        m_error = std::string("the action was refused: ") + e.what();
+        return false;
+    }
+}
+
+bool ViewerSession::saveRun(const std::string& path)
+{
+    if (!m_source)
+    {
+        m_error = "save run: this scene was changed in the panel, and only a scene read from a file can be saved "
+                  "(load a file, or start the viewer on one)";
+        return false;
+    }
+    try
+    {
+        const nlohmann::json document = scene::savedRunDocument(*m_source, m_scene->addedActions(), m_scene->time());
+        scene::writeFileAtomically(path, document.dump(2) + "\n");
+    }
+    catch (const std::exception& e)
+    {
+        m_error = std::string("save run: ") + e.what();
+        return false;
+    }
+    char hash[32];
+    std::snprintf(hash, sizeof hash, "0x%016llx",
+                  static_cast<unsigned long long>(stateHash(m_scene->system().particles)));
+    m_notice = "saved the run to " + path + ": t = " + formatTime(m_scene->time()) + " s, " +
+               std::to_string(m_scene->addedActions().size()) + " action(s), state " + hash +
+               " (masse run replays it)" +
+               (m_mousePulled ? "; the mouse's pulls are not in it, so the replay will differ" : "");
+    std::printf("%s\n", m_notice.c_str());
+    std::fflush(stdout);
+    return true;
 }
 
 void ViewerSession::setPaused(bool paused)
@@ -204,6 +263,7 @@ void ViewerSession::beginPick(Index mass, const Vec3& target)
     m_pick = system.userSprings.add(makePickSpring(system, mass, target));
     m_pickedMass = mass;
     m_pickTarget = target;
+    m_mousePulled = true;
     system.markChanged();
 }
 

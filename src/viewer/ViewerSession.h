@@ -6,6 +6,7 @@
 #include "PickSpring.h"
 #include "StepScheduler.h"
 
+#include "scene/SavedRun.h"
 #include "scene/Scene.h"
 #include "scene/compare/Comparison.h"
 
@@ -71,10 +72,25 @@ public:
     void endPick();
     std::optional<Index> pickedMass() const;
     std::optional<Vec3> pickTarget() const;
+    /// The mouse pulled a mass since the scene started: a saved run cannot replay that pull.
+    bool mousePulled() const { return m_mousePulled; }
+
+    /// Where the scene came from, for "save run": the command's file and flags, or the file load() read. A scene
+    /// rebuilt from the panel's edits has none (nothing on disk describes it).
+    void setSource(scene::RunSource source) { m_source = std::move(source); }
+    const std::optional<scene::RunSource>& source() const { return m_source; }
+    /// Adds a process action (a pressure, a steer, a heater, a temperature) at the scene's time: it fires at the start
+    /// of the next frame, and a saved run holds it. False, with error() saying why, when the scene refuses it.
+    bool act(scene::ScriptAction action);
+    /// Writes the run so far to `path` as a scene file that `masse run` replays bit for bit (scene/SavedRun.h), and
+    /// says so in notice() and on standard output (time, actions, state hash); false, with error(), when it cannot.
+    bool saveRun(const std::string& path);
 
 private:
     /// Builds a scene (or a comparison) from a spec and makes it current; throws what building throws.
     void replaceScene(scene::SceneSpec spec);
+    /// replaceScene, a failure kept in error() (the current scene stays); false then.
+    bool tryReplaceScene(const scene::SceneSpec& spec);
     /// One step, catching a diverged or refused step: the session pauses and reports it instead of dying.
     bool stepOnce(Advance& advance);
     void noticeEnd();
@@ -94,5 +110,7 @@ private:
     std::optional<UserSpringId> m_pick;
     Index m_pickedMass = 0;
     Vec3 m_pickTarget = Vec3::Zero();
+    bool m_mousePulled = false;
+    std::optional<scene::RunSource> m_source;
 };
 } // namespace masse::viewer

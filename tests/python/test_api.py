@@ -195,6 +195,19 @@ def test_heater_and_ambient():
     assert [e["name"] for e in scene.events][-1] == "heater on"
 
 
+def test_process_actions():
+    scene = masse.Scene.load(SCENES / "plug-assist-cup.json", size="8x2x8", duration=0.5)
+    scene.set_pressure(20000.0, ramp=0.1)
+    scene.steer("plug", [0, 0.0, 0], 0.1)
+    scene.set_obstacle_temperature("mould", 75.0)
+    scene.step()
+    names = [(e["name"], e["object"]) for e in scene.events]
+    assert ("pressure", "sheet") in names and ("steer", "plug") in names
+    assert ("obstacle temperature", "mould") in names
+    with pytest.raises(masse.SceneError, match="static"):
+        scene.steer("mould", [0, 0, 0], 0.1)
+
+
 def test_act_takes_a_scene_files_action():
     scene = masse.Scene.load(DRAG, {"script": []})
     scene.act({"action": "gravity", "value": [0, 0, 0], "time": 0.09})

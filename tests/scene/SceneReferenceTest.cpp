@@ -154,7 +154,7 @@ TEST(SceneReference, EveryKeyTheReadersAcceptIsDocumented)
     }
     EXPECT_GT(checked, 100);
     const std::set<std::string> actions = actionNames(readText(source + "/src/scene/SceneFile.cpp"));
-    EXPECT_EQ(actions.size(), 8u);
+    EXPECT_EQ(actions.size(), 11u);
     for (const std::string& action : actions)
     {
         EXPECT_TRUE(documented(document, action)) << "data/scenes/README.md lacks the action `" << action << "`";

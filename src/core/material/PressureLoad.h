@@ -76,6 +76,9 @@ public:
     void computeLoad(const std::vector<Vec3>& x, Real pressure, std::vector<Vec3>& force) const;
 
     const PressureSchedule& schedule() const { return m_schedule; }
+    /// Replaces the schedule between frames (a script's or the viewer's "pressure" action); the load follows it from
+    /// the next frame.
+    void setSchedule(PressureSchedule schedule) { m_schedule = std::move(schedule); }
     /// Pa, the pressure of the load now applied.
     Real currentPressure() const { return m_pressure; }
     /// N per mass, the load now applied (part of Particles::externalForce).

@@ -87,6 +87,7 @@ public:
     /// air when that changes). Which mass touches which obstacle comes with each step (StepContext's
     /// touchingObstacle); obstacles beyond the end of the list exchange no heat.
     void setObstacleTemperatures(std::vector<Real> obstacleTemperature);
+    const std::vector<Real>& obstacleTemperatures() const { return m_obstacleTemperature; }
 
     /// K, per mass. Writable for initial conditions; a held mass is reset to its held value every frame.
     std::vector<Real>& temperature() { return m_temperature; }

@@ -1,0 +1,149 @@
+#include "ProcessControls.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace masse::viewer
+{
+namespace
+{
+void act(const CommandSink& post, scene::ScriptAction action)
+{
+    post([action = std::move(action)](ViewerSession& session) { session.act(action); });
+}
+} // namespace
+
+void ProcessControls::update(const SceneSnapshot& snapshot)
+{
+    if (snapshot.generation == m_generation)
+    {
+        return;
+    }
+    m_generation = snapshot.generation;
+    m_target.reset();
+    // The level the scene's own schedule reaches, the one most often wanted again.
+    if (snapshot.spec && !snapshot.spec->forming.pressure.empty())
+    {
+        Real strongest = 0;
+        for (const PressureKey& key : snapshot.spec->forming.pressure)
+        {
+            strongest = std::abs(key.pressure) > std::abs(strongest) ? key.pressure : strongest;
+        }
+        if (strongest != 0)
+        {
+            level = strongest;
+        }
+    }
+}
+
+void ProcessControls::switchPressure(const SceneSnapshot& snapshot, const CommandSink& post)
+{
+    setPressure(snapshot.process.pressure != 0 ? Real(0) : level, post);
+}
+
+void ProcessControls::setPressure(Real pascals, const CommandSink& post)
+{
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::Pressure;
+    action.pressure = pascals;
+    action.ramp = std::max(ramp, Real(0));
+    act(post, std::move(action));
+}
+
+std::optional<std::size_t> ProcessControls::steeredObstacle(const SceneSnapshot& snapshot)
+{
+    for (std::size_t k = 0; k < snapshot.obstacles.size(); ++k)
+    {
+        if (snapshot.obstacles[k].kinematic && !snapshot.obstacles[k].partOfRoom)
+        {
+            return k;
+        }
+    }
+    return std::nullopt;
+}
+
+void ProcessControls::nudge(const SceneSnapshot& snapshot, int direction, const CommandSink& post)
+{
+    const std::optional<std::size_t> k = steeredObstacle(snapshot);
+    if (!k)
+    {
+        return;
+    }
+    const ObstacleShape& obstacle = snapshot.obstacles[*k];
+    // Presses add up while the obstacle is still on its way to the last target; else from where it is.
+    const bool moving = obstacle.velocity.squaredNorm() > 0;
+    Vec3 target = moving && m_target ? *m_target : obstacle.position;
+    target.y() += Real(direction) * step;
+    m_target = target;
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::Steer;
+    action.obstacle = obstacle.name;
+    action.target = target;
+    action.speed = speed;
+    act(post, std::move(action));
+}
+
+void ProcessControls::stop(const SceneSnapshot& snapshot, const CommandSink& post)
+{
+    const std::optional<std::size_t> k = steeredObstacle(snapshot);
+    if (!k)
+    {
+        return;
+    }
+    m_target.reset();
+    const std::string name = snapshot.obstacles[*k].name;
+    // Held where it is when the action fires (the simulation may have moved it since this snapshot).
+    post(
+        [name, speed = speed](ViewerSession& session)
+        {
+            scene::ScriptAction action;
+            action.kind = scene::ScriptAction::Kind::Steer;
+            action.obstacle = name;
+            const bridge::BulletEnvironment& environment = session.scene().environment();
+            action.target = environment.obstacle(environment.findObstacle(name)).pose.position;
+            action.speed = speed;
+            session.act(std::move(action));
+        });
+}
+
+void ProcessControls::setHeater(const std::string& heater, bool on, Real watts, const CommandSink& post)
+{
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::Heater;
+    action.heater = heater;
+    action.on = on;
+    action.power = watts;
+    act(post, std::move(action));
+}
+
+void ProcessControls::setObstacleTemperature(const std::string& obstacle, Real celsius, const CommandSink& post)
+{
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::ObstacleTemperature;
+    action.obstacle = obstacle;
+    action.temperature = celsius + 273.15;
+    act(post, std::move(action));
+}
+
+void ProcessControls::setAmbient(Real celsius, const CommandSink& post)
+{
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::Ambient;
+    action.temperature = celsius + 273.15;
+    act(post, std::move(action));
+}
+
+std::string ProcessControls::savePath(const SceneSnapshot& snapshot) const
+{
+    if (!saveRunPath.empty())
+    {
+        return saveRunPath;
+    }
+    return (snapshot.spec ? snapshot.spec->name : std::string("scene")) + ".run.json";
+}
+
+void ProcessControls::saveRun(const SceneSnapshot& snapshot, const CommandSink& post)
+{
+    post([path = savePath(snapshot)](ViewerSession& session) { session.saveRun(path); });
+}
+} // namespace masse::viewer
