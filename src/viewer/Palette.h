@@ -26,6 +26,7 @@ inline constexpr Rgb spring{0.80f, 0.80f, 0.86f};
 inline constexpr Rgb pick{1, 0.85f, 0.1f};               ///< the picked mass and the mouse's spring
 inline constexpr Rgb scriptedGrab{0.2f, 0.9f, 0.95f};    ///< a scene script's grab
 inline constexpr Rgb thinnest{1, 0.15f, 0.6f};           ///< the sheet's thinnest point (material scenes)
+inline constexpr Rgb section{1, 0.55f, 0.1f};            ///< the live section's line across the sheet
 inline constexpr Rgb missingScalar{0.55f, 0.55f, 0.55f}; ///< a scalar the scene does not have
 inline constexpr Rgb heaterOn{1, 0.47f, 0.12f};          ///< a radiant heater switched on: glowing orange
 inline constexpr Rgb heaterOff{0.30f, 0.28f, 0.27f};     ///< switched off: dark, but lit well above the touched black

@@ -254,6 +254,7 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
     }
 
     drawProcessControls(snapshot, simulation, process);
+    drawSection(snapshot, simulation);
     drawSceneEditor(snapshot, simulation);
 
     if (ImGui::CollapsingHeader("Mouse and keys"))
@@ -403,6 +404,50 @@ void Panel::drawProcessControls(const SceneSnapshot& snapshot, SimulationThread&
         ImGui::TextUnformatted("the mouse pulled the sheet: a saved run will not replay that");
         ImGui::PopStyleColor();
     }
+}
+
+void Panel::drawSection(const SceneSnapshot& snapshot, SimulationThread& simulation)
+{
+    if (!snapshot.thinnest || !ImGui::CollapsingHeader("Section (live)"))
+    {
+        return;
+    }
+    const LatticeSpec& sheet = snapshot.spec->sheet.lattice;
+    bool changed = ImGui::Checkbox("show the section", &m_sectionOn);
+    changed |= ImGui::RadioButton("along x", &m_sectionAxis, 0);
+    ImGui::SameLine();
+    changed |= ImGui::RadioButton("along z", &m_sectionAxis, 2);
+    const int across = m_sectionAxis == 0 ? 2 : 0;
+    const float low = float(sheet.minCorner[across]);
+    const float high = float(sheet.maxCorner[across]);
+    changed |= ImGui::SliderFloat(m_sectionAxis == 0 ? "at z (m)" : "at x (m)", &m_sectionAt, low, high, "%.4f");
+    if (changed)
+    {
+        std::optional<scene::SectionSettings> section;
+        if (m_sectionOn)
+        {
+            scene::SectionSettings settings;
+            settings.axis = m_sectionAxis;
+            settings.through[across] = Real(m_sectionAt);
+            section = settings;
+        }
+        simulation.post([section](ViewerSession& session) { session.setSection(section); });
+    }
+    if (!m_sectionOn || snapshot.section.empty())
+    {
+        return;
+    }
+    std::vector<float> ratios;
+    auto thinnest = snapshot.section.begin();
+    for (auto p = snapshot.section.begin(); p != snapshot.section.end(); ++p)
+    {
+        ratios.push_back(float(p->ratio));
+        thinnest = p->ratio < thinnest->ratio ? p : thinnest;
+    }
+    ImGui::PlotLines("##section", ratios.data(), int(ratios.size()), 0, "h / h0 along the section, 0 to 1.2", 0.0f,
+                     1.2f, ImVec2(-1, 90));
+    ImGui::Text("thinnest on it %.3f h0 at %.4f m (%zu masses)", thinnest->ratio, thinnest->restCoordinate,
+                snapshot.section.size());
 }
 
 void Panel::drawSceneEditor(const SceneSnapshot& snapshot, SimulationThread& simulation)

@@ -55,9 +55,14 @@ private:
     /// The forming bench: the pressure, the plug, the heaters, the obstacles' and the air's temperatures (as recorded
     /// actions on the running scene), and saving the run.
     void drawProcessControls(const SceneSnapshot& snapshot, SimulationThread& simulation, ProcessControls& process);
+    /// A live section through a line across the sheet the user drags: drawn on the sheet, its h/h0 plotted here.
+    void drawSection(const SceneSnapshot& snapshot, SimulationThread& simulation);
     void drawHud(const SceneSnapshot& snapshot, const FrameStats& stats, const DrawSettings& draw,
                  const Renderer& renderer);
 
+    bool m_sectionOn = false;
+    int m_sectionAxis = 0;      ///< 0: along x (a line of constant z), 2: along z
+    float m_sectionAt = 0;      ///< m, where the line crosses the other axis
     scene::SceneSpec m_pending; ///< the spec being edited, applied with Apply
     bool m_edited = false;
     std::uint64_t m_generation = ~std::uint64_t(0);

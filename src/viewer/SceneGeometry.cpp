@@ -560,6 +560,16 @@ OverlayGeometry buildOverlays(const SceneSnapshot& snapshot, const std::optional
         }
         out.points.push_back(vertex(x, palette::thinnest));
     }
+    // The live section: its masses joined along the sheet, each with a short tick up its thickness.
+    for (std::size_t k = 0; k < snapshot.section.size(); ++k)
+    {
+        const scene::SectionPoint& p = snapshot.section[k];
+        if (k + 1 < snapshot.section.size())
+        {
+            addLine(out.lines, p.position, snapshot.section[k + 1].position, palette::section);
+        }
+        addLine(out.lines, p.position, p.position + Vec3(0, 4 * p.thickness, 0), palette::section);
+    }
     for (const auto& [mass, target] : snapshot.grabs)
     {
         addLine(out.lines, mass, target, palette::scriptedGrab);

@@ -195,6 +195,12 @@ void captureSnapshot(ViewerSession& session, const MassScalarRegistry& scalars, 
         out.ghost = std::move(ghost);
     }
 
+    out.section.clear();
+    if (const std::optional<scene::SectionSettings>& section = session.section())
+    {
+        out.section = scene::thicknessSection(scene, *section);
+        out.sectionAxis = section->axis;
+    }
     out.thinnest.reset();
     if (const SheetThickness* thickness = scene.thickness(); thickness && !thickness->thickness().empty())
     {

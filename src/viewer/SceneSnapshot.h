@@ -111,6 +111,9 @@ struct SceneSnapshot
     std::vector<float> scalar;
     /// The scalar's fixed colour span on this scene (MassScalar::fixedRange), else none: the values' own.
     std::optional<ScalarRange> scalarFixedRange;
+    /// The live section (ViewerSession::setSection) on a material scene: its bottom-layer masses along the line.
+    std::vector<scene::SectionPoint> section;
+    int sectionAxis = 0; ///< 0: along x, 2: along z
     /// The thinnest mass (any layer) and its thickness in m, on material scenes: marked on the sheet.
     std::optional<std::pair<Index, Real>> thinnest;
     /// Why the scene has no values for the scalar asked for ("" when it has them): e.g. temperature on a scene

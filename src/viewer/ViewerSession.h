@@ -9,6 +9,7 @@
 #include "scene/SavedRun.h"
 #include "scene/Scene.h"
 #include "scene/compare/Comparison.h"
+#include "scene/reports/ThicknessSectionReport.h"
 
 #include <memory>
 #include <optional>
@@ -72,6 +73,9 @@ public:
     void endPick();
     std::optional<Index> pickedMass() const;
     std::optional<Vec3> pickTarget() const;
+    /// The live section the snapshots carry (the panel's), or none.
+    void setSection(std::optional<scene::SectionSettings> section) { m_section = section; }
+    const std::optional<scene::SectionSettings>& section() const { return m_section; }
     /// The mouse pulled a mass since the scene started: a saved run cannot replay that pull.
     bool mousePulled() const { return m_mousePulled; }
 
@@ -112,5 +116,6 @@ private:
     Vec3 m_pickTarget = Vec3::Zero();
     bool m_mousePulled = false;
     std::optional<scene::RunSource> m_source;
+    std::optional<scene::SectionSettings> m_section;
 };
 } // namespace masse::viewer

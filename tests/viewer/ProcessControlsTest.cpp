@@ -6,6 +6,7 @@
 #include "viewer/ProcessControls.h"
 #include "viewer/Controls.h"
 #include "viewer/MassScalars.h"
+#include "viewer/SceneGeometry.h"
 #include "viewer/SceneSnapshot.h"
 #include "viewer/ViewerSession.h"
 
@@ -176,4 +177,34 @@ TEST(ProcessControls, ThicknessColoursSpanZeroToTheStartingThickness)
     SceneSnapshot speed;
     captureSnapshot(bench.session, standardMassScalars(), "speed", nullptr, speed);
     EXPECT_FALSE(speed.scalarFixedRange) << "speed spans its own values";
+}
+
+// The live section: set on the session, every snapshot carries the bottom-layer masses along the line (the report's
+// thickness_section for the same line, bit for bit), and the overlays draw it; off again, none.
+TEST(ProcessControls, TheLiveSectionFollowsTheLineTheUserSets)
+{
+    Bench bench;
+    bench.steps(40);
+    scene::SectionSettings line;
+    line.axis = 2;
+    line.through = Vec3(0.01, 0, 0);
+    bench.session.setSection(line);
+    bench.capture();
+    const std::vector<scene::SectionPoint> expected = scene::thicknessSection(bench.session.scene(), line);
+    ASSERT_EQ(bench.snapshot.section.size(), expected.size());
+    ASSERT_GT(expected.size(), 5u);
+    for (std::size_t k = 0; k < expected.size(); ++k)
+    {
+        EXPECT_EQ(bench.snapshot.section[k].mass, expected[k].mass);
+        EXPECT_EQ(bench.snapshot.section[k].ratio, expected[k].ratio);
+        EXPECT_LE(std::abs(bench.session.scene().lattice().position[expected[k].mass].x() - 0.01),
+                  0.5 * bench.session.scene().lattice().spacingX + 1e-12)
+            << "a mass of the column through x = 0.01 m";
+    }
+    const std::size_t withSection = buildOverlays(bench.snapshot, std::nullopt).lines.size();
+    bench.session.setSection(std::nullopt);
+    bench.capture();
+    EXPECT_TRUE(bench.snapshot.section.empty());
+    EXPECT_EQ(buildOverlays(bench.snapshot, std::nullopt).lines.size() + 2 * (2 * expected.size() - 1), withSection)
+        << "a segment between neighbours and a tick at each mass, two vertices a segment";
 }

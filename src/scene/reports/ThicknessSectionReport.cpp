@@ -61,13 +61,19 @@ const SectionSettings* sectionSettings(const SceneSpec& spec)
 
 std::vector<SectionPoint> thicknessSection(const Scene& scene)
 {
+    const SectionSettings* section = sectionSettings(scene.spec());
+    return section ? thicknessSection(scene, *section) : std::vector<SectionPoint>{};
+}
+
+std::vector<SectionPoint> thicknessSection(const Scene& scene, const SectionSettings& settings)
+{
     std::vector<SectionPoint> points;
     const SheetThickness* thickness = scene.thickness();
-    const SectionSettings* section = sectionSettings(scene.spec());
-    if (!thickness || !section)
+    if (!thickness)
     {
         return points;
     }
+    const SectionSettings* section = &settings;
     const Lattice& lattice = scene.lattice();
     const int along = section->axis;
     const int across = along == 0 ? 2 : 0;

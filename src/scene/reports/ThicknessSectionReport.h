@@ -33,6 +33,8 @@ struct SectionPoint
 /// The section the scene's report asks for (needs a material and report.thickness_section; empty otherwise). Sorted
 /// along the axis.
 std::vector<SectionPoint> thicknessSection(const Scene& scene);
+/// The section along the given line (needs a material; empty otherwise): the viewer's live section.
+std::vector<SectionPoint> thicknessSection(const Scene& scene, const SectionSettings& section);
 std::string sectionCsv(const std::vector<SectionPoint>& section);
 /// A gnuplot script plotting h/h0 against the rest coordinate, reading the CSV at `csvPath`.
 std::string sectionPlotScript(const std::string& csvPath, const std::string& title);
