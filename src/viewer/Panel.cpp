@@ -386,6 +386,12 @@ void Panel::drawProcessControls(const SceneSnapshot& snapshot, SimulationThread&
                         100 * *heat.thinnest / heat.initialThickness, 1000 * heat.initialThickness);
         }
     }
+    if (process.saveRunPath.empty())
+    {
+        process.saveRunPath = process.savePath(snapshot);
+    }
+    ImGui::SetNextItemWidth(-1);
+    ImGui::InputText("##saverun", &process.saveRunPath);
     ImGui::BeginDisabled(!state.saveable);
     if (ImGui::Button("Save run (w)"))
     {
@@ -393,7 +399,7 @@ void Panel::drawProcessControls(const SceneSnapshot& snapshot, SimulationThread&
     }
     ImGui::EndDisabled();
     ImGui::SameLine();
-    ImGui::Text("%zu action(s) to %s", state.recordedActions, process.savePath(snapshot).c_str());
+    ImGui::Text("%zu action(s) recorded", state.recordedActions);
     if (!state.saveable)
     {
         ImGui::TextDisabled("edited in the panel: only a scene from a file can be saved");
