@@ -156,8 +156,8 @@ void addViewCommand(CLI::App& app)
         "Mouse: left drag orbits, right drag pans, wheel or middle drag zooms, Ctrl or Shift + left drag "
         "pulls a mass.\nKeys: space run/pause, n step, r reset, 1 2 3 views (overview, from below, left), "
         "v starting view,\nm draw mode, p pick mode, f follow the sheet, Tab panel, q or Esc quit.\nForming: j/k plug "
-        "down/up, h "
-        "hold it, u vacuum or pressure on/off, w save the run (replay it with masse run).\nWithout a display: "
+        "down/up, h hold it, Alt + left drag moves it, u vacuum or pressure on/off, w save the run (replay it with "
+        "masse run).\nWithout a display: "
         "xvfb-run -a masse view ... (see --screenshot, --benchmark).");
     command->callback([options] { runView(*options); });
 }

@@ -3,6 +3,8 @@
 #include "scene/SceneFile.h"
 #include "scene/ScriptRunner.h"
 
+#include "core/material/Material.h"
+
 #include <cmath>
 #include <filesystem>
 
@@ -10,25 +12,23 @@ namespace masse::scene
 {
 namespace
 {
-constexpr Real kelvinAtZeroCelsius = 273.15;
-
 /// C that the reader, adding 273.15, turns back into `kelvin` to the last bit (kelvin - 273.15 may be an ulp off).
 Real celsiusReadBackAs(Real kelvin)
 {
-    Real celsius = kelvin - kelvinAtZeroCelsius;
-    for (int k = 0; k < 4 && celsius + kelvinAtZeroCelsius != kelvin; ++k)
+    Real celsius = kelvinToCelsius(kelvin);
+    for (int k = 0; k < 4 && celsiusToKelvin(celsius) != kelvin; ++k)
     {
-        celsius = std::nextafter(celsius, celsius + kelvinAtZeroCelsius < kelvin ? HUGE_VAL : -HUGE_VAL);
+        celsius = std::nextafter(celsius, celsiusToKelvin(celsius) < kelvin ? HUGE_VAL : -HUGE_VAL);
     }
     return celsius;
 }
 
-nlohmann::json point(const Vec3& p)
+nlohmann::json pointJson(const Vec3& p)
 {
     return nlohmann::json::array({p.x(), p.y(), p.z()});
 }
 
-nlohmann::json pins(const PinSpec& spec)
+nlohmann::json pinsJson(const PinSpec& spec)
 {
     nlohmann::json masses = nlohmann::json::object();
     if (!spec.masses.empty())
@@ -47,14 +47,14 @@ nlohmann::json pins(const PinSpec& spec)
 }
 
 /// Degrees about x, then y, then z (fixed axes), as rotationFromDegrees reads them: R = Rz Ry Rx.
-nlohmann::json degrees(const Eigen::Quaternion<Real>& orientation)
+nlohmann::json degreesJson(const Eigen::Quaternion<Real>& orientation)
 {
     const Vec3 zyx = orientation.toRotationMatrix().eulerAngles(2, 1, 0) * (Real(180) / Real(M_PI));
     return nlohmann::json::array({zyx.z(), zyx.y(), zyx.x()});
 }
 
 /// A file's "sheet.size" from the --size flag, and the other flags as their keys.
-void applyFlagsToDocument(const SceneFlags& flags, nlohmann::json& document)
+void writeFlagsIntoDocument(const SceneFlags& flags, nlohmann::json& document)
 {
     if (!flags.integrator.empty())
     {
@@ -84,7 +84,7 @@ nlohmann::json actionDocument(const ScriptAction& a)
     {
         if (a.grabNearest)
         {
-            item["near"] = point(a.point);
+            item["near"] = pointJson(a.point);
         }
         else
         {
@@ -93,7 +93,7 @@ nlohmann::json actionDocument(const ScriptAction& a)
         nlohmann::json path = nlohmann::json::array();
         for (const auto& [time, target] : a.path)
         {
-            path.push_back({{"time", time}, {"position", point(target)}});
+            path.push_back({{"time", time}, {"position", pointJson(target)}});
         }
         item["path"] = path;
         item["stiffness"] = a.stiffness;
@@ -106,10 +106,10 @@ nlohmann::json actionDocument(const ScriptAction& a)
         break;
     case ScriptAction::Kind::Pin:
     case ScriptAction::Kind::Unpin:
-        item["masses"] = pins(a.masses);
+        item["masses"] = pinsJson(a.masses);
         break;
     case ScriptAction::Kind::Gravity:
-        item["value"] = point(a.vector);
+        item["value"] = pointJson(a.vector);
         break;
     case ScriptAction::Kind::Move:
     {
@@ -117,10 +117,10 @@ nlohmann::json actionDocument(const ScriptAction& a)
         nlohmann::json path = nlohmann::json::array();
         for (const bridge::PoseKey& key : a.obstaclePath)
         {
-            nlohmann::json k = {{"time", key.time}, {"position", point(key.position)}};
+            nlohmann::json k = {{"time", key.time}, {"position", pointJson(key.position)}};
             if (!key.orientation.isApprox(Eigen::Quaternion<Real>::Identity(), 0))
             {
-                k["rotation_deg"] = degrees(key.orientation);
+                k["rotation_deg"] = degreesJson(key.orientation);
             }
             path.push_back(k);
         }
@@ -129,7 +129,7 @@ nlohmann::json actionDocument(const ScriptAction& a)
     }
     case ScriptAction::Kind::Steer:
         item["obstacle"] = a.obstacle;
-        item["to"] = point(a.target);
+        item["to"] = pointJson(a.target);
         item["speed"] = a.speed;
         break;
     case ScriptAction::Kind::Heater:
@@ -164,7 +164,7 @@ nlohmann::json savedRunDocument(const RunSource& source, const std::vector<Scrip
     // The saved file may go anywhere: its material and meshes are named by where they are.
     makePathsAbsolute(document, std::filesystem::path(source.path).parent_path());
     applyKeyOverrides(document, parseSettings(source.flags.settings));
-    applyFlagsToDocument(source.flags, document);
+    writeFlagsIntoDocument(source.flags, document);
     document.erase("expect"); // a regression's expected results are those of the scene, not of this run
     nlohmann::json& script = document["script"];
     if (!script.is_array())

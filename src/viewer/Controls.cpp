@@ -135,6 +135,27 @@ void Controls::beginPick(int x, int y, const SceneSnapshot& snapshot, const Comm
     m_drag = Drag::Pick;
 }
 
+void Controls::beginPlugDrag(int x, int y, const SceneSnapshot& snapshot)
+{
+    const std::optional<std::size_t> plug = ProcessControls::steeredObstacle(snapshot);
+    if (!plug)
+    {
+        m_drag = Drag::Orbit;
+        return;
+    }
+    const ObstacleShape& obstacle = snapshot.obstacles[*plug];
+    m_dragPlane = dragPlaneFacing(camera, obstacle.position);
+    const std::optional<Vec3> grabbed =
+        intersect(rayThroughPixel(camera, viewport, x + Real(0.5), y + Real(0.5)), m_dragPlane);
+    if (!grabbed)
+    {
+        m_drag = Drag::Orbit;
+        return;
+    }
+    process.beginDrag(obstacle, grabbed->y());
+    m_drag = Drag::Plug;
+}
+
 void Controls::onButton(const InputEvent& event, const UiCapture& ui, const SceneSnapshot& snapshot,
                         const CommandSink& post)
 {
@@ -155,7 +176,11 @@ void Controls::onButton(const InputEvent& event, const UiCapture& ui, const Scen
     m_lastX = event.x;
     m_lastY = event.y;
     const bool pickModifier = event.modifiers.ctrl || event.modifiers.shift;
-    if (event.button == 0 && (pickMode || pickModifier))
+    if (event.button == 0 && event.modifiers.alt)
+    {
+        beginPlugDrag(event.x, event.y, snapshot);
+    }
+    else if (event.button == 0 && (pickMode || pickModifier))
     {
         beginPick(event.x, event.y, snapshot, post);
     }
@@ -191,6 +216,13 @@ void Controls::onMotion(int x, int y, const CommandSink& post)
         break;
     case Drag::Zoom:
         camera.zoom(std::exp(dy * Real(0.01)));
+        break;
+    case Drag::Plug:
+        if (const std::optional<Vec3> target =
+                intersect(rayThroughPixel(camera, viewport, x + Real(0.5), y + Real(0.5)), m_dragPlane))
+        {
+            process.dragTo(target->y(), post);
+        }
         break;
     case Drag::Pick:
         if (const std::optional<Vec3> target =

@@ -59,11 +59,14 @@ private:
         Pan,
         Zoom,
         Pick,
+        Plug, ///< Alt + left drag: the steered obstacle up and down after the cursor (ProcessControls::dragTo)
     };
     void onButton(const InputEvent& event, const UiCapture& ui, const SceneSnapshot& snapshot, const CommandSink& post);
     void onMotion(int x, int y, const CommandSink& post);
     void onKey(unsigned char key, const SceneSnapshot& snapshot, const CommandSink& post);
     void beginPick(int x, int y, const SceneSnapshot& snapshot, const CommandSink& post);
+    /// Alt + left drag: from the steered obstacle, if the scene has one (else the drag orbits).
+    void beginPlugDrag(int x, int y, const SceneSnapshot& snapshot);
 
     ViewPreset m_startView;
     Drag m_drag = Drag::None;

@@ -266,6 +266,8 @@ void Panel::drawControls(const SceneSnapshot& snapshot, SimulationThread& simula
                                "1 2 3: views   v: reset view\n"
                                "m: draw mode   p: pick mode   tab: panel\n"
                                "f: follow the sheet\n"
+                               "j k h, Alt + left drag: the plug\n"
+                               "u: vacuum or pressure   w: save the run\n"
                                "q or esc: quit");
     }
     ImGui::PopItemWidth();

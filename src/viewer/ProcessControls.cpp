@@ -7,7 +7,7 @@ namespace masse::viewer
 {
 namespace
 {
-void act(const CommandSink& post, scene::ScriptAction action)
+void postAction(const CommandSink& post, scene::ScriptAction action)
 {
     post([action = std::move(action)](ViewerSession& session) { session.act(action); });
 }
@@ -47,7 +47,7 @@ void ProcessControls::setPressure(Real pascals, const CommandSink& post)
     action.kind = scene::ScriptAction::Kind::Pressure;
     action.pressure = pascals;
     action.ramp = std::max(ramp, Real(0));
-    act(post, std::move(action));
+    postAction(post, std::move(action));
 }
 
 std::optional<std::size_t> ProcessControls::steeredObstacle(const SceneSnapshot& snapshot)
@@ -80,7 +80,31 @@ void ProcessControls::nudge(const SceneSnapshot& snapshot, int direction, const 
     action.obstacle = obstacle.name;
     action.target = target;
     action.speed = speed;
-    act(post, std::move(action));
+    postAction(post, std::move(action));
+}
+
+void ProcessControls::beginDrag(const ObstacleShape& obstacle, Real grabbedY)
+{
+    m_dragged = obstacle.name;
+    m_target = obstacle.position;
+    m_dragOffset = obstacle.position.y() - grabbedY;
+}
+
+void ProcessControls::dragTo(Real y, const CommandSink& post)
+{
+    constexpr Real leastMove = 0.001; // m
+    const Real height = y + m_dragOffset;
+    if (m_dragged.empty() || !m_target || std::abs(height - m_target->y()) < leastMove)
+    {
+        return;
+    }
+    m_target->y() = height;
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::Steer;
+    action.obstacle = m_dragged;
+    action.target = *m_target;
+    action.speed = speed;
+    postAction(post, std::move(action));
 }
 
 void ProcessControls::stop(const SceneSnapshot& snapshot, const CommandSink& post)
@@ -113,7 +137,7 @@ void ProcessControls::setHeater(const std::string& heater, bool on, Real watts, 
     action.heater = heater;
     action.on = on;
     action.power = watts;
-    act(post, std::move(action));
+    postAction(post, std::move(action));
 }
 
 void ProcessControls::setObstacleTemperature(const std::string& obstacle, Real celsius, const CommandSink& post)
@@ -122,7 +146,7 @@ void ProcessControls::setObstacleTemperature(const std::string& obstacle, Real c
     action.kind = scene::ScriptAction::Kind::ObstacleTemperature;
     action.obstacle = obstacle;
     action.temperature = celsius + 273.15;
-    act(post, std::move(action));
+    postAction(post, std::move(action));
 }
 
 void ProcessControls::setAmbient(Real celsius, const CommandSink& post)
@@ -130,7 +154,7 @@ void ProcessControls::setAmbient(Real celsius, const CommandSink& post)
     scene::ScriptAction action;
     action.kind = scene::ScriptAction::Kind::Ambient;
     action.temperature = celsius + 273.15;
-    act(post, std::move(action));
+    postAction(post, std::move(action));
 }
 
 std::string ProcessControls::savePath(const SceneSnapshot& snapshot) const

@@ -29,6 +29,13 @@ public:
     /// The steered obstacle (the first kinematic one) down (-1) or up (+1) by `step`, at `speed`; repeated presses
     /// add up while it moves.
     void nudge(const SceneSnapshot& snapshot, int direction, const CommandSink& post);
+    /// Alt + left drag on the view: the steered obstacle follows the cursor up and down (dragTo), from where it is
+    /// with the cursor's point on the drag plane at height `grabbedY` (m).
+    void beginDrag(const ObstacleShape& obstacle, Real grabbedY);
+    /// The cursor's point now at height `y`: the obstacle to its height then plus the cursor's rise since, at `speed`;
+    /// a steer each time that target has moved a millimetre or more, so a drag records a handful of actions, not
+    /// one per mouse event.
+    void dragTo(Real y, const CommandSink& post);
     /// The steered obstacle held where it is.
     void stop(const SceneSnapshot& snapshot, const CommandSink& post);
     void setHeater(const std::string& heater, bool on, Real watts, const CommandSink& post);
@@ -49,6 +56,8 @@ public:
 
 private:
     std::uint64_t m_generation = ~std::uint64_t(0);
-    std::optional<Vec3> m_target; ///< where the last nudge sent the steered obstacle
+    std::optional<Vec3> m_target; ///< where the last nudge or drag sent the steered obstacle
+    std::string m_dragged;        ///< the obstacle a drag moves
+    Real m_dragOffset = 0;        ///< m, its height at the drag's start less the cursor's
 };
 } // namespace masse::viewer

@@ -208,3 +208,43 @@ TEST(ProcessControls, TheLiveSectionFollowsTheLineTheUserSets)
     EXPECT_EQ(buildOverlays(bench.snapshot, std::nullopt).lines.size() + 2 * (2 * expected.size() - 1), withSection)
         << "a segment between neighbours and a tick at each mass, two vertices a segment";
 }
+
+// Alt + left drag moves the plug after the cursor: dragging up the screen sends it up, with a steer only when the
+// target has moved a millimetre, and the keys j and k nudge it as the panel's buttons do.
+TEST(ProcessControls, TheMouseAndTheKeysSteerThePlug)
+{
+    Bench bench;
+    bench.steps(10);
+    Controls controls{ViewPreset::Overview, DrawSettings{}};
+    controls.viewport = {800, 600};
+    controls.setView(ViewPreset::Overview, bench.snapshot);
+    const auto mouse = [&](InputKind kind, int x, int y)
+    {
+        InputEvent event;
+        event.kind = kind;
+        event.button = 0;
+        event.x = x;
+        event.y = y;
+        event.modifiers.alt = true;
+        controls.handle(event, UiCapture{}, bench.snapshot, bench.sink());
+    };
+    mouse(InputKind::MouseDown, 400, 300);
+    mouse(InputKind::MouseMove, 400, 300); // no move: no steer
+    EXPECT_TRUE(bench.session.scene().addedActions().empty());
+    mouse(InputKind::MouseMove, 400, 250);
+    mouse(InputKind::MouseMove, 400, 200);
+    mouse(InputKind::MouseUp, 400, 200);
+    const std::vector<scene::ScriptAction>& added = bench.session.scene().addedActions();
+    ASSERT_EQ(added.size(), 2u);
+    const Real startY = bench.snapshot.obstacles[*ProcessControls::steeredObstacle(bench.snapshot)].position.y();
+    EXPECT_EQ(added[0].kind, scene::ScriptAction::Kind::Steer);
+    EXPECT_GT(added[0].target.y(), startY + 0.001) << "up the screen is up";
+    EXPECT_GT(added[1].target.y(), added[0].target.y());
+
+    InputEvent key;
+    key.kind = InputKind::KeyDown;
+    key.key = 'j';
+    controls.handle(key, UiCapture{}, bench.snapshot, bench.sink());
+    ASSERT_EQ(added.size(), 3u);
+    EXPECT_EQ(added[2].obstacle, "plug");
+}
