@@ -11,6 +11,16 @@ void postAction(const CommandSink& post, scene::ScriptAction action)
 {
     post([action = std::move(action)](ViewerSession& session) { session.act(action); });
 }
+
+scene::ScriptAction steerAction(const std::string& obstacle, const Vec3& target, Real speed)
+{
+    scene::ScriptAction action;
+    action.kind = scene::ScriptAction::Kind::Steer;
+    action.obstacle = obstacle;
+    action.target = target;
+    action.speed = speed;
+    return action;
+}
 } // namespace
 
 void ProcessControls::update(const SceneSnapshot& snapshot)
@@ -75,12 +85,7 @@ void ProcessControls::nudge(const SceneSnapshot& snapshot, int direction, const 
     Vec3 target = moving && m_target ? *m_target : obstacle.position;
     target.y() += Real(direction) * step;
     m_target = target;
-    scene::ScriptAction action;
-    action.kind = scene::ScriptAction::Kind::Steer;
-    action.obstacle = obstacle.name;
-    action.target = target;
-    action.speed = speed;
-    postAction(post, std::move(action));
+    postAction(post, steerAction(obstacle.name, target, speed));
 }
 
 void ProcessControls::beginDrag(const ObstacleShape& obstacle, Real grabbedY)
@@ -99,12 +104,7 @@ void ProcessControls::dragTo(Real y, const CommandSink& post)
         return;
     }
     m_target->y() = height;
-    scene::ScriptAction action;
-    action.kind = scene::ScriptAction::Kind::Steer;
-    action.obstacle = m_dragged;
-    action.target = *m_target;
-    action.speed = speed;
-    postAction(post, std::move(action));
+    postAction(post, steerAction(m_dragged, *m_target, speed));
 }
 
 void ProcessControls::stop(const SceneSnapshot& snapshot, const CommandSink& post)
@@ -120,13 +120,8 @@ void ProcessControls::stop(const SceneSnapshot& snapshot, const CommandSink& pos
     post(
         [name, speed = speed](ViewerSession& session)
         {
-            scene::ScriptAction action;
-            action.kind = scene::ScriptAction::Kind::Steer;
-            action.obstacle = name;
             const bridge::BulletEnvironment& environment = session.scene().environment();
-            action.target = environment.obstacle(environment.findObstacle(name)).pose.position;
-            action.speed = speed;
-            session.act(std::move(action));
+            session.act(steerAction(name, environment.obstacle(environment.findObstacle(name)).pose.position, speed));
         });
 }
 

@@ -4,7 +4,7 @@
 #include "core/InputError.h"
 #include "core/NumericalError.h"
 #include "core/Simulator.h"
-#include "core/StateHash.h"
+#include "scene/Runner.h"
 #include "scene/SceneFile.h"
 #include "scene/output/AtomicFile.h"
 
@@ -140,11 +140,8 @@ bool ViewerSession::saveRun(const std::string& path)
         m_error = std::string("save run: ") + e.what();
         return false;
     }
-    char hash[32];
-    std::snprintf(hash, sizeof hash, "0x%016llx",
-                  static_cast<unsigned long long>(stateHash(m_scene->system().particles)));
     m_notice = "saved the run to " + path + ": t = " + formatTime(m_scene->time()) + " s, " +
-               std::to_string(m_scene->addedActions().size()) + " action(s), state " + hash +
+               std::to_string(m_scene->addedActions().size()) + " action(s), state " + scene::stateHashText(*m_scene) +
                " (masse run replays it)" +
                (m_mousePulled ? "; the mouse's pulls are not in it, so the replay will differ" : "");
     std::printf("%s\n", m_notice.c_str());

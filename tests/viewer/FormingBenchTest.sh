@@ -10,13 +10,8 @@ masse=$1
 scene=$2
 out=$3
 mkdir -p "$out"
-if [ -z "${MASSE_BENCH_INNER:-}" ]; then
-    command -v xdotool >/dev/null 2>&1 || { echo "xdotool is missing (.ci/build installs it)" >&2; exit 1; }
-    command -v xvfb-run >/dev/null 2>&1 || { echo "xvfb-run is missing (.ci/build installs it)" >&2; exit 1; }
-    # -ardelay: no key autorepeat (a key held past it on a loaded machine would be typed again; see
-    # ViewerTypingTest.sh).
-    MASSE_BENCH_INNER=1 exec xvfb-run -a -s "-screen 0 1280x1024x24 -ardelay 60000 -noreset" sh "$0" "$@"
-fi
+. "$(dirname "$0")/XdotoolSession.sh"
+under_xvfb "$@"
 
 saved="$out/bench.run.json"
 log="$out/bench.log"
@@ -25,18 +20,7 @@ rm -f "$saved"
     --draw scalar --scalar thickness_ratio --view left \
     --screenshot "$out/forming-bench.png" > "$log" 2>&1 &
 pid=$!
-window=""
-for _ in $(seq 1 100); do
-    window=$(xdotool search --name "MaSSE" 2>/dev/null | head -n 1) || true
-    [ -n "$window" ] && break
-    sleep 0.1
-done
-if [ -z "$window" ]; then
-    kill "$pid" 2>/dev/null || true
-    echo "the viewer's window did not appear" >&2
-    cat "$log" >&2
-    exit 1
-fi
+wait_for_window "$pid" "$log"
 sleep 2 # the first frames
 # Keys reach the window whatever the mouse is over; a key lost on a loaded machine only changes what is saved, which
 # the replay must still match. Each with a pause, so that they arrive in separate frames.

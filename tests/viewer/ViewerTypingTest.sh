@@ -11,19 +11,8 @@ masse=$1
 scene=$2
 out=$3
 mkdir -p "$out"
-if [ -z "${MASSE_TYPING_INNER:-}" ]; then
-    command -v xdotool >/dev/null 2>&1 || { echo "xdotool is missing (.ci/build installs it)" >&2; exit 1; }
-    command -v xvfb-run >/dev/null 2>&1 || { echo "xvfb-run is missing (.ci/build installs it)" >&2; exit 1; }
-    # -ardelay: no key autorepeat. xdotool holds each key for half its delay, but on a loaded machine it can be kept
-    # from running between a press and its release for longer than Xvfb's 660 ms autorepeat delay, and the server
-    # then types the held key again (a 64x2x64 scene under ctest -j2 loaded "Typped_SSScenne_B.json", 1 run in 8;
-    # a key held 1.5 s gives 23 characters with the default, 1 with -ardelay 60000). -noreset: the server otherwise
-    # resets when its last client leaves (the first viewer), and a viewer that connects during the reset is refused.
-    # Under the address sanitizer, with Mesa's driver preloaded and leaks checked at exit (tests/CMakeLists.txt),
-    # one of the two viewers met "cannot open display" in 3 runs of 4 (presumably that reset: the cause was not
-    # traced further); with -noreset in none of 4.
-    MASSE_TYPING_INNER=1 exec xvfb-run -a -s "-screen 0 1280x1024x24 -ardelay 60000 -noreset" sh "$0" "$@"
-fi
+. "$(dirname "$0")/XdotoolSession.sh"
+under_xvfb "$@"
 
 # The scene to load: the given one under a name only typing with Shift reaches.
 typed="$out/Typed_Scene_B.json"
@@ -35,18 +24,7 @@ type_run() {
     log="$out/typing-$delay.log"
     "$masse" view "$scene" --paused --window 1024x720 --frames 100000 --benchmark --screenshot "$out/typing-$delay.png" > "$log" 2>&1 &
     pid=$!
-    window=""
-    for _ in $(seq 1 100); do
-        window=$(xdotool search --name "MaSSE" 2>/dev/null | head -n 1) || true
-        [ -n "$window" ] && break
-        sleep 0.1
-    done
-    if [ -z "$window" ]; then
-        kill "$pid" 2>/dev/null || true
-        echo "the viewer's window did not appear" >&2
-        cat "$log" >&2
-        exit 1
-    fi
+    wait_for_window "$pid" "$log"
     sleep 2 # the first frames (a slow machine draws them late; a click before them is lost)
     # The scene-file field: the panel's first text field, below the HUD's fixed-height region and the run buttons
     # (the panel is docked in the right-hand column, 360 px wide in a 1024 px window).

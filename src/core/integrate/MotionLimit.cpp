@@ -9,6 +9,27 @@
 
 namespace masse
 {
+namespace
+{
+/// The largest of measure(i) over the n masses: each chunk's largest (into `chunkLargest`, kept between calls), then
+/// the largest of those. A maximum does not depend on the split, so neither does the result on the threads.
+template <class Measure> Real largestOverMasses(std::size_t n, std::vector<Real>& chunkLargest, const Measure& measure)
+{
+    chunkLargest.assign(chunkCount(n, massChunkSize), 0);
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    Real largest = 0;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        largest = std::max(largest, measure(i));
+                    }
+                    chunkLargest[begin / massChunkSize] = largest;
+                });
+    return chunkLargest.empty() ? Real(0) : *std::max_element(chunkLargest.begin(), chunkLargest.end());
+}
+} // namespace
+
 MotionLimit::MotionLimit(Real maxMotion, int maxSolves) : m_maxMotion(maxMotion), m_maxSolves(maxSolves)
 {
     if (!(maxMotion > 0) || !std::isfinite(maxMotion) || maxSolves < 1)
@@ -38,21 +59,9 @@ int MotionLimit::solvesFor(MassSpringSystem& system, Real dt)
         return m_maxSolves;
     }
     m_guessing = false;
-    // Each chunk's largest speed bound, then the largest of those: a maximum does not depend on the split.
-    std::vector<Real>& chunkLargest = m_chunkLargest;
-    chunkLargest.assign(chunkCount(n, massChunkSize), 0);
-    parallelFor(n, massChunkSize,
-                [&](std::size_t begin, std::size_t end)
-                {
-                    Real largest = 0;
-                    for (std::size_t i = begin; i < end; ++i)
-                    {
-                        const Real speed = velocity[i].norm() + (velocity[i] - m_velocityBefore[i]).norm();
-                        largest = std::max(largest, speed);
-                    }
-                    chunkLargest[begin / massChunkSize] = largest;
-                });
-    const Real speed = chunkLargest.empty() ? Real(0) : *std::max_element(chunkLargest.begin(), chunkLargest.end());
+    const Real speed = largestOverMasses(n, m_chunkLargest,
+                                         [&](std::size_t i)
+                                         { return velocity[i].norm() + (velocity[i] - m_velocityBefore[i]).norm(); });
     m_velocityBefore = velocity;
     m_predictedMotion = speed * dt;
     if (!std::isfinite(m_predictedMotion))
@@ -73,26 +82,11 @@ int MotionLimit::solvesForRest(MassSpringSystem& system, Real taken, Real rest)
     const std::size_t n = velocity.size();
     m_frameSoFar += taken;
     ++m_solvesSoFar;
-    // Each chunk's largest speed and largest velocity change over the solve just taken, then the largest of those.
-    const std::size_t chunks = chunkCount(n, massChunkSize);
-    m_chunkLargest.assign(chunks, 0);
-    m_chunkChange.assign(chunks, 0);
-    parallelFor(n, massChunkSize,
-                [&](std::size_t begin, std::size_t end)
-                {
-                    Real largestSpeed = 0;
-                    Real largestChange = 0;
-                    for (std::size_t i = begin; i < end; ++i)
-                    {
-                        largestSpeed = std::max(largestSpeed, velocity[i].norm());
-                        largestChange = std::max(largestChange, (velocity[i] - m_velocityBySolve[i]).norm());
-                    }
-                    m_chunkLargest[begin / massChunkSize] = largestSpeed;
-                    m_chunkChange[begin / massChunkSize] = largestChange;
-                });
+    // The largest speed, and the largest velocity change over the solve just taken.
+    const Real speed = largestOverMasses(n, m_chunkLargest, [&](std::size_t i) { return velocity[i].norm(); });
+    const Real change = largestOverMasses(n, m_chunkLargest,
+                                          [&](std::size_t i) { return (velocity[i] - m_velocityBySolve[i]).norm(); });
     m_velocityBySolve = velocity;
-    const Real speed = chunks == 0 ? Real(0) : *std::max_element(m_chunkLargest.begin(), m_chunkLargest.end());
-    const Real change = chunks == 0 ? Real(0) : *std::max_element(m_chunkChange.begin(), m_chunkChange.end());
     // The longest next solve L that keeps (speed + rate L) L within the limit, the velocity changing at the rate it
     // changed over the solve just taken: the positive root of rate L^2 + speed L - maxMotion.
     const Real rate = change / taken;
