@@ -160,6 +160,49 @@ void ContactSolver::project(MassSpringSystem& system, const StepContext& context
     }
 }
 
+void ContactSolver::keepInFront(Index i, Vec3& x, Vec3& v) const
+{
+    // The masses with planes are listed in increasing order.
+    std::size_t first = 0;
+    std::size_t last = m_planes.massCount();
+    while (first < last)
+    {
+        const std::size_t middle = first + (last - first) / 2;
+        if (m_planes.mass(middle) < i)
+        {
+            first = middle + 1;
+        }
+        else
+        {
+            last = middle;
+        }
+    }
+    if (first == m_planes.massCount() || m_planes.mass(first) != i)
+    {
+        return;
+    }
+    for (std::size_t k = m_planes.firstPlane(first); k < m_planes.endPlane(first); ++k)
+    {
+        const ContactPlane plane = m_planes[k];
+        Real separation = plane.separation(x, m_settings.radius) - plane.normal.dot(plane.velocity) * m_elapsed;
+        if (m_startOverlap.any)
+        {
+            separation += m_startOverlap.depth[i];
+        }
+        // Only a centre put behind the surface: a shallower overlap is the next frame's projection's, which
+        // finds the same surface in front of the centre and gives the contact its friction or its stick.
+        if (separation < -m_settings.radius)
+        {
+            x -= separation * plane.normal;
+            const Real approach = (v - plane.velocity).dot(plane.normal);
+            if (approach < 0)
+            {
+                v -= approach * plane.normal;
+            }
+        }
+    }
+}
+
 void ContactSolver::run(StepStage stage, const StageCall& call)
 {
     switch (stage)

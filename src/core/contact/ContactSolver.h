@@ -77,6 +77,11 @@ public:
             m_stuck.stuck[mass] = 0;
         }
     }
+    /// Puts mass i at x back onto a surface this frame found near it, as it is now, if its centre is behind it, and
+    /// takes out of v its speed into that surface; touches only that mass. For a correction made after the projection
+    /// (the layer floor's, LayerGap.h), which nothing else would keep out of the mould before the next frame: that
+    /// frame would find the centre behind the surface and take it for a touch from the other side.
+    void keepInFront(Index i, Vec3& x, Vec3& v) const;
     /// Told when each contact stage begins and ends (nullptr: nobody); a profiler outside the core reads its clock.
     void setStageObserver(StageObserver* observer) { m_observer = observer; }
 

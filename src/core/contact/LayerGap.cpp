@@ -274,6 +274,10 @@ void LayerGap::correct(MassSpringSystem& system, const StepContext& context, Rea
         });
 
     // Each mass gathers its corrections: its own constraint's, then those of the masses over it, in a fixed order.
+    // After the substep's projection (solveStep 0), a mass the floor pushes toward an obstacle it does not touch yet
+    // (a lower mass under an upper one the plug holds) is kept in front of it: the projection has been, and the next
+    // frame would find the mass behind the surface.
+    const bool afterProjection = solveStep == 0;
     std::vector<std::size_t> movedPerChunk(chunkCount(p.size(), massChunkSize), 0);
     parallelFor(p.size(), massChunkSize,
                 [&](std::size_t begin, std::size_t end)
@@ -333,6 +337,10 @@ void LayerGap::correct(MassSpringSystem& system, const StepContext& context, Rea
                         {
                             p.position[j] += w * dx;
                             p.velocity[j] += w * dv;
+                            if (afterProjection && m_contact)
+                            {
+                                m_contact->keepInFront(Index(j), p.position[j], p.velocity[j]);
+                            }
                             ++moved;
                             if (yields && m_contact)
                             {

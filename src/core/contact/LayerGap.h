@@ -29,7 +29,9 @@
 /// floor heights, so that a tangled mass comes back over a few substeps rather than being thrown across the mould.
 /// After a substep the approach velocity is removed; after the implicit solve, no more of it than the deficit / h the
 /// solve itself can have closed (as position-based dynamics sets v = (x - x0) / h), so that a deficit older than the
-/// solve is put right in position and not thrown into the velocity.
+/// solve is put right in position and not thrown into the velocity. The correction after the substep comes after the
+/// obstacle projection, so a lower mass it pushes toward the mould (under an upper mass the plug holds) is kept from
+/// going through it (ContactSolver::keepInFront).
 ///
 /// Order and threads: every constraint is solved from the same positions (Jacobi), and each mass gathers its
 /// corrections in a fixed order (its own constraint first, then those of the upper masses over it), so the result is

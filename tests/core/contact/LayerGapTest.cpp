@@ -1,12 +1,13 @@
 // The layer floor (core/contact/LayerGap.h): an upper-layer mass pushed onto or through the cell of masses beneath it
 // is put back at its floor, its approach stopped, momentum kept; a mass held by an obstacle does not give way; and a
 // mirror-symmetric push is corrected mirror-symmetrically; the floor falls over a warped cell, a correction moves a
-// mass at most eight floor heights, and after the implicit solve the velocity takes no more of it than the solve
-// closed.
+// mass at most eight floor heights, after the implicit solve the velocity takes no more of it than the solve
+// closed, and after the projection no correction puts a mass's centre behind the mould.
 
 #include "support/TestSystems.h"
 
 #include "core/StepContext.h"
+#include "core/contact/ContactSolver.h"
 #include "core/contact/LayerGap.h"
 #include "core/lattice/SpringTopology.h"
 
@@ -290,5 +291,86 @@ TEST(LayerGap, AfterTheSolveTheVelocityTakesNoMoreThanTheSolveClosed)
         ASSERT_EQ(gap.lastCorrected(), 5u);
         EXPECT_NEAR(closing(), closingBefore - std::min(closingBefore, deficit / h), 1e-12) << "h " << h;
         EXPECT_NEAR((momentum(s.sheet.particles) - impulse).norm(), 0, 1e-15) << "h " << h;
+    }
+}
+
+namespace
+{
+/// A still, flat floor at y = floorY under every mass (its plane's normal +y), as the detector hands it to the
+/// contact for the frame.
+class FloorDetector final : public ContactDetector
+{
+public:
+    explicit FloorDetector(Real floorY) : m_floorY(floorY) {}
+    int obstacleCount() const override { return 1; }
+    void setTime(Real /*time*/) override {}
+    void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& /*reach*/, Real /*radius*/, Real /*dt*/,
+                      ContactPlaneLists& out) override
+    {
+        out.resize(1);
+        out[0].clear();
+        for (std::size_t i = 0; i < x.size(); ++i)
+        {
+            ContactPlane plane;
+            plane.mass = Index(i);
+            plane.obstacle = 0;
+            plane.face = 0;
+            plane.offset = m_floorY;
+            out[0].push_back(plane);
+        }
+    }
+    std::optional<SweepHit> sweep(const Vec3& /*from*/, const Vec3& /*to*/, Real /*radius*/) override
+    {
+        return std::nullopt;
+    }
+    SurfaceDistance nearestSurface(const Vec3& /*x*/, Real maxDistance) override { return {maxDistance, -1, -1}; }
+    Vec3 pointVelocity(int /*obstacle*/, const Vec3& /*point*/, Real /*dt*/) override { return Vec3::Zero(); }
+
+private:
+    Real m_floorY;
+};
+} // namespace
+
+// The floor's correction after the substep comes after the obstacle contact's projection, so nothing else would stop
+// it from pushing a lower mass into the mould: an upper mass held by the plug, 1.5 rest heights (6 mm) too low over a
+// cell 1 mm above the mould (its spheres'), pushes the whole deficit into the cell, which would end with its centres
+// 3 mm behind the mould's surface; the next frame would find them there and take them for a touch from the other
+// side. With the contact, each is put back onto the surface and its speed into it taken out. A push that leaves the
+// centre in front of the surface is left to the next frame's projection.
+TEST(LayerGap, AfterTheProjectionACorrectionPutsNoCentreBehindTheMould)
+{
+    for (const bool withContact : {false, true})
+    {
+        PushedSheet s = pushedSheet(Structure::TRiMM, 1.5);
+        const std::vector<Index> cell = cellOf(s.lattice, s.upper);
+        ContactSettings settings;
+        settings.radius = 0.002;
+        const Real floorY = s.sheet.particles.position[cell[0]].y() - settings.radius - 0.001;
+        FloorDetector floor(floorY);
+        ContactSolver contact(floor, settings);
+        StepContext context;
+        contact.detect(s.sheet, context, 0, 0.01, false);
+        std::vector<int> touching(s.sheet.massCount(), -1);
+        touching[s.upper] = 0; // held by the plug
+        context.touchingObstacle = touching;
+        LayerGap gap(s.lattice);
+        if (withContact)
+        {
+            gap.setContactSolver(&contact);
+        }
+        gap.afterSubstep(s.sheet, context, 0.01, 0.01);
+        for (Index j : cell)
+        {
+            const Real y = s.sheet.particles.position[j].y();
+            if (withContact)
+            {
+                EXPECT_NEAR(y, floorY + settings.radius, 1e-15) << "mass " << j;
+                EXPECT_GE(s.sheet.particles.velocity[j].y(), 0) << "mass " << j;
+            }
+            else
+            {
+                EXPECT_NEAR(y, floorY - 0.003, 1e-12) << "mass " << j << ": the set-up no longer pushes it through";
+            }
+        }
     }
 }
