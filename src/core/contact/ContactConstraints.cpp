@@ -13,6 +13,8 @@ void ContactConstraints::resize(std::size_t masses)
     m_resting.assign(masses, 0);
     m_arriving.assign(masses, 0);
     m_arrived.assign(masses, 0);
+    m_arrivedLastFrame.assign(masses, 0);
+    m_lastArrivalImpulse.assign(masses, 0);
     m_wasResting.assign(masses, 0);
     m_normal.assign(masses, Vec3::UnitY());
     m_velocity.assign(masses, Vec3::Zero());
@@ -30,8 +32,19 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
     m_wasResting.swap(m_resting);
     std::fill(m_resting.begin(), m_resting.end(), std::uint8_t(0));
     m_restingMasses.clear();
+    for (const Index i : m_lastArrivedMasses)
+    {
+        m_arrivedLastFrame[i] = 0;
+    }
+    m_lastArrivedMasses.clear();
     for (const Index i : m_arrivingMasses)
     {
+        if (m_arrived[i])
+        {
+            m_arrivedLastFrame[i] = 1;
+            m_lastArrivalImpulse[i] = m_arrivalImpulse[i];
+            m_lastArrivedMasses.push_back(i);
+        }
         m_arriving[i] = 0;
         m_arrived[i] = 0;
     }
@@ -63,7 +76,16 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
         {
             continue;
         }
-        const Real press = m_wasResting[i] ? m_lastReaction[i].dot(plane.normal) / dt : -p.force[i].dot(plane.normal);
+        Real press = m_wasResting[i] ? m_lastReaction[i].dot(plane.normal) / dt : -p.force[i].dot(plane.normal);
+        // A mass a surface advancing into the sheet caught in the last frame (a plug's nose) is pulled away from it
+        // by its springs, so its forces do not press it in; the surface does, with the impulse that stopped it.
+        // Left to arrive again every frame, each such mass is engaged in one of the solve's rounds and the factor
+        // is refreshed for a constraint set that changes by hundreds of masses from round to round.
+        if (press <= 0 && m_arrivedLastFrame[i] && m_obstacle[i] == plane.obstacle &&
+            plane.velocity.dot(plane.normal) > 0)
+        {
+            press = m_lastArrivalImpulse[i] / dt;
+        }
         if (press <= 0)
         {
             continue;
@@ -121,6 +143,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
         context.constraints.push_back(arrival);
         m_arriving[i] = 1;
         m_arrivingMasses.push_back(i);
+        m_obstacle[i] = plane.obstacle;
     }
 }
 

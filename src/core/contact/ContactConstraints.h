@@ -49,7 +49,10 @@ private:
     std::vector<Index> m_restingMasses;
     std::vector<std::uint8_t> m_arriving; ///< has a speculative constraint this frame
     std::vector<std::uint8_t> m_arrived;  ///< its speculative constraint held in the last solve
+    std::vector<std::uint8_t> m_arrivedLastFrame; ///< m_arrived at the end of the last frame
+    std::vector<Real> m_lastArrivalImpulse;       ///< m_arrivalImpulse at the end of the last frame
     std::vector<Index> m_arrivingMasses;
+    std::vector<Index> m_lastArrivedMasses;
     std::vector<Real> m_arrivalImpulse;
     std::vector<Vec3> m_normal;
     std::vector<Vec3> m_velocity;

@@ -1,0 +1,103 @@
+// The contact's constraints for the implicit solve (core/contact/ContactConstraints.h): a mass that a surface
+// advancing into the sheet caught in the last frame rests on it in the next, although its springs pull it away; a
+// mass left on a still or receding surface with the same pull does not.
+
+#include "core/StepContext.h"
+#include "core/contact/ContactConstraints.h"
+#include "core/contact/ContactPlanes.h"
+#include "core/contact/ContactReport.h"
+#include "core/contact/StuckContacts.h"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+using namespace masse;
+
+namespace
+{
+/// One free mass of 1 kg and a frictionless plane whose normal is +y, moving along its normal: a plug's nose and a
+/// mass of the sheet it pushes.
+struct OneMassOnAPlane
+{
+    Particles particles;
+    ContactPlanes planes;
+    StuckContacts stuck;
+    ContactSettings settings;
+    ContactConstraints constraints;
+    ContactReport report;
+
+    OneMassOnAPlane()
+    {
+        particles.add(Vec3::Zero(), 1);
+        settings.radius = 0.002;
+        settings.response = ContactResponse::Frictionless;
+        stuck.resize(1);
+        constraints.resize(1);
+        report.beginFrame(1, 1);
+    }
+
+    /// Detection at a frame's start: the plane as it is now (at height `surface`), then the frame's constraints.
+    StepContext beginFrame(Real surface, Real surfaceSpeed, Real dt)
+    {
+        planes.lists().resize(1);
+        planes.lists()[0].clear();
+        ContactPlane plane;
+        plane.mass = 0;
+        plane.obstacle = 0;
+        plane.face = 0;
+        plane.normal = Vec3::UnitY();
+        plane.offset = surface;
+        plane.velocity = Vec3(0, surfaceSpeed, 0);
+        planes.lists()[0].push_back(plane);
+        planes.index();
+        StepContext context;
+        constraints.beginFrame(particles, planes, stuck, settings, dt, true, context);
+        return context;
+    }
+};
+} // namespace
+
+TEST(ContactConstraints, AMassAnAdvancingSurfaceCaughtLastFrameRestsOnIt)
+{
+    const Real dt = 0.01;
+    for (const Real surfaceSpeed : {Real(0.05), Real(0), Real(-0.05)})
+    {
+        OneMassOnAPlane rig;
+        Particles& p = rig.particles;
+        // Frame 1: the mass is 1 mm above the surface, still; the surface comes up at surfaceSpeed.
+        p.position[0] = Vec3(0, rig.settings.radius + 0.001, 0);
+        p.velocity[0] = Vec3::Zero();
+        p.force[0] = Vec3(0, 5, 0); // springs pulling it up, away from the surface
+        StepContext first = rig.beginFrame(0, surfaceSpeed, dt);
+        ASSERT_EQ(first.constraints.size(), 1u);
+        EXPECT_TRUE(first.constraints[0].speculative);
+        // The solve finds that the frame would carry the surface through the mass: the constraint holds, with an
+        // impulse of 0.2 N s.
+        first.constraints[0].engaged = true;
+        first.constraints[0].reaction = Vec3(0, 0.2, 0);
+        rig.constraints.afterSubstep(p, first, rig.stuck, dt, dt, rig.report);
+        ASSERT_TRUE(rig.constraints.arrived(0));
+
+        // Frame 2: the mass touches the surface and moves with it, still pulled away by its springs.
+        const Real surface = surfaceSpeed * dt;
+        p.position[0] = Vec3(0, surface + rig.settings.radius, 0);
+        p.velocity[0] = Vec3(0, surfaceSpeed, 0);
+        const StepContext second = rig.beginFrame(surface, surfaceSpeed, dt);
+        if (surfaceSpeed > 0)
+        {
+            // The surface presses it with the impulse that stopped it: it rests, a one-direction constraint, not
+            // a speculative arrival the solve would engage again.
+            ASSERT_EQ(second.constraints.size(), 1u);
+            EXPECT_FALSE(second.constraints[0].speculative);
+            EXPECT_EQ(second.constraints[0].directions, 1);
+            EXPECT_TRUE(rig.constraints.resting(0));
+        }
+        else
+        {
+            // Nothing presses it in: its springs lift it off (left to the projection, no constraint).
+            EXPECT_TRUE(second.constraints.empty()) << "surface speed " << surfaceSpeed;
+            EXPECT_FALSE(rig.constraints.resting(0)) << "surface speed " << surfaceSpeed;
+        }
+    }
+}
