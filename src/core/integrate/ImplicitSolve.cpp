@@ -17,6 +17,8 @@ namespace
 {
 /// Springs per chunk of the assembly's spring pass: about a megabyte of terms.
 constexpr std::size_t springChunkSize = 8192;
+/// The smallest allowance of an old factor's try that the conjugate gradient's foresight watches (see runSolver).
+constexpr int foresightFrom = 64;
 } // namespace
 
 IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
@@ -245,7 +247,10 @@ IntegratorStats ImplicitSolve::runSolver()
         // A factor fresh from the matrix solves in one or two iterations, and is kept while the iterations it takes
         // beyond that, summed since it was made, cost less than a refactorisation (RefreshBudget). A multigrid cycle
         // takes several even when fresh (ten on a cold material sheet at its tight tolerance): it is rebuilt when a
-        // solve needs more than its allowance beyond what it took fresh.
+        // solve needs more than its allowance beyond what it took fresh. The try with an old factor stops as soon as
+        // its rate foretells that it will not finish within the allowance (ConjugateGradient's `foresee`): in the
+        // plug-assist cup's stroke, where the friction under the plug changes the matrix every frame, a factor one
+        // frame old took its whole allowance of some 95 iterations before each refresh, and a fresh one then 2 or 3.
         const bool multigrid = m_settings.preconditioner == PreconditionerKind::Multigrid;
         const int allowance =
             multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
@@ -254,7 +259,8 @@ IntegratorStats ImplicitSolve::runSolver()
         const int firstTry = fresh ? cap : std::min(cap, allowance);
         if (recent.ready())
         {
-            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry);
+            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry,
+                                !fresh && !multigrid && firstTry >= foresightFrom);
             if (fresh)
             {
                 m_refreshBudget.refreshed(result.iterations);

@@ -106,7 +106,8 @@ Real ConjugateGradient::dot(const Vector& u, const Vector& v)
 }
 
 SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vector& x,
-                                     const Preconditioner& preconditioner, Real tolerance, int maxIterations)
+                                     const Preconditioner& preconditioner, Real tolerance, int maxIterations,
+                                     bool foresee)
 {
     const Eigen::Index n = a.rows();
     resizeIfNeeded(m_residual, n);
@@ -145,6 +146,8 @@ SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vec
     }
     preconditioner.apply(m_residual, m_direction);
     Real absNew = dot(m_residual, m_direction);
+    const Real firstNorm2 = residualNorm2;
+    int nextForecast = 16;
     int i = 0;
     while (i < maxIterations)
     {
@@ -161,6 +164,19 @@ SolveResult ConjugateGradient::solve(const SparseMatrix& a, const Vector& b, Vec
         if (residualNorm2 <= threshold)
         {
             break;
+        }
+        if (foresee && i == nextForecast)
+        {
+            nextForecast *= 2;
+            // Iterations still needed at the mean rate so far: log(threshold / r^2) / log(rate^2), with
+            // rate^2 = (r^2 / r0^2)^(1 / i). A residual that has not fallen at all foretells nothing finite.
+            const Real fallen = std::log(residualNorm2 / firstNorm2);
+            const Real needed = std::log(threshold / residualNorm2);
+            if (fallen < 0 && Real(i) * (needed / fallen) > Real(maxIterations - i))
+            {
+                result.foreseenShort = true;
+                break;
+            }
         }
         preconditioner.apply(m_residual, m_preconditioned);
         const Real absOld = absNew;

@@ -28,6 +28,9 @@ struct SolveResult
     int iterations = 0;
     Real residual = 0; ///< |b - A x| / |b| at the end
     bool converged = false;
+    /// Stopped short of maxIterations because its rate so far foretold that it would not converge within them
+    /// (solve's `foresee`).
+    bool foreseenShort = false;
 };
 
 /// y = A x for a symmetric A stored by columns, computed row by row over rows [begin, end): column j of a symmetric
@@ -37,9 +40,14 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
 class ConjugateGradient
 {
 public:
-    /// Improves x (the first guess) until the stopping rule holds or maxIterations have run.
+    /// Improves x (the first guess) until the stopping rule holds or maxIterations have run. With `foresee`, it also
+    /// stops at iteration 16, 32, 64, ... if the residual's mean rate of fall so far would take it past maxIterations
+    /// (SolveResult::foreseenShort): a caller that would rebuild the preconditioner when the solve runs out of
+    /// iterations (ImplicitSolve's refresh budget) learns it a hundred iterations sooner where the old preconditioner
+    /// no longer fits at all (the plug-assist cup's stroke, where the friction under the plug changes the matrix
+    /// every frame).
     SolveResult solve(const SparseMatrix& a, const Vector& b, Vector& x, const Preconditioner& preconditioner,
-                      Real tolerance, int maxIterations);
+                      Real tolerance, int maxIterations, bool foresee = false);
 
 private:
     void multiply(const SparseMatrix& a, const Vector& x, Vector& y) const;
