@@ -6,6 +6,7 @@
 #include "core/NumericalError.h"
 #include "core/Simulator.h"
 #include "core/forces/Damping.h"
+#include "core/parallel/TaskPool.h"
 
 #include <algorithm>
 #include <cctype>
@@ -26,6 +27,8 @@ constexpr EnumName<SpringModel> springModelTable[] = {
 
 /// Trouton's ratio: extensional over shear viscosity of an incompressible Newtonian liquid.
 constexpr Real troutonRatio = 3;
+/// Springs per chunk of the per-spring passes on the pool (each spring's parameters, step and state are its own).
+constexpr std::size_t springChunkSize = 4096;
 } // namespace
 
 SpringModel parseSpringModel(std::string_view name)
@@ -117,49 +120,75 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
         thickness->update(system.particles.position);
     }
     constexpr Real infinity = std::numeric_limits<Real>::infinity();
+    // Each spring on its own, over chunks on the pool; what a chunk found (a change, the first bad temperature) is
+    // kept per chunk and read in chunk order, so the error named is the same at any thread count.
+    const std::size_t chunks = chunkCount(springs.size(), springChunkSize);
+    m_chunkChanged.assign(chunks, 0);
+    m_chunkBadSpring.assign(chunks, springs.size());
+    parallelFor(springs.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    const std::size_t chunk = begin / springChunkSize;
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        const SpringEnds e = springs.ends()[s];
+                        const Real t = temperature.empty() ? m_uniformTemperature
+                                                           : Real(0.5) * (temperature[e.a] + temperature[e.b]);
+                        if (!(t > 0) || !std::isfinite(t))
+                        {
+                            m_chunkBadSpring[chunk] = std::min(m_chunkBadSpring[chunk], s);
+                            continue;
+                        }
+                        const Real ratio = followThickness ? Real(0.5) *
+                                                                 (thickness->thickness()[e.a] +
+                                                                  thickness->thickness()[e.b]) /
+                                                                 thickness->initialThickness()
+                                                           : Real(1);
+                        if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
+                        {
+                            continue;
+                        }
+                        m_springTemperature[s] = t;
+                        m_thicknessRatio[s] = ratio;
+                        m_chunkChanged[chunk] = 1;
+                        const Real g = m_perModulus[s] * ratio;
+                        BurgersParams& p = m_params[s];
+                        p.maxwellStiffness = g * modulusAt(m_material, t);
+                        const Real dashpot = troutonRatio * g * viscosityAt(m_material, t);
+                        switch (m_settings.model)
+                        {
+                        case SpringModel::Elastic:
+                            p.maxwellDamping = infinity;
+                            p.kelvinStiffness = infinity;
+                            p.kelvinDamping = infinity;
+                            break;
+                        case SpringModel::Maxwell:
+                            p.maxwellDamping = dashpot;
+                            p.kelvinStiffness = infinity;
+                            p.kelvinDamping = infinity;
+                            break;
+                        case SpringModel::Burgers:
+                            p.maxwellDamping = dashpot;
+                            p.kelvinStiffness = m_material.kelvinModulusRatio * p.maxwellStiffness;
+                            p.kelvinDamping = m_material.kelvinViscosityRatio * dashpot;
+                            break;
+                        }
+                    }
+                });
     bool changed = false;
-    for (std::size_t s = 0; s < springs.size(); ++s)
+    for (std::size_t chunk = 0; chunk < chunks; ++chunk)
     {
-        const SpringEnds e = springs.ends()[s];
-        const Real t = temperature.empty() ? m_uniformTemperature : Real(0.5) * (temperature[e.a] + temperature[e.b]);
-        if (!(t > 0) || !std::isfinite(t))
+        const std::size_t s = m_chunkBadSpring[chunk];
+        if (s < springs.size())
         {
+            const SpringEnds e = springs.ends()[s];
+            const Real t = temperature.empty() ? m_uniformTemperature
+                                               : Real(0.5) * (temperature[e.a] + temperature[e.b]);
             throw NumericalError("spring " + std::to_string(s) + " between masses " + std::to_string(e.a) + " and " +
                                  std::to_string(e.b) + " has temperature " + std::to_string(t) +
                                  " K: the temperatures are not finite and positive");
         }
-        const Real ratio = followThickness ? Real(0.5) * (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
-                                                 thickness->initialThickness()
-                                           : Real(1);
-        if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
-        {
-            continue;
-        }
-        m_springTemperature[s] = t;
-        m_thicknessRatio[s] = ratio;
-        changed = true;
-        const Real g = m_perModulus[s] * ratio;
-        BurgersParams& p = m_params[s];
-        p.maxwellStiffness = g * modulusAt(m_material, t);
-        const Real dashpot = troutonRatio * g * viscosityAt(m_material, t);
-        switch (m_settings.model)
-        {
-        case SpringModel::Elastic:
-            p.maxwellDamping = infinity;
-            p.kelvinStiffness = infinity;
-            p.kelvinDamping = infinity;
-            break;
-        case SpringModel::Maxwell:
-            p.maxwellDamping = dashpot;
-            p.kelvinStiffness = infinity;
-            p.kelvinDamping = infinity;
-            break;
-        case SpringModel::Burgers:
-            p.maxwellDamping = dashpot;
-            p.kelvinStiffness = m_material.kelvinModulusRatio * p.maxwellStiffness;
-            p.kelvinDamping = m_material.kelvinViscosityRatio * dashpot;
-            break;
-        }
+        changed = changed || m_chunkChanged[chunk] != 0;
     }
     return changed;
 }
@@ -186,13 +215,17 @@ void ViscoelasticSprings::rebuildSteps(MassSpringSystem& system, Real h)
     std::vector<Real>& springStiffness = system.springs.mutableStiffness();
     std::vector<Real>& springDamping = system.springs.mutableDamping();
     const bool elastic = m_settings.model == SpringModel::Elastic;
-    for (std::size_t s = 0; s < springStiffness.size(); ++s)
-    {
-        m_step[s] = burgersStep(m_params[s], h);
-        const Real stiffness = elastic ? m_params[s].maxwellStiffness : Real(1) / m_step[s].compliance;
-        springStiffness[s] = stiffness;
-        springDamping[s] = Real(2) * m_settings.dampingRatio * std::sqrt(stiffness * m_reducedMass[s]);
-    }
+    parallelFor(springStiffness.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        m_step[s] = burgersStep(m_params[s], h);
+                        const Real stiffness = elastic ? m_params[s].maxwellStiffness : Real(1) / m_step[s].compliance;
+                        springStiffness[s] = stiffness;
+                        springDamping[s] = Real(2) * m_settings.dampingRatio * std::sqrt(stiffness * m_reducedMass[s]);
+                    }
+                });
     m_stepLength = h;
 }
 
@@ -200,11 +233,15 @@ void ViscoelasticSprings::writeRestLengths(MassSpringSystem& system)
 {
     std::vector<Real>& restLength = system.springs.mutableRestLength();
     const bool elastic = m_settings.model == SpringModel::Elastic;
-    for (std::size_t s = 0; s < restLength.size(); ++s)
-    {
-        restLength[s] =
-            elastic ? m_originalLength[s] : m_originalLength[s] + burgersFreeExtension(m_step[s], m_state[s]);
-    }
+    parallelFor(restLength.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        restLength[s] = elastic ? m_originalLength[s]
+                                                : m_originalLength[s] + burgersFreeExtension(m_step[s], m_state[s]);
+                    }
+                });
     // Rest lengths move every substep; the stability estimate and Verlet's cached force depend on them.
     system.markChanged();
 }
@@ -242,25 +279,31 @@ void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, StepContext& co
         rebuildSteps(system, h); // the state update below must use the step actually taken
     }
     const bool elastic = m_settings.model == SpringModel::Elastic;
-    Real sum = 0;
-    for (std::size_t s = 0; s < springs.size(); ++s)
-    {
-        const SpringEnds e = springs.ends()[s];
-        const Real extension = (x[e.a] - x[e.b]).norm() - m_originalLength[s];
-        BurgersState& state = m_state[s];
-        if (elastic)
-        {
-            state.force = m_params[s].maxwellStiffness * extension;
-            state.extension = extension;
-        }
-        else
-        {
-            const Real force = burgersForce(m_step[s], state, extension);
-            burgersAdvance(m_step[s], state, force, extension);
-        }
-        sum += state.force + state.kelvinExtension;
-    }
-    if (!std::isfinite(sum))
+    m_chunkChanged.assign(chunkCount(springs.size(), springChunkSize), 1); // here: whether the chunk stayed finite
+    parallelFor(springs.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    bool finite = true;
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        const SpringEnds e = springs.ends()[s];
+                        const Real extension = (x[e.a] - x[e.b]).norm() - m_originalLength[s];
+                        BurgersState& state = m_state[s];
+                        if (elastic)
+                        {
+                            state.force = m_params[s].maxwellStiffness * extension;
+                            state.extension = extension;
+                        }
+                        else
+                        {
+                            const Real force = burgersForce(m_step[s], state, extension);
+                            burgersAdvance(m_step[s], state, force, extension);
+                        }
+                        finite = finite && std::isfinite(state.force) && std::isfinite(state.kelvinExtension);
+                    }
+                    m_chunkChanged[begin / springChunkSize] = finite ? 1 : 0;
+                });
+    if (std::find(m_chunkChanged.begin(), m_chunkChanged.end(), std::uint8_t(0)) != m_chunkChanged.end())
     {
         for (std::size_t s = 0; s < springs.size(); ++s)
         {

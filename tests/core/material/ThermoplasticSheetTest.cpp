@@ -3,8 +3,11 @@
 // like the Newtonian membrane of physics.md section 5.
 
 #include "support/TestSystems.h"
+#include "support/TestThreads.h"
 
+#include "core/NumericalError.h"
 #include "core/StateHash.h"
+#include "core/StepContext.h"
 #include "core/contact/ContactSolver.h"
 #include "core/forces/Damping.h"
 #include "core/forces/Forces.h"
@@ -18,8 +21,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 using namespace masse;
 using namespace masse::test;
@@ -571,4 +577,49 @@ TEST(ThermoplasticSheet, ExplicitIntegratorsFollowTheSameCreep)
         sheet.run(3.0);
         EXPECT_NEAR(sheet.sag(), implicit.sag(), 0.03 * implicit.sag()) << integratorName(kind);
     }
+}
+
+// A temperature that is not finite stops the step with one message naming the first spring it reaches, in spring
+// order, whoever computes which springs: the same message at one and two threads. The springs' parameters are computed
+// over chunks of springs on the pool; two bad masses far apart fall in different chunks.
+TEST(ThermoplasticSheet, ABadTemperatureNamesTheFirstSpringAtAnyThreadCount)
+{
+    const Material hips;
+    std::vector<std::string> messages;
+    for (const int threads : {1, 2})
+    {
+        const BoundPool pool(threads);
+        ClampedSheet sheet(48, 48, 0.5, 0.5, hips, hips.forming.normal, modelSettings(SpringModel::Burgers));
+        MassSpringSystem& system = sheet.system();
+        ASSERT_GT(system.springs.size(), 3 * 4096u) << "too few springs to span several chunks";
+        std::vector<Real> temperature(system.massCount(), hips.forming.normal);
+        const Index early = Index(system.massCount() / 3);
+        const Index late = Index(system.massCount() - 5);
+        temperature[late] = std::numeric_limits<Real>::quiet_NaN();
+        temperature[early] = -1000; // a spring averages its ends: this one is below absolute zero with any neighbour
+        std::size_t first = system.springs.size();
+        for (std::size_t s = 0; s < system.springs.size() && first == system.springs.size(); ++s)
+        {
+            const SpringEnds e = system.springs.ends()[s];
+            if (e.a == early || e.b == early || e.a == late || e.b == late)
+            {
+                first = s;
+            }
+        }
+        StepContext context;
+        context.temperature = temperature;
+        try
+        {
+            sheet.springs->beginFrame(system, context, 0, 0.03);
+            ADD_FAILURE() << "a negative and a NaN temperature were taken";
+        }
+        catch (const NumericalError& error)
+        {
+            const std::string message = error.what();
+            EXPECT_NE(message.find("spring " + std::to_string(first) + " "), std::string::npos) << message;
+            messages.push_back(message);
+        }
+    }
+    ASSERT_EQ(messages.size(), 2u);
+    EXPECT_EQ(messages[0], messages[1]);
 }
