@@ -139,11 +139,10 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
                             m_chunkBadSpring[chunk] = std::min(m_chunkBadSpring[chunk], s);
                             continue;
                         }
-                        const Real ratio = followThickness ? Real(0.5) *
-                                                                 (thickness->thickness()[e.a] +
-                                                                  thickness->thickness()[e.b]) /
-                                                                 thickness->initialThickness()
-                                                           : Real(1);
+                        const Real ratio =
+                            followThickness ? Real(0.5) * (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
+                                                  thickness->initialThickness()
+                                            : Real(1);
                         if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
                         {
                             continue;
@@ -182,8 +181,8 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
         if (s < springs.size())
         {
             const SpringEnds e = springs.ends()[s];
-            const Real t = temperature.empty() ? m_uniformTemperature
-                                               : Real(0.5) * (temperature[e.a] + temperature[e.b]);
+            const Real t =
+                temperature.empty() ? m_uniformTemperature : Real(0.5) * (temperature[e.a] + temperature[e.b]);
             throw NumericalError("spring " + std::to_string(s) + " between masses " + std::to_string(e.a) + " and " +
                                  std::to_string(e.b) + " has temperature " + std::to_string(t) +
                                  " K: the temperatures are not finite and positive");

@@ -2,8 +2,8 @@
 // advancing into the sheet caught in the last frame rests on it in the next, although its springs pull it away; a
 // mass left on a still or receding surface with the same pull does not.
 
-#include "core/StepContext.h"
 #include "core/contact/ContactConstraints.h"
+#include "core/StepContext.h"
 #include "core/contact/ContactPlanes.h"
 #include "core/contact/ContactReport.h"
 #include "core/contact/StuckContacts.h"
