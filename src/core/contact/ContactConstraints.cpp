@@ -13,7 +13,6 @@ void ContactConstraints::resize(std::size_t masses)
     m_resting.assign(masses, 0);
     m_arriving.assign(masses, 0);
     m_arrived.assign(masses, 0);
-    m_arrivedLastFrame.assign(masses, 0);
     m_lastArrivalImpulse.assign(masses, 0);
     m_wasResting.assign(masses, 0);
     m_normal.assign(masses, Vec3::UnitY());
@@ -34,14 +33,13 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
     m_restingMasses.clear();
     for (const Index i : m_lastArrivedMasses)
     {
-        m_arrivedLastFrame[i] = 0;
+        m_lastArrivalImpulse[i] = 0;
     }
     m_lastArrivedMasses.clear();
     for (const Index i : m_arrivingMasses)
     {
         if (m_arrived[i])
         {
-            m_arrivedLastFrame[i] = 1;
             m_lastArrivalImpulse[i] = m_arrivalImpulse[i];
             m_lastArrivedMasses.push_back(i);
         }
@@ -81,7 +79,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
         // by its springs, so its forces do not press it in; the surface does, with the impulse that stopped it.
         // Left to arrive again every frame, each such mass is engaged in one of the solve's rounds and the factor
         // is refreshed for a constraint set that changes by hundreds of masses from round to round.
-        if (press <= 0 && m_arrivedLastFrame[i] && m_obstacle[i] == plane.obstacle &&
+        if (press <= 0 && m_lastArrivalImpulse[i] > 0 && m_obstacle[i] == plane.obstacle &&
             plane.velocity.dot(plane.normal) > 0)
         {
             press = m_lastArrivalImpulse[i] / dt;

@@ -47,10 +47,10 @@ private:
     std::vector<std::uint8_t> m_resting;
     std::vector<std::uint8_t> m_wasResting;
     std::vector<Index> m_restingMasses;
-    std::vector<std::uint8_t> m_arriving;         ///< has a speculative constraint this frame
-    std::vector<std::uint8_t> m_arrived;          ///< its speculative constraint held in the last solve
-    std::vector<std::uint8_t> m_arrivedLastFrame; ///< m_arrived at the end of the last frame
-    std::vector<Real> m_lastArrivalImpulse;       ///< m_arrivalImpulse at the end of the last frame
+    std::vector<std::uint8_t> m_arriving; ///< has a speculative constraint this frame
+    std::vector<std::uint8_t> m_arrived;  ///< its speculative constraint held in the last solve
+    /// N s, m_arrivalImpulse of the masses that arrived in the last frame (m_lastArrivedMasses), 0 for the others
+    std::vector<Real> m_lastArrivalImpulse;
     std::vector<Index> m_arrivingMasses;
     std::vector<Index> m_lastArrivedMasses;
     std::vector<Real> m_arrivalImpulse;

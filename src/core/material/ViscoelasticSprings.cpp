@@ -278,7 +278,7 @@ void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, StepContext& co
         rebuildSteps(system, h); // the state update below must use the step actually taken
     }
     const bool elastic = m_settings.model == SpringModel::Elastic;
-    m_chunkChanged.assign(chunkCount(springs.size(), springChunkSize), 1); // here: whether the chunk stayed finite
+    m_chunkFinite.assign(chunkCount(springs.size(), springChunkSize), 1);
     parallelFor(springs.size(), springChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
@@ -300,9 +300,9 @@ void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, StepContext& co
                         }
                         finite = finite && std::isfinite(state.force) && std::isfinite(state.kelvinExtension);
                     }
-                    m_chunkChanged[begin / springChunkSize] = finite ? 1 : 0;
+                    m_chunkFinite[begin / springChunkSize] = finite ? 1 : 0;
                 });
-    if (std::find(m_chunkChanged.begin(), m_chunkChanged.end(), std::uint8_t(0)) != m_chunkChanged.end())
+    if (std::find(m_chunkFinite.begin(), m_chunkFinite.end(), std::uint8_t(0)) != m_chunkFinite.end())
     {
         for (std::size_t s = 0; s < springs.size(); ++s)
         {

@@ -121,8 +121,8 @@ private:
     std::vector<BurgersState> m_state;
     std::vector<Real> m_springTemperature;
     std::vector<Real> m_thicknessRatio;
-    std::vector<std::uint8_t>
-        m_chunkChanged; ///< per chunk of springs: a parameter changed, or (after a substep) all finite
+    std::vector<std::uint8_t> m_chunkChanged;  ///< per chunk of springs: a parameter changed (refreshParameters)
+    std::vector<std::uint8_t> m_chunkFinite;   ///< per chunk of springs: every state finite after the substep
     std::vector<std::size_t> m_chunkBadSpring; ///< per chunk of springs: the first with a bad temperature, or none
     Real m_uniformTemperature;
     Real m_stepLength = 0; ///< h of m_step; 0 before the first frame

@@ -4,6 +4,7 @@
 // mass at most eight floor heights, after the implicit solve the velocity takes no more of it than the solve
 // closed, and after the projection no correction puts a mass's centre behind the mould.
 
+#include "support/FlatMould.h"
 #include "support/TestSystems.h"
 
 #include "core/StepContext.h"
@@ -294,43 +295,6 @@ TEST(LayerGap, AfterTheSolveTheVelocityTakesNoMoreThanTheSolveClosed)
     }
 }
 
-namespace
-{
-/// A still, flat floor at y = floorY under every mass (its plane's normal +y), as the detector hands it to the
-/// contact for the frame.
-class FloorDetector final : public ContactDetector
-{
-public:
-    explicit FloorDetector(Real floorY) : m_floorY(floorY) {}
-    int obstacleCount() const override { return 1; }
-    void setTime(Real /*time*/) override {}
-    void findContacts(const std::vector<Vec3>& x, const std::vector<Real>& /*reach*/, Real /*radius*/, Real /*dt*/,
-                      ContactPlaneLists& out) override
-    {
-        out.resize(1);
-        out[0].clear();
-        for (std::size_t i = 0; i < x.size(); ++i)
-        {
-            ContactPlane plane;
-            plane.mass = Index(i);
-            plane.obstacle = 0;
-            plane.face = 0;
-            plane.offset = m_floorY;
-            out[0].push_back(plane);
-        }
-    }
-    std::optional<SweepHit> sweep(const Vec3& /*from*/, const Vec3& /*to*/, Real /*radius*/) override
-    {
-        return std::nullopt;
-    }
-    SurfaceDistance nearestSurface(const Vec3& /*x*/, Real maxDistance) override { return {maxDistance, -1, -1}; }
-    Vec3 pointVelocity(int /*obstacle*/, const Vec3& /*point*/, Real /*dt*/) override { return Vec3::Zero(); }
-
-private:
-    Real m_floorY;
-};
-} // namespace
-
 // The floor's correction after the substep comes after the obstacle contact's projection, so nothing else would stop
 // it from pushing a lower mass into the mould: an upper mass held by the plug, 1.5 rest heights (6 mm) too low over a
 // cell 1 mm above the mould (its spheres'), pushes the whole deficit into the cell, which would end with its centres
@@ -346,7 +310,7 @@ TEST(LayerGap, AfterTheProjectionACorrectionPutsNoCentreBehindTheMould)
         ContactSettings settings;
         settings.radius = 0.002;
         const Real floorY = s.sheet.particles.position[cell[0]].y() - settings.radius - 0.001;
-        FloorDetector floor(floorY);
+        test::FlatMould floor(floorY);
         ContactSolver contact(floor, settings);
         StepContext context;
         contact.detect(s.sheet, context, 0, 0.01, false);
