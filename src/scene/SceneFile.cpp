@@ -470,6 +470,7 @@ MaterialSpec readMaterialSection(const JsonObject& o, const std::string& baseDir
     spec.springs.model = parseSpringModel(o.choice("spring_model", "burgers", springModelNames()));
     spec.springs.dampingRatio = o.number("damping_ratio", spec.springs.dampingRatio, 0.0, 1.0);
     spec.springs.followThickness = o.boolean("follow_thickness", spec.springs.followThickness);
+    spec.springs.strainHardening = o.number("strain_hardening", spec.springs.strainHardening, 0.0, maxStrainHardening);
     o.finish();
     return spec;
 }

@@ -52,6 +52,11 @@ void validate(const SpringModelSettings& settings)
     {
         throw InputError("dampingRatio", "must be in [0, 1] (got " + formatNumber(settings.dampingRatio) + ")");
     }
+    if (!(settings.strainHardening >= 0 && settings.strainHardening <= maxStrainHardening))
+    {
+        throw InputError("strainHardening", "must be in [0, " + formatNumber(maxStrainHardening) + "] (got " +
+                                                formatNumber(settings.strainHardening) + ")");
+    }
     if (!(settings.initialTemperature > 0) || !std::isfinite(settings.initialTemperature))
     {
         throw InputError("initialTemperature", "must be above absolute zero (got " +
@@ -115,7 +120,8 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
                                     " temperatures for " + std::to_string(system.massCount()) + " masses");
     }
     const bool followThickness = m_settings.followThickness && thickness;
-    if (followThickness)
+    const Real hardening = thickness ? m_settings.strainHardening : Real(0);
+    if (followThickness || hardening > 0)
     {
         thickness->update(system.particles.position);
     }
@@ -139,10 +145,16 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
                             m_chunkBadSpring[chunk] = std::min(m_chunkBadSpring[chunk], s);
                             continue;
                         }
-                        const Real ratio =
-                            followThickness ? Real(0.5) * (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
-                                                  thickness->initialThickness()
-                                            : Real(1);
+                        const Real thinning = followThickness || hardening > 0
+                                                  ? Real(0.5) *
+                                                        (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
+                                                        thickness->initialThickness()
+                                                  : Real(1);
+                        Real ratio = followThickness ? thinning : Real(1);
+                        if (hardening > 0)
+                        {
+                            ratio *= std::pow(thinning, -hardening);
+                        }
                         if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
                         {
                             continue;

@@ -70,12 +70,22 @@ struct SpringModelSettings
 {
     SpringModel model = SpringModel::Burgers;
     Real dampingRatio = 0.06; ///< fraction of critical damping of each spring's k_eff, in [0, 1]; paper Table 1: 6%
-    /// Stiffness and viscosity scale with the local thickness h/h0 (a thinned region is weaker); needs setThickness.
+    /// Stiffness and viscosity scale with the local thickness h/h0 (a thinned region is weaker); needs the step
+    /// context's thickness.
     bool followThickness = true;
+    /// Stiffness and viscosity also scale with the local area stretch A/A0 = h0/h raised to this power (0: none): a
+    /// strain-hardening sheet, whose thinned regions grow stiffer, so that stretch spreads to the thicker ones and a
+    /// bubble blown from it thins evenly, as Crawford's cone law assumes (physics.md section 5). Needs the step
+    /// context's thickness. In [0, maxStrainHardening].
+    Real strainHardening = 0;
     Real initialTemperature = 293.15; ///< K, used while the step context carries no temperatures; > 0
 };
 
-/// Throws InputError naming the bad field (dampingRatio outside [0, 1], a non-positive initialTemperature).
+/// The largest strainHardening accepted: at 4 a region thinned to half its thickness is 16 times as stiff.
+inline constexpr Real maxStrainHardening = 4;
+
+/// Throws InputError naming the bad field (dampingRatio outside [0, 1], a non-positive initialTemperature,
+/// strainHardening outside [0, maxStrainHardening]).
 void validate(const SpringModelSettings& settings);
 
 class ViscoelasticSprings final : public StepHook

@@ -60,8 +60,10 @@ inline constexpr FieldKey materialKeys[] = {{"density", "density"},
                                             {"forming.normal", "forming_window.normal_c"},
                                             {"forming.upper", "forming_window.upper_c"}};
 /// The material sheet and its springs (makeMaterialSheet, SpringModelSettings), from "material".
-inline constexpr FieldKey materialSheetKeys[] = {
-    {"thickness", "thickness"}, {"dampingRatio", "damping_ratio"}, {"model", "spring_model"}};
+inline constexpr FieldKey materialSheetKeys[] = {{"thickness", "thickness"},
+                                                 {"dampingRatio", "damping_ratio"},
+                                                 {"model", "spring_model"},
+                                                 {"strainHardening", "strain_hardening"}};
 /// ThermalSettings, from "heat".
 inline constexpr FieldKey thermalKeys[] = {{"initialTemperature", "initial_temperature_c"},
                                            {"airTemperature", "air_temperature_c"},

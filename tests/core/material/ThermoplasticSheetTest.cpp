@@ -576,3 +576,60 @@ TEST(ThermoplasticSheet, ABadTemperatureNamesTheFirstSpringAtAnyThreadCount)
     ASSERT_EQ(messages.size(), 2u);
     EXPECT_EQ(messages[0], messages[1]);
 }
+
+// strain_hardening: a spring's stiffness is g E(T) (h/h0) with follow_thickness, times (h0/h)^m. A sheet stretched by
+// lambda in both directions of its layers has h = h0 / lambda^2 at every mass (each cell's area grows by lambda^2),
+// so each spring's stiffness is its unstretched value times lambda^(2m - 2), or lambda^(2m) without
+// follow_thickness.
+TEST(ThermoplasticSheet, AStrainHardeningSheetStiffensAsItThins)
+{
+    const Material hips;
+    const Real lambda = 1.25;
+    for (const bool follow : {true, false})
+    {
+        for (const Real hardening : {0.0, 2.0, 3.5})
+        {
+            SpringModelSettings settings = modelSettings(SpringModel::Elastic);
+            settings.followThickness = follow;
+            settings.strainHardening = hardening;
+            std::vector<Real> stiffness[2];
+            for (const int stretched : {0, 1})
+            {
+                ClampedSheet sheet(6, 6, 0.1, 0.1, hips, hips.forming.normal, settings);
+                MassSpringSystem& system = sheet.system();
+                if (stretched == 1)
+                {
+                    for (Vec3& x : system.particles.position)
+                    {
+                        x.x() *= lambda;
+                        x.z() *= lambda;
+                    }
+                }
+                SheetThickness thickness(sheet.lattice, sheetThickness);
+                StepContext context;
+                context.thickness = &thickness;
+                sheet.springs->beginFrame(system, context, 0, 0.03);
+                if (follow || hardening > 0) // the springs measure the thickness only when they use it
+                {
+                    EXPECT_NEAR(thickness.minimumThickness(), sheetThickness / (stretched == 1 ? lambda * lambda : 1.0),
+                                1e-15);
+                }
+                stiffness[stretched] = system.springs.stiffness();
+            }
+            const Real expected = std::pow(lambda, 2 * hardening - (follow ? 2 : 0));
+            ASSERT_EQ(stiffness[0].size(), stiffness[1].size());
+            for (std::size_t s = 0; s < stiffness[0].size(); ++s)
+            {
+                ASSERT_NEAR(stiffness[1][s] / stiffness[0][s], expected, 1e-12 * expected)
+                    << "spring " << s << ", follow_thickness " << follow << ", strain_hardening " << hardening;
+            }
+        }
+    }
+    for (const Real bad : {-0.5, maxStrainHardening + 1, std::numeric_limits<Real>::quiet_NaN()})
+    {
+        SpringModelSettings settings;
+        settings.strainHardening = bad;
+        const std::string message = inputErrorOf([&] { validate(settings); });
+        EXPECT_EQ(message.rfind("strainHardening: must be in [0, 4]", 0), 0u) << message;
+    }
+}
