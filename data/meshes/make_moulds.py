@@ -4,7 +4,8 @@ point out of the solid (into the cavity for a cavity's wall). Run from this fold
 
   cup-mould.stl   binary STL: a 0.30 m square block, 0.12 m deep, top at y = 0, with a round cup cavity (rim radius
                   0.07 m, floor radius 0.055 m, depth 0.07 m)
-  tray-mould.obj  OBJ: a 0.40 x 0.30 m block with a tray cavity (0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep)
+  tray-mould.obj  OBJ: a 0.40 x 0.30 m block with a tray cavity (0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep;
+                  rim and floor edges rounded to 0.01 m, the corners seen from above to 0.02 m at the rim)
   cone-45.stl, cone-60.stl, cone-70.stl   ASCII STL: a block with a conical cavity of half-angle 45, 60 and 70
                   degrees (rim radius 0.08 m, to the apex), for the cone-law test
   plug.obj        OBJ: a closed cylinder, radius 0.045 m, height 0.06 m, bottom edge rounded to a 0.01 m radius,
@@ -26,14 +27,34 @@ def ring_on_square(half, n, y):
     return points
 
 
-def ring_on_rectangle(hx, hz, n, y):
-    points = []
-    for k in range(n):
-        a = 2 * math.pi * k / n
-        c, s = math.cos(a), math.sin(a)
-        scale = min(hx / abs(c) if abs(c) > 1e-12 else 1e9, hz / abs(s) if abs(s) > 1e-12 else 1e9)
-        points.append((c * scale, y, s * scale))
-    return points
+def rounded_rectangle(hx, hz, corner, n, y):
+    """n points (n a multiple of 4) at equal steps along a rectangle of half extents hx, hz whose corners are rounded to
+    the radius `corner`, from (hx, 0) in the sense of circle(). The second, third and fourth quarters are the first's
+    mirror images across x = 0 and z = 0, so the ring is as mirror-symmetric as the rectangle."""
+    corner = min(corner, hx, hz)
+    m = n // 4
+    side_z, arc, side_x = hz - corner, math.pi / 2 * corner, hx - corner
+    quarter = side_z + arc + side_x
+    first = []
+    for k in range(m):
+        s = quarter * k / m
+        if s < side_z:
+            first.append((hx, s))
+        elif s < side_z + arc:
+            a = (s - side_z) / corner
+            first.append((hx - corner + corner * math.cos(a), hz - corner + corner * math.sin(a)))
+        else:
+            first.append((hx - corner - (s - side_z - arc), hz))
+    second = [(0.0, hz)] + [(-first[m - k][0], first[m - k][1]) for k in range(1, m)]
+    third = [(-hx, 0.0)] + [(-first[k][0], -first[k][1]) for k in range(1, m)]
+    fourth = [(0.0, -hz)] + [(first[m - k][0], -first[m - k][1]) for k in range(1, m)]
+    return [(x, y, z) for x, z in first + second + third + fourth]
+
+
+def arc(centre, radius, start, end, segments):
+    """segments + 1 points (u, y) of a circular arc in a wall's profile, from angle start to end (radians)."""
+    return [(centre[0] + radius * math.cos(start + (end - start) * k / segments),
+             centre[1] + radius * math.sin(start + (end - start) * k / segments)) for k in range(segments + 1)]
 
 
 def circle(radius, n, y):
@@ -176,12 +197,24 @@ def main():
     cup = block_with_cavity(ring_on_square(0.15, n, 0.0), ring_on_square(0.15, n, -0.12),
                             [circle(0.07, n, 0.0), circle(0.055, n, -0.07)], (0.0, -0.07, 0.0))
     cup.write_binary_stl("cup-mould.stl", "MaSSE round cup mould (make_moulds.py)")
-    # Tray: 0.28 x 0.18 at the rim, 5 degree draft, 0.04 deep, in a 0.40 x 0.30 block.
-    draft = 0.04 * math.tan(math.radians(5))
-    tray = block_with_cavity(ring_on_rectangle(0.2, 0.15, n, 0.0), ring_on_rectangle(0.2, 0.15, n, -0.1),
-                             [ring_on_rectangle(0.14, 0.09, n, 0.0),
-                              ring_on_rectangle(0.14 - draft, 0.09 - draft, n, -0.04)], (0.0, -0.04, 0.0))
-    tray.write_obj("tray-mould.obj", "MaSSE tray mould: 0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep")
+    # Tray: 0.28 x 0.18 at the rim, 5 degree draft, 0.04 deep, in a 0.40 x 0.30 block, its edges radiused as a real
+    # tray mould's are: the rim and the floor's edge in 10 mm arcs, the corners seen from above in 20 mm at the rim.
+    # The wall's profile is given as (u, y), u how far the wall stands inside the rim's line; each ring is the rim's
+    # rounded rectangle moved in by u. A sharp rim cut the sheet drawn over it between its masses: the bottom layer's
+    # springs cut the edge's corner and upper-layer masses came down on the rim at 32x2x25 and 128x2x100.
+    depth, rim, floor, plan_corner, segments = 0.04, 0.01, 0.01, 0.02, 6
+    slope = math.tan(math.radians(5))  # the draft: the wall moves in by slope per metre down
+    root = math.sqrt(1 + slope * slope)
+    draft_angle = math.atan(slope)
+    profile = arc((slope * rim - rim * root, -rim), rim, math.pi / 2, draft_angle, segments)  # over the rim
+    profile += arc((floor * root - slope * (floor - depth), floor - depth), floor, math.pi + draft_angle,
+                   1.5 * math.pi, segments)  # into the floor
+    tray_n = 128
+    rings = [rounded_rectangle(0.14 - u, 0.09 - u, plan_corner - u, tray_n, y) for u, y in profile]
+    tray = block_with_cavity(rounded_rectangle(0.2, 0.15, 0.03, tray_n, 0.0),
+                             rounded_rectangle(0.2, 0.15, 0.03, tray_n, -0.1), rings, (0.0, -depth, 0.0))
+    tray.write_obj("tray-mould.obj", "MaSSE tray mould: 0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep, "
+                   "rim and floor edges radiused 0.01 m, corners 0.02 m")
     # Cones: rim radius 0.08, to the apex.
     for half_angle in (45, 60, 70):
         r0 = 0.08
