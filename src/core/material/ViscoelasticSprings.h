@@ -75,8 +75,8 @@ struct SpringModelSettings
     bool followThickness = true;
     /// Stiffness and viscosity also scale with the local area stretch A/A0 = h0/h raised to this power (0: none): a
     /// strain-hardening sheet, whose thinned regions grow stiffer, so that stretch spreads to the thicker ones and a
-    /// bubble blown from it thins evenly, as Crawford's cone law assumes (physics.md section 5). Needs the step
-    /// context's thickness. In [0, maxStrainHardening].
+    /// bubble blown from it thins more evenly, nearer what Crawford's cone law assumes (physics.md section 4). Needs
+    /// the step context's thickness. In [0, maxStrainHardening].
     Real strainHardening = 0;
     Real initialTemperature = 293.15; ///< K, used while the step context carries no temperatures; > 0
 };
