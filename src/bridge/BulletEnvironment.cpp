@@ -28,14 +28,6 @@ namespace
 /// not to matter.
 constexpr Real probeRadius = 1e-6;
 
-/// A surface's nearest point to a mass: the distance from the mass's sphere, the normal towards the mass, the point.
-struct NearPoint
-{
-    Real distance;
-    Vec3 normal;
-    Vec3 point;
-};
-
 /// Bullet's default pools hold 4,096 contact manifolds and 4,096 collision algorithms, zeroed when made: about 30%
 /// of a small sweep case's time goes to that. MaSSE never lets Bullet pair obstacles with each other (only queries
 /// and sweeps), so a few of each are plenty; Bullet takes more from the heap should it ever need them.
@@ -59,21 +51,46 @@ struct CandidateCollector : btBroadphaseAabbCallback
     }
 };
 
-/// Gathers, for a mesh, the triangles near a sphere and their closest points. The triangles arrive in the mesh's own
-/// frame, so the sphere's centre is taken there and the answers turned back into the world.
+/// A triangle near a sphere, in the mesh's own frame: how far the sphere's surface is from it, the direction from its
+/// nearest point to the centre, that point, and the triangle.
+struct NearTriangle
+{
+    Real distance;
+    Vec3 normal;
+    Vec3 point;
+    int triangle;
+};
+
+/// Gathers, for a mesh, the triangles near a sphere and their closest points, in the mesh's own frame (the sphere's
+/// centre is taken there; the few answers kept are turned back into the world by the caller). Bullet hands over every
+/// triangle whose box meets the search box; on a finely faceted mould (a rounded rim in many facets) most of those are
+/// beyond the search sphere, so two cheap tests turn them away before the nearest point is computed: the distance
+/// from the centre to the triangle's own box and to its plane, each no more than the distance to the triangle. The
+/// tests keep a margin far above their rounding, so they turn away only triangles the nearest point would, and the
+/// answer is the same.
 struct TriangleCollector : btTriangleCallback
 {
-    const btTransform* transform;
     Vec3 localCentre;
     Real radius;
     Real searchDistance;
-    std::vector<std::pair<NearPoint, int>>* found; // closest point and triangle index
+    const std::vector<Vec3>* triangleNormals; // unit normal of each triangle, mesh frame
+    std::vector<NearTriangle>* found;
 
     void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
     {
         const Vec3 a = toVec3(triangle[0]);
         const Vec3 b = toVec3(triangle[1]);
         const Vec3 c = toVec3(triangle[2]);
+        const Real reach = radius + searchDistance;
+        const Real bound = reach + Real(1e-9) * reach + Real(1e-12);
+        const Vec3 outside = (a.cwiseMin(b).cwiseMin(c) - localCentre)
+                                 .cwiseMax(localCentre - a.cwiseMax(b).cwiseMax(c))
+                                 .cwiseMax(Real(0));
+        if (outside.squaredNorm() > bound * bound ||
+            std::abs((*triangleNormals)[std::size_t(triangleIndex)].dot(localCentre - a)) > bound)
+        {
+            return;
+        }
         const Vec3 nearest = closestPointOnTriangle(localCentre, a, b, c);
         const Vec3 offset = localCentre - nearest;
         const Real gap = offset.norm();
@@ -100,8 +117,7 @@ struct TriangleCollector : btTriangleCallback
             }
             localNormal = face / length;
         }
-        const Vec3 normal = toVec3(transform->getBasis() * toBullet(localNormal));
-        found->emplace_back(NearPoint{gap - radius, normal, toVec3((*transform)(toBullet(nearest)))}, triangleIndex);
+        found->push_back(NearTriangle{gap - radius, localNormal, nearest, triangleIndex});
     }
 };
 
@@ -319,11 +335,11 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame. Their list is kept per thread
     // (the queries run on the task pool's threads) and reused: a new one for each mass's query would be a heap
     // allocation or more per mass and frame.
-    thread_local std::vector<std::pair<NearPoint, int>> found;
+    thread_local std::vector<NearTriangle> found;
     found.clear();
     TriangleCollector collector;
     collector.found = &found;
-    collector.transform = &transform;
+    collector.triangleNormals = &obstacle.geometry.triangleNormals;
     const Real extent = radius + std::max(searchDistance, Real(0));
     const Vec3 local = toLocal * (centre - obstacle.pose.position);
     collector.localCentre = local;
@@ -339,34 +355,33 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // from the edge, so a mass sliding down that face would be thrown off it each substep (a glassy 40x2x40 PET sheet
     // on the pyramid mesh would gain 154 J in one step that way). Only the nearest and the triangles the centre lies
     // over are put in order (nearest first, ties by triangle): sorting every triangle in the search box would take 9%
-    // of a vacuum-forming run.
+    // of a vacuum-forming run. All in the mesh's frame; the planes kept are turned into the world.
     if (found.empty())
     {
         return;
     }
-    const auto nearer = [](const auto& a, const auto& b)
-    { return a.first.distance < b.first.distance || (a.first.distance == b.first.distance && a.second < b.second); };
-    const auto overFace = [&](const auto& entry)
+    const auto nearer = [](const NearTriangle& a, const NearTriangle& b)
+    { return a.distance < b.distance || (a.distance == b.distance && a.triangle < b.triangle); };
+    const auto overFace = [&](const NearTriangle& entry)
     {
-        const int face = obstacle.geometry.triangleFace[std::size_t(entry.second)];
-        const Vec3 faceNormal = obstacle.pose.orientation * obstacle.geometry.faces[std::size_t(face)].normal;
-        return std::abs(faceNormal.dot(entry.first.normal)) > 0.99;
+        const int face = obstacle.geometry.triangleFace[std::size_t(entry.triangle)];
+        return std::abs(obstacle.geometry.faces[std::size_t(face)].normal.dot(entry.normal)) > 0.99;
     };
     std::iter_swap(found.begin(), std::min_element(found.begin(), found.end(), nearer));
     const auto overFaceEnd = std::partition(found.begin() + 1, found.end(), overFace);
     std::sort(found.begin() + 1, overFaceEnd, nearer);
     for (auto entry = found.begin(); entry != overFaceEnd && out.size() < 3; ++entry)
     {
-        const auto& [closest, triangle] = *entry;
+        const Vec3 normal = toVec3(transform.getBasis() * toBullet(entry->normal));
         bool distinct = true;
         for (const Closest& kept : out)
         {
-            distinct = distinct && kept.normal.dot(closest.normal) < 0.99;
+            distinct = distinct && kept.normal.dot(normal) < 0.99;
         }
         if (distinct)
         {
-            out.push_back({closest.distance, closest.normal, closest.point,
-                           obstacle.geometry.triangleFace[std::size_t(triangle)]});
+            out.push_back({entry->distance, normal, toVec3(transform(toBullet(entry->point))),
+                           obstacle.geometry.triangleFace[std::size_t(entry->triangle)]});
         }
     }
 }

@@ -222,10 +222,13 @@ void makeMesh(const ObstacleShape& shape, ObstacleGeometry& g)
         face.offset = face.normal.dot(g.vertices[std::size_t(face.vertices[0])]);
         for (std::size_t k = 1; k + 1 < n; ++k) // fan triangulation for Bullet
         {
-            g.triangles->addTriangle(toBullet(g.vertices[std::size_t(face.vertices[0])]),
-                                     toBullet(g.vertices[std::size_t(face.vertices[k])]),
-                                     toBullet(g.vertices[std::size_t(face.vertices[k + 1])]));
+            const Vec3& a = g.vertices[std::size_t(face.vertices[0])];
+            const Vec3& b = g.vertices[std::size_t(face.vertices[k])];
+            const Vec3& c = g.vertices[std::size_t(face.vertices[k + 1])];
+            g.triangles->addTriangle(toBullet(a), toBullet(b), toBullet(c));
             g.triangleFace.push_back(int(f));
+            const Vec3 cross = (b - a).cross(c - a);
+            g.triangleNormals.push_back(cross.norm() > 0 ? Vec3(cross.normalized()) : Vec3::Zero());
         }
         g.faces.push_back(std::move(face));
     }

@@ -36,7 +36,8 @@ struct ObstacleGeometry
     bool convex = true;
     std::vector<Vec3> vertices; ///< local frame
     std::vector<Face> faces;
-    std::vector<int> triangleFace; ///< mesh only: the face of each Bullet triangle
+    std::vector<int> triangleFace;     ///< mesh only: the face of each Bullet triangle
+    std::vector<Vec3> triangleNormals; ///< mesh only: each Bullet triangle's own unit normal (zero if degenerate)
     Vec3 localMin = Vec3::Zero();
     Vec3 localMax = Vec3::Zero();
     std::unique_ptr<btTriangleMesh> triangles;
