@@ -199,12 +199,11 @@ def main():
     cup.write_binary_stl("cup-mould.stl", "MaSSE round cup mould (make_moulds.py)")
     # Tray: 0.28 x 0.18 at the rim, 5 degree draft, 0.04 deep, in a 0.40 x 0.30 block, its edges radiused as a real
     # tray mould's are: the rim and the floor's edge in 10 mm arcs of three facets, the corners seen from above in
-    # 20 mm at the rim. Finer facets cost contact time (a mass pressed towards the mould searches some 20 mm around it,
-    # and every facet in reach is tested): at 64x2x50 contact takes 27% of the run with these, 42% with six facets an
-    # arc and 128 points a ring, which keep the layers no better.
-    # The wall's profile is given as (u, y), u how far the wall stands inside the rim's line; each ring is the rim's
-    # rounded rectangle moved in by u. A sharp rim cut the sheet drawn over it between its masses: the bottom layer's
-    # springs cut the edge's corner and upper-layer masses came down on the rim at 32x2x25 and 128x2x100.
+    # 20 mm at the rim. A sharp rim cuts a coarse sheet drawn over it between its masses: the bottom layer's springs
+    # cut the edge's corner and upper-layer masses come down on the rim. Facets cost contact time (a mass pressed
+    # towards the mould searches some 20 mm around it, and every facet in reach is tested), so the arcs have no more
+    # than the layers need. The wall's profile is given as (u, y), u how far the wall stands inside the rim's line;
+    # each ring is the rim's rounded rectangle moved in by u.
     depth, rim, floor, plan_corner, segments = 0.04, 0.01, 0.01, 0.02, 3
     slope = math.tan(math.radians(5))  # the draft: the wall moves in by slope per metre down
     root = math.sqrt(1 + slope * slope)
