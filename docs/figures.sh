@@ -4,7 +4,7 @@
 # command prints or writes, and rewrites the lines between the page's two marker comments (nothing else in the page
 # changes). Run it after building, from anywhere:
 #     .ci/build && sh docs/figures.sh [performance|validation]    (both without an argument)
-# on a shared machine: nice -n 10 sh docs/figures.sh. It takes about ten minutes on a 2-core machine. Needs python3
+# on a shared machine: nice -n 10 sh docs/figures.sh. It takes about a quarter of an hour on a 2-core machine. Needs python3
 # (to read JSON); the viewer row needs xvfb-run.
 set -eu
 cd "$(dirname "$0")/.."
