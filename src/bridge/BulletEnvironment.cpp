@@ -73,6 +73,7 @@ struct TriangleCollector : btTriangleCallback
     Vec3 localCentre;
     Real radius;
     Real searchDistance;
+    Real rejectBeyond;                        // radius + searchDistance, with the tests' margin over rounding
     const std::vector<Vec3>* triangleNormals; // unit normal of each triangle, mesh frame
     std::vector<NearTriangle>* found;
 
@@ -81,13 +82,11 @@ struct TriangleCollector : btTriangleCallback
         const Vec3 a = toVec3(triangle[0]);
         const Vec3 b = toVec3(triangle[1]);
         const Vec3 c = toVec3(triangle[2]);
-        const Real reach = radius + searchDistance;
-        const Real bound = reach + Real(1e-9) * reach + Real(1e-12);
         const Vec3 outside = (a.cwiseMin(b).cwiseMin(c) - localCentre)
                                  .cwiseMax(localCentre - a.cwiseMax(b).cwiseMax(c))
                                  .cwiseMax(Real(0));
-        if (outside.squaredNorm() > bound * bound ||
-            std::abs((*triangleNormals)[std::size_t(triangleIndex)].dot(localCentre - a)) > bound)
+        if (outside.squaredNorm() > rejectBeyond * rejectBeyond ||
+            std::abs((*triangleNormals)[std::size_t(triangleIndex)].dot(localCentre - a)) > rejectBeyond)
         {
             return;
         }
@@ -345,6 +344,8 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     collector.localCentre = local;
     collector.radius = radius;
     collector.searchDistance = searchDistance;
+    const Real reach = radius + searchDistance;
+    collector.rejectBeyond = reach + Real(1e-9) * reach + Real(1e-12);
     const auto& mesh = static_cast<const btBvhTriangleMeshShape&>(*obstacle.geometry.shape);
     const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(&collector, toBullet(local - Vec3::Constant(extent)),
                                                                   toBullet(local + Vec3::Constant(extent)));

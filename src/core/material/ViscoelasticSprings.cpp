@@ -98,7 +98,7 @@ ViscoelasticSprings::ViscoelasticSprings(const MassSpringSystem& system, std::ve
     m_step.resize(springs.size());
     m_state.resize(springs.size());
     m_springTemperature.assign(springs.size(), std::numeric_limits<Real>::quiet_NaN());
-    m_thicknessRatio.assign(springs.size(), Real(1));
+    m_thicknessFactor.assign(springs.size(), Real(1));
 }
 
 void ViscoelasticSprings::setUniformTemperature(Real temperature)
@@ -121,7 +121,8 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
     }
     const bool followThickness = m_settings.followThickness && thickness;
     const Real hardening = thickness ? m_settings.strainHardening : Real(0);
-    if (followThickness || hardening > 0)
+    const bool readsThickness = followThickness || hardening > 0;
+    if (readsThickness)
     {
         thickness->update(system.particles.position);
     }
@@ -145,24 +146,24 @@ bool ViscoelasticSprings::refreshParameters(const MassSpringSystem& system, std:
                             m_chunkBadSpring[chunk] = std::min(m_chunkBadSpring[chunk], s);
                             continue;
                         }
-                        const Real thinning = followThickness || hardening > 0
-                                                  ? Real(0.5) *
-                                                        (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
-                                                        thickness->initialThickness()
-                                                  : Real(1);
-                        Real ratio = followThickness ? thinning : Real(1);
+                        // h/h0 at the spring: the mean of its ends'.
+                        const Real thinning =
+                            readsThickness ? Real(0.5) * (thickness->thickness()[e.a] + thickness->thickness()[e.b]) /
+                                                 thickness->initialThickness()
+                                           : Real(1);
+                        Real factor = followThickness ? thinning : Real(1);
                         if (hardening > 0)
                         {
-                            ratio *= std::pow(thinning, -hardening);
+                            factor *= std::pow(thinning, -hardening);
                         }
-                        if (t == m_springTemperature[s] && ratio == m_thicknessRatio[s])
+                        if (t == m_springTemperature[s] && factor == m_thicknessFactor[s])
                         {
                             continue;
                         }
                         m_springTemperature[s] = t;
-                        m_thicknessRatio[s] = ratio;
+                        m_thicknessFactor[s] = factor;
                         m_chunkChanged[chunk] = 1;
-                        const Real g = m_perModulus[s] * ratio;
+                        const Real g = m_perModulus[s] * factor;
                         BurgersParams& p = m_params[s];
                         p.maxwellStiffness = g * modulusAt(m_material, t);
                         const Real dashpot = troutonRatio * g * viscosityAt(m_material, t);

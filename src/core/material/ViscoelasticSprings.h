@@ -130,7 +130,7 @@ private:
     std::vector<BurgersStep> m_step; ///< for m_stepLength
     std::vector<BurgersState> m_state;
     std::vector<Real> m_springTemperature;
-    std::vector<Real> m_thicknessRatio;
+    std::vector<Real> m_thicknessFactor; ///< per spring: what its thickness multiplies its stiffness and viscosity by
     std::vector<std::uint8_t> m_chunkChanged;  ///< per chunk of springs: a parameter changed (refreshParameters)
     std::vector<std::uint8_t> m_chunkFinite;   ///< per chunk of springs: every state finite after the substep
     std::vector<std::size_t> m_chunkBadSpring; ///< per chunk of springs: the first with a bad temperature, or none
