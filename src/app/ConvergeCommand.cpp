@@ -214,6 +214,12 @@ void runConverge(const ConvergeOptions& options)
         std::printf("thinnest wall: %.4f h0 +- %.4f (Richardson, order %.2f %s)\n", t.value, t.band, t.order,
                     t.orderMeasured ? "measured" : "assumed");
     }
+    else if (t.orderMeasured)
+    {
+        std::printf("thinnest wall: %.4f h0 +- %.4f (the differences shrink too slowly, order %.2f measured, below "
+                    "%.1f: not extrapolated; the band is the last difference)\n",
+                    t.value, t.band, t.order, scene::minimumOrder);
+    }
     else
     {
         std::printf("thinnest wall: %.4f h0 +- %.4f (the differences do not shrink: not extrapolated; the band is the "

@@ -136,7 +136,7 @@ RichardsonEstimate richardson(const std::vector<Real>& values, const std::vector
         estimate.order =
             observedOrder(values[n - 3] - coarser, coarser - fine, cellSizes[n - 3] / cellSizes[n - 2], lastRatio);
         estimate.orderMeasured = estimate.order > 0;
-        if (!estimate.orderMeasured)
+        if (estimate.order < minimumOrder)
         {
             return estimate;
         }
@@ -204,12 +204,12 @@ Convergence compareRuns(const std::vector<ConvergenceRun>& runs)
         c.sectionOrder.orderMeasured = order > 0;
     }
     c.sectionOrder.order = order;
-    c.sectionOrder.extrapolated = order > 0;
+    c.sectionOrder.extrapolated = order >= minimumOrder;
     for (std::size_t i = 0; i < c.coordinate.size(); ++i)
     {
         const Real fine = c.ratio[n - 1][i];
         const Real coarser = c.ratio[n - 2][i];
-        if (order > 0)
+        if (c.sectionOrder.extrapolated)
         {
             const Real value = fine + (fine - coarser) / (std::pow(lastRatio, order) - 1);
             c.estimate.push_back(value);

@@ -1,6 +1,6 @@
 // The lattice-convergence comparison (scene/study/Convergence.h): Richardson's estimate recovers the limit of a
 // sequence f(h) = f* + C h^p and its order from three sizes, takes order 1 from two, and does not extrapolate
-// differences that do not shrink; the sizes asked for are read as the command's flag says.
+// differences that do not shrink or shrink too slowly; the sizes asked for are read as the command's flag says.
 
 #include "scene/study/Convergence.h"
 #include "core/InputError.h"
@@ -74,6 +74,29 @@ TEST(Convergence, DifferencesThatDoNotShrinkAreNotExtrapolated)
         EXPECT_EQ(e.value, values.back());
         EXPECT_NEAR(e.band, std::abs(values[2] - values[1]), 1e-15);
     }
+}
+
+// Differences that shrink more slowly than order minimumOrder are not extrapolated either: the cup's thinnest wall
+// as a sheet that does not strain-harden nor follow its thickness gives (0.2319, 0.2255, 0.2193 h0 at 32, 64 and 128
+// masses a side: order 0.04, whose Richardson estimate is -0.09 h0), and a power law of order 0.3. A power law just
+// above the bound, order 0.6, is extrapolated to its limit.
+TEST(Convergence, DifferencesThatShrinkTooSlowlyAreNotExtrapolated)
+{
+    const std::vector<Real> cells{0.26 / 31, 0.26 / 63, 0.26 / 127};
+    for (const std::vector<Real>& values : {std::vector<Real>{0.2319, 0.2255, 0.2193}, sequence(cells, 0.2, 0.5, 0.3)})
+    {
+        const RichardsonEstimate e = richardson(values, cells);
+        EXPECT_TRUE(e.orderMeasured);
+        EXPECT_GT(e.order, 0);
+        EXPECT_LT(e.order, minimumOrder);
+        EXPECT_FALSE(e.extrapolated);
+        EXPECT_EQ(e.value, values.back());
+        EXPECT_NEAR(e.band, std::abs(values[2] - values[1]), 1e-15);
+    }
+    const RichardsonEstimate justAbove = richardson(sequence(cells, 0.2, 0.5, 0.6), cells);
+    EXPECT_TRUE(justAbove.extrapolated);
+    EXPECT_NEAR(justAbove.order, 0.6, 1e-9);
+    EXPECT_NEAR(justAbove.value, 0.2, 1e-9);
 }
 
 // A section that converges at second order, sampled at each run's own points: the coarser runs are read at the
