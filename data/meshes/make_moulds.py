@@ -3,7 +3,7 @@
 point out of the solid (into the cavity for a cavity's wall). Run from this folder: python3 make_moulds.py
 
   cup-mould.stl   binary STL: a 0.30 m square block, 0.12 m deep, top at y = 0, with a round cup cavity (rim radius
-                  0.07 m, floor radius 0.055 m, depth 0.07 m)
+                  0.07 m, floor radius 0.055 m, depth 0.07 m; the rim rounded to 0.01 m)
   tray-mould.obj  OBJ: a 0.40 x 0.30 m block with a tray cavity (0.28 x 0.18 m at the rim, 5 degree draft, 0.04 m deep;
                   rim and floor edges rounded to 0.01 m, the corners seen from above to 0.02 m at the rim)
   cone-45.stl, cone-60.stl, cone-70.stl   ASCII STL: a block with a conical cavity of half-angle 45, 60 and 70
@@ -193,9 +193,16 @@ def block_with_cavity(outer_top, outer_bottom, cavity_rings, floor_centre):
 
 def main():
     n = 64
-    # Round cup: rim radius 0.07, floor radius 0.055, depth 0.07, a 0.3 m block 0.12 m deep.
+    # Round cup: rim radius 0.07, floor radius 0.055, depth 0.07, a 0.3 m block 0.12 m deep, its rim rounded to 10 mm
+    # in three facets as the tray's is (see below): a sharp rim lets the upper layer of a sheet drawn over it come down
+    # on the block's top beside the edge. The wall's profile is (u, y), u how far the wall stands inside the rim's
+    # circle; the floor's edge stays sharp.
+    cup_slope = (0.07 - 0.055) / 0.07
+    cup_profile = arc((0.01 * cup_slope - 0.01 * math.sqrt(1 + cup_slope * cup_slope), -0.01), 0.01, math.pi / 2,
+                      math.atan(cup_slope), 3)
+    cup_profile.append((0.07 - 0.055, -0.07))
     cup = block_with_cavity(ring_on_square(0.15, n, 0.0), ring_on_square(0.15, n, -0.12),
-                            [circle(0.07, n, 0.0), circle(0.055, n, -0.07)], (0.0, -0.07, 0.0))
+                            [circle(0.07 - u, n, y) for u, y in cup_profile], (0.0, -0.07, 0.0))
     cup.write_binary_stl("cup-mould.stl", "MaSSE round cup mould (make_moulds.py)")
     # Tray: 0.28 x 0.18 at the rim, 5 degree draft, 0.04 deep, in a 0.40 x 0.30 block, its edges radiused as a real
     # tray mould's are: the rim and the floor's edge in 10 mm arcs of three facets, the corners seen from above in
