@@ -146,7 +146,7 @@ validate() {
         tail -n 20 "$work/validation.out" >&2
         exit 1
     }
-    # The cup as shipped, then with a sheet whose stiffness does not follow its thickness (heat-and-forming.md).
+    # The cup as shipped (a strain-hardening sheet), then as a softening sheet (heat-and-forming.md).
     converge_rows "" ""
     converge_rows " --set material.strain_hardening=0" ", a softening sheet (strain_hardening 0)"
     vtotal=$(($(date +%s) - vbegin))

@@ -57,6 +57,13 @@ def arc(centre, radius, start, end, segments):
              centre[1] + radius * math.sin(start + (end - start) * k / segments)) for k in range(segments + 1)]
 
 
+def over_rim(slope, radius, segments):
+    """The profile (u, y) of a rim rounded to `radius` in `segments` facets: from the top face (y = 0, outside the rim's
+    line) over the round to where it meets a wall that moves in by `slope` per metre down from the rim's line."""
+    centre = (slope * radius - radius * math.sqrt(1 + slope * slope), -radius)
+    return arc(centre, radius, math.pi / 2, math.atan(slope), segments)
+
+
 def circle(radius, n, y):
     return [(radius * math.cos(2 * math.pi * k / n), y, radius * math.sin(2 * math.pi * k / n)) for k in range(n)]
 
@@ -197,10 +204,7 @@ def main():
     # in three facets as the tray's is (see below): a sharp rim lets the upper layer of a sheet drawn over it come down
     # on the block's top beside the edge. The wall's profile is (u, y), u how far the wall stands inside the rim's
     # circle; the floor's edge stays sharp.
-    cup_slope = (0.07 - 0.055) / 0.07
-    cup_profile = arc((0.01 * cup_slope - 0.01 * math.sqrt(1 + cup_slope * cup_slope), -0.01), 0.01, math.pi / 2,
-                      math.atan(cup_slope), 3)
-    cup_profile.append((0.07 - 0.055, -0.07))
+    cup_profile = over_rim((0.07 - 0.055) / 0.07, 0.01, 3) + [(0.07 - 0.055, -0.07)]
     cup = block_with_cavity(ring_on_square(0.15, n, 0.0), ring_on_square(0.15, n, -0.12),
                             [circle(0.07 - u, n, y) for u, y in cup_profile], (0.0, -0.07, 0.0))
     cup.write_binary_stl("cup-mould.stl", "MaSSE round cup mould (make_moulds.py)")
@@ -215,7 +219,7 @@ def main():
     slope = math.tan(math.radians(5))  # the draft: the wall moves in by slope per metre down
     root = math.sqrt(1 + slope * slope)
     draft_angle = math.atan(slope)
-    profile = arc((slope * rim - rim * root, -rim), rim, math.pi / 2, draft_angle, segments)  # over the rim
+    profile = over_rim(slope, rim, segments)
     profile += arc((floor * root - slope * (floor - depth), floor - depth), floor, math.pi + draft_angle,
                    1.5 * math.pi, segments)  # into the floor
     rings = [rounded_rectangle(0.14 - u, 0.09 - u, plan_corner - u, n, y) for u, y in profile]

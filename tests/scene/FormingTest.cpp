@@ -39,9 +39,10 @@ namespace
 {
 const std::string source = MASSE_SOURCE_DIR;
 
-/// A scene of data/scenes at another size, without frames.
-/// The shipped scene `file` at `size`, with `patch` merged over it (a JSON merge patch, as `extends` does).
-SceneSpec sceneAt(const std::string& file, const std::string& size, const nlohmann::json& patch = nlohmann::json::object())
+/// The shipped scene `file` at `size`, without frames, with `patch` merged over it (a JSON merge patch, as `extends`
+/// does).
+SceneSpec sceneAt(const std::string& file, const std::string& size,
+                  const nlohmann::json& patch = nlohmann::json::object())
 {
     nlohmann::json document = readSceneDocument(source + "/data/scenes/" + file);
     document.merge_patch(patch);
@@ -380,7 +381,8 @@ TEST(Forming, PlugAssistThickensTheCupBottom)
 {
     int plain = 0;
     int plugged = 0;
-    const nlohmann::json plugsSheet = {{"material", {{"strain_hardening", 0}}}, {"integrator", {{"dt", 0.01}}}};
+    const nlohmann::json plugCup = readSceneDocument(source + "/data/scenes/plug-assist-cup.json");
+    const nlohmann::json plugsSheet = {{"material", plugCup["material"]}, {"integrator", plugCup["integrator"]}};
     const Real without = cupBottomThickness("vacuum-forming-cup.json", "20x2x20", plugsSheet, &plain);
     const Real with = cupBottomThickness("plug-assist-cup.json", "20x2x20", nlohmann::json::object(), &plugged);
     std::printf("cup bottom h/h0: vacuum only %.3f (%d masses), with the plug %.3f (%d masses)\n", without, plain, with,

@@ -163,9 +163,7 @@ TEST(SavedRun, ALiveRunReplaysBitForBit)
 // the contact heat's.
 TEST(SavedRun, ProcessActionsDoWhatTheySay)
 {
-    RunSource run = sourceOf("plug-assist-cup.json", "12x2x12");
-    run.flags.settings.push_back("integrator.dt=0.01"); // so that the actions' tenths of a second are whole steps
-    Scene cup(specOf(run));
+    Scene cup(specOf(sourceOf("plug-assist-cup.json", "12x2x12")));
     stepTo(cup, 0.2);
     const int plug = cup.environment().findObstacle("plug");
     const Vec3 start = cup.environment().obstacle(plug).pose.position;

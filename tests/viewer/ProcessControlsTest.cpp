@@ -26,17 +26,15 @@ namespace
 {
 const std::string plugCup = std::string(MASSE_SOURCE_DIR) + "/data/scenes/plug-assist-cup.json";
 
-/// At a step of 0.01 s, so that the tests' tenths of a second are whole numbers of steps.
 scene::RunSource plugCupAt(const std::string& size)
 {
     scene::RunSource source;
     source.path = plugCup;
     source.flags.size = size;
-    source.flags.settings = {"integrator.dt=0.01"};
     return source;
 }
 
-/// A session on the plug-assist cup at 12x2x12, as `masse view --size 12x2x12 --set integrator.dt=0.01` starts it.
+/// A session on the plug-assist cup at 12x2x12, as `masse view --size 12x2x12` starts it.
 struct Bench
 {
     Bench() : session(scene::loadScene(plugCup, plugCupAt("12x2x12").flags))

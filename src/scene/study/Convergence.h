@@ -9,8 +9,8 @@
 /// is the largest of the usual orders. Differences that do not shrink from one size to the next are not extrapolated:
 /// the estimate is the finest run's value and the band the last difference. Nor are differences that shrink more
 /// slowly than order minimumOrder: the runs are not yet where f behaves as C h^p, and the correction would reach far
-/// past them (at order 0.03, measured on a cup whose thinnest wall moved by 0.0064 then 0.0062 h0, f* came out
-/// at -0.09 h0).
+/// past them (a thinnest wall moving by 0.0064 then 0.0062 h0 as the cells halve measures order 0.03, whose f* is
+/// -0.09 h0).
 
 #include "core/Types.h"
 #include "core/lattice/Lattice.h"
@@ -34,8 +34,8 @@ constexpr Real minimumOrder = 0.5;
 /// The order p and the estimate f* from values f_k on cells of sizes h_k, coarsest first (see above).
 struct RichardsonEstimate
 {
-    Real value = 0;            ///< f*, or the finest value when not extrapolated
-    Real band = 0;             ///< |f* - f_fine|, or the last difference when not extrapolated
+    Real value = 0; ///< f*, or the finest value when not extrapolated
+    Real band = 0;  ///< |f* - f_fine|, or the last difference when not extrapolated
     Real order = 0; ///< p: measured (three or more sizes), 1 assumed (two); 0 when the differences did not shrink
     bool extrapolated = false; ///< false when the differences did not shrink, or shrank slower than minimumOrder
     bool orderMeasured = false;
