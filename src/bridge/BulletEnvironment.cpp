@@ -18,6 +18,7 @@
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 
 namespace masse::bridge
@@ -61,27 +62,25 @@ struct NearTriangle
     int triangle;
 };
 
-/// Gathers, for a mesh, the triangles near a sphere and their closest points, in the mesh's own frame (the sphere's
-/// centre is taken there; the few answers kept are turned back into the world by the caller). Bullet hands over every
-/// triangle whose box meets the search box; on a finely faceted mould (a rounded rim in many facets) most of those are
-/// beyond the search sphere, so two cheap tests turn them away before the nearest point is computed: the distance
-/// from the centre to the triangle's own box and to its plane, each no more than the distance to the triangle. The
-/// tests keep a margin far above their rounding, so they turn away only triangles the nearest point would, and the
-/// answer is the same.
-struct TriangleCollector : btTriangleCallback
+/// Tests one triangle of a mesh against a sphere, in the mesh's own frame (the sphere's centre is taken there; the few
+/// answers kept are turned back into the world by the caller). On a finely faceted mould (a rounded rim in many facets)
+/// most triangles a walk hands over are beyond the search sphere, so two cheap tests turn them away before the nearest
+/// point is computed: the distance from the centre to the triangle's own box and to its plane, each no more than the
+/// distance to the triangle. The tests keep a margin far above their rounding, so they turn away only triangles the
+/// nearest point would, and the answer is the same.
+struct TriangleTest
 {
     Vec3 localCentre;
     Real radius;
     Real searchDistance;
-    Real rejectBeyond;                        // radius + searchDistance, with the tests' margin over rounding
+    Real keepWithin;                          // m from the centre: a triangle nearer is listed in `kept`
+    Real rejectBeyond;                        // the larger of keepWithin and radius + searchDistance, with a margin
     const std::vector<Vec3>* triangleNormals; // unit normal of each triangle, mesh frame
-    std::vector<NearTriangle>* found;
+    std::vector<NearTriangle>* found;         // the triangles within the search distance of the sphere's surface
+    NearbyTriangles* kept;                    // or null; count set to -1 once more than its capacity are near
 
-    void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
+    void test(const Vec3& a, const Vec3& b, const Vec3& c, int triangleIndex) const
     {
-        const Vec3 a = toVec3(triangle[0]);
-        const Vec3 b = toVec3(triangle[1]);
-        const Vec3 c = toVec3(triangle[2]);
         const Vec3 outside = (a.cwiseMin(b).cwiseMin(c) - localCentre)
                                  .cwiseMax(localCentre - a.cwiseMax(b).cwiseMax(c))
                                  .cwiseMax(Real(0));
@@ -93,6 +92,10 @@ struct TriangleCollector : btTriangleCallback
         const Vec3 nearest = closestPointOnTriangle(localCentre, a, b, c);
         const Vec3 offset = localCentre - nearest;
         const Real gap = offset.norm();
+        if (kept != nullptr && gap <= keepWithin)
+        {
+            kept->add(triangleIndex, gap);
+        }
         if (gap - radius > searchDistance)
         {
             return;
@@ -117,6 +120,16 @@ struct TriangleCollector : btTriangleCallback
             localNormal = face / length;
         }
         found->push_back(NearTriangle{gap - radius, localNormal, nearest, triangleIndex});
+    }
+};
+
+/// Bullet's triangle walk handing each triangle to a TriangleTest.
+struct TriangleCollector : btTriangleCallback
+{
+    const TriangleTest* test;
+    void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
+    {
+        test->test(toVec3(triangle[0]), toVec3(triangle[1]), toVec3(triangle[2]), triangleIndex);
     }
 };
 
@@ -204,6 +217,11 @@ int BulletEnvironment::addObstacle(const ObstacleBody& body, bool partOfRoom)
         throw InputError(named + ": " + e.what());
     }
     obstacle->partOfRoom = partOfRoom;
+    if (!obstacle->geometry.convex)
+    {
+        obstacle->meshSlot = m_meshObstacles++;
+        m_nearby.clear(); // laid out by mesh slot: made anew for the new count at the next detection
+    }
     for (const Vec3& v : obstacle->geometry.vertices)
     {
         obstacle->boundingRadius = std::max(obstacle->boundingRadius, v.norm());
@@ -298,7 +316,7 @@ void BulletEnvironment::candidates(const Vec3& lo, const Vec3& hi, std::vector<i
 }
 
 void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radius, Real searchDistance,
-                                        std::vector<Closest>& out) const
+                                        std::vector<Closest>& out, NearbyTriangles* nearby) const
 {
     out.clear();
     const Obstacle& obstacle = *m_obstacles[std::size_t(index)];
@@ -331,24 +349,57 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
         }
         return;
     }
-    // Mesh: the triangles whose boxes meet the search box, in the mesh's own frame. Their list is kept per thread
-    // (the queries run on the task pool's threads) and reused: a new one for each mass's query would be a heap
-    // allocation or more per mass and frame.
+    // Mesh: the triangles near the sphere, in the mesh's own frame. Their list is kept per thread (the queries run on
+    // the task pool's threads) and reused: a new one for each mass's query would be a heap allocation or more per mass
+    // and frame. A mass whose triangles were kept (NearbyTriangles.h) and which has not left their sphere tests those
+    // alone; otherwise Bullet walks the mesh's tree for the triangles whose boxes meet the search box, grown by the
+    // kept sphere's margin when they are to be kept.
     thread_local std::vector<NearTriangle> found;
     found.clear();
-    TriangleCollector collector;
-    collector.found = &found;
-    collector.triangleNormals = &obstacle.geometry.triangleNormals;
-    const Real extent = radius + std::max(searchDistance, Real(0));
     const Vec3 local = toLocal * (centre - obstacle.pose.position);
-    collector.localCentre = local;
-    collector.radius = radius;
-    collector.searchDistance = searchDistance;
-    const Real reach = radius + searchDistance;
-    collector.rejectBeyond = reach + Real(1e-9) * reach + Real(1e-12);
-    const auto& mesh = static_cast<const btBvhTriangleMeshShape&>(*obstacle.geometry.shape);
-    const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(&collector, toBullet(local - Vec3::Constant(extent)),
-                                                                  toBullet(local + Vec3::Constant(extent)));
+    const Real reach = radius + std::max(searchDistance, Real(0));
+    TriangleTest test;
+    test.localCentre = local;
+    test.radius = radius;
+    test.searchDistance = searchDistance;
+    test.triangleNormals = &obstacle.geometry.triangleNormals;
+    test.found = &found;
+    test.kept = nullptr;
+    test.keepWithin = 0;
+    if (nearby != nullptr && nearby->covers(local, reach))
+    {
+        test.rejectBeyond = reach + Real(1e-9) * reach + Real(1e-12);
+        const Real moved = (local - nearby->centre).norm();
+        for (std::int32_t k = 0; k < nearby->count; ++k)
+        {
+            if (Real(nearby->entry[std::size_t(k)].distance) - moved > test.rejectBeyond)
+            {
+                break;
+            }
+            const auto triangle = std::size_t(nearby->entry[std::size_t(k)].triangle);
+            const std::array<Vec3, 3>& corners = obstacle.geometry.triangleCorners[triangle];
+            test.test(corners[0], corners[1], corners[2], int(triangle));
+        }
+    }
+    else
+    {
+        Real extent = reach;
+        if (nearby != nullptr)
+        {
+            extent = reach + NearbyTriangles::margin * radius;
+            nearby->centre = local;
+            nearby->radius = extent;
+            nearby->count = 0;
+            test.kept = nearby;
+            test.keepWithin = extent;
+        }
+        test.rejectBeyond = extent + Real(1e-9) * extent + Real(1e-12);
+        TriangleCollector collector;
+        collector.test = &test;
+        const auto& mesh = static_cast<const btBvhTriangleMeshShape&>(*obstacle.geometry.shape);
+        const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(
+            &collector, toBullet(local - Vec3::Constant(extent)), toBullet(local + Vec3::Constant(extent)));
+    }
     // The nearest triangle's plane, and up to two more from triangles the centre lies over (a crease of a concave
     // mould, where one plane would let the sphere sink into the other face): there the closest point is inside the
     // triangle, so the contact normal is its face's. A farther triangle whose nearest point is on its rim gives no
@@ -405,12 +456,18 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
     // planes come out in mass order whatever the thread count.
     const std::size_t chunks = chunkCount(x.size(), detectionChunkSize);
     out.resize(chunks);
+    // Each mass's kept triangles of each mesh obstacle; a sheet of another size starts with none kept.
+    if (m_nearby.size() != x.size() * std::size_t(m_meshObstacles))
+    {
+        m_nearby.assign(x.size() * std::size_t(m_meshObstacles), NearbyTriangles{});
+    }
     m_chunkEights.reserveChunks(chunks);
     parallelFor(x.size(), detectionChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     const std::size_t chunk = begin / detectionChunkSize;
-                    ChunkQuery query{x, reach, radius, dt, m_fastestKinematic * dt, m_chunkEights[chunk]};
+                    ChunkQuery query{
+                        x, reach, radius, dt, m_fastestKinematic * dt, m_chunkEights[chunk], m_nearby.data()};
                     findChunkContacts(query, begin, end, out[chunk]);
                 });
 }
@@ -518,7 +575,10 @@ void BulletEnvironment::appendMassPlanes(ChunkQuery& query, std::size_t i, std::
             }
             continue;
         }
-        closestFeatures(index, query.x[i], query.radius, searchDistance, query.features);
+        NearbyTriangles* nearby = obstacle.meshSlot >= 0
+                                      ? query.nearby + i * std::size_t(m_meshObstacles) + std::size_t(obstacle.meshSlot)
+                                      : nullptr;
+        closestFeatures(index, query.x[i], query.radius, searchDistance, query.features, nearby);
         for (const Closest& feature : query.features)
         {
             ContactPlane plane;

@@ -10,6 +10,7 @@
 
 #include "FacePlanesOfEight.h"
 #include "KinematicPath.h"
+#include "NearbyTriangles.h"
 #include "ObstacleGeometry.h"
 
 #include "core/contact/Contact.h"
@@ -50,6 +51,7 @@ struct Obstacle
     Pose pose;
     Motion motion;
     Real boundingRadius = 0;           ///< m, of the local vertices about the local origin
+    int meshSlot = -1;                 ///< a mesh's place among the mesh obstacles (NearbyTriangles), -1 if convex
     Vec3 broadphaseMin = Vec3::Zero(); ///< the box Bullet's broadphase holds for it (world frame, with Bullet's margin)
     Vec3 broadphaseMax = Vec3::Zero();
 };
@@ -93,9 +95,10 @@ private:
         int face;
     };
     /// Closest features of one obstacle to a sphere: one for a convex obstacle, up to three distinct ones (by
-    /// normal) for a mesh, nearest first.
-    void closestFeatures(int obstacle, const Vec3& centre, Real radius, Real searchDistance,
-                         std::vector<Closest>& out) const;
+    /// normal) for a mesh, nearest first. For a mesh, `nearby` (or null) holds the triangles kept near this mass
+    /// from an earlier query, used when they cover this one and gathered anew otherwise.
+    void closestFeatures(int obstacle, const Vec3& centre, Real radius, Real searchDistance, std::vector<Closest>& out,
+                         NearbyTriangles* nearby = nullptr) const;
     /// One chunk of masses in findContacts: what its masses' queries share.
     struct ChunkQuery
     {
@@ -105,6 +108,7 @@ private:
         Real dt;
         Real obstacleTravel;                    ///< m, the farthest a kinematic obstacle's point moves this frame
         std::vector<FacePlanesOfEight>& eights; ///< per obstacle of `near`, the current eight masses' face planes
+        NearbyTriangles* nearby;                ///< per mass, then per mesh slot: its kept triangles
         std::vector<int> near{};                ///< the obstacles whose boxes meet the chunk's
         std::uint8_t batched = 0;               ///< bit s: eights[s] holds near[s]'s planes for the current eight
         std::size_t first = 0;                  ///< the current eight's first mass
@@ -130,5 +134,7 @@ private:
     Real m_fastestKinematic = 0;       ///< m/s, the fastest any kinematic obstacle's point moves now
     std::vector<Motion> m_frameMotion; ///< per obstacle, its mean motion over the frame being detected
     PerChunk<std::vector<FacePlanesOfEight>> m_chunkEights; ///< per chunk, its eights' face planes of each obstacle
+    int m_meshObstacles = 0;                                ///< obstacles that are meshes (each has a mesh slot)
+    std::vector<NearbyTriangles> m_nearby; ///< mass i's kept triangles of mesh slot s at i * m_meshObstacles + s
 };
 } // namespace masse::bridge

@@ -227,6 +227,7 @@ void makeMesh(const ObstacleShape& shape, ObstacleGeometry& g)
             const Vec3& c = g.vertices[std::size_t(face.vertices[k + 1])];
             g.triangles->addTriangle(toBullet(a), toBullet(b), toBullet(c));
             g.triangleFace.push_back(int(f));
+            g.triangleCorners.push_back({toVec3(toBullet(a)), toVec3(toBullet(b)), toVec3(toBullet(c))});
             const Vec3 cross = (b - a).cross(c - a);
             g.triangleNormals.push_back(cross.norm() > 0 ? Vec3(cross.normalized()) : Vec3::Zero());
         }

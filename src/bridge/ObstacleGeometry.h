@@ -11,6 +11,7 @@
 
 #include "ObstacleShape.h"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct ObstacleGeometry
     std::vector<Face> faces;
     std::vector<int> triangleFace;     ///< mesh only: the face of each Bullet triangle
     std::vector<Vec3> triangleNormals; ///< mesh only: each Bullet triangle's own unit normal (zero if degenerate)
+    /// mesh only: each Bullet triangle's corners, read back through btScalar as a triangle walk hands them over (the
+    /// same bits whatever Bullet's precision)
+    std::vector<std::array<Vec3, 3>> triangleCorners;
     Vec3 localMin = Vec3::Zero();
     Vec3 localMax = Vec3::Zero();
     std::unique_ptr<btTriangleMesh> triangles;

@@ -1,0 +1,108 @@
+// Frame coherence of mesh queries (bridge/NearbyTriangles.h): a mass that queries a mesh again from near where it
+// gathered its triangles gets the same planes, bit for bit, as a query that walks the mesh's tree afresh.
+
+#include "bridge/BulletEnvironment.h"
+#include "bridge/StlFile.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace masse;
+using namespace masse::bridge;
+
+namespace
+{
+/// The vacuum cup's mould (a block with a round cavity: a fan of thin triangles on the floor, a rim rounded in
+/// facets), turned and moved off the origin so that the queries work in a mesh frame that is not the world's.
+ObstacleBody cupMould()
+{
+    ObstacleBody body;
+    body.name = "mould";
+    body.shape.kind = SolidKind::Mesh;
+    body.shape.polygons = loadMeshFile(std::string(MASSE_SOURCE_DIR) + "/data/meshes/cup-mould.stl", "mould");
+    body.path.rest.position = Vec3(0.3, -0.1, 0.05);
+    body.path.rest.orientation = Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(0.4, Vec3(0.2, 1, 0.1).normalized()));
+    return body;
+}
+
+std::vector<ContactPlane> joined(const ContactPlaneLists& lists)
+{
+    std::vector<ContactPlane> planes;
+    for (std::size_t list = 0; list < lists.size(); ++list)
+    {
+        planes.insert(planes.end(), lists[list].begin(), lists[list].end());
+    }
+    return planes;
+}
+} // namespace
+
+// 3,000 masses scattered within 6 mm of the mould's vertices (where the triangles crowd: the floor's fan centre, the
+// rim's facets) move for 12 frames, most of them less than the kept sphere's margin (1 mm here) a frame, some a few
+// millimetres, a few a centimetre, each with a search reach of its own drawn afresh every frame. One environment keeps
+// the masses' triangles from frame to frame; a new one each frame walks the tree for every mass. Their planes must
+// be the same in every field, exactly.
+TEST(NearbyTriangles, KeptTrianglesGiveTheSamePlanesAsAFreshWalk)
+{
+    BulletEnvironment kept;
+    kept.addObstacle(cupMould());
+    const Obstacle& mould = kept.obstacle(0);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    const auto inBall = [&](Real radius)
+    {
+        for (;;)
+        {
+            const Vec3 v(unit(random), unit(random), unit(random));
+            if (v.squaredNorm() <= 1)
+            {
+                return Vec3(radius * v);
+            }
+        }
+    };
+    const std::size_t n = 3000;
+    std::vector<Vec3> x(n);
+    for (Vec3& xi : x)
+    {
+        const Vec3& vertex = mould.geometry.vertices[std::size_t(random() % mould.geometry.vertices.size())];
+        xi = mould.pose.orientation * vertex + mould.pose.position + inBall(0.006);
+    }
+    const Real radius = 0.002;
+    std::uniform_real_distribution<Real> reachDraw(radius, 0.008);
+    std::vector<Real> reach(n);
+    std::size_t planesCompared = 0;
+    for (int frame = 0; frame < 12; ++frame)
+    {
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            reach[i] = reachDraw(random);
+        }
+        ContactPlaneLists fromKept;
+        kept.findContacts(x, reach, radius, 0.03, fromKept);
+        BulletEnvironment fresh;
+        fresh.addObstacle(cupMould());
+        ContactPlaneLists fromWalk;
+        fresh.findContacts(x, reach, radius, 0.03, fromWalk);
+
+        const std::vector<ContactPlane> a = joined(fromKept);
+        const std::vector<ContactPlane> b = joined(fromWalk);
+        ASSERT_EQ(a.size(), b.size()) << "frame " << frame;
+        for (std::size_t k = 0; k < a.size(); ++k)
+        {
+            ASSERT_EQ(a[k].mass, b[k].mass) << "frame " << frame << ", plane " << k;
+            EXPECT_EQ(a[k].face, b[k].face) << "mass " << a[k].mass;
+            EXPECT_EQ(a[k].normal, b[k].normal) << "mass " << a[k].mass;
+            EXPECT_EQ(a[k].offset, b[k].offset) << "mass " << a[k].mass;
+        }
+        planesCompared += a.size();
+
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            const std::size_t kind = i % 10;
+            const Real step = kind < 6 ? 0.0008 : kind < 9 ? 0.003 : 0.01;
+            x[i] += inBall(step);
+        }
+    }
+    // Most masses are near the mould: the comparison covers many planes, not a few.
+    EXPECT_GT(planesCompared, 12 * n);
+}
