@@ -205,18 +205,19 @@ cmd="$masse paper --out $out/paper"
 timed $cmd
 row "Figure 18: the drop at the five Table 2 sizes, to rest" "$(echo "$cmd" | sed "s|$out|OUT|")" "$wall s for the whole command"
 
-# Forming runs, whole.
-cmd="$masse run data/scenes/vacuum-forming-cup.json --quiet --out $out/cup"
-timed $cmd
-row "vacuum-formed cup, 32x2x32, whole 2.5 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"%.2fx real time (%.1f s wall), %.1f CG iterations a step, %d refactorisations" % (2.5 / '"$wall"', '"$wall"', d["solver"]["mean_iterations"], d["solver"]["refactorisations"])' "$out/cup/summary.json")"
-
-cmd="$masse run data/scenes/vacuum-forming-cup.json --size 64x2x64 --quiet --out $out/cup64"
-timed $cmd
-row "vacuum-formed cup, 64x2x64, whole 2.5 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"%.2fx real time (%.1f s wall), %.1f CG iterations a step, %d refactorisations" % (2.5 / '"$wall"', '"$wall"', d["solver"]["mean_iterations"], d["solver"]["refactorisations"])' "$out/cup64/summary.json")"
-
-cmd="$masse run data/scenes/drape-forming.json --size 64x2x64 --quiet --out $out/drape"
-timed $cmd
-row "drape forming, 64x2x64, whole 60 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"%.2fx real time (%.1f s wall), %.1f CG iterations a step, %d refactorisations" % (60 / '"$wall"', '"$wall"', d["solver"]["mean_iterations"], d["solver"]["refactorisations"])' "$out/drape/summary.json")"
+# Forming runs, whole: forming_row LABEL SCENE SIZE SECONDS OUTNAME ("" for the scene's own size).
+forming_row() {
+    cmd="$masse run data/scenes/$2.json${3:+ --size $3} --quiet --out $out/$5"
+    timed $cmd
+    row "$1, ${3:-32x2x32}, whole $4 s" "$(echo "$cmd" | sed "s|$out|OUT|")" "$(py '"%.2fx real time (%.1f s wall), %.1f CG iterations a step, %d refactorisations" % ('"$4"' / '"$wall"', '"$wall"', d["solver"]["mean_iterations"], d["solver"]["refactorisations"])' "$out/$5/summary.json")"
+}
+forming_row "vacuum-formed cup" vacuum-forming-cup "" 2.5 cup
+forming_row "vacuum-formed cup" vacuum-forming-cup 64x2x64 2.5 cup64
+forming_row "vacuum-formed cup" vacuum-forming-cup 128x2x128 2.5 cup128
+forming_row "plug-assist cup" plug-assist-cup 64x2x64 3 plug64
+forming_row "pressure-formed tray" pressure-forming-tray 64x2x64 1.5 tray64
+forming_row "drape forming" drape-forming 64x2x64 60 drape
+forming_row "drape forming" drape-forming 128x2x128 60 drape128
 
 # Self-collision's cost on the fold over the rod, with the implicit integrator.
 cmd="$masse run data/scenes/fold-over-rod.json --size 32x2x32 --integrator implicit --quiet --out $out/fold"
