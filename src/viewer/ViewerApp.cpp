@@ -2,6 +2,7 @@
 
 #include "Controls.h"
 #include "Display.h"
+#include "FramePacing.h"
 #include "GlHeaders.h"
 #include "ImGuiInput.h"
 #include "InputEvents.h"
@@ -88,6 +89,7 @@ private:
     Clock::time_point m_start;
     Clock::time_point m_lastTick;
     Clock::time_point m_lastFrame;
+    std::uint64_t m_drawnSequence = 0; ///< the snapshot the last frame showed
     std::uint64_t m_lastSteps = 0;
     Real m_lastSimTime = 0;
     std::uint64_t m_lastGeneration = 0;
@@ -448,14 +450,17 @@ bool ViewerApp::tick()
     m_report.eventSeen = eventSeen();
     const bool last =
         m_controls.quit || m_report.eventSeen || (m_options.frames > 0 && m_report.frames + 1 >= m_options.frames);
-    // Frames at most every 1/30 s while the scene runs (the simulation thread and the rasteriser share the cores),
-    // every 1/60 s while it is paused; at once when input waits.
-    const Real interval = snapshot.paused ? Real(1) / 60 : Real(1) / 30;
-    const bool draw = fixedSteps || last || !m_input.empty() || m_report.frames == 0 ||
-                      secondsBetween(m_lastFrame, start) >= interval;
+    // Frames at most every 1/30 s while the scene runs, and only for a new picture or input (FramePacing.h).
+    FrameMoment moment;
+    moment.mustDraw = fixedSteps || last || !m_input.empty() || m_report.frames == 0;
+    moment.paused = snapshot.paused;
+    moment.newPicture = snapshot.sequence != m_drawnSequence;
+    moment.sinceLastFrame = secondsBetween(m_lastFrame, start);
+    const bool draw = frameDue(moment);
     if (draw)
     {
         m_lastFrame = start;
+        m_drawnSequence = snapshot.sequence;
         const Clock::time_point drawStart = Clock::now();
         drawFrame(last);
         m_report.drawSeconds += secondsBetween(drawStart, Clock::now());

@@ -46,7 +46,7 @@ TEST(ViewerDependency, ViewerModelFilesKnowNothingOfGraphics)
 {
     const std::filesystem::path viewer = std::filesystem::path(MASSE_SOURCE_DIR) / "src" / "viewer";
     for (const char* stem :
-         {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "DrawPacer", "MassScalars", "ScreenRegions",
+         {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "FramePacing", "MassScalars", "ScreenRegions",
           "ViewerSession", "SceneSnapshot", "SceneGeometry", "Controls", "ScreenLayout", "ColourBar"})
     {
         for (const char* extension : {".h", ".cpp"})

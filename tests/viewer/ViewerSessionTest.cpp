@@ -2,7 +2,7 @@
 // (keeping the previous scene on failure), the pick spring and its caps, per-mass scalars, screen regions.
 
 #include "viewer/ViewerSession.h"
-#include "viewer/DrawPacer.h"
+#include "viewer/FramePacing.h"
 #include "viewer/MassScalars.h"
 #include "viewer/PickSpring.h"
 #include "viewer/RateMeter.h"
@@ -91,35 +91,31 @@ TEST(RateMeter, PublishesRatesOncePerWindow)
     EXPECT_FALSE(meter.fellBehind());
 }
 
-TEST(DrawPacer, DrawingGetsWhatTheSimulationLeavesOver)
+// While the scene runs, a frame comes for a new snapshot (at most about 30 a second) or for input, and the same picture
+// is drawn again only every quarter of a second: a scene slower than the window leaves the cores to its steps.
+TEST(FramePacing, TheSamePictureIsNotDrawnAgainWhileTheSceneRuns)
 {
-    DrawPacer pacer({0.1, 0.5, 0.1, 0.01}); // a minimum share of 0.1 for the test
-    EXPECT_TRUE(pacer.due(0, true)) << "the first frame comes at once";
-    EXPECT_NEAR(pacer.drawShare(), 0.5, 1e-12) << "an idle simulation leaves the most";
-    // Steps costing 20 ms per 30 ms of simulated time (the 64x2x64 sheet): two thirds of the clock.
-    for (int i = 0; i < 40; ++i)
-    {
-        pacer.stepped(3, 0.06, 0.03);
-        pacer.drew(i, 0.02);
-    }
-    EXPECT_NEAR(pacer.simulationLoad(), 2.0 / 3, 1e-3);
-    EXPECT_NEAR(pacer.drawShare(), 1 - 2.0 / 3 - 0.1, 1e-3);
-    EXPECT_NEAR(pacer.interval(true), 0.02 / (1 - 2.0 / 3 - 0.1), 1e-3)
-        << "20 ms frames about every 86 ms: steps, frames and the margin fill the clock";
-    EXPECT_FALSE(pacer.due(39.05, true));
-    EXPECT_TRUE(pacer.due(39.09, true));
-    EXPECT_NEAR(pacer.interval(false), 0.01, 1e-12) << "paused, frames come as often as the cap allows";
-
-    // A simulation slower than real time on its own still shows a frame now and then.
-    pacer.stepped(1, 0.5, 0.03);
-    for (int i = 0; i < 40; ++i)
-    {
-        pacer.stepped(1, 0.5, 0.03);
-    }
-    EXPECT_NEAR(pacer.drawShare(), 0.1, 1e-12);
-    // The cost is a moving average: one slow frame moves it a fifth of the way.
-    pacer.drew(100, 1.0);
-    EXPECT_NEAR(pacer.drawCost(), 0.8 * 0.02 + 0.2 * 1.0, 1e-9);
+    FrameMoment moment;
+    moment.newPicture = true;
+    moment.sinceLastFrame = 0.02;
+    EXPECT_FALSE(frameDue(moment)) << "a new picture waits for the frame-rate cap";
+    moment.sinceLastFrame = 0.031;
+    EXPECT_TRUE(frameDue(moment)) << "a new picture just under 1/30 s after the last frame";
+    moment.newPicture = false;
+    EXPECT_FALSE(frameDue(moment)) << "the same picture again";
+    moment.sinceLastFrame = 0.2;
+    EXPECT_FALSE(frameDue(moment));
+    moment.sinceLastFrame = 0.25;
+    EXPECT_TRUE(frameDue(moment)) << "now and then, for the panel's timers";
+    moment.sinceLastFrame = 0.001;
+    moment.mustDraw = true;
+    EXPECT_TRUE(frameDue(moment)) << "input, the first and the last frame come at once";
+    moment.mustDraw = false;
+    moment.paused = true;
+    moment.sinceLastFrame = 0.017;
+    EXPECT_TRUE(frameDue(moment)) << "paused, up to 60 frames a second";
+    moment.sinceLastFrame = 0.01;
+    EXPECT_FALSE(frameDue(moment));
 }
 
 TEST(ViewerSession, RunsInRealTimeWithinABudgetPerPass)
