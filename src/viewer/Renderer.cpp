@@ -256,9 +256,20 @@ void Renderer::drawSheet(const DrawSettings& settings, const OrbitCamera& camera
     else
     {
         m_lit->use();
+        // A sheet of two or more layers is drawn as a closed surface wound outward, so its faces turned away from the
+        // camera lie behind its front ones: culled, the rasteriser skips half the sheet (a one-layer sheet is its
+        // single surface, seen from both sides).
+        const bool closed = m_topology && m_topology->layers >= 2;
+        if (closed)
+        {
+            glEnable(GL_CULL_FACE);
+            glCullFace(GL_BACK);
+            glFrontFace(GL_CCW);
+        }
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, thinned ? m_coarseSurfaceIndices[level - 1] : m_surfaceIndices);
         glDrawElements(GL_TRIANGLES, thinned ? m_coarseSurfaceCounts[level - 1] : m_surfaceIndexCount, GL_UNSIGNED_INT,
                        nullptr);
+        glDisable(GL_CULL_FACE);
     }
     glBindVertexArray(0);
 }
