@@ -18,7 +18,6 @@
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <limits>
 
 namespace masse::bridge
