@@ -1,6 +1,8 @@
 // Frame coherence of mesh queries (bridge/NearbyTriangles.h): a mass that queries a mesh again from near where it
 // gathered its triangles gets the same planes, bit for bit, as a query that walks the mesh's tree afresh.
 
+#include "support/JoinedPlanes.h"
+
 #include "bridge/BulletEnvironment.h"
 #include "bridge/StlFile.h"
 
@@ -24,16 +26,6 @@ ObstacleBody cupMould()
     body.path.rest.position = Vec3(0.3, -0.1, 0.05);
     body.path.rest.orientation = Eigen::Quaternion<Real>(Eigen::AngleAxis<Real>(0.4, Vec3(0.2, 1, 0.1).normalized()));
     return body;
-}
-
-std::vector<ContactPlane> joined(const ContactPlaneLists& lists)
-{
-    std::vector<ContactPlane> planes;
-    for (std::size_t list = 0; list < lists.size(); ++list)
-    {
-        planes.insert(planes.end(), lists[list].begin(), lists[list].end());
-    }
-    return planes;
 }
 } // namespace
 
@@ -84,8 +76,8 @@ TEST(NearbyTriangles, KeptTrianglesGiveTheSamePlanesAsAFreshWalk)
         ContactPlaneLists fromWalk;
         fresh.findContacts(x, reach, radius, 0.03, fromWalk);
 
-        const std::vector<ContactPlane> a = joined(fromKept);
-        const std::vector<ContactPlane> b = joined(fromWalk);
+        const std::vector<ContactPlane> a = test::joinedPlanes(fromKept);
+        const std::vector<ContactPlane> b = test::joinedPlanes(fromWalk);
         ASSERT_EQ(a.size(), b.size()) << "frame " << frame;
         for (std::size_t k = 0; k < a.size(); ++k)
         {

@@ -1,5 +1,6 @@
 // Obstacle shapes in Bullet: faces, distances against closed forms, and refusal of bad geometry.
 
+#include "support/JoinedPlanes.h"
 #include "support/TestSystems.h"
 
 #include "bridge/BulletEnvironment.h"
@@ -400,12 +401,7 @@ std::vector<ContactPlane> planesAt(BulletEnvironment& environment, const Vec3& x
     const Real radius = 0.01;
     ContactPlaneLists lists;
     environment.findContacts({x}, {0.05}, radius, 0.03, lists);
-    std::vector<ContactPlane> planes;
-    for (std::size_t list = 0; list < lists.size(); ++list)
-    {
-        planes.insert(planes.end(), lists[list].begin(), lists[list].end());
-    }
-    return planes;
+    return test::joinedPlanes(lists);
 }
 } // namespace
 

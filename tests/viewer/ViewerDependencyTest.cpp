@@ -46,8 +46,8 @@ TEST(ViewerDependency, ViewerModelFilesKnowNothingOfGraphics)
 {
     const std::filesystem::path viewer = std::filesystem::path(MASSE_SOURCE_DIR) / "src" / "viewer";
     for (const char* stem :
-         {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "FramePacing", "MassScalars", "ScreenRegions",
-          "ViewerSession", "SceneSnapshot", "SceneGeometry", "Controls", "ScreenLayout", "ColourBar"})
+         {"Camera", "Picking", "PickSpring", "StepScheduler", "RateMeter", "FramePacing", "MassScalars",
+          "ScreenRegions", "ViewerSession", "SceneSnapshot", "SceneGeometry", "Controls", "ScreenLayout", "ColourBar"})
     {
         for (const char* extension : {".h", ".cpp"})
         {
