@@ -80,6 +80,7 @@ private:
     std::vector<float> m_diagonal;         ///< D, rounded to single precision at each refresh
     mutable std::vector<float> m_permuted; ///< the solves' work vector, in single precision (see solveWithFactor)
     bool m_ready = false;
+    bool m_copiesLaidOut = false; ///< m_forward and m_backward hold the runs of the analysed pattern
     int m_refreshCount = 0;
 };
 } // namespace masse

@@ -57,6 +57,25 @@ template <class ForEachEntry> void RunLengthRows::assign(Eigen::Index rowCount, 
         });
 }
 
+template <class ForEachEntry> void RunLengthRows::refill(const ForEachEntry& forEachEntry)
+{
+    // Each row's entries come in increasing column, so its run only moves forward: the run holding a column is the
+    // current one, or a later one once the column is past the current one's end.
+    m_nextRun.assign(m_rowRuns.begin(), m_rowRuns.end());
+    forEachEntry(
+        [&](StorageIndex row, StorageIndex column, Real value)
+        {
+            StorageIndex& run = m_nextRun[std::size_t(row)];
+            while (column - m_runColumn[std::size_t(run)] >=
+                   m_runStart[std::size_t(run) + 1] - m_runStart[std::size_t(run)])
+            {
+                ++run;
+            }
+            m_values[std::size_t(m_runStart[std::size_t(run)] + column - m_runColumn[std::size_t(run)])] =
+                halfFromReal(value);
+        });
+}
+
 namespace
 {
 /// Calls visit(column, row, value) for every entry of `lower`'s strictly lower part, column by column in increasing
@@ -99,5 +118,26 @@ void RunLengthRows::assignLowerColumnsLastFirst(const SparseMatrix& lower)
                forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
                                     { visit(last - column, row, value); });
            });
+}
+
+void RunLengthRows::refillLowerRows(const SparseMatrix& lower)
+{
+    refill(
+        [&](const auto& visit)
+        {
+            forEachStrictlyLower(lower,
+                                 [&](StorageIndex column, StorageIndex row, Real value) { visit(row, column, value); });
+        });
+}
+
+void RunLengthRows::refillLowerColumnsLastFirst(const SparseMatrix& lower)
+{
+    const auto last = StorageIndex(lower.cols() - 1);
+    refill(
+        [&](const auto& visit)
+        {
+            forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
+                                 { visit(last - column, row, value); });
+        });
 }
 } // namespace masse

@@ -94,6 +94,10 @@ public:
     /// The strictly lower part of `lower` by columns, the last column first: row q holds column n-1-q's entries L_iq'
     /// (q' = n-1-q, i > q'), in increasing i.
     void assignLowerColumnsLastFirst(const SparseMatrix& lower);
+    /// The values alone of a matrix with the pattern last assigned (a factor refreshed with its analysed pattern): the
+    /// runs stay, and so do the zeros between a run's entries. Half the work of an assign, which counts the runs first.
+    void refillLowerRows(const SparseMatrix& lower);
+    void refillLowerColumnsLastFirst(const SparseMatrix& lower);
 
     Eigen::Index rows() const { return Eigen::Index(m_rowRuns.size()) - 1; }
     /// Values stored, the zeros of joined runs included.
@@ -127,6 +131,8 @@ private:
     /// Fills the storage from `forEachEntry(visit)`, which calls visit(row, column, value) for every entry, each row's
     /// entries in increasing column (rows may interleave); called twice, to count and to fill.
     template <class ForEachEntry> void assign(Eigen::Index rowCount, const ForEachEntry& forEachEntry);
+    /// Writes the values of `forEachEntry`'s entries (as for assign) into the runs laid out for them.
+    template <class ForEachEntry> void refill(const ForEachEntry& forEachEntry);
 
     std::vector<StorageIndex> m_rowRuns;   ///< runs of row i: [m_rowRuns[i], m_rowRuns[i + 1])
     std::vector<StorageIndex> m_runColumn; ///< first column of run r

@@ -181,3 +181,68 @@ TEST(RunLengthRows, RowsEntriesCloseTogetherShareARunThroughStoredZeros)
     EXPECT_EQ(byColumns.entries(), columns.size());
 }
 } // namespace masse
+
+namespace masse
+{
+namespace
+{
+/// The stored halves of every row of `m`, run by run.
+std::vector<std::uint16_t> storedValues(const RunLengthRows& m)
+{
+    const RunLengthRows::View view = m.view();
+    return std::vector<std::uint16_t>(view.values, view.values + m.entries());
+}
+} // namespace
+
+// A refresh writes the factor's new values into the runs laid out for its pattern (refill) instead of laying them out
+// again (assign). On a random lower triangular pattern with runs both joined through zeros and apart, refilling the
+// copies of one matrix with another's values (the same pattern, other values, some of them zero) gives, bit for bit,
+// the copies assigned from the other: the same runs and the same halves, the joined runs' zeros still zero.
+TEST(RunLengthRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGives)
+{
+    const Eigen::Index n = 300;
+    std::mt19937_64 random(11);
+    std::uniform_int_distribution<int> skip(1, 2 * RunLengthRows::joinGap);
+    std::uniform_real_distribution<double> value(-2.0, 2.0);
+    std::vector<Eigen::Triplet<Real>> first;
+    std::vector<Eigen::Triplet<Real>> second;
+    for (Eigen::Index column = 0; column < n; ++column)
+    {
+        for (Eigen::Index row = column + skip(random); row < n; row += skip(random))
+        {
+            first.emplace_back(row, column, value(random));
+            second.emplace_back(row, column, (row + column) % 5 == 0 ? 0.0 : value(random));
+        }
+    }
+    Eigen::SparseMatrix<Real> a(n, n);
+    Eigen::SparseMatrix<Real> b(n, n);
+    a.setFromTriplets(first.begin(), first.end());
+    b.setFromTriplets(second.begin(), second.end());
+    ASSERT_EQ(a.nonZeros(), b.nonZeros());
+
+    RunLengthRows refilledRows;
+    RunLengthRows refilledColumns;
+    refilledRows.assignLowerRows(a);
+    refilledColumns.assignLowerColumnsLastFirst(a);
+    refilledRows.refillLowerRows(b);
+    refilledColumns.refillLowerColumnsLastFirst(b);
+    RunLengthRows assignedRows;
+    RunLengthRows assignedColumns;
+    assignedRows.assignLowerRows(b);
+    assignedColumns.assignLowerColumnsLastFirst(b);
+
+    ASSERT_GT(assignedRows.entries(), std::size_t(a.nonZeros())); // some runs joined through zeros
+    ASSERT_GT(assignedRows.runs(), std::size_t(n));               // and some rows in several runs
+    EXPECT_EQ(refilledRows.runs(), assignedRows.runs());
+    EXPECT_EQ(refilledColumns.runs(), assignedColumns.runs());
+    EXPECT_EQ(storedValues(refilledRows), storedValues(assignedRows));
+    EXPECT_EQ(storedValues(refilledColumns), storedValues(assignedColumns));
+    EXPECT_NE(storedValues(refilledRows),
+              [&]
+              {
+                  RunLengthRows fromA;
+                  fromA.assignLowerRows(a);
+                  return storedValues(fromA);
+              }());
+}
+} // namespace masse
