@@ -6,6 +6,7 @@
 
 #include "core/InputError.h"
 #include "scene/SceneFile.h"
+#include "scene/reports/ThicknessSectionReport.h"
 #include "viewer/ViewerApp.h"
 
 #include <CLI/CLI.hpp>
@@ -24,8 +25,8 @@ struct ViewCommandOptions
     std::string scene;
     std::string window = "1024x720";
     std::string view = "overview";
-    std::string draw = "masses";
-    std::string scalar = "speed";
+    std::string draw;   ///< "": the scene's own (see defaultDrawing)
+    std::string scalar; ///< "": the scene's own
     bool hidePanel = false;
     bool noUi = false;
     viewer::ViewerOptions viewer;
@@ -46,7 +47,7 @@ void parseWindowSize(const std::string& text, viewer::ViewerOptions& options)
     options.height = height;
 }
 
-void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& report)
+void printBenchmark(const scene::SceneSpec& spec, const viewer::DrawSettings& draw, const viewer::ViewerReport& report)
 {
     const LatticeSpec& lattice = spec.sheet.lattice;
     const Lattice built = buildLattice(lattice);
@@ -62,6 +63,8 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
         {"springs", built.springCount()},
         {"integrator", std::string(integratorName(spec.time.integrator))},
         {"dt", spec.time.dt},
+        {"draw", std::string(viewer::drawModeName(draw.mode))},
+        {"scalar", draw.mode == viewer::DrawMode::Scalar ? nlohmann::json(draw.scalar) : nlohmann::json()},
         {"frames", report.frames},
         {"wall_seconds", report.wallSeconds},
         {"fps", measuredFrames / wall},
@@ -80,10 +83,28 @@ void printBenchmark(const scene::SceneSpec& spec, const viewer::ViewerReport& re
     std::printf("%s\n", line.dump().c_str());
 }
 
+/// What the viewer draws when the command line does not say: a scene that forms a part (a forming pressure, or a
+/// thickness section to report) opens on its wall thickness, h / h0 with the colour bar from 0 to 1, which is what a
+/// forming engineer watches (and, as a closed surface, cheaper to draw than the masses and springs), or on the scalar
+/// --scalar names; any other scene on its masses and springs, coloured by speed when switched to the scalar mode.
+void defaultDrawing(const scene::SceneSpec& spec, ViewCommandOptions& options)
+{
+    const bool formsAPart = spec.material.enabled && (spec.forming.enabled || scene::sectionSettings(spec) != nullptr);
+    if (options.draw.empty())
+    {
+        options.draw = formsAPart ? "scalar" : "masses";
+    }
+    if (options.scalar.empty())
+    {
+        options.scalar = formsAPart ? "thickness_ratio" : "speed";
+    }
+}
+
 void runView(ViewCommandOptions& options)
 {
     const std::string path = options.scene.empty() ? dataDirectory() + "/scenes/paper-drop.json" : options.scene;
     scene::SceneSpec spec = loadSceneWithOverrides(path, options.overrides);
+    defaultDrawing(spec, options);
     viewer::ViewerOptions& viewer = options.viewer;
     parseWindowSize(options.window, viewer);
     try
@@ -112,7 +133,7 @@ void runView(ViewCommandOptions& options)
     const viewer::ViewerReport report = viewer::runViewer(spec, viewer);
     if (viewer.benchmark)
     {
-        printBenchmark(spec, report);
+        printBenchmark(spec, viewer.draw, report);
     }
     if (!viewer.untilEvent.empty() && !report.eventSeen)
     {
@@ -139,7 +160,9 @@ void addViewCommand(CLI::App& app)
                       "Print a JSON line: frames and steps per second, real-time factor");
     command->add_option("--window", options->window, "Window size WIDTHxHEIGHT (default 1024x720)");
     command->add_option("--view", options->view, "Initial view: overview, below (paper figure 8), left (figure 9)");
-    command->add_option("--draw", options->draw, "Draw mode: masses, surface, scalar");
+    command->add_option("--draw", options->draw,
+                        "Draw mode: masses, surface, scalar (default: scalar thickness_ratio for a scene that forms a "
+                        "part, masses otherwise)");
     command->add_option("--scalar", options->scalar,
                         "Scalar for --draw scalar: speed, strain, temperature, thickness, thickness_ratio");
     command->add_flag("--hide-panel", options->hidePanel, "Start with the panel hidden (Tab shows it)");
