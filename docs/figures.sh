@@ -1,9 +1,10 @@
 #!/bin/sh
-# Regenerates the figures in the docs: the table of docs/performance.md (performance) and the validation table of
-# docs/heat-and-forming.md (validation). It runs each command below on this machine, reads its figure from what the
-# command prints or writes, and rewrites the lines between the page's two marker comments (nothing else in the page
-# changes). Run it after building, from anywhere:
-#     .ci/build && sh docs/figures.sh [performance|validation]    (both without an argument)
+# Regenerates the figures in the docs: the table of docs/performance.md (performance), the validation table of
+# docs/heat-and-forming.md (validation) and the plots the pages show from data/figures (pictures). It runs each command
+# below on this machine, reads its figure from what the command prints or writes, and rewrites the lines between the
+# page's two marker comments (nothing else in the page changes) or copies the plot the command drew. Run it after
+# building, from anywhere:
+#     .ci/build && sh docs/figures.sh [performance|validation|pictures]    (all three without an argument)
 # on a shared machine: nice -n 10 sh docs/figures.sh. It takes about a quarter of an hour on a 2-core machine. Needs python3
 # (to read JSON); the viewer row needs xvfb-run.
 set -eu
@@ -12,9 +13,9 @@ masse=build/bin/masse
 page=docs/performance.md
 tables=${1:-all}
 case "$tables" in
-all | performance | validation) ;;
+all | performance | validation | pictures) ;;
 *)
-    echo "docs/figures.sh: unknown table '$tables': give performance, validation or nothing (both)" >&2
+    echo "docs/figures.sh: unknown table '$tables': give performance, validation, pictures or nothing (all three)" >&2
     exit 2
     ;;
 esac
@@ -167,7 +168,36 @@ EOF
     echo "docs/figures.sh: rewrote the validation table in $vpage (${vtotal} s)" >&2
 }
 
-if [ "$tables" != validation ]; then
+# The plots in the pages (data/figures), each drawn by the command named in its page's caption.
+if [ "$tables" = all ] || [ "$tables" = pictures ]; then
+    pictures="$work/pictures"
+    mkdir -p "$pictures"
+    # picture COMMAND... -- DRAWN TARGET: runs the command and copies the plot DRAWN (under $pictures) to
+    # data/figures/TARGET.
+    picture() {
+        pcmd=""
+        while [ "$1" != "--" ]; do
+            pcmd="$pcmd $1"
+            shift
+        done
+        # shellcheck disable=SC2086
+        timed $pcmd
+        cp "$pictures/$2" "data/figures/$3"
+        echo "docs/figures.sh: data/figures/$3 from$(echo "$pcmd" | sed "s|$pictures|OUT|")" >&2
+    }
+    picture "$masse" paper --out "$pictures/paper" -- paper/figure18.png figure18.png
+    cp "$pictures/paper/figure18.csv" data/figures/figure18.csv
+    picture "$masse" run data/scenes/sag.json --quiet --out "$pictures/sag" -- sag/sag.png sag.png
+    picture "$masse" run data/scenes/drape-forming.json --size 64x2x64 --quiet --out "$pictures/drape" -- \
+        drape/thickness_section.png drape-forming-thickness.png
+    picture "$masse" compare data/scenes/box-landing.json --quiet --out "$pictures/box" -- \
+        box/penetration.png compare-box-penetration.png
+    "$masse" sweep data/studies/drape-window.json --out "$pictures/window" --jobs 2 >"$work/out" 2>"$work/err"
+    picture "$masse" sweep --collect "$pictures/window" -- window/plots/thinnest-vs-heater_power.png \
+        drape-window-thinnest.png
+fi
+
+if [ "$tables" = all ] || [ "$tables" = performance ]; then
 # Spring forces and the symplectic step: the bench scene (a Table 1 sheet in free fall), against a plain loop.
 for size in 128x2x128 256x2x256; do
     cmd="$masse bench --size $size --baseline --steps 3 --repeat 3"
@@ -274,6 +304,6 @@ rewrite_marked "$page" figures "$work/performance.md"
 echo "docs/figures.sh: rewrote the table in $page (${total} s)" >&2
 fi
 
-if [ "$tables" != performance ]; then
+if [ "$tables" = all ] || [ "$tables" = validation ]; then
     validate
 fi
