@@ -127,7 +127,75 @@ struct ConeResult
     Real deepest = 1;   ///< smallest r / r0 reached on the wall
 };
 
-ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure, Real strainHardening = 0)
+/// How the wall's thickness is read after blowIntoCone's run: the sheet's own (each mass's h = h0 A0 / A), or the
+/// thickness the law's membrane would leave along the run's contact history (see EvenBubble below).
+enum class WallThickness
+{
+    Sheet,
+    EvenBubble,
+};
+
+/// The membrane the cone law assumes, kept beside the run: a free bubble of even thickness h_b = V_b / A_b, with V_b
+/// the volume the bubble still holds and A_b the area the free masses of the bottom layer inside the rim stand for now
+/// (the sheet's own areas, so the bubble's shape is the simulated one). A mass that sticks during a step leaves the
+/// bubble with the thickness the bubble had then, and takes that much volume, h_b A_i, with it.
+class EvenBubble
+{
+public:
+    EvenBubble(const Scene& run, Real rimRadius)
+    {
+        const SheetThickness& thickness = *run.thickness();
+        const std::vector<Vec3>& x = run.system().particles.position;
+        m_inside.assign(x.size(), false);
+        m_frozen.assign(x.size(), std::numeric_limits<Real>::quiet_NaN());
+        for (std::size_t i = 0; i < x.size(); ++i)
+        {
+            if (thickness.layer()[i] == 0 && radial(x[i]) <= rimRadius)
+            {
+                m_inside[i] = true;
+                m_volume += thickness.initialThickness() * thickness.restArea()[i];
+            }
+        }
+    }
+
+    /// After a step: the masses inside the rim that stuck in it leave the bubble.
+    void afterStep(const Scene& run)
+    {
+        const SheetThickness& thickness = *run.thickness();
+        const auto& stuck = run.contact().stuck();
+        Real freeArea = 0; // the bubble's area as the step began: the masses free then, the ones that stuck in it too
+        std::vector<std::size_t> arrived;
+        for (std::size_t i = 0; i < m_inside.size(); ++i)
+        {
+            if (!m_inside[i] || !std::isnan(m_frozen[i]))
+            {
+                continue;
+            }
+            freeArea += thickness.area()[i];
+            if (stuck[i])
+            {
+                arrived.push_back(i);
+            }
+        }
+        const Real bubble = m_volume / freeArea;
+        for (const std::size_t i : arrived)
+        {
+            m_frozen[i] = bubble;
+            m_volume -= bubble * thickness.area()[i];
+        }
+    }
+
+    /// The thickness mass i left the bubble with (NaN while it is free).
+    Real frozen(Index i) const { return m_frozen[std::size_t(i)]; }
+
+private:
+    std::vector<bool> m_inside;
+    std::vector<Real> m_frozen;
+    Real m_volume = 0;
+};
+
+ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure, Real strainHardening = 0,
+                        WallThickness wall = WallThickness::Sheet)
 {
     const Real r0 = 0.08;
     const Real radius = 0.001; // contact radius: the sheet's underside rides this far off the mould
@@ -177,10 +245,12 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure, Real strainHar
         }
     }
     system.markChanged();
+    EvenBubble bubble(run, r0);
     int iterations = 0;
     while (!run.finished())
     {
         iterations += run.step().solverIterations;
+        bubble.afterStep(run);
     }
     std::printf("cone %d: %zu masses, %llu steps, %d solver iterations, %.1f s wall\n", halfAngleDegrees,
                 run.system().massCount(), static_cast<unsigned long long>(run.steps()), iterations, run.wallSeconds());
@@ -210,10 +280,15 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure, Real strainHar
         const Real slant = (rim - r) / std::cos(theta);
         const Real theory =
             (1 + std::cos(theta)) / 2 * std::pow(1 - slant * std::sin(theta) / cavityDepth, 1 / std::cos(theta) - 1);
-        const Real error = std::abs(thickness.thickness()[i] / h0 / theory - 1);
+        const Real h = wall == WallThickness::Sheet ? thickness.thickness()[i] : bubble.frozen(i);
+        if (std::isnan(h))
+        {
+            continue; // stuck outside the rim's circle at rest (only the sheet's own thickness reads those)
+        }
+        const Real error = std::abs(h / h0 / theory - 1);
         if (std::getenv("CONE_DUMP"))
         {
-            std::printf("DUMP %.4f %.4f %.4f %.4f\n", r / rim, x.y(), thickness.thickness()[i] / h0, theory);
+            std::printf("DUMP %.4f %.4f %.4f %.4f\n", r / rim, x.y(), h / h0, theory);
         }
         result.worst = std::max(result.worst, error);
         sumError += error;
@@ -236,16 +311,21 @@ ConeResult blowIntoCone(int halfAngleDegrees, Real finalPressure, Real strainHar
 //     h / h0 = [(1 + cos theta) / 2] (1 - S sin theta / H)^(sec theta - 1).
 // Checked over the wall within 10% at each mass and 5% on average, for half-angles 60 and 70 degrees (walls at 30
 // and 20 degrees to the sheet). At 45 degrees the law holds for a strain-hardening sheet, whose bubble thins more
-// evenly, as the law assumes, and not for the elastic sheet (below).
+// evenly, as the law assumes, and for the elastic sheet's run read through the law's even bubble (EvenBubble), but not
+// for the elastic sheet's own thickness (below).
 namespace
 {
-void checkConeLaw(int halfAngle, Real pressure, Real strainHardening = 0)
+void checkConeLaw(int halfAngle, Real pressure, Real strainHardening = 0, WallThickness wall = WallThickness::Sheet)
 {
-    const ConeResult r = blowIntoCone(halfAngle, pressure, strainHardening);
+    const ConeResult r = blowIntoCone(halfAngle, pressure, strainHardening, wall);
     std::printf("cone half-angle %d: %d masses on the wall down to r/r0 = %.2f; error worst %.1f%%, mean %.1f%%\n",
                 halfAngle, r.compared, r.deepest, 100 * r.worst, 100 * r.meanError);
-    const std::string sheet =
+    std::string sheet =
         strainHardening > 0 ? ", strain-hardening sheet (strain_hardening " + formatNumber(strainHardening) + ")" : "";
+    if (wall == WallThickness::EvenBubble)
+    {
+        sheet += ", the law's even bubble along the run's contact history";
+    }
     test::printValidationRow(
         "cone of half-angle " + std::to_string(halfAngle) + " degrees" + sheet, "Crawford's cone law (physics.md)",
         "10% at each mass, 5% on average",
@@ -280,6 +360,16 @@ TEST(Forming, ConeLawAt70Degrees)
 TEST(Forming, DISABLED_ConeLawAt45Degrees)
 {
     checkConeLaw(45, 60000.0);
+}
+
+// The law's own membrane at 45 degrees: the elastic sheet of the disabled test above is run as it is, and the wall's
+// thickness is read from the bubble the law assumes (EvenBubble) instead of from the sheet's stretch: each mass that
+// sticks takes the thickness an evenly thinned bubble of the simulated free area would have at that moment. This
+// holds the run's geometry to the law (where and when the sheet meets the wall, and the free bubble's area as it goes
+// down) under the law's two assumptions, sticking and an even bubble, which the elastic sheet does not meet.
+TEST(Forming, ConeLawAt45DegreesForTheLawsEvenBubble)
+{
+    checkConeLaw(45, 60000.0, 0, WallThickness::EvenBubble);
 }
 
 // The law's own sheet at 45 degrees: strain-hardening (material.strain_hardening 2: the springs grow stiffer as the
