@@ -96,48 +96,47 @@ template <class Visit> void forEachStrictlyLower(const Eigen::SparseMatrix<Real>
         }
     }
 }
+
+/// `lower`'s strictly lower entries as assign and refill take them, by rows: visit(row, column, value), walking the
+/// columns in increasing order, which gives each row's entries in increasing column.
+auto byRows(const Eigen::SparseMatrix<Real>& lower)
+{
+    return [&lower](const auto& visit)
+    {
+        forEachStrictlyLower(lower, [&](RunLengthRows::StorageIndex column, RunLengthRows::StorageIndex row, Real value)
+                             { visit(row, column, value); });
+    };
+}
+
+/// The same by columns, the last first: column j is row n-1-j, its entries in increasing row.
+auto byColumnsLastFirst(const Eigen::SparseMatrix<Real>& lower)
+{
+    return [&lower](const auto& visit)
+    {
+        const auto last = RunLengthRows::StorageIndex(lower.cols() - 1);
+        forEachStrictlyLower(lower, [&](RunLengthRows::StorageIndex column, RunLengthRows::StorageIndex row, Real value)
+                             { visit(last - column, row, value); });
+    };
+}
 } // namespace
 
 void RunLengthRows::assignLowerRows(const SparseMatrix& lower)
 {
-    // Walking the columns in increasing order gives each row's entries in increasing column.
-    assign(lower.cols(),
-           [&](const auto& visit)
-           {
-               forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
-                                    { visit(row, column, value); });
-           });
+    assign(lower.cols(), byRows(lower));
 }
 
 void RunLengthRows::assignLowerColumnsLastFirst(const SparseMatrix& lower)
 {
-    const auto last = StorageIndex(lower.cols() - 1);
-    assign(lower.cols(),
-           [&](const auto& visit)
-           {
-               forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
-                                    { visit(last - column, row, value); });
-           });
+    assign(lower.cols(), byColumnsLastFirst(lower));
 }
 
 void RunLengthRows::refillLowerRows(const SparseMatrix& lower)
 {
-    refill(
-        [&](const auto& visit)
-        {
-            forEachStrictlyLower(lower,
-                                 [&](StorageIndex column, StorageIndex row, Real value) { visit(row, column, value); });
-        });
+    refill(byRows(lower));
 }
 
 void RunLengthRows::refillLowerColumnsLastFirst(const SparseMatrix& lower)
 {
-    const auto last = StorageIndex(lower.cols() - 1);
-    refill(
-        [&](const auto& visit)
-        {
-            forEachStrictlyLower(lower, [&](StorageIndex column, StorageIndex row, Real value)
-                                 { visit(last - column, row, value); });
-        });
+    refill(byColumnsLastFirst(lower));
 }
 } // namespace masse

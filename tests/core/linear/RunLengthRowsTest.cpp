@@ -180,10 +180,7 @@ TEST(RunLengthRows, RowsEntriesCloseTogetherShareARunThroughStoredZeros)
     EXPECT_EQ(byColumns.runs(), columns.size()); // each column holds one entry, in row 199
     EXPECT_EQ(byColumns.entries(), columns.size());
 }
-} // namespace masse
 
-namespace masse
-{
 namespace
 {
 /// The stored halves of every row of `m`, run by run.
