@@ -163,7 +163,9 @@ TEST(SavedRun, ALiveRunReplaysBitForBit)
 // the contact heat's.
 TEST(SavedRun, ProcessActionsDoWhatTheySay)
 {
-    Scene cup(specOf(sourceOf("plug-assist-cup.json", "12x2x12")));
+    RunSource run = sourceOf("plug-assist-cup.json", "12x2x12");
+    run.flags.dt = "0.01"; // steps that land on the times below
+    Scene cup(specOf(run));
     stepTo(cup, 0.2);
     const int plug = cup.environment().findObstacle("plug");
     const Vec3 start = cup.environment().obstacle(plug).pose.position;

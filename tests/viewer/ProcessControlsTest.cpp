@@ -31,10 +31,11 @@ scene::RunSource plugCupAt(const std::string& size)
     scene::RunSource source;
     source.path = plugCup;
     source.flags.size = size;
+    source.flags.dt = "0.01"; // ten steps a tenth of a second
     return source;
 }
 
-/// A session on the plug-assist cup at 12x2x12, as `masse view --size 12x2x12` starts it.
+/// A session on the plug-assist cup at 12x2x12, as `masse view --size 12x2x12 --dt 0.01` starts it.
 struct Bench
 {
     Bench() : session(scene::loadScene(plugCup, plugCupAt("12x2x12").flags))
