@@ -823,8 +823,8 @@ TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt64)
                        {"drape-forming.json", "64x2x64"}});
 }
 
-// And at 128x2x128, also run by docs/figures.sh: about a quarter of an hour on two cores (two to three minutes of it
-// the plug-assist cup), so not part of the suite either.
+// And at 128x2x128, also run by docs/figures.sh: minutes on two cores (over a minute of it the plug-assist cup), so
+// not part of the suite either.
 TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt128)
 {
     expectLayersApart({{"vacuum-forming-cup.json", "128x2x128"},

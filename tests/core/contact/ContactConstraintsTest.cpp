@@ -106,8 +106,8 @@ TEST(ContactConstraints, AMassAnAdvancingSurfaceCaughtLastFrameRestsOnIt)
 
 // A mass that slides over a plug's nose (radius R) along the tangent plane of the last frame ends the frame off the
 // surface by about s^2 / 2R for a slide s: 30 um for 2.5 mm over 10 mm (the plug-assist cup's stroke finds gaps up to
-// 32 um), its normal speed the surface's, as the solve held it. Pressed on the surface in the last frame, it rests there
-// again; left to arrive again it would be engaged in a later round of the solve every frame. One that the surface
+// 32 um), its normal speed the surface's, as the solve held it. Pressed on the surface in the last frame, it rests
+// there again; left to arrive again it would be engaged in a later round of the solve every frame. One that the surface
 // pulled in the last frame (its reaction negative), that is moving off, or that is farther than 5% of the contact
 // radius (0.1 mm here) does not rest. Had the frame taken every mass off its surface as apart, the first case fails.
 TEST(ContactConstraints, AMassPressedLastFrameAndSlightlyOffACurvedSurfaceStillRestsOnIt)
