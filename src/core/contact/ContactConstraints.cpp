@@ -108,8 +108,13 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
             // The slip the damping is sized for: the current one, or, for a mass at rest pushed harder than
             // friction holds, the slip the excess push gives it within the frame. With the latter the first step
             // of a slide already has Coulomb's acceleration instead of creeping up from the regularisation speed.
+            // The push is the force along the surface: where a surface advances into the sheet (a plug's nose) the
+            // force along the normal and the last frame's press differ by far more than the friction limit, and
+            // counted as push that difference would make the slip tens of metres a second and the friction thousands
+            // of times weaker than Coulomb's.
             const Real limit = settings.frictionOf(plane.obstacle) * press;
-            const Real push = (p.force[i] + press * plane.normal).norm();
+            const Vec3 force = p.force[i];
+            const Real push = (force - force.dot(plane.normal) * plane.normal).norm();
             const Real slip =
                 std::max({(relative - relative.dot(plane.normal) * plane.normal).norm(),
                           dt * std::max(Real(0), push - limit) * p.inverseMass[i], settings.slipRegularization});

@@ -216,8 +216,9 @@ private:
     /// Per mass, the pair that constrains it this frame (constrainArrivals).
     struct Arrival
     {
-        bool held = false; ///< by the obstacle contact's constraint
-        Real endGap = 0;   ///< m, below 0: how far within the radius the step would carry it
+        bool held = false;             ///< by the obstacle contact's constraint
+        Vec3 heldAlong = Vec3::Zero(); ///< that constraint's normal, if it holds one direction
+        Real endGap = 0;               ///< m, below 0: how far within the radius the step would carry it
         Vec3 normal = Vec3::Zero();
         Real speed = 0; ///< m/s, the normal speed it is given
     };

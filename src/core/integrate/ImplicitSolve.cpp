@@ -379,6 +379,63 @@ void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
                          ? m_reaction[std::size_t(m_constraintOf[c.mass])]
                          : Vec3::Zero();
     }
+    splitSharedReactions(constraints);
+}
+
+void ImplicitSolve::splitSharedReactions(std::vector<VelocityConstraint>& constraints)
+{
+    // A mass under two constraints, each along its own normal (an obstacle's and the self-contact's), has one
+    // reaction R in the span of the two: each takes its part r_i n_i of R = r_1 n_1 + r_2 n_2, so that the obstacle
+    // reads its own press and the self-contact its own push. The first of a mass's constraints is remembered in
+    // m_firstConstraint.
+    bool shared = false;
+    for (const Basis& basis : m_bases)
+    {
+        shared = shared || basis.constraints > 1;
+    }
+    if (!shared)
+    {
+        return;
+    }
+    m_firstConstraint.assign(m_constrainedMasses.size(), -1);
+    for (std::size_t j = 0; j < constraints.size(); ++j)
+    {
+        const VelocityConstraint& c = constraints[j];
+        if (!c.honoured() || c.mass >= m_constraintOf.size() || m_constraintOf[c.mass] < 0)
+        {
+            continue;
+        }
+        const std::size_t k = std::size_t(m_constraintOf[c.mass]);
+        if (m_bases[k].constraints < 2)
+        {
+            continue;
+        }
+        if (m_firstConstraint[k] < 0)
+        {
+            m_firstConstraint[k] = int(j);
+            continue;
+        }
+        VelocityConstraint& first = constraints[std::size_t(m_firstConstraint[k])];
+        VelocityConstraint& second = constraints[j];
+        if (first.directions != 1 || second.directions != 1)
+        {
+            continue; // a held mass takes the whole reaction on its first constraint
+        }
+        const Vec3& n1 = first.normal;
+        const Vec3& n2 = second.normal;
+        const Vec3 r = m_reaction[k];
+        const Real c12 = n1.dot(n2);
+        const Real determinant = 1 - c12 * c12;
+        if (!(determinant > 1e-6))
+        {
+            second.reaction = Vec3::Zero(); // parallel: the first holds the direction alone
+            continue;
+        }
+        const Real a1 = n1.dot(r);
+        const Real a2 = n2.dot(r);
+        first.reaction = ((a1 - c12 * a2) / determinant) * n1;
+        second.reaction = ((a2 - c12 * a1) / determinant) * n2;
+    }
 }
 
 /// Applies the filter for the velocity constraints; returns false when there are none.
@@ -414,17 +471,28 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
             m_prescribed.push_back(c.velocity); // the target velocity for now; turned into a change below
         }
         Basis& basis = m_bases[std::size_t(k)];
+        ++basis.constraints;
         const int candidates = c.directions >= 3 ? 3 : 1;
         for (int j = 0; j < candidates; ++j)
         {
-            Vec3 u = c.directions >= 3 ? Vec3(Vec3::Unit(j)) : c.normal;
+            const Vec3 wanted = c.directions >= 3 ? Vec3(Vec3::Unit(j)) : c.normal;
+            Vec3 u = wanted;
             for (int b = 0; b < basis.count; ++b)
             {
                 u -= u.dot(basis.direction[std::size_t(b)]) * basis.direction[std::size_t(b)];
             }
-            if (u.norm() > 1e-6 && basis.count < 3)
+            const Real length = u.norm();
+            if (length > 1e-6 && basis.count < 3)
             {
-                basis.direction[std::size_t(basis.count++)] = u.normalized();
+                // The speed along the new direction that gives `wanted` its constraint's speed, the directions
+                // before it keeping theirs: wanted . d_new = |u|.
+                Real speed = c.velocity.dot(wanted);
+                for (int b = 0; b < basis.count; ++b)
+                {
+                    speed -= basis.speed[std::size_t(b)] * basis.direction[std::size_t(b)].dot(wanted);
+                }
+                basis.speed[std::size_t(basis.count)] = speed / length;
+                basis.direction[std::size_t(basis.count++)] = u / length;
             }
         }
     }
@@ -452,7 +520,23 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
             held += m_bases[k].direction[std::size_t(b)] * m_bases[k].direction[std::size_t(b)].transpose();
         }
         m_filters.push_back(Mat3::Identity() - held);
-        m_prescribed[k] = held * (m_prescribed[k] - p.velocity[m_constrainedMasses[k]]);
+        const Vec3& v = p.velocity[m_constrainedMasses[k]];
+        if (m_bases[k].constraints == 1)
+        {
+            m_prescribed[k] = held * (m_prescribed[k] - v);
+        }
+        else
+        {
+            // Several constraints (an obstacle's and the self-contact's): each direction takes its own
+            // constraint's speed, where the first's velocity would set them all.
+            Vec3 change = Vec3::Zero();
+            for (int b = 0; b < m_bases[k].count; ++b)
+            {
+                const Vec3& d = m_bases[k].direction[std::size_t(b)];
+                change += (m_bases[k].speed[std::size_t(b)] - d.dot(v)) * d;
+            }
+            m_prescribed[k] = change;
+        }
     }
     auto filterOf = [&](Index i) -> const Mat3*
     { return m_constraintOf[i] < 0 ? nullptr : &m_filters[std::size_t(m_constraintOf[i])]; };

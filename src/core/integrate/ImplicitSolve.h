@@ -103,6 +103,8 @@ private:
     /// `drivingImpulse` (see the definition for why).
     Real solverTolerance(Real drivingImpulse) const;
     void writeReactions(std::vector<VelocityConstraint>& constraints);
+    /// Splits the reaction of a mass under two constraints between them (see the definition).
+    void splitSharedReactions(std::vector<VelocityConstraint>& constraints);
     /// After a solve: engages each speculative constraint whose mass the step carries through its surface, releases
     /// each engaged one whose reaction pulls. Returns whether any changed (then the step is solved again).
     bool updateSpeculative(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints, Real a,
@@ -168,7 +170,10 @@ private:
     struct Basis
     {
         std::array<Vec3, 3> direction;
+        /// The velocity each direction must have (its constraint's, given the directions before it).
+        std::array<Real, 3> speed{};
         int count = 0;
+        int constraints = 0; ///< honoured constraints on the mass
     };
     std::vector<Basis> m_bases;
     // The constrained rows as they were before filtering, to give each constraint its reaction after the solve.
@@ -182,6 +187,7 @@ private:
     };
     std::vector<NeighbourBlock> m_rowNeighbours;
     std::vector<Vec3> m_reaction;
+    std::vector<int> m_firstConstraint; ///< per constrained mass, its first constraint (splitSharedReactions)
 
     const MassSpringSystem* m_patternSystem = nullptr;
     std::size_t m_patternMasses = 0;

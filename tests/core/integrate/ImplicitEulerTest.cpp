@@ -5,7 +5,9 @@
 #include "core/forces/Damping.h"
 #include "core/forces/Energy.h"
 #include "core/forces/SimdPath.h"
+#include "core/integrate/ImplicitSolve.h"
 #include "core/integrate/ImplicitSpringTerms.h"
+#include "core/integrate/VelocityConstraint.h"
 
 #include <gtest/gtest.h>
 
@@ -454,4 +456,42 @@ TEST(ImplicitEuler, AFrameAHookAsksToSplitIsTakenAsThatManySolves)
     explicitOne.step(dt);
     EXPECT_EQ(ignored.asked, 0);
     EXPECT_EQ(ignored.frames.size(), 1u);
+}
+
+// A mass under two constraints along different normals (a sheet's vertex resting on an obstacle's face and meeting a
+// fold of its own sheet across it) leaves the solve with each normal's own velocity, and each constraint reads its own
+// part of the reaction. One free mass of m = 2 g, no springs, force f, step a: the velocity along n_1 and n_2 is what
+// each constraint asks, the free direction takes v_z = a f_z / m, and the reaction R = m dv - a f splits as
+// R = r_1 n_1 + r_2 n_2 with r_i n_i each constraint's. With orthogonal and with 45-degree normals. Had the first
+// constraint's velocity set every held direction, the velocity along n_2 would be 0.
+TEST(ImplicitSolve, TwoConstraintsOnAMassEachHoldTheirOwnNormalsVelocity)
+{
+    const Real a = 0.03;
+    const Real m = 0.002;
+    const Vec3 force(0.01, -0.02, 0.03);
+    const Vec3 wanted(1, 2, 0); // the velocity the two constraints ask for along their normals, in the x-y plane
+    const Vec3 diagonal = Vec3(1, 1, 0).normalized();
+    for (const Vec3& second : {Vec3(Vec3::UnitY()), diagonal})
+    {
+        SCOPED_TRACE(testing::Message() << "second normal " << second.transpose());
+        MassSpringSystem one = makeChain(1, m, 1, 0.1);
+        one.particles.force[0] = force;
+        std::vector<VelocityConstraint> constraints(2);
+        constraints[0].mass = 0;
+        constraints[0].normal = Vec3::UnitX();
+        constraints[0].velocity = Vec3(wanted.x(), 0, 0);
+        constraints[1].mass = 0;
+        constraints[1].normal = second;
+        constraints[1].velocity = wanted.dot(second) * second; // only its normal component matters
+        ImplicitSolve solve(ImplicitSettings{}, false);
+        solve.solve(one, constraints, a, {}, {});
+        const Vec3 dv = solve.deltaV(0);
+        EXPECT_NEAR(dv.x(), wanted.x(), 1e-12);
+        EXPECT_NEAR(dv.y(), wanted.y(), 1e-12);
+        EXPECT_NEAR(dv.z(), a * force.z() / m, 1e-12);
+        const Vec3 reaction = m * dv - a * force;
+        EXPECT_NEAR((constraints[0].reaction + constraints[1].reaction - reaction).norm(), 0, 1e-12);
+        EXPECT_NEAR(constraints[0].reaction.cross(Vec3::UnitX()).norm(), 0, 1e-12);
+        EXPECT_NEAR(constraints[1].reaction.cross(second).norm(), 0, 1e-12);
+    }
 }
