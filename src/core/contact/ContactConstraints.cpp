@@ -113,7 +113,7 @@ void ContactConstraints::beginFrame(const Particles& p, const ContactPlanes& pla
             // counted as push that difference would make the slip tens of metres a second and the friction thousands
             // of times weaker than Coulomb's.
             const Real limit = settings.frictionOf(plane.obstacle) * press;
-            const Vec3 force = p.force[i];
+            const Vec3& force = p.force[i];
             const Real push = (force - force.dot(plane.normal) * plane.normal).norm();
             const Real slip =
                 std::max({(relative - relative.dot(plane.normal) * plane.normal).norm(),

@@ -388,12 +388,7 @@ void ImplicitSolve::splitSharedReactions(std::vector<VelocityConstraint>& constr
     // reaction R in the span of the two: each takes its part r_i n_i of R = r_1 n_1 + r_2 n_2, so that the obstacle
     // reads its own press and the self-contact its own push. The first of a mass's constraints is remembered in
     // m_firstConstraint.
-    bool shared = false;
-    for (const Basis& basis : m_bases)
-    {
-        shared = shared || basis.constraints > 1;
-    }
-    if (!shared)
+    if (!m_sharedMass)
     {
         return;
     }
@@ -419,7 +414,9 @@ void ImplicitSolve::splitSharedReactions(std::vector<VelocityConstraint>& constr
         VelocityConstraint& second = constraints[j];
         if (first.directions != 1 || second.directions != 1)
         {
-            continue; // a held mass takes the whole reaction on its first constraint
+            // A mass held in every direction: the reaction is the hold's (the self-contact adds none to such a mass).
+            (first.directions != 1 ? second : first).reaction = Vec3::Zero();
+            continue;
         }
         const Vec3& n1 = first.normal;
         const Vec3& n2 = second.normal;
@@ -452,6 +449,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     m_prescribed.clear();
     m_bases.clear();
     m_rowNeighbours.clear();
+    m_sharedMass = false;
     if (constraints.empty())
     {
         return false;
@@ -472,6 +470,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         }
         Basis& basis = m_bases[std::size_t(k)];
         ++basis.constraints;
+        m_sharedMass = m_sharedMass || basis.constraints > 1;
         const int candidates = c.directions >= 3 ? 3 : 1;
         for (int j = 0; j < candidates; ++j)
         {
@@ -523,12 +522,13 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         const Vec3& v = p.velocity[m_constrainedMasses[k]];
         if (m_bases[k].constraints == 1)
         {
+            // The projection of its one constraint's velocity change: the sum below, in the fewest roundings.
             m_prescribed[k] = held * (m_prescribed[k] - v);
         }
         else
         {
             // Several constraints (an obstacle's and the self-contact's): each direction takes its own
-            // constraint's speed, where the first's velocity would set them all.
+            // constraint's speed.
             Vec3 change = Vec3::Zero();
             for (int b = 0; b < m_bases[k].count; ++b)
             {

@@ -188,6 +188,7 @@ private:
     std::vector<NeighbourBlock> m_rowNeighbours;
     std::vector<Vec3> m_reaction;
     std::vector<int> m_firstConstraint; ///< per constrained mass, its first constraint (splitSharedReactions)
+    bool m_sharedMass = false;          ///< some mass has two constraints this round (applyConstraints)
 
     const MassSpringSystem* m_patternSystem = nullptr;
     std::size_t m_patternMasses = 0;
