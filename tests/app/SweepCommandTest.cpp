@@ -351,6 +351,25 @@ TEST(Sweep, BrokenSummariesFailTheirOwnCaseAndANameMustBeOneLine)
     EXPECT_NE(results.find("\n2,done,0,"), std::string::npos) << results;
 }
 
+// A study record whose cases do not match its parameters (edited by hand, or cut short) is refused with the case
+// named, before anything is written: the tables index a case's values by parameter.
+TEST(Sweep, ARecordWhoseCasesDoNotMatchItsParametersIsRefused)
+{
+    const fs::path dir = freshFolder("sweep-mismatched-record");
+    const Outcome ran = runMasse("sweep " + study + " --out " + dir.string() + " --no-plots");
+    ASSERT_EQ(ran.exitCode, 0) << ran.output;
+    fs::remove(dir / "results.csv");
+    nlohmann::json record = nlohmann::json::parse(readText(dir / "study.json"));
+    ASSERT_EQ(record["parameters"].size(), 2u);
+    record["parameters"].erase(1);
+    std::ofstream(dir / "study.json") << record.dump(2);
+    const Outcome collected = runMasse("sweep --collect " + dir.string() + " --no-plots");
+    EXPECT_EQ(collected.exitCode, 2) << collected.output;
+    EXPECT_NE(collected.output.find("cases[0] has 2 value(s) for 1 parameter(s)"), std::string::npos)
+        << collected.output;
+    EXPECT_FALSE(fs::exists(dir / "results.csv"));
+}
+
 // --slurm where sbatch is installed but no cluster answers says that no cluster answers and what to do, rather than
 // printing sbatch's raw DNS errors. (An sbatch of the test's own stands in for the installed one.)
 TEST(Sweep, SlurmWithoutAClusterSaysWhatToDo)

@@ -216,6 +216,17 @@ StudyRecord readStudyRecord(const std::string& dir)
     {
         throw InputError(path + ": not a study record written by masse sweep (" + e.what() + ")");
     }
+    // Every reader of the record indexes a case's values by parameter.
+    for (std::size_t i = 0; i < record.cases.size(); ++i)
+    {
+        if (record.cases[i].size() != record.parameters.size())
+        {
+            throw InputError(path + ": cases[" + std::to_string(i) + "] has " +
+                             std::to_string(record.cases[i].size()) + " value(s) for " +
+                             std::to_string(record.parameters.size()) +
+                             " parameter(s); not a study record written by masse sweep");
+        }
+    }
     return record;
 }
 
