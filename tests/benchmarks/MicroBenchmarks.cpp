@@ -106,7 +106,7 @@ void analyseForSheet(CholeskyPreconditioner& preconditioner, const MassSpringSys
 }
 
 /// One refactorisation of the implicit step's preconditioner (CholeskyPreconditioner::refresh: the values put in the
-/// factor's order, the staged LDL^T, the two run-length copies) on a matrix of the step's shape. A drape-forming run
+/// factor's order, the staged LDL^T, the solves' copy of the factor) on a matrix of the step's shape. A drape-forming run
 /// at 128x2x128 refactors some dozens of times as its material softens and its contacts change.
 void choleskyRefresh(benchmark::State& state)
 {
@@ -128,8 +128,8 @@ void choleskyRefresh(benchmark::State& state)
 }
 BENCHMARK(choleskyRefresh)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
-/// One application of that preconditioner (CholeskyPreconditioner::apply: the two triangular solves, which stream the
-/// factor's copies): what every conjugate-gradient iteration of an implicit step costs besides the product.
+/// One application of that preconditioner (CholeskyPreconditioner::apply: the two triangular solves, each of which
+/// streams the factor's copy): what every conjugate-gradient iteration of an implicit step costs besides the product.
 void choleskyApply(benchmark::State& state)
 {
     const test::BoundPool threads;

@@ -60,7 +60,7 @@ bool simdPathSupported(SimdPath path)
     case SimdPath::Default:
         return true;
     case SimdPath::Avx2:
-        return __builtin_cpu_supports("avx2") && hasF16c(); // F16C: the Cholesky factor's halves (RunLengthRows)
+        return __builtin_cpu_supports("avx2") && hasF16c(); // F16C: the Cholesky factor's halves (MassBlockRows)
     case SimdPath::Avx512:
         return __builtin_cpu_supports("avx512f");
     }

@@ -14,77 +14,104 @@ namespace
 {
 // One copy of each triangular solve per SIMD path: only the instruction set differs (see SimdPath.h for why the bits
 // do not).
-#define MASSE_TRIANGULAR_KERNELS(suffix, targetAttribute, dot)                                                         \
-    /* L y = b in place on y over factor rows [begin, end), from the first row up: y_i -= sum over L's row i. */       \
-    targetAttribute void forwardRows##suffix(const RunLengthRows::View& rows, float* y, Eigen::Index begin,            \
-                                             Eigen::Index end)                                                         \
+#define MASSE_TRIANGULAR_KERNELS(suffix, targetAttribute, dots, scatter)                                               \
+    /* L y = b in place on y over the masses [begin, end) (their rows 3m to 3m+2), from the first up: each row's y_i   \
+       less its sum over L's row below the mass's block, then less the block's entries times the rows above it. */     \
+    targetAttribute void forwardBlocks##suffix(const MassBlockRows::View& rows, float* y, Eigen::Index begin,          \
+                                               Eigen::Index end)                                                       \
     {                                                                                                                  \
-        for (Eigen::Index i = begin; i < end; ++i)                                                                     \
+        for (Eigen::Index m = begin; m < end; ++m)                                                                     \
         {                                                                                                              \
-            y[i] -= dot(rows, i, y);                                                                                   \
+            float s[3];                                                                                                \
+            dots(rows, m, y, s);                                                                                       \
+            const float* e = rows.inBlock + 3 * m;                                                                     \
+            float* ym = y + 3 * m;                                                                                     \
+            ym[0] -= s[0];                                                                                             \
+            ym[1] = (ym[1] - s[1]) - e[0] * ym[0];                                                                     \
+            ym[2] = ((ym[2] - s[2]) - e[1] * ym[0]) - e[2] * ym[1];                                                    \
         }                                                                                                              \
     }                                                                                                                  \
-    /* D L^T x = y in place on x over factor rows [begin, end), from the last row down: x_j = y_j / d_j - sum over     \
-       L's column j of L_ij x_i, column j being row n-1-j of `columns`. */                                             \
-    targetAttribute void backwardRows##suffix(const RunLengthRows::View& columns, const float* d, float* x,            \
-                                              Eigen::Index n, Eigen::Index begin, Eigen::Index end)                    \
+    /* D L^T x = y in place on x over the masses [begin, end), from the last down: x_j = y_j / d_j - w_j - the         \
+       block's entries below j times their x, w_j = sum over the rows i below the block of L_ij x_i, which each block  \
+       adds to w once its x is solved (every row i > j with an entry in column j is j's ancestor in the elimination    \
+       tree, solved before j in this range or in a later stage). */                                                    \
+    targetAttribute void backwardBlocks##suffix(const MassBlockRows::View& rows, const float* d, float* x, float* w,   \
+                                                Eigen::Index begin, Eigen::Index end)                                  \
     {                                                                                                                  \
-        for (Eigen::Index q = n - end; q < n - begin; ++q)                                                             \
+        for (Eigen::Index m = end - 1; m >= begin; --m)                                                                \
         {                                                                                                              \
-            const Eigen::Index column = n - 1 - q;                                                                     \
-            x[column] = x[column] / d[column] - dot(columns, q, x);                                                    \
+            const float* e = rows.inBlock + 3 * m;                                                                     \
+            float* xm = x + 3 * m;                                                                                     \
+            const float* dm = d + 3 * m;                                                                               \
+            const float* wm = w + 3 * m;                                                                               \
+            xm[2] = xm[2] / dm[2] - wm[2];                                                                             \
+            xm[1] = (xm[1] / dm[1] - wm[1]) - e[2] * xm[2];                                                            \
+            xm[0] = ((xm[0] / dm[0] - wm[0]) - e[0] * xm[1]) - e[1] * xm[2];                                           \
+            scatter(rows, m, xm, w);                                                                                   \
         }                                                                                                              \
     }
 
-// The AVX-512 path adds a run's last few entries under a mask (rowDotAvx512); the AVX2 path reads the halves with
-// F16C's instruction, the default one in software, both exact.
-[[gnu::always_inline]] inline float rowDotDefault(const RunLengthRows::View& m, Eigen::Index row, const float* x)
+// The AVX-512 path adds a run's last few entries under a mask (blockDotsAvx512, blockScatterAvx512); the AVX2 path
+// reads the halves with F16C's instruction, the default one in software, both exact.
+[[gnu::always_inline]] inline void blockDotsDefault(const MassBlockRows::View& m, Eigen::Index block, const float* x,
+                                                    float s[3])
 {
-    return rowDot(m, row, x, floatFromHalf);
+    blockDots(m, block, x, floatFromHalf, s);
+}
+[[gnu::always_inline]] inline void blockScatterDefault(const MassBlockRows::View& m, Eigen::Index block,
+                                                       const float x[3], float* w)
+{
+    blockScatter(m, block, x, w, floatFromHalf);
 }
 #if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) float rowDotAvx2(const RunLengthRows::View& m,
-                                                                                    Eigen::Index row, const float* x)
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) void
+blockDotsAvx2(const MassBlockRows::View& m, Eigen::Index block, const float* x, float s[3])
 {
-    return rowDot(
-        m, row, x, [](std::uint16_t half) __attribute__((target("avx2,f16c"))) { return _cvtsh_ss(half); });
+    blockDots(
+        m, block, x, [](std::uint16_t half) __attribute__((target("avx2,f16c"))) { return _cvtsh_ss(half); }, s);
+}
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) void
+blockScatterAvx2(const MassBlockRows::View& m, Eigen::Index block, const float x[3], float* w)
+{
+    blockScatter(
+        m, block, x, w, [](std::uint16_t half) __attribute__((target("avx2,f16c"))) { return _cvtsh_ss(half); });
 }
 #endif
-MASSE_TRIANGULAR_KERNELS(Default, , rowDotDefault)
+MASSE_TRIANGULAR_KERNELS(Default, , blockDotsDefault, blockScatterDefault)
 #if defined(__x86_64__) && defined(__GNUC__)
-MASSE_TRIANGULAR_KERNELS(Avx2, __attribute__((target("avx2,f16c"))), rowDotAvx2)
-MASSE_TRIANGULAR_KERNELS(Avx512, __attribute__((target("avx512f"))), rowDotAvx512)
+MASSE_TRIANGULAR_KERNELS(Avx2, __attribute__((target("avx2,f16c"))), blockDotsAvx2, blockScatterAvx2)
+MASSE_TRIANGULAR_KERNELS(Avx512, __attribute__((target("avx512f"))), blockDotsAvx512, blockScatterAvx512)
 #endif
 #undef MASSE_TRIANGULAR_KERNELS
 
-void forwardRowsOn(SimdPath path, const RunLengthRows::View& rows, float* y, Eigen::Index begin, Eigen::Index end)
+void forwardBlocksOn(SimdPath path, const MassBlockRows::View& rows, float* y, Eigen::Index begin, Eigen::Index end)
 {
     switch (path)
     {
 #if defined(__x86_64__) && defined(__GNUC__)
     case SimdPath::Avx512:
-        return forwardRowsAvx512(rows, y, begin, end);
+        return forwardBlocksAvx512(rows, y, begin, end);
     case SimdPath::Avx2:
-        return forwardRowsAvx2(rows, y, begin, end);
+        return forwardBlocksAvx2(rows, y, begin, end);
 #endif
     default:
-        return forwardRowsDefault(rows, y, begin, end);
+        return forwardBlocksDefault(rows, y, begin, end);
     }
 }
 
-void backwardRowsOn(SimdPath path, const RunLengthRows::View& columns, const float* d, float* x, Eigen::Index n,
-                    Eigen::Index begin, Eigen::Index end)
+void backwardBlocksOn(SimdPath path, const MassBlockRows::View& rows, const float* d, float* x, float* w,
+                      Eigen::Index begin, Eigen::Index end)
 {
     switch (path)
     {
 #if defined(__x86_64__) && defined(__GNUC__)
     case SimdPath::Avx512:
-        return backwardRowsAvx512(columns, d, x, n, begin, end);
+        return backwardBlocksAvx512(rows, d, x, w, begin, end);
     case SimdPath::Avx2:
-        return backwardRowsAvx2(columns, d, x, n, begin, end);
+        return backwardBlocksAvx2(rows, d, x, w, begin, end);
 #endif
     default:
-        return backwardRowsDefault(columns, d, x, n, begin, end);
+        return backwardBlocksDefault(rows, d, x, w, begin, end);
     }
 }
 } // namespace
@@ -122,9 +149,10 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
     gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_factor.analyse(m_permutedMatrix, m_stages);
     m_ready = false;
-    m_copiesLaidOut = false;
+    m_rowsLaidOut = false;
     m_filtered.resize(a.rows());
     m_permuted.resize(std::size_t(a.rows()));
+    m_scattered.resize(std::size_t(a.rows()));
 }
 
 bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
@@ -134,8 +162,8 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     m_ready = m_factor.factorize(m_permutedMatrix);
     if (m_ready)
     {
-        // The two copies of the factor are built at once, one a task. Their runs depend only on the factor's pattern,
-        // the analysed one at every refresh: they are laid out at the first refresh, and later ones write the values.
+        // The solves' copy of the factor: its runs depend only on the factor's pattern, the analysed one at every
+        // refresh, so they are laid out at the first refresh, and later ones write the values.
         const Vector& diagonal = m_factor.diagonal();
         m_diagonal.resize(std::size_t(diagonal.size()));
         for (Eigen::Index i = 0; i < diagonal.size(); ++i)
@@ -143,20 +171,8 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
             m_diagonal[std::size_t(i)] = float(diagonal[i]);
         }
         const SparseMatrix& lower = m_factor.lower();
-        runChunks(2,
-                  [&](std::size_t copy)
-                  {
-                      if (copy == 0)
-                      {
-                          m_copiesLaidOut ? m_forward.refillLowerRows(lower) : m_forward.assignLowerRows(lower);
-                      }
-                      else
-                      {
-                          m_copiesLaidOut ? m_backward.refillLowerColumnsLastFirst(lower)
-                                          : m_backward.assignLowerColumnsLastFirst(lower);
-                      }
-                  });
-        m_copiesLaidOut = true;
+        m_rowsLaidOut ? m_rows.refillLowerRows(lower) : m_rows.assignLowerRows(lower);
+        m_rowsLaidOut = true;
     }
     ++m_refreshCount;
     return m_ready;
@@ -199,9 +215,11 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
 {
     // P^T L D L^T P x = b, spelled out rather than through SimplicialLDLT::solve, whose in-place permutation
     // allocates a mask on every call. Both triangular solves run the ranges of each stage (see DissectionOrder) on the
-    // pool, the forward one from the first stage, the backward one from the last, every entry computed by one gather
-    // in a fixed order whoever runs it (RunLengthRows::rowDot), so the bits do not depend on the thread count. They run
-    // in single precision on the factor's half values (see RunLengthRows); r and z stay double. b is scaled by a power
+    // pool, the forward one from the first stage, the backward one from the last. The forward one computes every entry
+    // by one gather in a fixed order whoever runs it (blockDots); in the backward one, the blocks that scatter into a
+    // column are its ancestors in the elimination tree, which scatter in a fixed order (the later stages first, and
+    // within a range from its last block down), so the bits do not depend on the thread count. They run in single
+    // precision on the factor's half values (see MassBlockRows); r and z stay double. b is scaled by a power
     // of two to a largest entry in [1, 2) on the way in, and x back on the way out: a float's range is far narrower
     // than a double's, and a residual of 1e-40 or 1e40 would otherwise flush to zero or overflow. A power of two
     // scales every rounding with it, so where nothing would have left the float range the bits are those of no scaling.
@@ -221,22 +239,23 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
         m_permuted[permutation[i]] = float(b[i] * down);
     }
     const SimdPath path = activeSimdPath();
-    const RunLengthRows::View forward = m_forward.view();
-    const RunLengthRows::View backward = m_backward.view();
+    const MassBlockRows::View rows = m_rows.view();
     float* work = m_permuted.data();
     for (const std::vector<OrderRange>& ranges : m_stages)
     {
-        runChunks(ranges.size(), [&](std::size_t k)
-                  { forwardRowsOn(path, forward, work, Eigen::Index(ranges[k].begin), Eigen::Index(ranges[k].end)); });
+        runChunks(
+            ranges.size(), [&](std::size_t k)
+            { forwardBlocksOn(path, rows, work, Eigen::Index(ranges[k].begin / 3), Eigen::Index(ranges[k].end / 3)); });
     }
+    std::fill(m_scattered.begin(), m_scattered.end(), 0.0f);
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
         const std::vector<OrderRange>& ranges = *stage;
         runChunks(ranges.size(),
                   [&](std::size_t k)
                   {
-                      backwardRowsOn(path, backward, m_diagonal.data(), work, n, Eigen::Index(ranges[k].begin),
-                                     Eigen::Index(ranges[k].end));
+                      backwardBlocksOn(path, rows, m_diagonal.data(), work, m_scattered.data(),
+                                       Eigen::Index(ranges[k].begin / 3), Eigen::Index(ranges[k].end / 3));
                   });
     }
     for (Eigen::Index i = 0; i < n; ++i)

@@ -9,9 +9,9 @@
 /// with S the per-mass projection onto the free directions. This is symmetric positive definite, and equals the
 /// exact inverse of the filtered matrix S A S + I - S when F was factored from that matrix with the same filter.
 
+#include "core/linear/MassBlockRows.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/RefreshedPreconditioner.h"
-#include "core/linear/RunLengthRows.h"
 
 #include "core/linear/StagedLdlt.h"
 
@@ -44,9 +44,13 @@ public:
         return m_factor.updates() / double(std::max<Eigen::Index>(m_factor.lower().nonZeros(), 1));
     }
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
-    /// on every machine and at any thread count): a refresh takes 1.08 and 1.14 times updatesPerEntry() applications at
-    /// 64x2x64 and 128x2x128 (91 ms against 0.68, 895 ms against 3.68: masse_benchmarks' choleskyRefresh and
-    /// choleskyApply, two threads), and an iteration is about 1.3 applications (the product and the vector work).
+    /// on every machine and at any thread count): a refresh takes about 1.1 times updatesPerEntry() applications, and
+    /// an iteration is about 1.3 applications (the product and the vector work). The ratio depends on where the factor
+    /// lives: at 128x2x128 (845-890 ms against 4.3-4.6, masse_benchmarks' choleskyRefresh and choleskyApply, two
+    /// threads) it is 0.9, at 64x2x64, whose factor stays in the cache and is applied a mass at a time, 2.0 (89-104 ms
+    /// against 0.38-0.43). The schedule is not sensitive to it: with the estimate doubled, the plug-assist cup at
+    /// 64x2x64 refactors 41 times instead of 52 at 39 iterations a step instead of 26, in the same wall time (0.99 of
+    /// it, the median of four pairs of runs).
     double refreshCost() const { return 0.85 * updatesPerEntry(); }
     /// Factorisations since construction.
     int refreshCount() const override { return m_refreshCount; }
@@ -58,17 +62,12 @@ private:
 
     /// The factor of P A P^T (P: the nested dissection's order), factored over the dissection's stages.
     StagedLdlt m_factor;
-    /// L's columns from the last to the first, as rows of runs (see RunLengthRows), copied at each refresh: the
-    /// backward solve walks the columns from the last down, gathering each one's entries, and in Eigen's storage that
-    /// walk jumps back a column at every column, which the memory prefetcher does not follow (Eigen's own backward
-    /// solve, the same walk, takes 3x its forward solve at 128x2x128: 57 against 18 ms). In this order it streams.
-    /// (Scattering each row's final x_i into the rows' runs instead, so that one copy would serve both solves, would
-    /// take 14 ms an application against 10 at 128x2x128.)
-    RunLengthRows m_backward;
-    /// L by rows, copied at each refresh, so that the forward solve gathers each row's entries as the backward solve
-    /// gathers each column's, and runs a stage's ranges on the pool: Eigen's forward solve scatters column by column
-    /// into later rows, which two ranges' columns share (their separators), so it runs on one core.
-    RunLengthRows m_forward;
+    /// L by rows, a block of three rows a mass (see MassBlockRows), copied at each refresh for both triangular solves:
+    /// the forward one gathers each block's rows, the backward one scatters each block's solved values into the rows
+    /// above it, both running a stage's ranges on the pool (Eigen's forward solve scatters column by column into later
+    /// rows, which two ranges' columns share, so it runs on one core; its backward solve walks the columns from the
+    /// last down, jumping back a column at every column, which the memory prefetcher does not follow).
+    MassBlockRows m_rows;
     /// Factor rows of each stage's ranges (see DissectionOrder::stages).
     std::vector<std::vector<OrderRange>> m_stages;
     Permutation m_permutation; ///< row i of A is row m_permutation.indices()[i] of the factored matrix
@@ -77,10 +76,11 @@ private:
     const std::vector<Index>* m_masses = nullptr;
     const std::vector<Mat3>* m_filters = nullptr;
     mutable Vector m_filtered;
-    std::vector<float> m_diagonal;         ///< D, rounded to single precision at each refresh
-    mutable std::vector<float> m_permuted; ///< the solves' work vector, in single precision (see solveWithFactor)
+    std::vector<float> m_diagonal;          ///< D, rounded to single precision at each refresh
+    mutable std::vector<float> m_permuted;  ///< the solves' work vector, in single precision (see solveWithFactor)
+    mutable std::vector<float> m_scattered; ///< the backward solve's sums of the solved rows' entries, per column
     bool m_ready = false;
-    bool m_copiesLaidOut = false; ///< m_forward and m_backward hold the runs of the analysed pattern
+    bool m_rowsLaidOut = false; ///< m_rows holds the runs of the analysed pattern
     int m_refreshCount = 0;
 };
 } // namespace masse

@@ -8,7 +8,7 @@
 #include "core/linear/CholeskyPreconditioner.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/PermutedValues.h"
-#include "core/linear/RunLengthRows.h"
+#include "core/linear/Half.h"
 #include "core/linear/StagedLdlt.h"
 #include "core/parallel/TaskPool.h"
 
@@ -139,7 +139,7 @@ TEST(NestedDissection, StagesAreIndependentInTheFactor)
 
 // The preconditioner's staged solve gives what Eigen's own triangular solves give on Eigen's factor with its values
 // rounded to half precision, as the preconditioner keeps them (the staged factor is Eigen's to rounding, and here
-// every value rounds to the same half; halfFromReal is tested against IEEE's rounding in RunLengthRowsTest), to the
+// every value rounds to the same half; halfFromReal is tested against IEEE's rounding in HalfTest), to the
 // rounding of single
 // precision, in which the preconditioner solves (1e-6 of the largest component is the bound; 1.8e-7 measured); the
 // same bits at 1, 2 and 3 threads and on every SIMD path; and the exact factor's solve to 1e-3 of the largest

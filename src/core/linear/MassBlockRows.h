@@ -1,0 +1,284 @@
+#pragma once
+/// A unit lower triangular factor stored by rows for the triangular solves, a mass at a time: the three rows of a mass
+/// share one pattern outside the mass's own 3x3 block, so they are stored as one list of runs of consecutive columns
+/// with three rows of values each, and a solve reads each run's columns and its stretch of the vector once for the
+/// three. The same copy serves both solves: the forward one gathers each block's rows (blockDots), the backward one
+/// scatters each block's solved values into the rows above it (blockScatter), so a preconditioner application streams
+/// the factor twice from one copy.
+///
+/// Made for the triangular solves with the nested-dissection Cholesky factor, which stream the whole factor on every
+/// preconditioner application. The implicit matrix is made of 3x3 blocks, one a pair of joined masses, so in the
+/// factor the rows of a mass have the same pattern below its block (a mass's first row is the second's only child in
+/// the elimination tree, and the second the third's). A separator's masses are consecutive in the order, so the shared
+/// patterns are long runs of consecutive columns: a run stores its first column and its values, and no entry has a
+/// column of its own. A row at a time, each row's sum waited on the rows just solved before it (its last entries are
+/// theirs) and paid its own reduction and its own reads of the runs and of the vector; a mass at a time, three
+/// independent sums share them, and the dependent arithmetic is the 3x3 block's three entries.
+///
+/// The values are half precision (IEEE binary16, 11 significant bits, see Half.h), and the solves run in single
+/// precision: the factor only preconditions the conjugate gradient, which converges in double precision whatever the
+/// preconditioner's rounding (both solves read the same rounded factor L~, and L~ D L~^T is symmetric positive definite
+/// for any unit lower triangular L~, so it stays a preconditioner; single-precision arithmetic adds errors of 1e-7 to
+/// the half values' 5e-4). Half values halve what the solves stream from memory against single ones.
+
+#include "core/Types.h"
+#include "core/linear/Half.h"
+
+#include <Eigen/SparseCore>
+
+#include <cstdint>
+#include <vector>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
+
+namespace masse
+{
+class MassBlockRows
+{
+public:
+    using SparseMatrix = Eigen::SparseMatrix<Real>;
+    using StorageIndex = SparseMatrix::StorageIndex;
+
+    /// The strictly lower part of `lower` (column-major, each column's rows increasing, three rows a mass): block m
+    /// holds rows 3m, 3m+1 and 3m+2 (its rows 0, 1 and 2), their entries in columns below 3m as shared runs (over the
+    /// union of the three rows' columns; a row's value is zero where it lacks one of them), and L(3m+1, 3m),
+    /// L(3m+2, 3m), L(3m+2, 3m+1) as its in-block entries 0, 1 and 2.
+    void assignLowerRows(const SparseMatrix& lower);
+    /// The values alone of a factor with the pattern last assigned (one refreshed with its analysed pattern): the runs
+    /// stay, and so do the zeros between a run's entries.
+    void refillLowerRows(const SparseMatrix& lower);
+
+    Eigen::Index blocks() const { return Eigen::Index(m_blockRuns.size()) - 1; }
+    /// Values stored in the shared runs (three a run column, the zeros of joined runs included).
+    std::size_t entries() const { return m_values.size() - valuePadding; }
+    std::size_t runs() const { return m_runColumn.size(); }
+
+    /// Two columns of a block at most this many apart are in one run, the columns between stored as zeros. A run costs
+    /// the solves its loads and a masked vector of its last entries whatever its length. The zeros add nothing to a
+    /// sum, but they move the entries after them to other running sums.
+    static constexpr StorageIndex joinGap = 32;
+
+    /// The arrays, for the kernels (blockDots below).
+    struct View
+    {
+        const StorageIndex* blockRuns; ///< runs of block b: [blockRuns[b], blockRuns[b + 1])
+        const StorageIndex* runColumn; ///< first column of run r
+        const StorageIndex* runStart;  ///< run r's values, from there laid out as runValueOffset says
+        const StorageIndex* runLength;
+        const std::uint16_t* values; ///< binary16 bits, then `valuePadding` zeros (see blockDotsAvx512)
+        const float* inBlock;        ///< three a block, its in-block entries (halves read back)
+    };
+    /// Entries past the last value, so that a kernel may read a full vector of halves from any run's last entries.
+    static constexpr std::size_t valuePadding = 16;
+    View view() const
+    {
+        return {m_blockRuns.data(), m_runColumn.data(), m_runStart.data(),
+                m_runLength.data(), m_values.data(),    m_inBlock.data()};
+    }
+
+private:
+    /// Writes L(row, column) (of the pattern laid out) in its place.
+    void write(StorageIndex row, StorageIndex column, Real value);
+    /// Columns of the factor a task of the refill writes.
+    static constexpr std::size_t refillColumnsPerChunk = 2048;
+
+    std::vector<StorageIndex> m_blockRuns;
+    std::vector<StorageIndex> m_runColumn;
+    std::vector<StorageIndex> m_runStart;
+    std::vector<StorageIndex> m_runLength;
+    std::vector<std::uint16_t> m_values;
+    std::vector<float> m_inBlock;
+    std::vector<StorageIndex> m_nextRun;    ///< scratch of assignLowerRows(), per block
+    std::vector<StorageIndex> m_lastColumn; ///< scratch of assignLowerRows(), per block
+};
+
+/// Where block row `row`'s entry t of a run of `length` entries is among the run's values: the three rows' full groups
+/// of sixteen interleaved (row 0's sixteen, row 1's, row 2's), then the three rows' last length mod 16 one after
+/// another. A solve reads a run's values in one ascending stream.
+inline std::size_t runValueOffset(MassBlockRows::StorageIndex length, int row, MassBlockRows::StorageIndex t)
+{
+    const MassBlockRows::StorageIndex full = length / 16 * 16;
+    if (t < full)
+    {
+        return std::size_t(3 * (t / 16 * 16) + row * 16 + t % 16);
+    }
+    return std::size_t(3 * full + row * (length - full) + (t - full));
+}
+
+/// For block b, s[l] = sum over its row l's shared entries of value * x[column], in single precision and in a fixed
+/// order whoever calls it and on any vector width: per row 16 running sums, entry t of a run going to sum t mod 16
+/// (one AVX-512 register), then sum k + sum k+8 for each k < 8, added pairwise (the entries past the last full group
+/// of 16 are added one by one; blockDotsAvx512 adds them under a mask). `toFloat` reads a half exactly (floatFromHalf,
+/// or F16C's instruction). Inlined into each SIMD path's copy of the caller (see SimdPath.h): only the instruction set
+/// differs.
+template <class ToFloat>
+[[gnu::always_inline]] inline void blockDots(const MassBlockRows::View& m, Eigen::Index block, const float* x,
+                                             const ToFloat& toFloat, float s[3])
+{
+    constexpr int lanes = 16;
+    float sum[3][lanes] = {};
+    for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
+    {
+        const MassBlockRows::StorageIndex length = m.runLength[run];
+        const MassBlockRows::StorageIndex full = length / lanes * lanes;
+        const float* xs = x + m.runColumn[run];
+        const std::uint16_t* values = m.values + m.runStart[run];
+        for (MassBlockRows::StorageIndex t = 0; t < full; t += lanes)
+        {
+            for (int row = 0; row < 3; ++row)
+            {
+                const std::uint16_t* v = values + 3 * t + row * lanes;
+                for (int lane = 0; lane < lanes; ++lane)
+                {
+                    sum[row][lane] += toFloat(v[lane]) * xs[t + lane];
+                }
+            }
+        }
+        for (int row = 0; row < 3; ++row)
+        {
+            const std::uint16_t* v = values + 3 * full + row * (length - full);
+            for (int lane = 0; full + lane < length; ++lane)
+            {
+                sum[row][lane] += toFloat(v[lane]) * xs[full + lane];
+            }
+        }
+    }
+    for (int row = 0; row < 3; ++row)
+    {
+        float pair[8];
+        for (int lane = 0; lane < 8; ++lane)
+        {
+            pair[lane] = sum[row][lane] + sum[row][lane + 8];
+        }
+        s[row] = ((pair[0] + pair[1]) + (pair[2] + pair[3])) + ((pair[4] + pair[5]) + (pair[6] + pair[7]));
+    }
+}
+/// For block b, w[column] += L(3b, column) x[0] + L(3b+1, column) x[1] + L(3b+2, column) x[2] over its shared
+/// columns, in single precision, added in that order: each entry of w on its own, so the bits do not depend on the
+/// vector width.
+template <class ToFloat>
+[[gnu::always_inline]] inline void blockScatter(const MassBlockRows::View& m, Eigen::Index block, const float x[3],
+                                                float* w, const ToFloat& toFloat)
+{
+    for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
+    {
+        const MassBlockRows::StorageIndex length = m.runLength[run];
+        const std::uint16_t* values = m.values + m.runStart[run];
+        float* ws = w + m.runColumn[run];
+        for (MassBlockRows::StorageIndex t = 0; t < length; ++t)
+        {
+            const float v0 = toFloat(values[runValueOffset(length, 0, t)]);
+            const float v1 = toFloat(values[runValueOffset(length, 1, t)]);
+            const float v2 = toFloat(values[runValueOffset(length, 2, t)]);
+            ws[t] = ((ws[t] + v0 * x[0]) + v1 * x[1]) + v2 * x[2];
+        }
+    }
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+/// Sixteen halves from v as floats, those outside `mask` zero. The zero-masking form: GCC 12's plain _mm512_cvtph_ps
+/// merges into an "undefined" vector, which its own -Wmaybe-uninitialized reports.
+[[gnu::always_inline]] inline __attribute__((target("avx512f"))) __m512 halvesAvx512(__mmask16 mask,
+                                                                                     const std::uint16_t* v)
+{
+    return _mm512_maskz_cvtph_ps(mask, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(v)));
+}
+
+/// Sum k + sum k+8 of the sixteen sums, k < 8. (The zero-masking extracts, for the same reason as above.)
+[[gnu::always_inline]] inline __attribute__((target("avx512f"))) __m256 foldedAvx512(__m512 sum)
+{
+    const auto all = __mmask8(0xFF);
+    const __m256 lower = _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(all, _mm512_castps_pd(sum), 0));
+    const __m256 upper = _mm256_castpd_ps(_mm512_maskz_extractf64x4_pd(all, _mm512_castps_pd(sum), 1));
+    return _mm256_add_ps(lower, upper);
+}
+
+/// blockDots with AVX-512, the same bits: each group of sixteen entries goes into a row's sixteen sums in one
+/// vector, and a run's last entries (fewer than sixteen) are added to their sums under a mask instead of one by one, so
+/// entry t of a run still goes to sum t mod 16, in order, and the sums past the run's end are left as they were (not
+/// even + 0, which would turn a -0 into +0). The halves are read sixteen at a time even at a run's end: the values are
+/// padded (MassBlockRows::valuePadding), and those past the run are masked off.
+[[gnu::always_inline]] inline __attribute__((target("avx512f"))) void
+blockDotsAvx512(const MassBlockRows::View& m, Eigen::Index block, const float* x, float s[3])
+{
+    __m512 sum0 = _mm512_setzero_ps();
+    __m512 sum1 = _mm512_setzero_ps();
+    __m512 sum2 = _mm512_setzero_ps();
+    const auto all = __mmask16(0xFFFF);
+    for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
+    {
+        const MassBlockRows::StorageIndex length = m.runLength[run];
+        const std::uint16_t* values = m.values + m.runStart[run];
+        const float* xs = x + m.runColumn[run];
+        MassBlockRows::StorageIndex t = 0;
+        for (; t + 16 <= length; t += 16)
+        {
+            const __m512 xv = _mm512_loadu_ps(xs + t);
+            const std::uint16_t* group = values + 3 * t;
+            sum0 = _mm512_add_ps(sum0, _mm512_mul_ps(halvesAvx512(all, group), xv));
+            sum1 = _mm512_add_ps(sum1, _mm512_mul_ps(halvesAvx512(all, group + 16), xv));
+            sum2 = _mm512_add_ps(sum2, _mm512_mul_ps(halvesAvx512(all, group + 32), xv));
+        }
+        if (t < length)
+        {
+            const MassBlockRows::StorageIndex rest = length - t;
+            const auto mask = __mmask16((1u << unsigned(rest)) - 1);
+            const std::uint16_t* tail = values + 3 * t;
+            // The masked load of x reads nothing past the run, so it cannot fault at the end of the array.
+            const __m512 xv = _mm512_maskz_loadu_ps(mask, xs + t);
+            sum0 = _mm512_mask_add_ps(sum0, mask, sum0, _mm512_mul_ps(halvesAvx512(mask, tail), xv));
+            sum1 = _mm512_mask_add_ps(sum1, mask, sum1, _mm512_mul_ps(halvesAvx512(mask, tail + rest), xv));
+            sum2 = _mm512_mask_add_ps(sum2, mask, sum2, _mm512_mul_ps(halvesAvx512(mask, tail + 2 * rest), xv));
+        }
+    }
+    alignas(32) float pairs[3][8];
+    _mm256_store_ps(pairs[0], foldedAvx512(sum0));
+    _mm256_store_ps(pairs[1], foldedAvx512(sum1));
+    _mm256_store_ps(pairs[2], foldedAvx512(sum2));
+    for (int row = 0; row < 3; ++row)
+    {
+        const float* p = pairs[row];
+        s[row] = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+    }
+}
+
+/// blockScatter with AVX-512, the same bits: sixteen entries of w at a time, a run's last few under a mask (which
+/// neither reads nor writes past the run).
+[[gnu::always_inline]] inline __attribute__((target("avx512f"))) void
+blockScatterAvx512(const MassBlockRows::View& m, Eigen::Index block, const float x[3], float* w)
+{
+    const __m512 x0 = _mm512_set1_ps(x[0]);
+    const __m512 x1 = _mm512_set1_ps(x[1]);
+    const __m512 x2 = _mm512_set1_ps(x[2]);
+    const auto all = __mmask16(0xFFFF);
+    for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
+    {
+        const MassBlockRows::StorageIndex length = m.runLength[run];
+        const std::uint16_t* values = m.values + m.runStart[run];
+        float* ws = w + m.runColumn[run];
+        MassBlockRows::StorageIndex t = 0;
+        for (; t + 16 <= length; t += 16)
+        {
+            const std::uint16_t* group = values + 3 * t;
+            __m512 sum = _mm512_loadu_ps(ws + t);
+            sum = _mm512_add_ps(sum, _mm512_mul_ps(halvesAvx512(all, group), x0));
+            sum = _mm512_add_ps(sum, _mm512_mul_ps(halvesAvx512(all, group + 16), x1));
+            sum = _mm512_add_ps(sum, _mm512_mul_ps(halvesAvx512(all, group + 32), x2));
+            _mm512_storeu_ps(ws + t, sum);
+        }
+        if (t < length)
+        {
+            const MassBlockRows::StorageIndex rest = length - t;
+            const auto mask = __mmask16((1u << unsigned(rest)) - 1);
+            const std::uint16_t* tail = values + 3 * t;
+            __m512 sum = _mm512_maskz_loadu_ps(mask, ws + t);
+            sum = _mm512_add_ps(sum, _mm512_mul_ps(halvesAvx512(mask, tail), x0));
+            sum = _mm512_add_ps(sum, _mm512_mul_ps(halvesAvx512(mask, tail + rest), x1));
+            sum = _mm512_add_ps(sum, _mm512_mul_ps(halvesAvx512(mask, tail + 2 * rest), x2));
+            _mm512_mask_storeu_ps(ws + t, mask, sum);
+        }
+    }
+}
+#endif
+} // namespace masse

@@ -1,0 +1,237 @@
+#include "core/linear/MassBlockRows.h"
+
+#include "core/forces/SimdPath.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/SparseCore>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace masse
+{
+namespace
+{
+#if defined(__x86_64__) && defined(__GNUC__)
+/// The AVX-512 kernels compiled for AVX-512 (they are inlined into their callers, which must be).
+__attribute__((target("avx512f"))) void blockDotsOnAvx512(const MassBlockRows::View& m, Eigen::Index block,
+                                                          const float* x, float s[3])
+{
+    blockDotsAvx512(m, block, x, s);
+}
+__attribute__((target("avx512f"))) void blockScatterOnAvx512(const MassBlockRows::View& m, Eigen::Index block,
+                                                             const float x[3], float* w)
+{
+    blockScatterAvx512(m, block, x, w);
+}
+#endif
+
+bool avx512()
+{
+    return simdPathSupported(SimdPath::Avx512);
+}
+
+/// The stored halves of every block, run by run.
+std::vector<std::uint16_t> storedValues(const MassBlockRows& m)
+{
+    const MassBlockRows::View view = m.view();
+    return std::vector<std::uint16_t>(view.values, view.values + m.entries());
+}
+
+std::vector<float> inBlockValues(const MassBlockRows& m)
+{
+    const MassBlockRows::View view = m.view();
+    return std::vector<float>(view.inBlock, view.inBlock + 3 * m.blocks());
+}
+
+/// A random lower triangular matrix of `masses` masses (three rows each): each row's own pattern below its mass (rows
+/// of one mass share some columns and not others, so a block's runs are their union), and its mass's block full. The
+/// pattern depends on the seed alone; `someZeros` makes a fifth of the values below the blocks zero.
+Eigen::SparseMatrix<Real> randomLower(Eigen::Index masses, std::uint64_t seed, bool someZeros)
+{
+    const Eigen::Index n = 3 * masses;
+    std::mt19937_64 random(seed);
+    std::uniform_int_distribution<int> skip(1, 2 * MassBlockRows::joinGap);
+    std::uniform_real_distribution<double> value(-2.0, 2.0);
+    std::vector<Eigen::Triplet<Real>> triplets;
+    for (Eigen::Index row = 0; row < n; ++row)
+    {
+        const Eigen::Index first = row - row % 3;
+        for (Eigen::Index column = skip(random) - 1; column < first; column += skip(random))
+        {
+            const double drawn = value(random); // drawn whether kept or not, so that both patterns are the same
+            triplets.emplace_back(row, column, someZeros && (row + column) % 5 == 0 ? 0.0 : drawn);
+        }
+        for (Eigen::Index column = first; column < row; ++column)
+        {
+            triplets.emplace_back(row, column, value(random));
+        }
+    }
+    Eigen::SparseMatrix<Real> lower(n, n);
+    lower.setFromTriplets(triplets.begin(), triplets.end());
+    return lower;
+}
+} // namespace
+
+// A block's shared columns at most joinGap apart are stored as one run, the columns between as zeros; farther apart,
+// as two. Mass 60's rows 180 and 182 have entries at columns 0-2, then joinGap after the last (joined), then
+// joinGap + 1 after that (a new run), then a lone entry two columns on (joined); row 181 has all but the last, so its
+// value there is a stored zero: two runs. Each row's sum (blockDots) and each column's scattered sum (blockScatter),
+// by the default path's arithmetic and the AVX-512 one's where the processor has it, are the exact sums of the row's
+// and the column's own entries: the values and x are small integers and halves, so every sum is exact, and a stored
+// zero adds nothing. The block's own entries are kept apart, and no other block has a run.
+TEST(MassBlockRows, ABlocksRowsShareRunsThroughStoredZeros)
+{
+    const Eigen::Index masses = 70;
+    const Eigen::Index n = 3 * masses;
+    const Eigen::Index block = 60;
+    const auto gap = Eigen::Index(MassBlockRows::joinGap);
+    std::vector<Eigen::Index> columns = {0, 1, 2};
+    columns.push_back(columns.back() + gap);     // joined: joinGap - 1 zeros between
+    columns.push_back(columns.back() + gap + 1); // a new run
+    columns.push_back(columns.back() + 2);       // joined: one zero between
+    ASSERT_LT(columns.back(), 3 * block);
+    const auto value = [](Eigen::Index row, std::size_t k) { return Real(int(k) + 1 + int(row % 3)) * 0.5; };
+    std::vector<Eigen::Triplet<Real>> triplets;
+    for (Eigen::Index row = 3 * block; row < 3 * block + 3; ++row)
+    {
+        const std::size_t count = row % 3 == 1 ? columns.size() - 1 : columns.size();
+        for (std::size_t k = 0; k < count; ++k)
+        {
+            triplets.emplace_back(row, columns[k], value(row, k));
+        }
+    }
+    triplets.emplace_back(3 * block + 1, 3 * block, 0.25);
+    triplets.emplace_back(3 * block + 2, 3 * block, -0.5);
+    triplets.emplace_back(3 * block + 2, 3 * block + 1, 0.75);
+    Eigen::SparseMatrix<Real> lower(n, n);
+    lower.setFromTriplets(triplets.begin(), triplets.end());
+
+    MassBlockRows rows;
+    rows.assignLowerRows(lower);
+    EXPECT_EQ(rows.blocks(), masses);
+    EXPECT_EQ(rows.runs(), 2u);
+    EXPECT_EQ(rows.entries(), 3 * std::size_t(columns[3] + 1 + 3)); // columns 0 to the fourth entry's, then three
+    EXPECT_EQ(inBlockValues(rows)[3 * block], 0.25f);
+    EXPECT_EQ(inBlockValues(rows)[3 * block + 1], -0.5f);
+    EXPECT_EQ(inBlockValues(rows)[3 * block + 2], 0.75f);
+
+    std::vector<float> x(static_cast<std::size_t>(n));
+    for (std::size_t i = 0; i < x.size(); ++i)
+    {
+        x[i] = float(int(i % 7) - 3);
+    }
+    float exact[3] = {};
+    for (int line = 0; line < 3; ++line)
+    {
+        const std::size_t count = line == 1 ? columns.size() - 1 : columns.size();
+        for (std::size_t k = 0; k < count; ++k)
+        {
+            exact[line] += float(value(3 * block + line, k)) * x[std::size_t(columns[k])];
+        }
+        ASSERT_NE(exact[line], 0.0f);
+    }
+    const MassBlockRows::View view = rows.view();
+    float s[3];
+    blockDots(view, block, x.data(), floatFromHalf, s);
+    EXPECT_EQ(std::vector<float>(s, s + 3), std::vector<float>(exact, exact + 3));
+    for (Eigen::Index other = 0; other < masses; ++other)
+    {
+        if (other != block)
+        {
+            blockDots(view, other, x.data(), floatFromHalf, s);
+            EXPECT_EQ(std::vector<float>(s, s + 3), std::vector<float>(3, 0.0f)) << "block " << other;
+        }
+    }
+
+    const float solved[3] = {1.0f, 2.0f, -1.0f};
+    std::vector<float> expected(static_cast<std::size_t>(n), 0.0f);
+    for (int line = 0; line < 3; ++line)
+    {
+        const std::size_t count = line == 1 ? columns.size() - 1 : columns.size();
+        for (std::size_t k = 0; k < count; ++k)
+        {
+            expected[std::size_t(columns[k])] += float(value(3 * block + line, k)) * solved[line];
+        }
+    }
+    std::vector<float> w(static_cast<std::size_t>(n), 0.0f);
+    blockScatter(view, block, solved, w.data(), floatFromHalf);
+    EXPECT_EQ(w, expected);
+#if defined(__x86_64__) && defined(__GNUC__)
+    if (avx512())
+    {
+        blockDotsOnAvx512(view, block, x.data(), s);
+        EXPECT_EQ(std::vector<float>(s, s + 3), std::vector<float>(exact, exact + 3));
+        std::vector<float> wAvx512(static_cast<std::size_t>(n), 0.0f);
+        blockScatterOnAvx512(view, block, solved, wAvx512.data());
+        EXPECT_EQ(wAvx512, expected);
+    }
+#endif
+}
+
+// A refresh writes the factor's new values into the runs laid out for its pattern (refill) instead of laying them out
+// again (assign). On a random pattern whose rows of one mass differ (a block's runs are their union), with runs both
+// joined through zeros and apart, refilling the copy of one matrix with another's values (the same pattern, other
+// values, some of them zero) gives, bit for bit, the copy assigned from the other: the same runs and the same halves,
+// the joined runs' zeros still zero.
+TEST(MassBlockRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGives)
+{
+    const Eigen::SparseMatrix<Real> a = randomLower(100, 11, false);
+    const Eigen::SparseMatrix<Real> b = randomLower(100, 11, true);
+    ASSERT_EQ(a.nonZeros(), b.nonZeros());
+
+    MassBlockRows refilled;
+    refilled.assignLowerRows(a);
+    const std::vector<std::uint16_t> fromA = storedValues(refilled);
+    refilled.refillLowerRows(b);
+    MassBlockRows assigned;
+    assigned.assignLowerRows(b);
+
+    ASSERT_GT(assigned.entries(), std::size_t(a.nonZeros())); // the rows' unions, and runs joined through zeros
+    ASSERT_GT(assigned.runs(), std::size_t(100));             // some blocks in several runs
+    EXPECT_EQ(refilled.runs(), assigned.runs());
+    EXPECT_EQ(storedValues(refilled), storedValues(assigned));
+    EXPECT_EQ(inBlockValues(refilled), inBlockValues(assigned));
+    EXPECT_NE(storedValues(refilled), fromA);
+}
+
+// The AVX-512 kernels give the default path's bits on a random matrix and vector, runs of every length: each block's
+// three sums, and the sums every block scatters into the columns below it, in the backward solve's order.
+TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
+{
+    if (!avx512())
+    {
+        GTEST_SKIP() << "this processor has no AVX-512";
+    }
+#if defined(__x86_64__) && defined(__GNUC__)
+    const Eigen::Index masses = 150;
+    const Eigen::SparseMatrix<Real> lower = randomLower(masses, 5, true);
+    MassBlockRows rows;
+    rows.assignLowerRows(lower);
+    const MassBlockRows::View view = rows.view();
+    std::mt19937_64 random(3);
+    std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+    std::vector<float> x(std::size_t(3 * masses));
+    for (float& xi : x)
+    {
+        xi = value(random);
+    }
+    std::vector<float> wDefault(x.size(), 0.0f);
+    std::vector<float> wAvx512(x.size(), 0.0f);
+    for (Eigen::Index block = masses - 1; block >= 0; --block)
+    {
+        float sDefault[3];
+        float sAvx512[3];
+        blockDots(view, block, x.data(), floatFromHalf, sDefault);
+        blockDotsOnAvx512(view, block, x.data(), sAvx512);
+        ASSERT_EQ(std::vector<float>(sDefault, sDefault + 3), std::vector<float>(sAvx512, sAvx512 + 3))
+            << "block " << block;
+        blockScatter(view, block, x.data() + 3 * block, wDefault.data(), floatFromHalf);
+        blockScatterOnAvx512(view, block, x.data() + 3 * block, wAvx512.data());
+    }
+    EXPECT_EQ(wDefault, wAvx512);
+#endif
+}
+} // namespace masse
