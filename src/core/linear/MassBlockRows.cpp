@@ -2,6 +2,9 @@
 
 #include "core/parallel/TaskPool.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace masse
 {
 namespace
@@ -38,6 +41,11 @@ int blockRowOf(StorageIndex row, StorageIndex column)
 
 void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
 {
+    if (lower.rows() != lower.cols() || lower.cols() % 3 != 0)
+    {
+        throw std::invalid_argument("MassBlockRows: the factor must be square with three rows a mass, not " +
+                                    std::to_string(lower.rows()) + "x" + std::to_string(lower.cols()));
+    }
     const std::size_t blocks = std::size_t(lower.cols()) / 3;
     // Each block's shared columns are the union of its rows' (the same pattern three times over for the implicit
     // matrix's 3x3 blocks; where a row lacks a column of the others, its value stays zero). Walking the columns in

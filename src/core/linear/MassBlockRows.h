@@ -44,7 +44,8 @@ public:
     /// The strictly lower part of `lower` (column-major, each column's rows increasing, three rows a mass): block m
     /// holds rows 3m, 3m+1 and 3m+2 (its rows 0, 1 and 2), their entries in columns below 3m as shared runs (over the
     /// union of the three rows' columns; a row's value is zero where it lacks one of them), and L(3m+1, 3m),
-    /// L(3m+2, 3m), L(3m+2, 3m+1) as its in-block entries 0, 1 and 2.
+    /// L(3m+2, 3m), L(3m+2, 3m+1) as its in-block entries 0, 1 and 2. Throws std::invalid_argument unless `lower` is
+    /// square with a multiple of three rows.
     void assignLowerRows(const SparseMatrix& lower);
     /// The values alone of a factor with the pattern last assigned (one refreshed with its analysed pattern): the runs
     /// stay, and so do the zeros between a run's entries.

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace masse
@@ -233,5 +234,15 @@ TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
     }
     EXPECT_EQ(wDefault, wAvx512);
 #endif
+}
+
+// A factor that is not three rows a mass is refused by name rather than stored short of its last rows.
+TEST(MassBlockRows, AFactorThatIsNotThreeRowsAMassIsRefused)
+{
+    MassBlockRows rows;
+    EXPECT_THROW(rows.assignLowerRows(Eigen::SparseMatrix<Real>(10, 10)), std::invalid_argument);
+    EXPECT_THROW(rows.assignLowerRows(Eigen::SparseMatrix<Real>(9, 6)), std::invalid_argument);
+    EXPECT_NO_THROW(rows.assignLowerRows(Eigen::SparseMatrix<Real>(9, 9)));
+    EXPECT_EQ(rows.blocks(), 3);
 }
 } // namespace masse
