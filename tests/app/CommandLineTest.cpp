@@ -645,6 +645,8 @@ TEST(CommandLine, ThreadsTheSystemCannotStartAreRefusedNamingTheFlag)
 {
     if (masse::test::underAddressSanitizer || masse::test::underThreadSanitizer)
     {
+        // Skipped under the sanitizers: their shadow memory alone exceeds the address-space limit, so nothing would
+        // start.
         GTEST_SKIP() << "the sanitizers reserve far more address space than the limit this test sets";
     }
     const std::filesystem::path out = freshFolder("too-many-threads");

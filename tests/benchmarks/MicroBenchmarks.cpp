@@ -106,8 +106,8 @@ void analyseForSheet(CholeskyPreconditioner& preconditioner, const MassSpringSys
 }
 
 /// One refactorisation of the implicit step's preconditioner (CholeskyPreconditioner::refresh: the values put in the
-/// factor's order, the staged LDL^T, the solves' copy of the factor) on a matrix of the step's shape. A drape-forming run
-/// at 128x2x128 refactors some dozens of times as its material softens and its contacts change.
+/// factor's order, the staged LDL^T, the solves' copy of the factor) on a matrix of the step's shape. A drape-forming
+/// run at 128x2x128 refactors some dozens of times as its material softens and its contacts change.
 void choleskyRefresh(benchmark::State& state)
 {
     const test::BoundPool threads;

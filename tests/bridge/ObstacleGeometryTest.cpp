@@ -501,6 +501,7 @@ TEST(ObstacleGeometry, FacePlanesOfEightGiveTheScalarQuerysBits)
 {
     if (!simdPathSupported(SimdPath::Avx512))
     {
+        // Skipped without AVX-512: the eight-at-once query exists only on that path.
         GTEST_SKIP() << "this processor has no AVX-512";
     }
     const SimdPath active = activeSimdPath();

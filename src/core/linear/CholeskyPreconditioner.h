@@ -46,11 +46,10 @@ public:
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
     /// on every machine and at any thread count): a refresh takes about 1.1 times updatesPerEntry() applications, and
     /// an iteration is about 1.3 applications (the product and the vector work). The ratio depends on where the factor
-    /// lives: at 128x2x128 (845-890 ms against 4.3-4.6, masse_benchmarks' choleskyRefresh and choleskyApply, two
-    /// threads) it is 0.9, at 64x2x64, whose factor stays in the cache and is applied a mass at a time, 2.0 (89-104 ms
-    /// against 0.38-0.43). The schedule is not sensitive to it: with the estimate doubled, the plug-assist cup at
-    /// 64x2x64 refactors 41 times instead of 52 at 39 iterations a step instead of 26, in the same wall time (0.99 of
-    /// it, the median of four pairs of runs).
+    /// lives: 0.9 at 128x2x128 (845-890 ms against 4.3-4.6, masse_benchmarks' choleskyRefresh and choleskyApply, two
+    /// threads), 2.0 at 64x2x64, whose factor stays in the cache (89-104 ms against 0.38-0.43). The wall time is not
+    /// sensitive to it: at twice this estimate the plug-assist cup at 64x2x64 trades refactorisations for iterations
+    /// (41 against 52, 39 iterations a step against 26) in the same wall time.
     double refreshCost() const { return 0.85 * updatesPerEntry(); }
     /// Factorisations since construction.
     int refreshCount() const override { return m_refreshCount; }

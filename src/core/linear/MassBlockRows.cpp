@@ -11,14 +11,16 @@ namespace
 {
 using StorageIndex = MassBlockRows::StorageIndex;
 
-/// Calls visit(row, column, value) for every entry of `lower`'s strictly lower part, walking the columns in increasing
-/// order, which gives each row's entries in increasing column.
-template <class Visit> void forEachStrictlyLower(const Eigen::SparseMatrix<Real>& lower, const Visit& visit)
+/// Calls visit(row, column, value) for every entry of `lower`'s strictly lower part in columns [begin, end), walking
+/// the columns in increasing order, which gives each row's entries in increasing column.
+template <class Visit>
+void forEachStrictlyLower(const Eigen::SparseMatrix<Real>& lower, Eigen::Index begin, Eigen::Index end,
+                          const Visit& visit)
 {
     const auto* outer = lower.outerIndexPtr();
     const auto* inner = lower.innerIndexPtr();
     const Real* values = lower.valuePtr();
-    for (Eigen::Index column = 0; column < lower.cols(); ++column)
+    for (Eigen::Index column = begin; column < end; ++column)
     {
         for (auto k = outer[column]; k < outer[column + 1]; ++k)
         {
@@ -53,7 +55,7 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     // previous one is at most joinGap columns before it.
     const auto forEachShared = [&](const auto& visit)
     {
-        forEachStrictlyLower(lower,
+        forEachStrictlyLower(lower, 0, lower.cols(),
                              [&](StorageIndex row, StorageIndex column, Real)
                              {
                                  if (blockRowOf(row, column) < 0)
@@ -63,16 +65,16 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
                              });
     };
     m_blockRuns.assign(blocks + 1, 0);
-    m_lastColumn.assign(blocks, -joinGap - 1);
+    std::vector<StorageIndex> lastColumn(blocks, -joinGap - 1); // per block, its last shared column so far
     forEachShared(
         [&](std::size_t block, StorageIndex column)
         {
-            const StorageIndex last = m_lastColumn[block];
+            const StorageIndex last = lastColumn[block];
             if (column - last > joinGap)
             {
                 ++m_blockRuns[block + 1];
             }
-            m_lastColumn[block] = column;
+            lastColumn[block] = column;
         });
     for (std::size_t b = 0; b < blocks; ++b)
     {
@@ -83,27 +85,27 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     m_runLength.resize(runCount);
     m_runStart.resize(runCount + 1);
     // Lay the runs out: a block's runs in increasing column, the blocks in order.
-    m_nextRun.assign(m_blockRuns.begin(), m_blockRuns.end() - 1);
-    m_lastColumn.assign(blocks, -joinGap - 1);
+    std::vector<StorageIndex> nextRun(m_blockRuns.begin(), m_blockRuns.end() - 1); // per block, its next run
+    lastColumn.assign(blocks, -joinGap - 1);
     forEachShared(
         [&](std::size_t block, StorageIndex column)
         {
-            const StorageIndex last = m_lastColumn[block];
+            const StorageIndex last = lastColumn[block];
             if (column == last)
             {
                 return;
             }
             if (column - last > joinGap)
             {
-                const std::size_t run = std::size_t(m_nextRun[block]++);
+                const std::size_t run = std::size_t(nextRun[block]++);
                 m_runColumn[run] = column;
                 m_runLength[run] = 1;
             }
             else
             {
-                m_runLength[std::size_t(m_nextRun[block]) - 1] += column - last;
+                m_runLength[std::size_t(nextRun[block]) - 1] += column - last;
             }
-            m_lastColumn[block] = column;
+            lastColumn[block] = column;
         });
     m_runStart[0] = 0;
     for (std::size_t r = 0; r < runCount; ++r)
@@ -119,24 +121,12 @@ void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
 {
     // Every entry has a place of its own, found from its block's runs alone (a block has two or three on average), so
     // the columns are written in chunks on the pool: a refresh is on the implicit step's critical path.
-    const auto* outer = lower.outerIndexPtr();
-    const auto* inner = lower.innerIndexPtr();
-    const Real* values = lower.valuePtr();
     parallelFor(std::size_t(lower.cols()), refillColumnsPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    for (std::size_t column = begin; column < end; ++column)
-                    {
-                        const auto c = StorageIndex(column);
-                        for (auto k = outer[column]; k < outer[column + 1]; ++k)
-                        {
-                            const StorageIndex row = inner[k];
-                            if (row > c)
-                            {
-                                write(row, c, values[k]);
-                            }
-                        }
-                    }
+                    forEachStrictlyLower(lower, Eigen::Index(begin), Eigen::Index(end),
+                                         [&](StorageIndex row, StorageIndex column, Real value)
+                                         { write(row, column, value); });
                 });
 }
 

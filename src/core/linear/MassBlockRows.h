@@ -11,9 +11,9 @@
 /// factor the rows of a mass have the same pattern below its block (a mass's first row is the second's only child in
 /// the elimination tree, and the second the third's). A separator's masses are consecutive in the order, so the shared
 /// patterns are long runs of consecutive columns: a run stores its first column and its values, and no entry has a
-/// column of its own. A row at a time, each row's sum waited on the rows just solved before it (its last entries are
-/// theirs) and paid its own reduction and its own reads of the runs and of the vector; a mass at a time, three
-/// independent sums share them, and the dependent arithmetic is the 3x3 block's three entries.
+/// column of its own. Solved a row at a time, each row's sum would wait on the rows just solved before it (its last
+/// entries are theirs) and pay its own reduction and its own reads of the runs and of the vector; a mass at a time,
+/// three independent sums share them, and the dependent arithmetic is the 3x3 block's three entries.
 ///
 /// The values are half precision (IEEE binary16, 11 significant bits, see Half.h), and the solves run in single
 /// precision: the factor only preconditions the conjugate gradient, which converges in double precision whatever the
@@ -91,8 +91,6 @@ private:
     std::vector<StorageIndex> m_runLength;
     std::vector<std::uint16_t> m_values;
     std::vector<float> m_inBlock;
-    std::vector<StorageIndex> m_nextRun;    ///< scratch of assignLowerRows(), per block
-    std::vector<StorageIndex> m_lastColumn; ///< scratch of assignLowerRows(), per block
 };
 
 /// Where block row `row`'s entry t of a run of `length` entries is among the run's values: the three rows' full groups

@@ -221,9 +221,8 @@ StudyRecord readStudyRecord(const std::string& dir)
     {
         if (record.cases[i].size() != record.parameters.size())
         {
-            throw InputError(path + ": cases[" + std::to_string(i) + "] has " +
-                             std::to_string(record.cases[i].size()) + " value(s) for " +
-                             std::to_string(record.parameters.size()) +
+            throw InputError(path + ": cases[" + std::to_string(i) + "] has " + std::to_string(record.cases[i].size()) +
+                             " value(s) for " + std::to_string(record.parameters.size()) +
                              " parameter(s); not a study record written by masse sweep");
         }
     }

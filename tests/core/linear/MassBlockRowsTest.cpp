@@ -204,6 +204,7 @@ TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
 {
     if (!avx512())
     {
+        // Skipped without AVX-512: there is no second path to compare (the default path is checked exactly above).
         GTEST_SKIP() << "this processor has no AVX-512";
     }
 #if defined(__x86_64__) && defined(__GNUC__)

@@ -6,9 +6,9 @@
 
 #include "core/forces/SimdPath.h"
 #include "core/linear/CholeskyPreconditioner.h"
+#include "core/linear/Half.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/PermutedValues.h"
-#include "core/linear/Half.h"
 #include "core/linear/StagedLdlt.h"
 #include "core/parallel/TaskPool.h"
 
