@@ -44,10 +44,11 @@ public:
         return m_factor.updates() / double(std::max<Eigen::Index>(m_factor.lower().nonZeros(), 1));
     }
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
-    /// on every machine and at any thread count): a refresh takes about 1.1 times updatesPerEntry() applications, and
-    /// an iteration is about 1.3 applications (the product and the vector work). The ratio depends on where the factor
-    /// lives: 0.9 at 128x2x128 (845-890 ms against 4.3-4.6, masse_benchmarks' choleskyRefresh and choleskyApply, two
-    /// threads), 2.0 at 64x2x64, whose factor stays in the cache (89-104 ms against 0.38-0.43). The wall time is not
+    /// on every machine and at any thread count). A refresh takes some updatesPerEntry() applications of the factor,
+    /// the ratio depending on where the factor lives: 0.65 at 128x2x128 (604-885 ms against 3.9-5.5 ms,
+    /// masse_benchmarks' choleskyRefresh and choleskyApply, five rounds, two threads), 1.6 at 64x2x64, whose factor
+    /// stays in the cache (72-96 ms against 0.38-0.60 ms); an iteration is about 1.3 applications (the product and the
+    /// vector work), so the estimate, 0.85 updatesPerEntry(), lies between the two sizes' costs. The wall time is not
     /// sensitive to it: at twice this estimate the plug-assist cup at 64x2x64 trades refactorisations for iterations
     /// (41 against 52, 39 iterations a step against 26) in the same wall time.
     double refreshCost() const { return 0.85 * updatesPerEntry(); }

@@ -23,6 +23,7 @@ struct RowWorkspace
     std::vector<Real> y;               ///< the row being solved for, scattered; all zero between rows
     std::vector<StorageIndex> pattern; ///< the row's pattern, as a stack in topological order
     std::vector<long long> mark;       ///< generation * n + row of the row that last visited each row
+    std::vector<Real> massY;           ///< a mass's three rows, scattered, four values a row; all zero between masses
 
     void fit(std::size_t n)
     {
@@ -31,9 +32,13 @@ struct RowWorkspace
             y.assign(n, 0);
             pattern.assign(n, 0);
             mark.assign(n, -1);
+            massY.assign(4 * n, 0);
         }
     }
 };
+/// A mass's three rows' values of one column, and a fourth lane kept at zero: GCC's vector extension (one AVX2
+/// register, two SSE2 ones); each lane's arithmetic is the scalar operation.
+using MassLanes = Real __attribute__((vector_size(4 * sizeof(Real)), aligned(sizeof(Real))));
 /// One block of separator rows' entries (StagedLdlt::Blocks' arrays from the block's first entry): `count` columns
 /// below the separator, each with where its entries below the separator and in the separator's rows end, and the
 /// block's y (`lanes` to a column).
@@ -101,6 +106,78 @@ MASSE_BLOCK_KERNELS(Avx2, __attribute__((target("avx2"))))
 MASSE_BLOCK_KERNELS(Avx512, __attribute__((target("avx512f"))))
 #endif
 #undef MASSE_BLOCK_KERNELS
+
+/// A mass's columns below its block (StagedLdlt::factorMass): the columns in topological order, L's arrays, and the
+/// mass's scattered y.
+struct MassColumns
+{
+    const StorageIndex* column;
+    std::size_t count;
+    const StorageIndex* start;
+    StorageIndex* columnCount;
+    StorageIndex* rows;
+    Real* values;
+    const Real* diagonal;
+    Real* massY;
+    StorageIndex firstRow;
+};
+
+// One copy of the mass kernel per SIMD path, as the blocks' kernels (each lane's arithmetic is the scalar code's, in
+// the same order, so the bits do not differ); four lanes fill one AVX2 register, so the AVX-512 path takes that copy.
+#define MASSE_MASS_KERNEL(suffix, targetAttribute)                                                                     \
+    /* Each column below the mass: its y for the three rows gives their entries and updates the y of its entries so    \
+       far (rows below the mass), and, as Eigen's later rows of the mass would see them, the entries just made in the  \
+       earlier rows (`inBlock`: row 1's y in column 0, row 2's in columns 0 and 1); `pivots` less each column's part.  \
+     */                                                                                                                \
+    targetAttribute void massColumns##suffix(const MassColumns& mass, Real* pivotsOut, Real* inBlock)                  \
+    {                                                                                                                  \
+        MassLanes pivots = *reinterpret_cast<const MassLanes*>(pivotsOut);                                             \
+        for (std::size_t j = 0; j < mass.count; ++j)                                                                   \
+        {                                                                                                              \
+            const StorageIndex c = mass.column[j];                                                                     \
+            MassLanes* yc = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(c));                             \
+            const MassLanes yv = *yc;                                                                                  \
+            *yc = MassLanes{};                                                                                         \
+            const MassLanes l = yv / mass.diagonal[c];                                                                 \
+            const StorageIndex last = mass.start[c] + mass.columnCount[c];                                             \
+            for (StorageIndex p = mass.start[c]; p < last; ++p)                                                        \
+            {                                                                                                          \
+                MassLanes* target = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(mass.rows[p]));          \
+                *target -= mass.values[p] * yv;                                                                        \
+            }                                                                                                          \
+            inBlock[0] -= l[0] * yv[1];                                                                                \
+            inBlock[1] -= l[0] * yv[2];                                                                                \
+            inBlock[2] -= l[1] * yv[2];                                                                                \
+            for (int r = 0; r < 3; ++r)                                                                                \
+            {                                                                                                          \
+                mass.rows[last + r] = mass.firstRow + r;                                                               \
+                mass.values[last + r] = l[r];                                                                          \
+            }                                                                                                          \
+            mass.columnCount[c] += 3;                                                                                  \
+            pivots -= l * yv;                                                                                          \
+        }                                                                                                              \
+        *reinterpret_cast<MassLanes*>(pivotsOut) = pivots;                                                             \
+    }
+
+MASSE_MASS_KERNEL(Default, )
+#if defined(__x86_64__) && defined(__GNUC__)
+MASSE_MASS_KERNEL(Avx2, __attribute__((target("avx2"))))
+#endif
+#undef MASSE_MASS_KERNEL
+
+void massColumnsOn(SimdPath path, const MassColumns& mass, Real* pivots, Real* inBlock)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+    case SimdPath::Avx2:
+        return massColumnsAvx2(mass, pivots, inBlock);
+#endif
+    default:
+        return massColumnsDefault(mass, pivots, inBlock);
+    }
+}
 
 void eliminateBelowOn(SimdPath path, const BlockColumns& block, const StorageIndex* start, const StorageIndex* rows,
                       const Real* values, const Real* diagonal, Real* y, Real* d)
@@ -179,6 +256,7 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     m_lower.resizeNonZeros(start[n]);
     m_diagonal.resize(n);
     analyseSeparators();
+    analyseMasses();
 }
 
 void StagedLdlt::analyseSeparators()
@@ -434,7 +512,8 @@ Real StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Real* y, Storage
 
 bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
 {
-    // Eigen's factorize_preordered<true> over rows [begin, end), with this thread's scratch.
+    // Eigen's factorize_preordered<true> over rows [begin, end), with this thread's scratch, a mass at a time where
+    // the mass's rows allow it.
     thread_local RowWorkspace work;
     const std::size_t n = std::size_t(m_upper.rows());
     work.fit(n);
@@ -444,6 +523,16 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
     const long long base = m_generation * (long long)(n);
     for (StorageIndex k = begin; k < end; ++k)
     {
+        if (k % 3 == 0 && m_massTogether[std::size_t(k / 3)])
+        {
+            if (!factorMass(k, work.massY.data(), base + k, mark, pattern))
+            {
+                work.massY.assign(4 * n, 0); // a mass left half solved: clear it for the next factorisation
+                return false;
+            }
+            k += 2;
+            continue;
+        }
         // The pattern of row k of L, in topological order: every row the etree reaches from A's column k above k.
         y[k] = 0;
         m_columnCount[std::size_t(k)] = 0;
@@ -471,6 +560,115 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
     }
     return true;
 }
+bool StagedLdlt::factorMass(StorageIndex k0, Real* massY, long long visit, long long* mark, StorageIndex* pattern)
+{
+    const StorageIndex* start = m_lower.outerIndexPtr();
+    StorageIndex* rows = m_lower.innerIndexPtr();
+    Real* values = m_lower.valuePtr();
+    const StorageIndex n = StorageIndex(m_upper.rows());
+    // The mass's columns below its block, in topological order: row k0's pattern, which the other two rows share.
+    const StorageIndex top = rowPattern(k0, visit, mark, pattern);
+    alignas(32) Real pivots[4] = {};
+    Real inBlock[3] = {}; // row k0 + 1's y in column k0, row k0 + 2's in columns k0 and k0 + 1
+    for (int r = 0; r < 3; ++r)
+    {
+        const StorageIndex k = k0 + r;
+        m_columnCount[std::size_t(k)] = 0;
+        for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+        {
+            const StorageIndex i = StorageIndex(it.index());
+            if (i < k0)
+            {
+                massY[4 * std::size_t(i) + std::size_t(r)] += it.value();
+            }
+            else if (i == k)
+            {
+                pivots[r] += it.value();
+            }
+            else if (i < k)
+            {
+                inBlock[r == 1 ? 0 : i == k0 ? 1 : 2] += it.value();
+            }
+        }
+    }
+    MassColumns columns{
+        pattern + top, std::size_t(n - top), start, m_columnCount.data(), rows, values, m_diagonal.data(), massY, k0};
+    massColumnsOn(activeSimdPath(), columns, pivots, inBlock);
+    // The mass's block, as Eigen's rows k0 + 1 and k0 + 2 finish with columns k0 and k0 + 1.
+    const StorageIndex k1 = k0 + 1;
+    const StorageIndex k2 = k0 + 2;
+    Real& y10 = inBlock[0];
+    Real& y20 = inBlock[1];
+    Real& y21 = inBlock[2];
+    const Real d0 = pivots[0];
+    m_diagonal[k0] = d0;
+    if (d0 == 0)
+    {
+        return false;
+    }
+    const Real l10 = y10 / d0;
+    rows[start[k0]] = k1;
+    values[start[k0]] = l10;
+    const Real d1 = pivots[1] - l10 * y10;
+    m_diagonal[k1] = d1;
+    if (d1 == 0)
+    {
+        return false;
+    }
+    const Real l20 = y20 / d0;
+    y21 -= l10 * y20;
+    rows[start[k0] + 1] = k2;
+    values[start[k0] + 1] = l20;
+    const Real l21 = y21 / d1;
+    rows[start[k1]] = k2;
+    values[start[k1]] = l21;
+    const Real d2 = (pivots[2] - l20 * y20) - l21 * y21;
+    m_diagonal[k2] = d2;
+    m_columnCount[std::size_t(k0)] = 2;
+    m_columnCount[std::size_t(k1)] = 1;
+    return d2 != 0;
+}
+
+void StagedLdlt::analyseMasses()
+{
+    // A mass qualifies when rows k0 + 1 and k0 + 2 have exactly row k0's columns below the block plus the block's
+    // columns before them (then row k0's topological order serves all three).
+    const StorageIndex n = StorageIndex(m_upper.rows());
+    m_massTogether.assign(std::size_t(n / 3), 0);
+    if (m_stages.empty())
+    {
+        return;
+    }
+    std::vector<long long> mark(std::size_t(n), -1);
+    std::vector<StorageIndex> member(std::size_t(n), -1); // k0 for the columns of row k0's pattern
+    std::vector<StorageIndex> pattern(static_cast<std::size_t>(n));
+    long long visit = 0;
+    for (const OrderRange& range : m_stages[0])
+    {
+        for (std::size_t first = (range.begin + 2) / 3 * 3; first + 3 <= range.end; first += 3)
+        {
+            const StorageIndex k0 = StorageIndex(first);
+            const StorageIndex top0 = rowPattern(k0, visit++, mark.data(), pattern.data());
+            for (StorageIndex t = top0; t < n; ++t)
+            {
+                member[std::size_t(pattern[std::size_t(t)])] = k0;
+            }
+            bool shared = true;
+            for (StorageIndex r = 1; r < 3 && shared; ++r)
+            {
+                const StorageIndex top = rowPattern(k0 + r, visit++, mark.data(), pattern.data());
+                shared = n - top == (n - top0) + r;
+                for (StorageIndex t = top; t < n && shared; ++t)
+                {
+                    const StorageIndex c = pattern[std::size_t(t)];
+                    shared = member[std::size_t(c)] == k0 || (c >= k0 && c < k0 + r);
+                }
+            }
+            m_massTogether[first / 3] = shared ? 1 : 0;
+        }
+    }
+}
+
 bool StagedLdlt::factorSeparators(std::size_t stage)
 {
     const std::size_t firstSeparator = m_stageSeparators[stage];

@@ -59,6 +59,43 @@ SparseMatrix springMatrix(const MassSpringSystem& system, int dof)
     return a;
 }
 
+/// A symmetric positive definite matrix of the implicit step's shape, full 3x3 blocks: each spring adds the block
+/// [B -B; -B B], B = k (n n^T + I / 10) with n its direction at rest, each mass a diagonal of its mass.
+SparseMatrix blockSpringMatrix(const MassSpringSystem& system)
+{
+    std::vector<Eigen::Triplet<Real, SparseMatrix::StorageIndex>> triplets;
+    auto add = [&](Index row, Index column, const Mat3& block)
+    {
+        for (int r = 0; r < 3; ++r)
+        {
+            for (int c = 0; c < 3; ++c)
+            {
+                triplets.emplace_back(int(3 * row) + r, int(3 * column) + c, block(r, c));
+            }
+        }
+    };
+    for (Index i = 0; i < system.massCount(); ++i)
+    {
+        add(i, i, (Real(1) + Real(i % 7) / 7) * Mat3::Identity());
+    }
+    for (std::size_t s = 0; s < system.springs.size(); ++s)
+    {
+        const Index a = system.springs.ends()[s].a;
+        const Index b = system.springs.ends()[s].b;
+        const Vec3 n = (system.particles.position[a] - system.particles.position[b]).normalized();
+        const Mat3 block = (Real(10) + Real(s % 13)) * (n * n.transpose() + Real(0.1) * Mat3::Identity());
+        add(a, a, block);
+        add(b, b, block);
+        add(a, b, -block);
+        add(b, a, -block);
+    }
+    const Eigen::Index size = 3 * Eigen::Index(system.massCount());
+    SparseMatrix matrix(size, size);
+    matrix.setFromTriplets(triplets.begin(), triplets.end());
+    matrix.makeCompressed();
+    return matrix;
+}
+
 using RowPermutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
 
 /// The permutation that puts the rows of a matrix with `dof` rows per mass in the dissection's order.
@@ -247,17 +284,27 @@ TEST(CholeskyPreconditioner, ResidualsOutsideTheFloatRangeAreSolvedExactlyScaled
     EXPECT_EQ(zero.cwiseAbs().maxCoeff(), 0.0);
 }
 
-// The staged factorisation gives Eigen's SimplicialLDLT factor, the same pattern and each value to rounding, on a
-// sheet whose dissection has several ranges in every stage below the top separator: the parts are factored row by row
-// as Eigen does, the separators a block of rows at once with their columns below in increasing order (Eigen's order is
-// each row's own topological one), so a value may differ from Eigen's in its last bits: by at most 1e-13 of L's
-// largest entry and 1e-13 of each pivot (measured: 9.2e-16 and 2.0e-15 at 24x2x24). The factor has the same bits at
-// 1, 2 and 3 threads and on every SIMD path. A matrix with a zero pivot, in the first row or in the top separator's
-// last, is refused, and the next factorisation works.
-TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
+/// Row `row` and column `row` of `matrix` set to zero (their entries kept in the pattern).
+SparseMatrix withZeroRow(const SparseMatrix& matrix, Eigen::Index row)
 {
-    const MassSpringSystem sheet = paperSheet(24);
-    const SparseMatrix a = springMatrix(sheet, 3);
+    SparseMatrix zeroed = matrix;
+    for (Eigen::Index k = 0; k < zeroed.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(zeroed, k); it; ++it)
+        {
+            if (it.row() == row || it.col() == row)
+            {
+                it.valueRef() = 0;
+            }
+        }
+    }
+    return zeroed;
+}
+
+/// The staged factorisation of `a` (a matrix of `sheet`'s springs, three rows a mass) against Eigen's SimplicialLDLT
+/// (see the tests below); `massesTogether` is how many masses it should factor a mass at a time.
+void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std::size_t massesTogether)
+{
     const DissectionOrder dissection =
         nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
     ASSERT_GT(dissection.stages[0].size(), 4u);
@@ -283,6 +330,7 @@ TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
 
     StagedLdlt reference;
     reference.analyse(permuted, rowStages);
+    ASSERT_EQ(reference.massesFactoredTogether(), massesTogether);
     ASSERT_TRUE(reference.factorize(permuted));
     Real largestDifference = 0;
     Real largestPivotDifference = 0;
@@ -332,39 +380,48 @@ TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
         }
     }
 
-    // A zero pivot: the first row's diagonal set to zero, its off-diagonal entries too.
-    SparseMatrix singular = permuted;
-    for (Eigen::Index k = 0; k < singular.outerSize(); ++k)
-    {
-        for (SparseMatrix::InnerIterator it(singular, k); it; ++it)
-        {
-            if (it.row() == 0 || it.col() == 0)
-            {
-                it.valueRef() = 0;
-            }
-        }
-    }
+    // A zero pivot (a row and its column all zero) in each of a first-stage mass's three rows, and in the top
+    // separator's last row, which is factored in steps of its own: refused, and the next factorisation works.
     StagedLdlt staged;
-    staged.analyse(singular, rowStages);
-    EXPECT_FALSE(staged.factorize(singular));
-    EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after a refused one";
-
-    // The same for the last row, in the top separator, which is factored in steps of its own.
-    SparseMatrix singularAtTheTop = permuted;
-    const Eigen::Index last = permuted.rows() - 1;
-    for (Eigen::Index k = 0; k < singularAtTheTop.outerSize(); ++k)
+    staged.analyse(permuted, rowStages);
+    for (const Eigen::Index row : {Eigen::Index(0), Eigen::Index(1), Eigen::Index(2), permuted.rows() - 1})
     {
-        for (SparseMatrix::InnerIterator it(singularAtTheTop, k); it; ++it)
-        {
-            if (it.row() == last || it.col() == last)
-            {
-                it.valueRef() = 0;
-            }
-        }
+        EXPECT_FALSE(staged.factorize(withZeroRow(permuted, row))) << "row " << row;
+        EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after one refused at row " << row;
+        EXPECT_EQ(staged.diagonal()[row], reference.diagonal()[row]);
     }
-    EXPECT_FALSE(staged.factorize(singularAtTheTop));
-    EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after one refused at the top";
-    EXPECT_EQ(staged.diagonal()[last], reference.diagonal()[last]);
+}
+
+// The staged factorisation gives Eigen's SimplicialLDLT factor, the same pattern and each value to rounding, on a
+// sheet whose dissection has several ranges in every stage below the top separator: the parts are factored a mass at a
+// time (their columns below the mass in row k0's topological order) and the separators a block of rows at once (their
+// columns below in increasing order), where Eigen sums in each row's own topological order, so a value may differ
+// from Eigen's in its last bits: by at most 1e-13 of L's largest entry and 1e-13 of each pivot (measured at 24x2x24:
+// 2.9e-15 and 5.2e-15 with full 3x3 blocks, as in the implicit matrix; 9.2e-16 and 2.0e-15 with the coordinates
+// uncoupled, the parts then factored row by row as Eigen does). The factor has the same bits at 1, 2 and 3 threads
+// and on every SIMD path. A zero pivot is refused.
+TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
+{
+    const MassSpringSystem sheet = paperSheet(24);
+    // Every first-stage mass of the implicit matrix's shape shares its rows' pattern; none of the matrix whose
+    // three coordinates are uncoupled does, as a mass's rows then hold no entries of its block.
+    const SparseMatrix blocks = blockSpringMatrix(sheet);
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    std::size_t firstStageMasses = 0;
+    for (const OrderRange& range : dissection.stages[0])
+    {
+        firstStageMasses += range.end - range.begin;
+    }
+    ASSERT_GT(firstStageMasses, std::size_t(sheet.massCount() / 2));
+    {
+        SCOPED_TRACE("full 3x3 blocks, factored a mass at a time");
+        checkStagedFactor(sheet, blocks, firstStageMasses);
+    }
+    {
+        SCOPED_TRACE("uncoupled coordinates, factored row by row");
+        checkStagedFactor(sheet, springMatrix(sheet, 3), 0);
+    }
 }
 
 // A refresh gathers the permuted matrix's values through maps found once (PermutedValues.h): for new values on the
