@@ -179,6 +179,73 @@ void massColumnsOn(SimdPath path, const MassColumns& mass, Real* pivots, Real* i
     }
 }
 
+// One copy of the dense factorisation per SIMD path, as the blocks' kernels: each entry's arithmetic is the scalar
+// code's, in the same order, so the bits do not differ.
+#define MASSE_DENSE_KERNEL(suffix, targetAttribute)                                                                    \
+    /* LDL^T of the symmetric `count` x `count` matrix whose lower triangle `m` holds (column-major), in place, right- \
+       looking: column k's entries below its pivot d_k become L's, and each later column j takes l_ik t_j from its     \
+       entries i >= j (t: column k before the division, d_k l_jk). False if a pivot is zero. */                        \
+    targetAttribute bool denseLdlt##suffix(Real* m, std::size_t count, Real* t, Real* d)                               \
+    {                                                                                                                  \
+        for (std::size_t k = 0; k < count; ++k)                                                                        \
+        {                                                                                                              \
+            Real* columnK = m + k * count;                                                                             \
+            const Real dk = columnK[k];                                                                                \
+            d[k] = dk;                                                                                                 \
+            if (dk == 0)                                                                                               \
+            {                                                                                                          \
+                return false;                                                                                          \
+            }                                                                                                          \
+            for (std::size_t i = k + 1; i < count; ++i)                                                                \
+            {                                                                                                          \
+                t[i] = columnK[i];                                                                                     \
+                columnK[i] = t[i] / dk;                                                                                \
+            }                                                                                                          \
+            for (std::size_t j = k + 1; j < count; ++j)                                                                \
+            {                                                                                                          \
+                const Real tj = t[j];                                                                                  \
+                if (tj == 0) /* a zero of the pattern: the update would subtract zeros */                              \
+                {                                                                                                      \
+                    continue;                                                                                          \
+                }                                                                                                      \
+                Real* columnJ = m + j * count;                                                                         \
+                std::size_t i = j;                                                                                     \
+                for (; i + lanes <= count; i += lanes)                                                                 \
+                {                                                                                                      \
+                    LaneValues* target = reinterpret_cast<LaneValues*>(columnJ + i);                                   \
+                    *target -= *reinterpret_cast<const LaneValues*>(columnK + i) * tj;                                 \
+                }                                                                                                      \
+                for (; i < count; ++i)                                                                                 \
+                {                                                                                                      \
+                    columnJ[i] -= columnK[i] * tj;                                                                     \
+                }                                                                                                      \
+            }                                                                                                          \
+        }                                                                                                              \
+        return true;                                                                                                   \
+    }
+
+MASSE_DENSE_KERNEL(Default, )
+#if defined(__x86_64__) && defined(__GNUC__)
+MASSE_DENSE_KERNEL(Avx2, __attribute__((target("avx2"))))
+MASSE_DENSE_KERNEL(Avx512, __attribute__((target("avx512f"))))
+#endif
+#undef MASSE_DENSE_KERNEL
+
+bool denseLdltOn(SimdPath path, Real* m, std::size_t count, Real* t, Real* d)
+{
+    switch (path)
+    {
+#if defined(__x86_64__) && defined(__GNUC__)
+    case SimdPath::Avx512:
+        return denseLdltAvx512(m, count, t, d);
+    case SimdPath::Avx2:
+        return denseLdltAvx2(m, count, t, d);
+#endif
+    default:
+        return denseLdltDefault(m, count, t, d);
+    }
+}
+
 void eliminateBelowOn(SimdPath path, const BlockColumns& block, const StorageIndex* start, const StorageIndex* rows,
                       const Real* values, const Real* diagonal, Real* y, Real* d)
 {
@@ -398,6 +465,27 @@ void StagedLdlt::analyseSeparators()
         separator->endBlock = m_blocks.separator.size();
         separator->partialPivot.resize(rows);
         separator->schur.resize(rows * (rows - 1) / 2);
+        // The own block's pattern by columns, for step 3's output: each row's own columns, transposed (walking the
+        // rows in order gives each column's rows in increasing order).
+        separator->ownColumnStart.assign(rows + 1, 0);
+        for (const StorageIndex column : separator->ownColumn)
+        {
+            ++separator->ownColumnStart[std::size_t(column - separator->begin) + 1];
+        }
+        for (std::size_t j = 0; j < rows; ++j)
+        {
+            separator->ownColumnStart[j + 1] += separator->ownColumnStart[j];
+        }
+        separator->ownColumnRows.resize(separator->ownColumn.size());
+        std::vector<std::size_t> nextEntry(separator->ownColumnStart.begin(), separator->ownColumnStart.end() - 1);
+        for (std::size_t r = 0; r < rows; ++r)
+        {
+            for (std::size_t e = separator->ownStart[r]; e < separator->ownStart[r + 1]; ++e)
+            {
+                const std::size_t j = std::size_t(separator->ownColumn[e] - separator->begin);
+                separator->ownColumnRows[nextEntry[j]++] = separator->begin + StorageIndex(r);
+            }
+        }
     }
     m_blocks.y.resize(m_blocks.column.size() * lanes);
     for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
@@ -794,36 +882,52 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                   std::fill(z, z + (first + count - 1) * lanes, Real(0));
               });
 
-    // 3. Each separator's own block, row by row as Eigen does, from the Schur complement.
+    // 3. Each separator's own block: its Schur complement, dense, factored column by column, then its pattern's
+    // entries written to L.
     std::atomic<bool> ok{true};
     runChunks(endSeparator - firstSeparator,
               [&](std::size_t task)
               {
                   Separator& separator = m_separators[firstSeparator + task];
                   const std::size_t count = std::size_t(separator.end - separator.begin);
-                  thread_local std::vector<Real> row; // the row being finished, over the separator
-                  if (row.size() < count)
+                  thread_local std::vector<Real> dense; // column-major, the lower triangle used
+                  thread_local std::vector<Real> scratch;
+                  if (dense.size() < count * count)
                   {
-                      row.resize(count, 0);
+                      dense.resize(count * count);
                   }
-                  Real* y = row.data();
+                  if (scratch.size() < 2 * count)
+                  {
+                      scratch.resize(2 * count);
+                  }
+                  Real* m = dense.data();
                   for (std::size_t r = 0; r < count; ++r)
                   {
-                      const StorageIndex k = separator.begin + StorageIndex(r);
                       const Real* z = separator.schur.data() + schurOffset(r);
-                      std::copy(z, z + r, y);
-                      Real d = separator.partialPivot[r];
-                      m_columnCount[std::size_t(k)] = 0;
-                      for (std::size_t e = separator.ownStart[r]; e < separator.ownStart[r + 1]; ++e)
+                      for (std::size_t j = 0; j < r; ++j)
                       {
-                          d -= appendToColumn(separator.ownColumn[e], k, y, separator.begin);
+                          m[r + j * count] = z[j];
                       }
-                      m_diagonal[k] = d;
-                      if (d == 0)
+                      m[r + r * count] = separator.partialPivot[r];
+                  }
+                  Real* d = scratch.data();
+                  if (!denseLdltOn(path, m, count, scratch.data() + count, d))
+                  {
+                      ok = false;
+                      return;
+                  }
+                  for (std::size_t j = 0; j < count; ++j)
+                  {
+                      const StorageIndex column = separator.begin + StorageIndex(j);
+                      m_diagonal[column] = d[j];
+                      StorageIndex p = start[column];
+                      for (std::size_t e = separator.ownColumnStart[j]; e < separator.ownColumnStart[j + 1]; ++e, ++p)
                       {
-                          ok = false;
-                          return;
+                          const StorageIndex row = separator.ownColumnRows[e];
+                          rows[p] = row;
+                          values[p] = m[std::size_t(row - separator.begin) + j * count];
                       }
+                      m_columnCount[std::size_t(column)] = p - start[column];
                   }
               });
     return ok;

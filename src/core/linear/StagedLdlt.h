@@ -19,10 +19,12 @@
 /// A separator's rows' entries in the columns below it depend only on those columns, so they are computed for `lanes`
 /// rows at once, each column's entries read once for the block and applied to its rows in one vector operation (step
 /// 1); then each row's updates of the separator's own entries (its column of the Schur complement), the same way (step
-/// 2); then the separator's dense block, row by row (step 3). Each entry of a separator's rows sums the columns below
-/// in increasing order.
+/// 2); then the separator's own block, whose Schur complement is nearly dense: factored as a dense matrix, right-looking,
+/// each column's update of the later ones one vector operation over their entries (step 3), and its pattern's entries
+/// written to L. Each entry of a separator's rows sums the columns below in increasing order, and its own block's
+/// columns in increasing order.
 ///
-/// Both orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's in its last
+/// These orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's in its last
 /// bits; they are fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
 /// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount). With Eigen's row-by-row arithmetic throughout,
 /// a refactorisation at 128x2x128 takes 2.8-3.3 s.
@@ -107,8 +109,10 @@ private:
         StorageIndex end = 0;
         std::size_t firstBlock = 0; ///< its blocks of rows (see Blocks): [firstBlock, endBlock)
         std::size_t endBlock = 0;
-        std::vector<std::size_t> ownStart;   ///< per row and one past: its entries in the separator's columns
-        std::vector<StorageIndex> ownColumn; ///< those columns, in topological order
+        std::vector<std::size_t> ownStart;       ///< per row and one past: its entries in the separator's columns
+        std::vector<StorageIndex> ownColumn;     ///< those columns, in topological order
+        std::vector<std::size_t> ownColumnStart; ///< per column of the separator and one past: its rows in it
+        std::vector<StorageIndex> ownColumnRows; ///< those rows, increasing
         // Per factorisation:
         std::vector<Real> partialPivot; ///< per row: a_kk - sum over the columns below of l_kc y_c
         std::vector<Real> schur;        ///< per row k, packed: a_jk - sum over the columns below of l_jc y_c, j < k
