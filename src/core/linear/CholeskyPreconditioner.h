@@ -45,9 +45,9 @@ public:
     }
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
     /// on every machine and at any thread count). A refresh takes some updatesPerEntry() applications of the factor,
-    /// the ratio depending on where the factor lives: 0.65 at 128x2x128 (604-885 ms against 3.9-5.5 ms,
-    /// masse_benchmarks' choleskyRefresh and choleskyApply, five rounds, two threads), 1.6 at 64x2x64, whose factor
-    /// stays in the cache (72-96 ms against 0.38-0.60 ms); an iteration is about 1.3 applications (the product and the
+    /// the ratio depending on where the factor lives: 0.65 at 128x2x128 (654-771 ms against 3.9-5.5 ms,
+    /// masse_benchmarks' choleskyRefresh and choleskyApply, five rounds, two threads), 1.4 at 64x2x64, whose factor
+    /// stays in the cache (64-83 ms against 0.38-0.60 ms); an iteration is about 1.3 applications (the product and the
     /// vector work), so the estimate, 0.85 updatesPerEntry(), lies between the two sizes' costs. The wall time is not
     /// sensitive to it: at twice this estimate the plug-assist cup at 64x2x64 trades refactorisations for iterations
     /// (41 against 52, 39 iterations a step against 26) in the same wall time.
