@@ -37,8 +37,9 @@ struct RowWorkspace
     }
 };
 /// A mass's three rows' values of one column, and a fourth lane kept at zero: GCC's vector extension (one AVX2
-/// register, two SSE2 ones); each lane's arithmetic is the scalar operation.
-using MassLanes = Real __attribute__((vector_size(4 * sizeof(Real)), aligned(sizeof(Real))));
+/// register, two SSE2 ones); each lane's arithmetic is the scalar operation. Aligned as a double, since its vectors
+/// start at any row's values; declared with typedef, as clang ignores `aligned` on an alias declaration.
+typedef Real MassLanes __attribute__((vector_size(4 * sizeof(Real)), aligned(sizeof(Real))));
 /// One block of separator rows' entries (StagedLdlt::Blocks' arrays from the block's first entry): `count` columns
 /// below the separator, each with where its entries below the separator and in the separator's rows end, and the
 /// block's y (`lanes` to a column).
@@ -54,8 +55,9 @@ struct BlockColumns
 constexpr std::size_t lanes = StagedLdlt::lanes;
 
 /// A block's lanes as one value: GCC's vector extension, one AVX-512 register on that path and split into the
-/// path's registers on the others; each lane's arithmetic is the scalar operation.
-using LaneValues = Real __attribute__((vector_size(lanes * sizeof(Real)), aligned(sizeof(Real))));
+/// path's registers on the others; each lane's arithmetic is the scalar operation. Aligned as a double (a typedef, as
+/// MassLanes): a dense column's vectors start at any of its entries.
+typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligned(sizeof(Real))));
 
 // One copy of the blocks' kernels per SIMD path: only the instruction set differs (each lane's arithmetic is the
 // scalar code's, in the same order, so the bits do not).
