@@ -370,6 +370,8 @@ void StagedLdlt::analyseSeparators()
     std::vector<std::size_t> belowStart{0};  // per row of the separator and one past: its entries in columns below
     std::vector<StorageIndex> belowColumn;   // those columns
     std::vector<StorageIndex> belowPosition; // and where each entry goes
+    std::vector<std::size_t> ownStart{0};    // per row of the separator and one past: its entries in its own columns
+    std::vector<StorageIndex> ownColumn;     // those columns
     std::vector<StorageIndex> slot(std::size_t(n), -1); // per column: its entry in the block being built
     for (StorageIndex k = 0; k < n; ++k)
     {
@@ -377,7 +379,8 @@ void StagedLdlt::analyseSeparators()
         Separator* separator = which < 0 ? nullptr : &m_separators[std::size_t(which)];
         if (separator && k == separator->begin)
         {
-            separator->ownStart.assign(1, 0);
+            ownStart.assign(1, 0);
+            ownColumn.clear();
             belowStart.assign(1, 0);
             belowColumn.clear();
             belowPosition.clear();
@@ -402,7 +405,7 @@ void StagedLdlt::analyseSeparators()
             }
             else
             {
-                separator->ownColumn.push_back(column);
+                ownColumn.push_back(column);
             }
         }
         if (!separator)
@@ -410,7 +413,7 @@ void StagedLdlt::analyseSeparators()
             continue;
         }
         belowStart.push_back(belowColumn.size());
-        separator->ownStart.push_back(separator->ownColumn.size());
+        ownStart.push_back(ownColumn.size());
         if (k + 1 < separator->end)
         {
             continue;
@@ -470,7 +473,7 @@ void StagedLdlt::analyseSeparators()
         // The own block's pattern by columns, for step 3's output: each row's own columns, transposed (walking the
         // rows in order gives each column's rows in increasing order).
         separator->ownColumnStart.assign(rows + 1, 0);
-        for (const StorageIndex column : separator->ownColumn)
+        for (const StorageIndex column : ownColumn)
         {
             ++separator->ownColumnStart[std::size_t(column - separator->begin) + 1];
         }
@@ -478,13 +481,13 @@ void StagedLdlt::analyseSeparators()
         {
             separator->ownColumnStart[j + 1] += separator->ownColumnStart[j];
         }
-        separator->ownColumnRows.resize(separator->ownColumn.size());
+        separator->ownColumnRows.resize(ownColumn.size());
         std::vector<std::size_t> nextEntry(separator->ownColumnStart.begin(), separator->ownColumnStart.end() - 1);
         for (std::size_t r = 0; r < rows; ++r)
         {
-            for (std::size_t e = separator->ownStart[r]; e < separator->ownStart[r + 1]; ++e)
+            for (std::size_t e = ownStart[r]; e < ownStart[r + 1]; ++e)
             {
-                const std::size_t j = std::size_t(separator->ownColumn[e] - separator->begin);
+                const std::size_t j = std::size_t(ownColumn[e] - separator->begin);
                 separator->ownColumnRows[nextEntry[j]++] = separator->begin + StorageIndex(r);
             }
         }
@@ -580,19 +583,19 @@ bool StagedLdlt::factorize(const SparseMatrix& permuted)
     return true;
 }
 
-Real StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Real* y, StorageIndex offset)
+Real StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Real* y)
 {
     const StorageIndex* start = m_lower.outerIndexPtr();
     StorageIndex* rows = m_lower.innerIndexPtr();
     Real* values = m_lower.valuePtr();
-    const Real yi = y[i - offset];
-    y[i - offset] = 0;
+    const Real yi = y[i];
+    y[i] = 0;
     const Real lki = yi / m_diagonal[i];
     const StorageIndex last = start[i] + m_columnCount[std::size_t(i)];
     StorageIndex p = start[i];
     for (; p < last; ++p)
     {
-        y[rows[p] - offset] -= values[p] * yi;
+        y[rows[p]] -= values[p] * yi;
     }
     rows[p] = k;
     values[p] = lki;
@@ -617,7 +620,6 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
         {
             if (!factorMass(k, work.massY.data(), base + k, mark, pattern))
             {
-                work.massY.assign(4 * n, 0); // a mass left half solved: clear it for the next factorisation
                 return false;
             }
             k += 2;
@@ -639,7 +641,7 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
         y[k] = 0;
         for (; top < StorageIndex(n); ++top)
         {
-            d -= appendToColumn(pattern[top], k, y, 0);
+            d -= appendToColumn(pattern[top], k, y);
         }
         m_diagonal[k] = d;
         if (d == 0)

@@ -19,10 +19,10 @@
 /// A separator's rows' entries in the columns below it depend only on those columns, so they are computed for `lanes`
 /// rows at once, each column's entries read once for the block and applied to its rows in one vector operation (step
 /// 1); then each row's updates of the separator's own entries (its column of the Schur complement), the same way (step
-/// 2); then the separator's own block, whose Schur complement is nearly dense: factored as a dense matrix, right-looking,
-/// each column's update of the later ones one vector operation over their entries (step 3), and its pattern's entries
-/// written to L. Each entry of a separator's rows sums the columns below in increasing order, and its own block's
-/// columns in increasing order.
+/// 2); then the separator's own block, whose Schur complement is nearly dense: factored as a dense matrix,
+/// right-looking, each column's update of the later ones one vector operation over their entries (step 3), and its
+/// pattern's entries written to L. Each entry of a separator's rows sums the columns below in increasing order, and its
+/// own block's columns in increasing order.
 ///
 /// These orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's in its last
 /// bits; they are fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
@@ -71,12 +71,13 @@ private:
     void assignUpper(const SparseMatrix& permuted);
     /// Rows [begin, end) of L and D; false if a pivot is zero.
     bool factorRows(StorageIndex begin, StorageIndex end);
-    /// One step of row k's sparse triangular solve, Eigen's: y_i (held at y[i - offset]) gives l_ki = y_i / d_i,
-    /// appended to column i; column i's entries so far update y. Returns l_ki y_i, the step's part of the pivot.
-    [[gnu::always_inline]] inline Real appendToColumn(StorageIndex i, StorageIndex k, Real* y, StorageIndex offset);
+    /// One step of row k's sparse triangular solve, Eigen's: y_i gives l_ki = y_i / d_i, appended to column i; column
+    /// i's entries so far update y. Returns l_ki y_i, the step's part of the pivot.
+    [[gnu::always_inline]] inline Real appendToColumn(StorageIndex i, StorageIndex k, Real* y);
     /// Rows k0, k0 + 1 and k0 + 2 of L and D, one mass's, at once (see m_massTogether): each column below the mass's
     /// block is read once for the three rows, whose scattered y are `massY` (four values a row, all zero between
-    /// masses). False if a pivot is zero.
+    /// masses: every value scattered is in a column of the mass's pattern, and each column is cleared as it is taken,
+    /// so it is all zero again on return, a refused pivot included). False if a pivot is zero.
     bool factorMass(StorageIndex k0, Real* massY, long long visit, long long* mark, StorageIndex* pattern);
     /// Which masses factorMass can take (m_massTogether), after the elimination tree and L's column starts.
     void analyseMasses();
@@ -109,8 +110,6 @@ private:
         StorageIndex end = 0;
         std::size_t firstBlock = 0; ///< its blocks of rows (see Blocks): [firstBlock, endBlock)
         std::size_t endBlock = 0;
-        std::vector<std::size_t> ownStart;       ///< per row and one past: its entries in the separator's columns
-        std::vector<StorageIndex> ownColumn;     ///< those columns, in topological order
         std::vector<std::size_t> ownColumnStart; ///< per column of the separator and one past: its rows in it
         std::vector<StorageIndex> ownColumnRows; ///< those rows, increasing
         // Per factorisation:
