@@ -114,23 +114,56 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     }
     m_values.assign(std::size_t(m_runStart[runCount]) + valuePadding, 0);
     m_inBlock.assign(3 * blocks, 0.0f);
+    if (m_values.size() >= inBlockPlaces || 3 * blocks >= noPlace - inBlockPlaces)
+    {
+        throw std::invalid_argument("MassBlockRows: a factor of " + std::to_string(m_values.size()) +
+                                    " stored values is too large for its places' 31 bits");
+    }
+    const auto* outer = lower.outerIndexPtr();
+    m_place.assign(std::size_t(outer[lower.cols()]), noPlace);
+    const auto* inner = lower.innerIndexPtr();
+    for (Eigen::Index column = 0; column < lower.cols(); ++column)
+    {
+        for (auto k = outer[column]; k < outer[column + 1]; ++k)
+        {
+            if (inner[k] > column)
+            {
+                m_place[std::size_t(k)] = placeOf(inner[k], StorageIndex(column));
+            }
+        }
+    }
     refillLowerRows(lower);
 }
 
 void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
 {
-    // Every entry has a place of its own, found from its block's runs alone (a block has two or three on average), so
-    // the columns are written in chunks on the pool: a refresh is on the implicit step's critical path.
-    parallelFor(std::size_t(lower.cols()), refillColumnsPerChunk,
+    // Every stored entry of the factor has its place found once, when the pattern is laid out (m_place), so a refill
+    // is one pass over the values in their storage order, in chunks on the pool: a refresh is on the implicit step's
+    // critical path, and finding each place again from its block's runs took a fifth of a refactorisation at 64x2x64.
+    if (std::size_t(lower.outerIndexPtr()[lower.cols()]) != m_place.size())
+    {
+        throw std::invalid_argument("MassBlockRows: a refill needs the pattern last assigned");
+    }
+    const Real* values = lower.valuePtr();
+    parallelFor(m_place.size(), refillEntriesPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    forEachStrictlyLower(lower, Eigen::Index(begin), Eigen::Index(end),
-                                         [&](StorageIndex row, StorageIndex column, Real value)
-                                         { write(row, column, value); });
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const std::uint32_t place = m_place[k];
+                        if (place < inBlockPlaces)
+                        {
+                            m_values[place] = halfFromReal(values[k]);
+                        }
+                        else if (place != noPlace)
+                        {
+                            m_inBlock[place - inBlockPlaces] = floatFromHalf(halfFromReal(values[k]));
+                        }
+                    }
                 });
 }
 
-void MassBlockRows::write(StorageIndex row, StorageIndex column, Real value)
+std::uint32_t MassBlockRows::placeOf(StorageIndex row, StorageIndex column) const
 {
     const std::size_t block = std::size_t(row) / 3;
     const int rowOfBlock = int(row % 3);
@@ -138,8 +171,7 @@ void MassBlockRows::write(StorageIndex row, StorageIndex column, Real value)
     if (blockRow >= 0)
     {
         // Row 1's one in-block entry multiplies row 0's result; row 2's two, rows 0 and 1's.
-        m_inBlock[3 * block + std::size_t(rowOfBlock == 1 ? 0 : 1 + blockRow)] = floatFromHalf(halfFromReal(value));
-        return;
+        return inBlockPlaces + std::uint32_t(3 * block + std::size_t(rowOfBlock == 1 ? 0 : 1 + blockRow));
     }
     // The runs of the pattern laid out hold every shared column of the block.
     auto run = std::size_t(m_blockRuns[block]);
@@ -147,7 +179,7 @@ void MassBlockRows::write(StorageIndex row, StorageIndex column, Real value)
     {
         ++run;
     }
-    m_values[std::size_t(m_runStart[run]) + runValueOffset(m_runLength[run], rowOfBlock, column - m_runColumn[run])] =
-        halfFromReal(value);
+    return std::uint32_t(std::size_t(m_runStart[run]) +
+                         runValueOffset(m_runLength[run], rowOfBlock, column - m_runColumn[run]));
 }
 } // namespace masse

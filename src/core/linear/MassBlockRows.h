@@ -80,10 +80,13 @@ public:
     }
 
 private:
-    /// Writes L(row, column) (of the pattern laid out) in its place.
-    void write(StorageIndex row, StorageIndex column, Real value);
-    /// Columns of the factor a task of the refill writes.
-    static constexpr std::size_t refillColumnsPerChunk = 2048;
+    /// Where L(row, column) (of the pattern laid out) is kept: an index into m_values, or inBlockPlaces plus one into
+    /// m_inBlock.
+    std::uint32_t placeOf(StorageIndex row, StorageIndex column) const;
+    /// Entries of the factor a task of the refill writes.
+    static constexpr std::size_t refillEntriesPerChunk = 65536;
+    static constexpr std::uint32_t inBlockPlaces = 0x80000000u;
+    static constexpr std::uint32_t noPlace = 0xFFFFFFFFu; ///< the factor's diagonal entries (unit, not stored here)
 
     std::vector<StorageIndex> m_blockRuns;
     std::vector<StorageIndex> m_runColumn;
@@ -91,6 +94,8 @@ private:
     std::vector<StorageIndex> m_runLength;
     std::vector<std::uint16_t> m_values;
     std::vector<float> m_inBlock;
+    /// Per stored entry of the factor laid out, in its storage order: its placeOf, or noPlace.
+    std::vector<std::uint32_t> m_place;
 };
 
 /// Where block row `row`'s entry t of a run of `length` entries is among the run's values: the three rows' full groups

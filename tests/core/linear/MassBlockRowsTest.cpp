@@ -196,6 +196,9 @@ TEST(MassBlockRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGive
     EXPECT_EQ(storedValues(refilled), storedValues(assigned));
     EXPECT_EQ(inBlockValues(refilled), inBlockValues(assigned));
     EXPECT_NE(storedValues(refilled), fromA);
+
+    // A factor of another pattern is refused: its values would land in the places of the pattern laid out.
+    EXPECT_THROW(refilled.refillLowerRows(randomLower(99, 11, false)), std::invalid_argument);
 }
 
 // The AVX-512 kernels give the default path's bits on a random matrix and vector, runs of every length: each block's
