@@ -244,6 +244,10 @@ IntegratorStats ImplicitSolve::runSolver()
             ++refactorisations;
             fresh = recent.refresh(m_matrix.matrix());
         }
+        if (!fresh && &recent == &m_cholesky)
+        {
+            m_cholesky.followDiagonal(m_matrix.matrix()); // see CholeskyPreconditioner.h
+        }
         // A factor fresh from the matrix solves in one or two iterations, and is kept while the iterations it takes
         // beyond that, summed since it was made, cost less than a refactorisation (RefreshBudget). A multigrid cycle
         // takes several even when fresh (ten on a cold material sheet at its tight tolerance): it is rebuilt when a

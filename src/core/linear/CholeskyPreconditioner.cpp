@@ -6,6 +6,7 @@
 #include "core/parallel/TaskPool.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace masse
@@ -84,6 +85,39 @@ MASSE_TRIANGULAR_KERNELS(Avx512, __attribute__((target("avx512f"))), blockDotsAv
 #endif
 #undef MASSE_TRIANGULAR_KERNELS
 
+/// Masses a task of the diagonal's following handles.
+constexpr std::size_t followChunkSize = 2048;
+
+/// The lower Cholesky factor of a diagonal block, in plain arithmetic (the same bits wherever it runs); false if the
+/// block is not positive definite.
+bool blockCholesky(const Mat3& b, Mat3& c)
+{
+    c.setZero();
+    for (int j = 0; j < 3; ++j)
+    {
+        Real pivot = b(j, j);
+        for (int k = 0; k < j; ++k)
+        {
+            pivot -= c(j, k) * c(j, k);
+        }
+        if (!(pivot > 0))
+        {
+            return false;
+        }
+        c(j, j) = std::sqrt(pivot);
+        for (int i = j + 1; i < 3; ++i)
+        {
+            Real sum = b(i, j);
+            for (int k = 0; k < j; ++k)
+            {
+                sum -= c(i, k) * c(j, k);
+            }
+            c(i, j) = sum / c(j, j);
+        }
+    }
+    return true;
+}
+
 void forwardBlocksOn(SimdPath path, const MassBlockRows::View& rows, float* y, Eigen::Index begin, Eigen::Index end)
 {
     switch (path)
@@ -148,6 +182,28 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
         m_permutedMatrix);
     gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_factor.analyse(m_permutedMatrix, m_stages);
+    // Following needs each mass's whole 3x3 block in the pattern (the implicit matrix has it; a matrix whose
+    // coordinates are uncoupled does not, and its factor is used as it is).
+    const auto* outer = a.outerIndexPtr();
+    const auto* inner = a.innerIndexPtr();
+    m_diagonalSlots.resize(std::size_t(a.cols() / 3));
+    m_canFollow = true;
+    for (std::size_t mass = 0; mass < m_diagonalSlots.size(); ++mass)
+    {
+        for (int c = 0; c < 3; ++c)
+        {
+            const auto column = Eigen::Index(3 * mass) + c;
+            const auto top = SparseMatrix::StorageIndex(3 * mass);
+            const auto* end = inner + outer[column + 1];
+            const auto* found = std::lower_bound(inner + outer[column], end, top);
+            m_canFollow =
+                m_canFollow && end - found >= 3 && found[0] == top && found[1] == top + 1 && found[2] == top + 2;
+            m_diagonalSlots[mass][std::size_t(c)] = SparseMatrix::StorageIndex(found - inner);
+        }
+    }
+    m_factoredBlocks.resize(m_diagonalSlots.size());
+    m_following.resize(m_diagonalSlots.size());
+    m_followed = false;
     m_ready = false;
     m_rowsLaidOut = false;
     m_filtered.resize(a.rows());
@@ -155,11 +211,43 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
     m_scattered.resize(std::size_t(a.rows()));
 }
 
+Mat3 CholeskyPreconditioner::diagonalBlock(const SparseMatrix& a, std::size_t mass) const
+{
+    const Real* values = a.valuePtr();
+    Mat3 block;
+    for (int c = 0; c < 3; ++c)
+    {
+        const Real* column = values + m_diagonalSlots[mass][std::size_t(c)];
+        block.col(c) = Vec3(column[0], column[1], column[2]);
+    }
+    return block;
+}
+
 bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
 {
     // A refresh (not every step) copies the matrix into the factor's order; the pattern is unchanged.
     gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_ready = m_factor.factorize(m_permutedMatrix);
+    m_followed = false;
+    m_blocksFactored = false;
+    if (m_ready && m_canFollow)
+    {
+        // The blocks the factor follows from (positive definite, as the matrix is, unless rounding says otherwise;
+        // then the factor is used as it is until the next refresh).
+        std::atomic<bool> blocksPositive{true};
+        parallelFor(m_factoredBlocks.size(), followChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t mass = begin; mass < end; ++mass)
+                        {
+                            if (!blockCholesky(diagonalBlock(a, mass), m_factoredBlocks[mass]))
+                            {
+                                blocksPositive = false;
+                            }
+                        }
+                    });
+        m_blocksFactored = blocksPositive;
+    }
     if (m_ready)
     {
         // The solves' copy of the factor: its runs depend only on the factor's pattern, the analysed one at every
@@ -178,6 +266,38 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     return m_ready;
 }
 
+bool CholeskyPreconditioner::followDiagonal(const SparseMatrix& a)
+{
+    m_followed = false;
+    if (!m_ready || !m_blocksFactored)
+    {
+        return false;
+    }
+    std::atomic<bool> blocksPositive{true};
+    parallelFor(m_following.size(), followChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t mass = begin; mass < end; ++mass)
+                    {
+                        Mat3 current;
+                        if (!blockCholesky(diagonalBlock(a, mass), current))
+                        {
+                            blocksPositive = false;
+                            continue;
+                        }
+                        const Mat3& factored = m_factoredBlocks[mass];
+                        // C C'^-1, both lower triangular: the identity, exactly, where the block has not moved.
+                        m_following[mass] = current == factored ? Mat3(Mat3::Identity())
+                                                                : Mat3(current.transpose()
+                                                                           .triangularView<Eigen::Upper>()
+                                                                           .solve(factored.transpose())
+                                                                           .transpose());
+                    }
+                });
+    m_followed = blocksPositive;
+    return m_followed;
+}
+
 void CholeskyPreconditioner::setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters)
 {
     m_masses = &masses;
@@ -188,17 +308,44 @@ void CholeskyPreconditioner::apply(const Vector& r, Vector& z) const
 {
     const bool filtered = m_masses && !m_masses->empty();
     const Vector* input = &r;
-    if (filtered)
+    if (filtered || m_followed)
     {
         m_filtered = r;
+        input = &m_filtered;
+    }
+    if (filtered)
+    {
         for (std::size_t k = 0; k < m_masses->size(); ++k)
         {
             const Eigen::Index row = Eigen::Index(3 * (*m_masses)[k]);
             m_filtered.segment<3>(row) = (*m_filters)[k] * r.segment<3>(row);
         }
-        input = &m_filtered;
+    }
+    if (m_followed) // R^-T on the way in
+    {
+        parallelFor(m_following.size(), followChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t mass = begin; mass < end; ++mass)
+                        {
+                            const auto row = Eigen::Index(3 * mass);
+                            m_filtered.segment<3>(row) = m_following[mass] * m_filtered.segment<3>(row);
+                        }
+                    });
     }
     solveWithFactor(*input, z);
+    if (m_followed) // R^-1 on the way out
+    {
+        parallelFor(m_following.size(), followChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t mass = begin; mass < end; ++mass)
+                        {
+                            const auto row = Eigen::Index(3 * mass);
+                            z.segment<3>(row) = m_following[mass].transpose() * z.segment<3>(row);
+                        }
+                    });
+    }
     if (filtered)
     {
         for (std::size_t k = 0; k < m_masses->size(); ++k)

@@ -18,6 +18,7 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <array>
 #include <vector>
 
 namespace masse
@@ -38,6 +39,9 @@ public:
     /// The masses filtered this step and their S (both outlive the solve); empty for none.
     void setFilter(const std::vector<Index>& masses, const std::vector<Mat3>& filters) override;
     void apply(const Vector& r, Vector& z) const override;
+    /// Makes apply() follow `a`'s diagonal blocks (the analysed pattern; see above) until the next refresh. Returns
+    /// false, following nothing, when a block is not positive definite.
+    bool followDiagonal(const SparseMatrix& a);
     /// A refactorisation's updates per entry of the factor (StagedLdlt::updates over its entries), from the pattern.
     double updatesPerEntry() const
     {
@@ -57,6 +61,8 @@ public:
 
 private:
     void solveWithFactor(const Vector& b, Vector& x) const;
+    /// Mass `mass`'s diagonal block of `a` (the analysed pattern).
+    Mat3 diagonalBlock(const SparseMatrix& a, std::size_t mass) const;
 
     using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
 
@@ -79,6 +85,13 @@ private:
     std::vector<float> m_diagonal;          ///< D, rounded to single precision at each refresh
     mutable std::vector<float> m_permuted;  ///< the solves' work vector, in single precision (see solveWithFactor)
     mutable std::vector<float> m_scattered; ///< the backward solve's sums of the solved rows' entries, per column
+    /// Per mass, the value indices of its diagonal block's three columns' top entries (the block's rows follow them).
+    std::vector<std::array<SparseMatrix::StorageIndex, 3>> m_diagonalSlots;
+    std::vector<Mat3> m_factoredBlocks; ///< per mass, C_i: the Cholesky factor of its block in the factored matrix
+    std::vector<Mat3> m_following;      ///< per mass, R_i^-T = C_i C'_i^-1 (lower triangular), while m_followed
+    bool m_canFollow = false;           ///< every mass's diagonal block is whole in the analysed pattern
+    bool m_blocksFactored = false;      ///< m_factoredBlocks holds the last refresh's
+    bool m_followed = false;
     bool m_ready = false;
     bool m_rowsLaidOut = false; ///< m_rows holds the runs of the analysed pattern
     int m_refreshCount = 0;

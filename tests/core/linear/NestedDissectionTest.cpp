@@ -6,6 +6,7 @@
 
 #include "core/forces/SimdPath.h"
 #include "core/linear/CholeskyPreconditioner.h"
+#include "core/linear/ConjugateGradient.h"
 #include "core/linear/Half.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/PermutedValues.h"
@@ -282,6 +283,151 @@ TEST(CholeskyPreconditioner, ResidualsOutsideTheFloatRangeAreSolvedExactlyScaled
     Vector zero = Vector::Constant(a.rows(), 1.0);
     preconditioner.apply(Vector::Zero(a.rows()), zero);
     EXPECT_EQ(zero.cwiseAbs().maxCoeff(), 0.0);
+}
+
+/// `a` with each mass's three rows and columns scaled by `scale(mass)`: D a D, the pattern kept.
+template <class Scale> SparseMatrix rescaledByMass(const SparseMatrix& a, const Scale& scale)
+{
+    SparseMatrix scaled = a;
+    for (Eigen::Index k = 0; k < scaled.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(scaled, k); it; ++it)
+        {
+            it.valueRef() *= scale(it.row() / 3) * scale(it.col() / 3);
+        }
+    }
+    return scaled;
+}
+
+/// `a` with `extra(mass)` added to each mass's diagonal block, the pattern kept.
+template <class Extra> SparseMatrix withDiagonalBlocksAdded(const SparseMatrix& a, const Extra& extra)
+{
+    SparseMatrix changed = a;
+    for (Eigen::Index k = 0; k < changed.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(changed, k); it; ++it)
+        {
+            if (it.row() / 3 == it.col() / 3)
+            {
+                it.valueRef() += extra(it.row() / 3)(it.row() % 3, it.col() % 3);
+            }
+        }
+    }
+    return changed;
+}
+
+// Between refreshes the factor follows the current matrix's diagonal blocks (CholeskyPreconditioner.h). Where the
+// matrix moved by scaling each mass's rows and columns (a sheet softened or stiffened mass by mass), the old factor
+// following it is the new matrix's factor: its solve is the exact solve to the half-precision factor's rounding
+// (1e-3 of the largest entry, as above), where the old factor alone is off by a third or more. Following a matrix
+// whose blocks have not moved changes nothing, bit for bit; following gives the same bits at 1, 2 and 3 threads on
+// every SIMD path. With a friction damping 1000 times a mass's mass in the two directions along its surface on a tenth
+// of the masses (a forming scene's contacts), when those contacts move on by three masses, the conjugate gradient with
+// the old factor following takes at most half the iterations it takes without (measured 53 against 191), and when
+// their dampings are resized (0.3 and 3 times) fewer (11 against 14). (Where such a damping appears on a mass that
+// had none, the congruence keeps the mass's couplings in proportion to its grown block: 41 iterations against 35.)
+// A factor whose pattern lacks the masses' whole blocks does not follow.
+TEST(CholeskyPreconditioner, AnOldFactorFollowingTheDiagonalBlocksSolvesAMatrixRescaledMassByMass)
+{
+    const MassSpringSystem sheet = paperSheet(16);
+    const SparseMatrix a = blockSpringMatrix(sheet);
+    CholeskyPreconditioner preconditioner;
+    preconditioner.analyse(
+        a, nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
+    ASSERT_TRUE(preconditioner.refresh(a));
+    Vector r(a.rows());
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+
+    Vector unfollowed(a.rows());
+    preconditioner.apply(r, unfollowed);
+    ASSERT_TRUE(preconditioner.followDiagonal(a));
+    Vector followedUnmoved(a.rows());
+    preconditioner.apply(r, followedUnmoved);
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        ASSERT_EQ(followedUnmoved[i], unfollowed[i]) << "row " << i;
+    }
+
+    const SparseMatrix scaled = rescaledByMass(a, [](Eigen::Index mass) { return Real(1) + Real(mass % 5); });
+    Eigen::SimplicialLDLT<SparseMatrix> exactSolver(scaled);
+    ASSERT_EQ(exactSolver.info(), Eigen::Success);
+    const Vector exact = exactSolver.solve(r);
+    const Real bound = 1e-3 * exact.cwiseAbs().maxCoeff();
+    Vector z(a.rows());
+    preconditioner.refresh(a);
+    preconditioner.apply(r, z);
+    EXPECT_GT((z - exact).cwiseAbs().maxCoeff(), 300 * bound) << "the old factor alone";
+    ASSERT_TRUE(preconditioner.followDiagonal(scaled));
+    Vector followed(a.rows());
+    preconditioner.apply(r, followed);
+    for (Eigen::Index i = 0; i < r.size(); ++i)
+    {
+        ASSERT_NEAR(followed[i], exact[i], bound) << "row " << i;
+    }
+    const SimdPathGuard simdGuard;
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        setSimdPath(path);
+        for (const int threads : {1, 2, 3})
+        {
+            const test::BoundPool pool(threads);
+            ASSERT_TRUE(preconditioner.followDiagonal(scaled));
+            preconditioner.apply(r, z);
+            for (Eigen::Index i = 0; i < z.size(); ++i)
+            {
+                ASSERT_EQ(z[i], followed[i])
+                    << "row " << i << " at " << threads << " threads on the " << simdPathName(path) << " path";
+            }
+        }
+    }
+
+    const auto friction = [&](const SparseMatrix& base, int modulus, int shift, Real factorEven, Real factorOdd)
+    {
+        return withDiagonalBlocksAdded(base,
+                                       [=](Eigen::Index mass)
+                                       {
+                                           const Vec3 normal = Vec3(Real(mass % 3), 1, Real(mass % 2)).normalized();
+                                           const Real c = (mass / 7) % 2 == 0 ? factorEven : factorOdd;
+                                           return (mass + shift) % modulus == 0
+                                                      ? Mat3(c * (Mat3::Identity() - normal * normal.transpose()))
+                                                      : Mat3(Mat3::Zero());
+                                       });
+    };
+    ConjugateGradient cg;
+    const auto iterations = [&](const SparseMatrix& from, const SparseMatrix& to, bool follow)
+    {
+        preconditioner.refresh(from);
+        if (follow)
+        {
+            EXPECT_TRUE(preconditioner.followDiagonal(to));
+        }
+        Vector x = Vector::Zero(a.rows());
+        const SolveResult result = cg.solve(to, r, x, preconditioner, 1e-8, 1000);
+        EXPECT_TRUE(result.converged);
+        return result.iterations;
+    };
+    const SparseMatrix before = friction(a, 10, 0, 1000, 1000);
+    const SparseMatrix moved = friction(a, 10, 3, 1000, 1000);
+    const SparseMatrix resized = friction(a, 10, 0, 300, 3000);
+    const int movedAlone = iterations(before, moved, false);
+    const int movedFollowing = iterations(before, moved, true);
+    const int resizedAlone = iterations(before, resized, false);
+    const int resizedFollowing = iterations(before, resized, true);
+    std::printf("conjugate gradient iterations with the old factor, alone and following the diagonal blocks: "
+                "contacts moved %d and %d, their damping resized %d and %d\n",
+                movedAlone, movedFollowing, resizedAlone, resizedFollowing);
+    EXPECT_LE(2 * movedFollowing, movedAlone);
+    EXPECT_LT(resizedFollowing, resizedAlone);
+
+    CholeskyPreconditioner uncoupled;
+    const SparseMatrix b = springMatrix(sheet, 3);
+    uncoupled.analyse(b,
+                      nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
+    ASSERT_TRUE(uncoupled.refresh(b));
+    EXPECT_FALSE(uncoupled.followDiagonal(b));
 }
 
 /// Row `row` and column `row` of `matrix` set to zero (their entries kept in the pattern).
