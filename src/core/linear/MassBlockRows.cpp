@@ -122,16 +122,21 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     const auto* outer = lower.outerIndexPtr();
     m_place.assign(std::size_t(outer[lower.cols()]), noPlace);
     const auto* inner = lower.innerIndexPtr();
-    for (Eigen::Index column = 0; column < lower.cols(); ++column)
-    {
-        for (auto k = outer[column]; k < outer[column + 1]; ++k)
-        {
-            if (inner[k] > column)
-            {
-                m_place[std::size_t(k)] = placeOf(inner[k], StorageIndex(column));
-            }
-        }
-    }
+    // Each entry's place is its own, found from its block's runs alone: columns in chunks on the pool.
+    parallelFor(std::size_t(lower.cols()), placeColumnsPerChunk,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (auto column = Eigen::Index(begin); column < Eigen::Index(end); ++column)
+                    {
+                        for (auto k = outer[column]; k < outer[column + 1]; ++k)
+                        {
+                            if (inner[k] > column)
+                            {
+                                m_place[std::size_t(k)] = placeOf(inner[k], StorageIndex(column));
+                            }
+                        }
+                    }
+                });
     refillLowerRows(lower);
 }
 

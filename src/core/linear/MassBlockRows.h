@@ -83,6 +83,8 @@ private:
     /// Where L(row, column) (of the pattern laid out) is kept: an index into m_values, or inBlockPlaces plus one into
     /// m_inBlock.
     std::uint32_t placeOf(StorageIndex row, StorageIndex column) const;
+    /// Columns of the factor a task of the layout finds the places of.
+    static constexpr std::size_t placeColumnsPerChunk = 2048;
     /// Entries of the factor a task of the refill writes.
     static constexpr std::size_t refillEntriesPerChunk = 65536;
     static constexpr std::uint32_t inBlockPlaces = 0x80000000u;
