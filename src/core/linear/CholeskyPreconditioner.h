@@ -8,6 +8,17 @@
 ///     z = S F^-1 S r + (I - S) r
 /// with S the per-mass projection onto the free directions. This is symmetric positive definite, and equals the
 /// exact inverse of the filtered matrix S A S + I - S when F was factored from that matrix with the same filter.
+///
+/// Between refreshes the factor follows the current matrix's diagonal blocks (followDiagonal): much of what moves a
+/// forming sheet's matrix from step to step belongs to single masses (a contact's friction damping, sized by its
+/// press and slip every frame; a constraint gained; a mass's springs softened by heat), and a factor that ignores it
+/// needs a refresh for it. With C_i and C'_i the Cholesky factors of mass i's 3x3 diagonal block in the factored and
+/// in the current matrix, R = diag(C_i^-T C'_i^T) takes each factored block to the current one (R_i^T B_i R_i = B'_i),
+/// and the preconditioner becomes S R^-1 F^-1 R^-T S r + (I - S) r: still symmetric positive definite, exact where
+/// the matrix moved by scaling masses' rows and columns, and F's own where a block did not move. It keeps a mass's
+/// couplings in proportion to its block, so where a large damping appears on a mass that had none it helps less
+/// than where dampings are resized or move from mass to mass (CholeskyPreconditioner's test in
+/// NestedDissectionTest.cpp measures both).
 
 #include "core/linear/MassBlockRows.h"
 #include "core/linear/NestedDissection.h"
