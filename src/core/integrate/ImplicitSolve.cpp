@@ -234,9 +234,8 @@ IntegratorStats ImplicitSolve::runSolver()
     {
         // Build the preconditioner only when the old one has drifted: first try it for a few iterations, and rebuild
         // it from the current matrix (then finish) only if that was not enough.
-        RefreshedPreconditioner& recent = m_settings.preconditioner == PreconditionerKind::Multigrid
-                                              ? static_cast<RefreshedPreconditioner&>(m_multigrid)
-                                              : m_cholesky;
+        const bool multigrid = m_settings.preconditioner == PreconditionerKind::Multigrid;
+        RefreshedPreconditioner& recent = multigrid ? static_cast<RefreshedPreconditioner&>(m_multigrid) : m_cholesky;
         recent.setFilter(m_constrainedMasses, m_filters);
         bool fresh = false;
         if (!recent.ready())
@@ -244,7 +243,7 @@ IntegratorStats ImplicitSolve::runSolver()
             ++refactorisations;
             fresh = recent.refresh(m_matrix.matrix());
         }
-        if (!fresh && &recent == &m_cholesky)
+        if (!fresh && !multigrid)
         {
             m_cholesky.followDiagonal(m_matrix.matrix()); // see CholeskyPreconditioner.h
         }
@@ -255,7 +254,6 @@ IntegratorStats ImplicitSolve::runSolver()
         // its rate foretells that it will not finish within the allowance (ConjugateGradient's `foresee`): in the
         // plug-assist cup's stroke, where the friction under the plug changes the matrix every frame, a factor one
         // frame old would take its whole allowance of some 95 iterations before each refresh, a fresh one 2 or 3.
-        const bool multigrid = m_settings.preconditioner == PreconditionerKind::Multigrid;
         const int allowance =
             multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
                                  m_refreshBudget.freshIterations() + m_settings.multigridRefreshAfterIterations / 2)

@@ -211,18 +211,6 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
     m_scattered.resize(std::size_t(a.rows()));
 }
 
-Mat3 CholeskyPreconditioner::diagonalBlock(const SparseMatrix& a, std::size_t mass) const
-{
-    const Real* values = a.valuePtr();
-    Mat3 block;
-    for (int c = 0; c < 3; ++c)
-    {
-        const Real* column = values + m_diagonalSlots[mass][std::size_t(c)];
-        block.col(c) = Vec3(column[0], column[1], column[2]);
-    }
-    return block;
-}
-
 bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
 {
     // A refresh (not every step) copies the matrix into the factor's order; the pattern is unchanged.
@@ -240,7 +228,7 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
                     {
                         for (std::size_t mass = begin; mass < end; ++mass)
                         {
-                            if (!blockCholesky(diagonalBlock(a, mass), m_factoredBlocks[mass]))
+                            if (!blockCholesky(SlotMatrix<3>::read(a, m_diagonalSlots[mass]), m_factoredBlocks[mass]))
                             {
                                 blocksPositive = false;
                             }
@@ -280,7 +268,7 @@ bool CholeskyPreconditioner::followDiagonal(const SparseMatrix& a)
                     for (std::size_t mass = begin; mass < end; ++mass)
                     {
                         Mat3 current;
-                        if (!blockCholesky(diagonalBlock(a, mass), current))
+                        if (!blockCholesky(SlotMatrix<3>::read(a, m_diagonalSlots[mass]), current))
                         {
                             blocksPositive = false;
                             continue;

@@ -23,13 +23,13 @@
 #include "core/linear/MassBlockRows.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/RefreshedPreconditioner.h"
+#include "core/linear/SlotMatrix.h"
 
 #include "core/linear/StagedLdlt.h"
 
 #include <Eigen/SparseCore>
 
 #include <algorithm>
-#include <array>
 #include <vector>
 
 namespace masse
@@ -72,8 +72,6 @@ public:
 
 private:
     void solveWithFactor(const Vector& b, Vector& x) const;
-    /// Mass `mass`'s diagonal block of `a` (the analysed pattern).
-    Mat3 diagonalBlock(const SparseMatrix& a, std::size_t mass) const;
 
     using Permutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
 
@@ -96,8 +94,7 @@ private:
     std::vector<float> m_diagonal;          ///< D, rounded to single precision at each refresh
     mutable std::vector<float> m_permuted;  ///< the solves' work vector, in single precision (see solveWithFactor)
     mutable std::vector<float> m_scattered; ///< the backward solve's sums of the solved rows' entries, per column
-    /// Per mass, the value indices of its diagonal block's three columns' top entries (the block's rows follow them).
-    std::vector<std::array<SparseMatrix::StorageIndex, 3>> m_diagonalSlots;
+    std::vector<SlotMatrix<3>::Slots> m_diagonalSlots; ///< per mass, its diagonal block in the analysed pattern
     std::vector<Mat3> m_factoredBlocks; ///< per mass, C_i: the Cholesky factor of its block in the factored matrix
     std::vector<Mat3> m_following;      ///< per mass, R_i^-T = C_i C'_i^-1 (lower triangular), while m_followed
     bool m_canFollow = false;           ///< every mass's diagonal block is whole in the analysed pattern

@@ -11,22 +11,21 @@ namespace
 {
 using StorageIndex = MassBlockRows::StorageIndex;
 
-/// Calls visit(row, column, value) for every entry of `lower`'s strictly lower part in columns [begin, end), walking
-/// the columns in increasing order, which gives each row's entries in increasing column.
+/// Calls visit(row, column, k) for every entry of `lower`'s strictly lower part in columns [begin, end), k its index in
+/// the value array, walking the columns in increasing order, which gives each row's entries in increasing column.
 template <class Visit>
 void forEachStrictlyLower(const Eigen::SparseMatrix<Real>& lower, Eigen::Index begin, Eigen::Index end,
                           const Visit& visit)
 {
     const auto* outer = lower.outerIndexPtr();
     const auto* inner = lower.innerIndexPtr();
-    const Real* values = lower.valuePtr();
     for (Eigen::Index column = begin; column < end; ++column)
     {
         for (auto k = outer[column]; k < outer[column + 1]; ++k)
         {
             if (inner[k] > column)
             {
-                visit(inner[k], StorageIndex(column), values[k]);
+                visit(inner[k], StorageIndex(column), std::size_t(k));
             }
         }
     }
@@ -56,7 +55,7 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     const auto forEachShared = [&](const auto& visit)
     {
         forEachStrictlyLower(lower, 0, lower.cols(),
-                             [&](StorageIndex row, StorageIndex column, Real)
+                             [&](StorageIndex row, StorageIndex column, std::size_t)
                              {
                                  if (blockRowOf(row, column) < 0)
                                  {
@@ -119,32 +118,23 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
         throw std::invalid_argument("MassBlockRows: a factor of " + std::to_string(m_values.size()) +
                                     " stored values is too large for its places' 31 bits");
     }
-    const auto* outer = lower.outerIndexPtr();
-    m_place.assign(std::size_t(outer[lower.cols()]), noPlace);
-    const auto* inner = lower.innerIndexPtr();
+    m_place.assign(std::size_t(lower.outerIndexPtr()[lower.cols()]), noPlace);
     // Each entry's place is its own, found from its block's runs alone: columns in chunks on the pool.
     parallelFor(std::size_t(lower.cols()), placeColumnsPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    for (auto column = Eigen::Index(begin); column < Eigen::Index(end); ++column)
-                    {
-                        for (auto k = outer[column]; k < outer[column + 1]; ++k)
-                        {
-                            if (inner[k] > column)
-                            {
-                                m_place[std::size_t(k)] = placeOf(inner[k], StorageIndex(column));
-                            }
-                        }
-                    }
+                    forEachStrictlyLower(lower, Eigen::Index(begin), Eigen::Index(end),
+                                         [&](StorageIndex row, StorageIndex column, std::size_t k)
+                                         { m_place[k] = placeOf(row, column); });
                 });
     refillLowerRows(lower);
 }
 
 void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
 {
-    // Every stored entry of the factor has its place found once, when the pattern is laid out (m_place), so a refill
-    // is one pass over the values in their storage order, in chunks on the pool: a refresh is on the implicit step's
-    // critical path, and finding each place again from its block's runs took a fifth of a refactorisation at 64x2x64.
+    // Every stored entry's place is found when the pattern is laid out (m_place), so a refill, on the implicit step's
+    // critical path at every refresh, is one pass over the values in their storage order, in chunks on the pool,
+    // with no search of the blocks' runs.
     if (std::size_t(lower.outerIndexPtr()[lower.cols()]) != m_place.size())
     {
         throw std::invalid_argument("MassBlockRows: a refill needs the pattern last assigned");

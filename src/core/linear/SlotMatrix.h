@@ -51,9 +51,11 @@ public:
     /// Every value to zero, the pattern kept.
     void setZero() { std::fill(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros(), Real(0)); }
 
-    Block read(const Slots& slots) const
+    Block read(const Slots& slots) const { return read(m_matrix, slots); }
+    /// The block of `matrix` whose columns' top entries are at `slots` (its rows following them).
+    static Block read(const SparseMatrix& matrix, const Slots& slots)
     {
-        const Real* values = m_matrix.valuePtr();
+        const Real* values = matrix.valuePtr();
         Block block;
         for (int c = 0; c < B; ++c)
         {

@@ -875,7 +875,7 @@ TEST(SelfContact, StripWrappedAroundABoxKeepsItsFlapsApart)
 // With backward Euler 1 of 42 masses ends above, and the flaps come to 3.4 mm of each other in one frame (measured;
 // both move with the order of the pairs and the run's details: across box frictions of 0.2 to 0.5 and steps of 0.025
 // and 0.03 s, 0 to 7 of 41 to 45 end above, and the flaps' closest approach is 8.7 to 10 mm in seven of the eight runs
-// and 3.2 to 3.4 mm in one, as it was before the Cholesky factor followed the matrix's diagonal blocks). The left
+// and 3.2 to 3.4 mm in one, whatever the implicit solve's preconditioner). The left
 // flap's grabbed end is pulled round the box's corner into the right flap's fold there: without the self-contact's
 // constraint on a mass the box holds, the solve carries it 5.5 cm through the fold in a frame. The bounds, a tenth of
 // the flap and 30% of the radius, catch the flap passing through, as it does without self-collision (32 of 41).

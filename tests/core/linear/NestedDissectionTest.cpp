@@ -97,6 +97,17 @@ SparseMatrix blockSpringMatrix(const MassSpringSystem& system)
     return matrix;
 }
 
+/// A residual whose entries spread over [-0.5, 0.5) in no order.
+Vector testResidual(Eigen::Index rows)
+{
+    Vector r(rows);
+    for (Eigen::Index i = 0; i < rows; ++i)
+    {
+        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+    return r;
+}
+
 using RowPermutation = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, SparseMatrix::StorageIndex>;
 
 /// The permutation that puts the rows of a matrix with `dof` rows per mass in the dissection's order.
@@ -199,11 +210,7 @@ TEST(CholeskyPreconditioner, StagedSolveIsEigensSolveAtAnyThreadCount)
         permuted);
     ASSERT_EQ(factor.info(), Eigen::Success);
 
-    Vector r(a.rows());
-    for (Eigen::Index i = 0; i < r.size(); ++i)
-    {
-        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
-    }
+    const Vector r = testResidual(a.rows());
     // Eigen's triangular solves, with a division by D between (SimplicialLDLT::solve multiplies by 1/D instead).
     const auto solveWith = [&](const SparseMatrix& lower)
     {
@@ -263,11 +270,7 @@ TEST(CholeskyPreconditioner, ResidualsOutsideTheFloatRangeAreSolvedExactlyScaled
     preconditioner.analyse(
         a, nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
     ASSERT_TRUE(preconditioner.refresh(a));
-    Vector r(a.rows());
-    for (Eigen::Index i = 0; i < r.size(); ++i)
-    {
-        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
-    }
+    const Vector r = testResidual(a.rows());
     Vector z(a.rows());
     preconditioner.apply(r, z);
     ASSERT_GT(z.cwiseAbs().maxCoeff(), 0.0);
@@ -335,11 +338,7 @@ TEST(CholeskyPreconditioner, AnOldFactorFollowingTheDiagonalBlocksSolvesAMatrixR
     preconditioner.analyse(
         a, nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth));
     ASSERT_TRUE(preconditioner.refresh(a));
-    Vector r(a.rows());
-    for (Eigen::Index i = 0; i < r.size(); ++i)
-    {
-        r[i] = Real((i * 37) % 101) / 101 - Real(0.5);
-    }
+    const Vector r = testResidual(a.rows());
 
     Vector unfollowed(a.rows());
     preconditioner.apply(r, unfollowed);
