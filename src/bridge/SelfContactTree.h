@@ -50,7 +50,7 @@ public:
     };
 
 private:
-    /// Copies the tree into m_flat.
+    /// Copies the tree into m_flat, unless no leaf has moved since the last copy.
     void flatten();
     /// Whether vertex v is closer to the triangle than the radius plus v's reach plus its masses' largest.
     bool withinReach(const std::vector<Vec3>& x, const std::vector<Real>& reach, Real radius, Index v,
@@ -93,7 +93,8 @@ private:
     std::vector<Vec3> m_endHigh;
     std::vector<Vec3> m_moveLow; ///< per triangle, the box of its masses' moves in the swept list's motion
     std::vector<Vec3> m_moveHigh;
-    std::vector<FlatNode> m_flat;   ///< the tree, flattened at every list
+    std::vector<FlatNode> m_flat;   ///< the tree, flattened for the lists
+    bool m_flatIsCurrent = false;   ///< no leaf inserted or moved since m_flat was copied
     std::vector<Vec3> m_nodeEndLow; ///< per flattened node, boundMoves' boxes and reach
     std::vector<Vec3> m_nodeEndHigh;
     std::vector<Vec3> m_nodeMoveLow;
