@@ -314,16 +314,19 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     // A spring's two off-diagonal blocks are shared with any other spring joining the same two masses; the block
     // above the diagonal names the pair.
     std::vector<OffDiagonal> offDiagonal(springs.size(), OffDiagonal::None);
+    m_sharedBlocks = false;
     std::vector<bool> pairSeen(std::size_t(m_matrix.matrix().nonZeros()), false);
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
         const SpringEnds& e = springs.ends()[s];
         if (e.a == e.b)
         {
+            m_sharedBlocks = true; // its two blocks are one, its mass's own
             continue;
         }
         const std::size_t upper = std::size_t(e.a < e.b ? m_matrix.ab(s)[0] : m_matrix.ba(s)[0]);
         offDiagonal[s] = pairSeen[upper] ? OffDiagonal::Later : OffDiagonal::First;
+        m_sharedBlocks = m_sharedBlocks || pairSeen[upper];
         pairSeen[upper] = true;
     }
     const SpringAdjacency& adjacency = springs.adjacency(n);
@@ -371,9 +374,17 @@ void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
     {
         m_reaction[k] = m_rowDiagonal[k] * deltaV(m_constrainedMasses[k]) - m_rowRhs[k];
     }
-    for (const NeighbourBlock& neighbour : m_rowNeighbours)
+    for (std::size_t j = 0; j < m_constrainedSprings.size(); ++j)
     {
-        m_reaction[neighbour.row] += neighbour.block * deltaV(neighbour.mass);
+        const ConstrainedSpring& spring = m_constrainedSprings[j];
+        if (m_constraintOf[spring.a] >= 0)
+        {
+            m_reaction[std::size_t(m_constraintOf[spring.a])] += m_constrainedBlocks[2 * j] * deltaV(spring.b);
+        }
+        if (m_constraintOf[spring.b] >= 0)
+        {
+            m_reaction[std::size_t(m_constraintOf[spring.b])] += m_constrainedBlocks[2 * j + 1] * deltaV(spring.a);
+        }
     }
     for (VelocityConstraint& c : constraints)
     {
@@ -450,7 +461,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     m_filters.clear();
     m_prescribed.clear();
     m_bases.clear();
-    m_rowNeighbours.clear();
+    m_constrainedSprings.clear();
     m_sharedMass = false;
     if (constraints.empty())
     {
@@ -552,20 +563,29 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         m_rowDiagonal[k] = m_matrix.read(m_matrix.diagonal(i));
         m_rowRhs[k] = m_rhs.segment<3>(Eigen::Index(3 * i));
     }
+    // The springs with a constrained end, and their blocks before the filter, read once on the pool into one array
+    // that the passes below and the reactions read in sequence (a contact-rich frame constrains half the masses, and
+    // the matrix's blocks, read spring by spring, are scattered over its columns).
     const SpringSet& springs = system.springs;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
-        const Index ea = springs.ends()[s].a;
-        const Index eb = springs.ends()[s].b;
-        if (m_constraintOf[ea] >= 0)
+        const SpringEnds e = springs.ends()[s];
+        if (m_constraintOf[e.a] >= 0 || m_constraintOf[e.b] >= 0)
         {
-            m_rowNeighbours.push_back({std::size_t(m_constraintOf[ea]), eb, m_matrix.read(m_matrix.ab(s))});
-        }
-        if (m_constraintOf[eb] >= 0)
-        {
-            m_rowNeighbours.push_back({std::size_t(m_constraintOf[eb]), ea, m_matrix.read(m_matrix.ba(s))});
+            m_constrainedSprings.push_back({std::uint32_t(s), e.a, e.b});
         }
     }
+    m_constrainedBlocks.resize(2 * m_constrainedSprings.size());
+    parallelFor(m_constrainedSprings.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t j = begin; j < end; ++j)
+                    {
+                        const std::size_t s = m_constrainedSprings[j].spring;
+                        m_constrainedBlocks[2 * j] = m_matrix.read(m_matrix.ab(s));
+                        m_constrainedBlocks[2 * j + 1] = m_matrix.read(m_matrix.ba(s));
+                    }
+                });
 
     // b' = b - A c, before A is filtered.
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
@@ -573,32 +593,45 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         const Index i = m_constrainedMasses[k];
         m_rhs.segment<3>(Eigen::Index(3 * i)) -= m_matrix.read(m_matrix.diagonal(i)) * m_prescribed[k];
     }
-    for (std::size_t s = 0; s < springs.size(); ++s)
+    for (std::size_t j = 0; j < m_constrainedSprings.size(); ++j)
     {
-        const Index ea = springs.ends()[s].a;
-        const Index eb = springs.ends()[s].b;
+        const Index ea = m_constrainedSprings[j].a;
+        const Index eb = m_constrainedSprings[j].b;
         if (m_constraintOf[eb] >= 0)
         {
-            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= m_matrix.read(m_matrix.ab(s)) * changeOf(eb);
+            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= m_constrainedBlocks[2 * j] * changeOf(eb);
         }
         if (m_constraintOf[ea] >= 0)
         {
-            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= m_matrix.read(m_matrix.ba(s)) * changeOf(ea);
+            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= m_constrainedBlocks[2 * j + 1] * changeOf(ea);
         }
     }
-    // Filter: rows and columns of constrained masses.
-    for (std::size_t s = 0; s < springs.size(); ++s)
+    // Filter: rows and columns of constrained masses. Each spring writes its own two blocks, on the pool; springs
+    // sharing their blocks filter them one after the other, each the block the one before left.
+    const auto filterSprings = [&](std::size_t begin, std::size_t end)
     {
-        const Mat3* filterA = filterOf(springs.ends()[s].a);
-        const Mat3* filterB = filterOf(springs.ends()[s].b);
-        if (!filterA && !filterB)
+        for (std::size_t j = begin; j < end; ++j)
         {
-            continue;
+            const ConstrainedSpring& spring = m_constrainedSprings[j];
+            const Mat3* filterA = filterOf(spring.a);
+            const Mat3* filterB = filterOf(spring.b);
+            const Mat3 sa = filterA ? *filterA : Mat3::Identity();
+            const Mat3 sb = filterB ? *filterB : Mat3::Identity();
+            const SlotMatrix<3>::Slots& ab = m_matrix.ab(spring.spring);
+            const SlotMatrix<3>::Slots& ba = m_matrix.ba(spring.spring);
+            const Mat3 blockAB = m_sharedBlocks ? m_matrix.read(ab) : m_constrainedBlocks[2 * j];
+            const Mat3 blockBA = m_sharedBlocks ? m_matrix.read(ba) : m_constrainedBlocks[2 * j + 1];
+            m_matrix.write(ab, sa * blockAB * sb);
+            m_matrix.write(ba, sb * blockBA * sa);
         }
-        const Mat3 sa = filterA ? *filterA : Mat3::Identity();
-        const Mat3 sb = filterB ? *filterB : Mat3::Identity();
-        m_matrix.write(m_matrix.ab(s), sa * m_matrix.read(m_matrix.ab(s)) * sb);
-        m_matrix.write(m_matrix.ba(s), sb * m_matrix.read(m_matrix.ba(s)) * sa);
+    };
+    if (m_sharedBlocks)
+    {
+        filterSprings(0, m_constrainedSprings.size());
+    }
+    else
+    {
+        parallelFor(m_constrainedSprings.size(), springChunkSize, filterSprings);
     }
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
     {

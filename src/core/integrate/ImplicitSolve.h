@@ -179,13 +179,17 @@ private:
     // The constrained rows as they were before filtering, to give each constraint its reaction after the solve.
     std::vector<Mat3> m_rowDiagonal;
     std::vector<Vec3> m_rowRhs;
-    struct NeighbourBlock
+    /// A spring with a constrained end, and its two off-diagonal blocks as the matrix held them before the filter:
+    /// the constrained ends' reactions read them after the solve, and the right-hand side and the filter before it.
+    struct ConstrainedSpring
     {
-        std::size_t row; ///< index into m_constrainedMasses
-        Index mass;      ///< the neighbour
-        Mat3 block;
+        std::uint32_t spring;
+        Index a;
+        Index b;
     };
-    std::vector<NeighbourBlock> m_rowNeighbours;
+    std::vector<ConstrainedSpring> m_constrainedSprings; ///< in increasing spring order
+    std::vector<Mat3> m_constrainedBlocks;               ///< per constrained spring, its blocks (a, b) and (b, a)
+    bool m_sharedBlocks = false; ///< two springs join the same two masses (OffDiagonal::Later), sharing their blocks
     std::vector<Vec3> m_reaction;
     std::vector<int> m_firstConstraint; ///< per constrained mass, its first constraint (splitSharedReactions)
     bool m_sharedMass = false;          ///< some mass has two constraints this round (applyConstraints)
