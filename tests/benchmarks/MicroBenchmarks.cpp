@@ -14,6 +14,7 @@
 #include "core/forces/Forces.h"
 #include "core/integrate/Integrator.h"
 #include "core/linear/CholeskyPreconditioner.h"
+#include "core/linear/ConjugateGradient.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/SlotMatrix.h"
 
@@ -156,6 +157,35 @@ void choleskyApply(benchmark::State& state)
     state.counters["rows"] = double(r.size());
 }
 BENCHMARK(choleskyApply)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+
+/// The conjugate gradient's product with the implicit matrix, on one thread: argument 0 finds each mass's three rows by
+/// comparing their columns (multiplySymmetricRows), 1 is told they come in threes (multiplyMassRows).
+void implicitProduct(benchmark::State& state)
+{
+    const MassSpringSystem sheet = paperSheet(int(state.range(0)));
+    const SlotMatrix<3> matrix = implicitShapedMatrix(sheet);
+    const SparseMatrix& a = matrix.matrix();
+    Eigen::VectorX<Real> x(a.rows());
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+    {
+        x[i] = Real((i * 37) % 101) / 101 - Real(0.5);
+    }
+    Eigen::VectorX<Real> y(x.size());
+    for (auto _ : state)
+    {
+        if (state.range(1) == 0)
+        {
+            multiplySymmetricRows(a, x, y, 0, a.rows());
+        }
+        else
+        {
+            multiplyMassRows(a, x, y, 0, a.rows());
+        }
+        benchmark::DoNotOptimize(y.data());
+    }
+    state.counters["rows"] = double(a.rows());
+}
+BENCHMARK(implicitProduct)->Args({64, 0})->Args({64, 1})->Args({128, 0})->Args({128, 1})->Unit(benchmark::kMicrosecond);
 
 /// One frame's contact for the sheet resting on two boxes (bench-contact.json): detection (Bullet's broadphase,
 /// then face planes or GJK for every mass), one projection pass and the frame's end.

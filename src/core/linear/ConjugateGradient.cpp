@@ -93,8 +93,46 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
     }
 }
 
+void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end)
+{
+    const auto* outer = a.outerIndexPtr();
+    const auto* inner = a.innerIndexPtr();
+    const Real* values = a.valuePtr();
+    const Real* in = x.data();
+    for (Eigen::Index row = begin; row < end; row += 3)
+    {
+        // As multiplySymmetricRows sums a mass's three rows, without comparing their columns first.
+        const auto count = outer[row + 1] - outer[row];
+        const Real* v0 = values + outer[row];
+        const Real* v1 = values + outer[row + 1];
+        const Real* v2 = values + outer[row + 2];
+        const auto* columns = inner + outer[row];
+        Real sum0 = 0;
+        Real sum1 = 0;
+        Real sum2 = 0;
+        for (std::ptrdiff_t k = 0; k < count; ++k)
+        {
+            const Real xk = in[columns[k]];
+            sum0 += v0[k] * xk;
+            sum1 += v1[k] * xk;
+            sum2 += v2[k] * xk;
+        }
+        y[row] = sum0;
+        y[row + 1] = sum1;
+        y[row + 2] = sum2;
+    }
+}
+
 void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector& y) const
 {
+    static_assert(productChunk % 3 == 0, "a range of the product starts on a mass's first row");
+    if (m_massRows)
+    {
+        parallelFor(std::size_t(a.rows()), std::size_t(productChunk),
+                    [&](std::size_t begin, std::size_t end)
+                    { multiplyMassRows(a, x, y, Eigen::Index(begin), Eigen::Index(end)); });
+        return;
+    }
     parallelFor(std::size_t(a.rows()), std::size_t(productChunk),
                 [&](std::size_t begin, std::size_t end)
                 { multiplySymmetricRows(a, x, y, Eigen::Index(begin), Eigen::Index(end)); });

@@ -36,6 +36,10 @@ struct SolveResult
 /// y = A x for a symmetric A stored by columns, computed row by row over rows [begin, end): column j of a symmetric
 /// matrix is its row j, so each output entry is a gather and row ranges are independent.
 void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end);
+/// The same product, bit for bit, for a matrix whose rows come in threes sharing their columns (a mass's three rows in
+/// the implicit matrix's 3x3 blocks): multiplySymmetricRows compares each mass's three rows' columns before summing
+/// them together, which reads the column indices three times over. `begin` and `end` are multiples of three.
+void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end);
 
 class ConjugateGradient
 {
@@ -49,6 +53,10 @@ public:
     SolveResult solve(const SparseMatrix& a, const Vector& b, Vector& x, const Preconditioner& preconditioner,
                       Real tolerance, int maxIterations, bool foresee = false);
 
+    /// Whether the matrices solved have their rows in threes sharing their columns (multiplyMassRows); false by
+    /// default, and the product then finds the threes itself.
+    void setMassRows(bool massRows) { m_massRows = massRows; }
+
 private:
     void multiply(const SparseMatrix& a, const Vector& x, Vector& y) const;
     Real dot(const Vector& u, const Vector& v);
@@ -57,5 +65,6 @@ private:
     Vector m_direction;
     Vector m_preconditioned;
     Vector m_product;
+    bool m_massRows = false;
 };
 } // namespace masse

@@ -164,6 +164,19 @@ template <int B> void expectProductIsEachRowsPlainSum()
             EXPECT_EQ(y[row], expected[row]) << "row " << row << " from " << begin;
         }
     }
+    if constexpr (B == 3)
+    {
+        // Without looking at the columns: the same sums, over the whole matrix and from a later mass.
+        for (const Eigen::Index begin : {Eigen::Index(0), Eigen::Index(3)})
+        {
+            Vector y = Vector::Constant(a.rows(), -1);
+            multiplyMassRows(a, x, y, begin, a.rows());
+            for (Eigen::Index row = 0; row < a.rows(); ++row)
+            {
+                EXPECT_EQ(y[row], row < begin ? Real(-1) : expected[row]) << "row " << row << " from " << begin;
+            }
+        }
+    }
 }
 
 TEST(SlotMatrix, ProductSumsEachRowInItsOwnOrder)
