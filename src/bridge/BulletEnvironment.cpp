@@ -247,6 +247,7 @@ int BulletEnvironment::addObstacle(const ObstacleBody& body, bool partOfRoom)
                                 btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
     recordBroadphaseBox(*obstacle);
     m_obstacles.push_back(std::move(obstacle));
+    ++m_worldVersion;
     return int(m_obstacles.size()) - 1;
 }
 
@@ -268,6 +269,7 @@ void BulletEnvironment::extendPath(int index, const std::vector<PoseKey>& keys)
         }
         obstacle.path.keys.push_back(key);
     }
+    ++m_worldVersion;
     setTime(m_time);
 }
 
@@ -281,6 +283,7 @@ void BulletEnvironment::steer(int index, Real time, const Vec3& target, Real spe
     {
         obstacle.path.keys.push_back(PoseKey{arrival, target, now.orientation});
     }
+    ++m_worldVersion;
     setTime(m_time);
 }
 
@@ -461,20 +464,63 @@ void BulletEnvironment::findContacts(const std::vector<Vec3>& x, const std::vect
         m_nearby.assign(x.size() * std::size_t(m_meshObstacles), NearbyTriangles{});
     }
     m_chunkEights.reserveChunks(chunks);
+    // A moving obstacle's planes move with it: the still masses' planes are reused only among still obstacles.
+    const bool stillWorld = std::none_of(m_obstacles.begin(), m_obstacles.end(),
+                                         [](const auto& obstacle) { return obstacle->path.isKinematic(); });
+    const bool reuse =
+        stillWorld && m_still.radius == radius && m_still.world == m_worldVersion && m_still.x.size() == x.size();
+    m_still.x.resize(x.size());
+    m_still.reach.resize(x.size());
+    m_still.firstPlane.resize(x.size());
+    m_still.endPlane.resize(x.size());
+    m_still.planes.reserveChunks(chunks);
     parallelFor(x.size(), detectionChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     const std::size_t chunk = begin / detectionChunkSize;
                     ChunkQuery query{
                         x, reach, radius, dt, m_fastestKinematic * dt, m_chunkEights[chunk], m_nearby.data()};
+                    query.stillReused = reuse;
                     findChunkContacts(query, begin, end, out[chunk]);
+                    m_still.planes[chunk] = out[chunk];
                 });
+    m_still.radius = stillWorld ? radius : Real(-1);
+    m_still.world = m_worldVersion;
+}
+
+bool BulletEnvironment::stillSince(const ChunkQuery& query, std::size_t i) const
+{
+    return query.stillReused && query.x[i] == m_still.x[i] && query.reach[i] == m_still.reach[i];
 }
 
 void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, std::size_t end,
-                                          std::vector<ContactPlane>& planes) const
+                                          std::vector<ContactPlane>& planes)
 {
     planes.clear();
+    const std::vector<ContactPlane>& stillPlanes = m_still.planes[begin / detectionChunkSize];
+    // A mass still since the last detection copies its planes from it (m_still); the others ask the obstacles. Each
+    // mass's planes are listed in mass order either way.
+    const auto takeStillPlanes = [&](std::size_t i)
+    {
+        const std::uint32_t first = std::uint32_t(planes.size());
+        planes.insert(planes.end(), stillPlanes.begin() + std::ptrdiff_t(m_still.firstPlane[i]),
+                      stillPlanes.begin() + std::ptrdiff_t(m_still.endPlane[i]));
+        m_still.firstPlane[i] = first;
+        m_still.endPlane[i] = std::uint32_t(planes.size());
+    };
+    bool allStill = true;
+    for (std::size_t i = begin; i < end && allStill; ++i)
+    {
+        allStill = stillSince(query, i);
+    }
+    if (allStill)
+    {
+        for (std::size_t i = begin; i < end; ++i)
+        {
+            takeStillPlanes(i);
+        }
+        return;
+    }
     // One broadphase query for the chunk's whole reach box; each mass then tests the few obstacles it found against its
     // own box. An obstacle left out there cannot give a plane: a plane needs the mass within its search distance of
     // the surface, hence its box to meet the obstacle's.
@@ -487,10 +533,6 @@ void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, 
         hi = hi.cwiseMax(query.x[i] + extent);
     }
     candidates(lo, hi, query.near);
-    if (query.near.empty())
-    {
-        return;
-    }
     // On the AVX-512 path, eight masses at a time get their face planes of each convex obstacle near the chunk in one
     // pass (FacePlanesOfEight.h); a mass whose nearest point is on an edge, and every other case, takes the scalar
     // query. Planes are listed mass by mass either way.
@@ -501,6 +543,11 @@ void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, 
         const std::size_t last = std::min(first + 8, end);
         query.first = first;
         query.batched = 0;
+        std::uint8_t still = 0;
+        for (std::size_t i = first; i < last; ++i)
+        {
+            still |= std::uint8_t(stillSince(query, i) ? 1u << (i - first) : 0u);
+        }
         // The eight's box (each mass's own, as appendMassPlanes tests): an obstacle it does not meet gives none of the
         // eight a plane, so its pass is skipped (in a chunk spanning two obstacles, half the passes would be wasted).
         Vec3 eightLo = Vec3::Constant(std::numeric_limits<Real>::infinity());
@@ -511,7 +558,9 @@ void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, 
             eightLo = eightLo.cwiseMin(query.x[i] - extent);
             eightHi = eightHi.cwiseMax(query.x[i] + extent);
         }
-        for (std::size_t slot = 0; byEights && last == first + 8 && slot < query.near.size() && slot < 8; ++slot)
+        const bool eightStill = still == 0xFF;
+        for (std::size_t slot = 0; byEights && !eightStill && last == first + 8 && slot < query.near.size() && slot < 8;
+             ++slot)
         {
             const Obstacle& obstacle = *m_obstacles[std::size_t(query.near[slot])];
             const bool meets = !((eightLo.array() > obstacle.broadphaseMax.array()).any() ||
@@ -524,7 +573,16 @@ void BulletEnvironment::findChunkContacts(ChunkQuery& query, std::size_t begin, 
         }
         for (std::size_t i = first; i < last; ++i)
         {
+            if ((still >> (i - first) & 1u) != 0)
+            {
+                takeStillPlanes(i);
+                continue;
+            }
+            m_still.firstPlane[i] = std::uint32_t(planes.size());
             appendMassPlanes(query, i, planes);
+            m_still.endPlane[i] = std::uint32_t(planes.size());
+            m_still.x[i] = query.x[i];
+            m_still.reach[i] = query.reach[i];
         }
     }
 }

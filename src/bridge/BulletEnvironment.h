@@ -113,10 +113,12 @@ private:
         std::uint8_t batched = 0;               ///< bit s: eights[s] holds near[s]'s planes for the current eight
         std::size_t first = 0;                  ///< the current eight's first mass
         std::vector<Closest> features{};        ///< closestFeatures' answer, reused mass to mass
+        bool stillReused = false;               ///< a still mass takes its planes of the last detection (see m_still)
     };
     /// The planes of the masses [begin, end), into `planes` (replacing what it held).
-    void findChunkContacts(ChunkQuery& query, std::size_t begin, std::size_t end,
-                           std::vector<ContactPlane>& planes) const;
+    void findChunkContacts(ChunkQuery& query, std::size_t begin, std::size_t end, std::vector<ContactPlane>& planes);
+    /// Whether mass i's position and reach are those of the last detection, which may be reused (m_still).
+    bool stillSince(const ChunkQuery& query, std::size_t i) const;
     /// Appends mass i's planes of the chunk's obstacles: from the current eight's face planes where a face plane gives
     /// its nearest point, else from closestFeatures.
     void appendMassPlanes(ChunkQuery& query, std::size_t i, std::vector<ContactPlane>& planes) const;
@@ -136,5 +138,22 @@ private:
     PerChunk<std::vector<FacePlanesOfEight>> m_chunkEights; ///< per chunk, its eights' face planes of each obstacle
     int m_meshObstacles = 0;                                ///< obstacles that are meshes (each has a mesh slot)
     std::vector<NearbyTriangles> m_nearby; ///< mass i's kept triangles of mesh slot s at i * m_meshObstacles + s
+
+    /// A mass's planes depend on its position and reach, the radius and the obstacles alone: among still obstacles, a
+    /// mass whose position and reach are the same bits as at the last detection has the same planes, which it takes
+    /// from that detection's lists instead of asking the obstacles again (a sheet held on a mould: half the masses of
+    /// the vacuum cup and the pressure tray from their first frames in contact on).
+    struct StillMasses
+    {
+        std::vector<Vec3> x;                   ///< per mass, its position at the last detection
+        std::vector<Real> reach;               ///< and its reach
+        std::vector<std::uint32_t> firstPlane; ///< its planes in its chunk's list: [firstPlane, endPlane)
+        std::vector<std::uint32_t> endPlane;
+        PerChunk<std::vector<ContactPlane>> planes; ///< each chunk's planes as that detection found them
+        Real radius = -1;                           ///< the radius it was made for; negative: nothing to reuse
+        std::uint64_t world = 0;                    ///< the obstacles it was made for (m_world's version)
+    };
+    StillMasses m_still;
+    std::uint64_t m_worldVersion = 0; ///< counts changes to the obstacles: added, their paths extended or steered
 };
 } // namespace masse::bridge

@@ -98,3 +98,87 @@ TEST(NearbyTriangles, KeptTrianglesGiveTheSamePlanesAsAFreshWalk)
     // Most masses are near the mould: the comparison covers many planes, not a few.
     EXPECT_GT(planesCompared, 12 * n);
 }
+
+// A mass whose position and reach are the same bits as at the last detection takes its planes from that detection
+// (BulletEnvironment's still masses). Around the same mould and a box (a convex obstacle, whose face planes come eight
+// masses at a time), 2,000 masses over 8 frames: a third stay where they are, a third move, a third keep their place
+// but change their reach. Among still obstacles and with a box that moves (its path's keys) from frame 4 on, an
+// environment kept from frame to frame must give, in every field, the planes of a new one that detects once.
+TEST(NearbyTriangles, StillMassesTakeTheirPlanesFromTheLastDetectionExactly)
+{
+    const auto box = [](bool moving)
+    {
+        ObstacleBody body;
+        body.name = "box";
+        body.shape.kind = SolidKind::Hull;
+        for (int k = 0; k < 8; ++k)
+        {
+            body.shape.hullPoints.emplace_back(k & 1 ? 0.02 : -0.02, k & 2 ? 0.01 : -0.01, k & 4 ? 0.02 : -0.02);
+        }
+        body.path.rest.position = Vec3(0.3, 0.02, 0.05);
+        if (moving)
+        {
+            body.path.keys = {PoseKey{0.1, Vec3(0.3, 0.02, 0.05)}, PoseKey{0.4, Vec3(0.3, 0.0, 0.05)}};
+        }
+        return body;
+    };
+    std::mt19937 random(11);
+    std::uniform_real_distribution<Real> unit(-1, 1);
+    const std::size_t n = 2000;
+    const Real radius = 0.002;
+    for (const bool moving : {false, true})
+    {
+        BulletEnvironment kept;
+        kept.addObstacle(cupMould());
+        kept.addObstacle(box(moving));
+        std::vector<Vec3> x(n);
+        for (std::size_t i = 0; i < n; ++i)
+        {
+            const Obstacle& near = kept.obstacle(int(i % 2));
+            const Vec3& vertex = near.geometry.vertices[std::size_t(random() % near.geometry.vertices.size())];
+            x[i] = near.pose.orientation * vertex + near.pose.position +
+                   0.004 * Vec3(unit(random), unit(random), unit(random));
+        }
+        std::vector<Real> reach(n, 0.004);
+        std::size_t planesCompared = 0;
+        for (int frame = 0; frame < 8; ++frame)
+        {
+            const Real time = 0.05 * frame;
+            kept.setTime(time);
+            ContactPlaneLists fromKept;
+            kept.findContacts(x, reach, radius, 0.05, fromKept);
+            BulletEnvironment fresh;
+            fresh.addObstacle(cupMould());
+            fresh.addObstacle(box(moving));
+            fresh.setTime(time);
+            ContactPlaneLists fromFresh;
+            fresh.findContacts(x, reach, radius, 0.05, fromFresh);
+
+            const std::vector<ContactPlane> a = test::joinedPlanes(fromKept);
+            const std::vector<ContactPlane> b = test::joinedPlanes(fromFresh);
+            ASSERT_EQ(a.size(), b.size()) << "frame " << frame << (moving ? ", moving box" : "");
+            for (std::size_t k = 0; k < a.size(); ++k)
+            {
+                ASSERT_EQ(a[k].mass, b[k].mass) << "frame " << frame << ", plane " << k;
+                EXPECT_EQ(a[k].obstacle, b[k].obstacle) << "mass " << a[k].mass;
+                EXPECT_EQ(a[k].face, b[k].face) << "mass " << a[k].mass;
+                EXPECT_EQ(a[k].normal, b[k].normal) << "mass " << a[k].mass;
+                EXPECT_EQ(a[k].offset, b[k].offset) << "mass " << a[k].mass;
+                EXPECT_EQ(a[k].velocity, b[k].velocity) << "mass " << a[k].mass;
+            }
+            planesCompared += a.size();
+            for (std::size_t i = 0; i < n; ++i)
+            {
+                if (i % 3 == 1)
+                {
+                    x[i] += 0.001 * Vec3(unit(random), unit(random), unit(random));
+                }
+                else if (i % 3 == 2)
+                {
+                    reach[i] = 0.004 * (1.5 + unit(random));
+                }
+            }
+        }
+        EXPECT_GT(planesCompared, 4 * n) << "most masses should be near an obstacle";
+    }
+}
