@@ -25,8 +25,7 @@ constexpr Real closingPerSolve = 6;
 constexpr int maxSolvesAFrame = 8;
 /// Vertices whose pairs at rest are sought at once while the exclusions are listed: few enough that their pairs
 /// (about 4 (3 radius / spacing)^2 each, held twice) stay below the lists they leave, and enough that the
-/// broadphase's refit of the whole sheet before each batch (4 ms at 128x2x128) is paid a few times, not once per
-/// thousand vertices.
+/// broadphase's refit of the whole sheet before each batch (4 ms at 128x2x128) is paid only a few times.
 constexpr std::size_t exclusionBatchSize = 4096;
 } // namespace
 

@@ -348,18 +348,7 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
         }
     }
     // Each mass's three columns hold the same blocks: the conjugate gradient's product may take them as threes.
-    const auto* inner = m_matrix.matrix().innerIndexPtr();
-    bool massRows = true;
-    for (std::size_t i = 0; i < n && massRows; ++i)
-    {
-        const auto count = outer[3 * i + 1] - outer[3 * i];
-        for (std::size_t c = 1; c < 3; ++c)
-        {
-            massRows = massRows && outer[3 * i + c + 1] - outer[3 * i + c] == count &&
-                       std::equal(inner + outer[3 * i], inner + outer[3 * i + 1], inner + outer[3 * i + c]);
-        }
-    }
-    m_cg.setMassRows(massRows);
+    m_cg.setMassRows(rowsComeInThrees(m_matrix.matrix()));
     const Eigen::Index size = m_matrix.matrix().rows();
     m_rhs.setZero(size);
     m_deltaV.setZero(size);

@@ -43,43 +43,57 @@ void updateDirection(Vector& p, const Vector& z, Real beta, Eigen::Index begin, 
 }
 } // namespace
 
+namespace
+{
+/// Whether rows `first` and `second` of `a` (its columns: the matrix is symmetric) have the same columns.
+[[gnu::always_inline]] inline bool sameColumns(const SparseMatrix& a, Eigen::Index first, Eigen::Index second)
+{
+    const auto* outer = a.outerIndexPtr();
+    const auto* inner = a.innerIndexPtr();
+    return outer[first + 1] - outer[first] == outer[second + 1] - outer[second] &&
+           std::equal(inner + outer[first], inner + outer[first + 1], inner + outer[second]);
+}
+
+/// y's rows `row` to `row + 2`, a mass's three rows sharing row `row`'s columns, summed together, each in its own
+/// order as a row alone is: the three running sums do not wait on one another and each x is read once, and each row's
+/// sum is the same as alone, bit for bit.
+[[gnu::always_inline]] inline void multiplyMassRow(const SparseMatrix& a, const Real* in, Vector& y, Eigen::Index row)
+{
+    const auto* outer = a.outerIndexPtr();
+    const auto count = outer[row + 1] - outer[row];
+    const Real* v0 = a.valuePtr() + outer[row];
+    const Real* v1 = a.valuePtr() + outer[row + 1];
+    const Real* v2 = a.valuePtr() + outer[row + 2];
+    const auto* columns = a.innerIndexPtr() + outer[row];
+    Real sum0 = 0;
+    Real sum1 = 0;
+    Real sum2 = 0;
+    for (std::ptrdiff_t k = 0; k < count; ++k)
+    {
+        const Real xk = in[columns[k]];
+        sum0 += v0[k] * xk;
+        sum1 += v1[k] * xk;
+        sum2 += v2[k] * xk;
+    }
+    y[row] = sum0;
+    y[row + 1] = sum1;
+    y[row + 2] = sum2;
+}
+} // namespace
+
 void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end)
 {
     const auto* outer = a.outerIndexPtr();
     const auto* inner = a.innerIndexPtr();
     const Real* values = a.valuePtr();
     const Real* in = x.data();
-    const auto sameColumns = [&](Eigen::Index first, Eigen::Index second)
-    {
-        return outer[first + 1] - outer[first] == outer[second + 1] - outer[second] &&
-               std::equal(inner + outer[first], inner + outer[first + 1], inner + outer[second]);
-    };
     Eigen::Index row = begin;
     while (row < end)
     {
-        if (row + 2 < end && sameColumns(row, row + 1) && sameColumns(row, row + 2))
+        // A mass's three rows (the implicit matrix is in dense 3x3 blocks) share their columns.
+        if (row + 2 < end && sameColumns(a, row, row + 1) && sameColumns(a, row, row + 2))
         {
-            // A mass's three rows (the implicit matrix is in dense 3x3 blocks) share their columns: summed together,
-            // each in its own order as below, so the three running sums do not wait on one another and each x is
-            // read once. Each row's sum is the same as alone, bit for bit.
-            const auto count = outer[row + 1] - outer[row];
-            const Real* v0 = values + outer[row];
-            const Real* v1 = values + outer[row + 1];
-            const Real* v2 = values + outer[row + 2];
-            const auto* columns = inner + outer[row];
-            Real sum0 = 0;
-            Real sum1 = 0;
-            Real sum2 = 0;
-            for (std::ptrdiff_t k = 0; k < count; ++k)
-            {
-                const Real xk = in[columns[k]];
-                sum0 += v0[k] * xk;
-                sum1 += v1[k] * xk;
-                sum2 += v2[k] * xk;
-            }
-            y[row] = sum0;
-            y[row + 1] = sum1;
-            y[row + 2] = sum2;
+            multiplyMassRow(a, in, y, row);
             row += 3;
             continue;
         }
@@ -95,32 +109,26 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
 
 void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end)
 {
-    const auto* outer = a.outerIndexPtr();
-    const auto* inner = a.innerIndexPtr();
-    const Real* values = a.valuePtr();
-    const Real* in = x.data();
     for (Eigen::Index row = begin; row < end; row += 3)
     {
-        // As multiplySymmetricRows sums a mass's three rows, without comparing their columns first.
-        const auto count = outer[row + 1] - outer[row];
-        const Real* v0 = values + outer[row];
-        const Real* v1 = values + outer[row + 1];
-        const Real* v2 = values + outer[row + 2];
-        const auto* columns = inner + outer[row];
-        Real sum0 = 0;
-        Real sum1 = 0;
-        Real sum2 = 0;
-        for (std::ptrdiff_t k = 0; k < count; ++k)
-        {
-            const Real xk = in[columns[k]];
-            sum0 += v0[k] * xk;
-            sum1 += v1[k] * xk;
-            sum2 += v2[k] * xk;
-        }
-        y[row] = sum0;
-        y[row + 1] = sum1;
-        y[row + 2] = sum2;
+        multiplyMassRow(a, x.data(), y, row);
     }
+}
+
+bool rowsComeInThrees(const SparseMatrix& a)
+{
+    if (a.rows() % 3 != 0)
+    {
+        return false;
+    }
+    for (Eigen::Index row = 0; row < a.rows(); row += 3)
+    {
+        if (!sameColumns(a, row, row + 1) || !sameColumns(a, row, row + 2))
+        {
+            return false;
+        }
+    }
+    return true;
 }
 
 void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector& y) const

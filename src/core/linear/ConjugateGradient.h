@@ -40,6 +40,8 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
 /// the implicit matrix's 3x3 blocks): multiplySymmetricRows compares each mass's three rows' columns before summing
 /// them together, which reads the column indices three times over. `begin` and `end` are multiples of three.
 void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end);
+/// Whether every three rows of `a` from the first share their columns, as multiplyMassRows needs.
+bool rowsComeInThrees(const SparseMatrix& a);
 
 class ConjugateGradient
 {
@@ -53,8 +55,8 @@ public:
     SolveResult solve(const SparseMatrix& a, const Vector& b, Vector& x, const Preconditioner& preconditioner,
                       Real tolerance, int maxIterations, bool foresee = false);
 
-    /// Whether the matrices solved have their rows in threes sharing their columns (multiplyMassRows); false by
-    /// default, and the product then finds the threes itself.
+    /// Whether the matrices solved have their rows in threes sharing their columns (rowsComeInThrees, for
+    /// multiplyMassRows); false by default, and the product then finds the threes itself.
     void setMassRows(bool massRows) { m_massRows = massRows; }
 
 private:

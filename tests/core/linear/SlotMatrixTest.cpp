@@ -164,6 +164,7 @@ template <int B> void expectProductIsEachRowsPlainSum()
             EXPECT_EQ(y[row], expected[row]) << "row " << row << " from " << begin;
         }
     }
+    EXPECT_EQ(rowsComeInThrees(a), B == 3) << "a mass's rows share their columns in the 3x3 matrix alone";
     if constexpr (B == 3)
     {
         // Without looking at the columns: the same sums, over the whole matrix and from a later mass.
