@@ -89,8 +89,10 @@ BandMap drawBandMap(const scene::Scene& finest, const scene::RestLayerField& coa
         (order.extrapolated ? " (Richardson, order " + formatNumber("%.2f", order.order) + ")" : " (the difference)") +
         ": " + formatNumber("%.3f", figures.largest) + " h0 at most, " + formatNumber("%.3f", figures.mean) +
         " on average";
-    scene::drawTopViewMap(finest, band, pngPath, finest.spec().name + ": thickness error band, top view", subtitle,
-                          "band (h/h0)", "rgb 21,22,23");
+    scene::PlotBatch plots;
+    scene::drawTopViewMap(plots, finest, band, pngPath, finest.spec().name + ": thickness error band, top view",
+                          subtitle, "band (h/h0)", "rgb 21,22,23");
+    plots.finish();
     return figures;
 }
 struct ConvergeOptions

@@ -337,12 +337,14 @@ RunResult runScene(Scene& scene, const RunOptions& options, std::ostream& progre
     }
     if (writing)
     {
+        PlotBatch plots; // the reports' plots draw side by side while the rest is written
         for (const std::unique_ptr<RunningReport>& report : running)
         {
-            report->write(scene, options.outDir);
+            report->write(scene, options.outDir, plots);
         }
         writeFileAtomically(options.outDir + "/events.csv", eventsCsv(scene));
         writeFileAtomically(options.outDir + "/summary.json", result.summary.dump(2) + "\n");
+        plots.finish();
     }
     return result;
 }

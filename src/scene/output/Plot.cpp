@@ -2,11 +2,14 @@
 
 #include "scene/output/AtomicFile.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <system_error>
 #include <unistd.h>
 
 namespace masse::scene
@@ -43,5 +46,62 @@ void plotPng(const std::string& script, const std::string& pngPath, int width, i
         throw std::runtime_error("gnuplot failed drawing " + pngPath + (messages.empty() ? "" : ": " + messages));
     }
     std::filesystem::rename(imagePath, pngPath); // atomic: the PNG appears whole or not at all
+}
+
+PlotBatch::~PlotBatch()
+{
+    for (Drawing& drawing : m_drawing)
+    {
+        // A plot left deferred (no thread could be started for it) is not drawn for a run that is failing.
+        if (drawing.done.wait_for(std::chrono::seconds(0)) != std::future_status::deferred)
+        {
+            drawing.done.wait();
+        }
+        for (const std::string& path : drawing.removeAfter)
+        {
+            std::error_code ignored;
+            std::filesystem::remove(path, ignored);
+        }
+    }
+}
+
+void PlotBatch::add(const std::string& script, const std::string& pngPath, int width, int height,
+                    std::vector<std::string> removeAfter)
+{
+    Drawing drawing;
+    drawing.removeAfter = std::move(removeAfter);
+    // Drawn on a thread of its own, or when finished if no thread can be started (libstdc++ falls back to deferred).
+    drawing.done =
+        std::async(std::launch::async | std::launch::deferred, [=] { plotPng(script, pngPath, width, height); });
+    m_drawing.push_back(std::move(drawing));
+}
+
+void PlotBatch::finish()
+{
+    std::exception_ptr firstFailure;
+    for (Drawing& drawing : m_drawing)
+    {
+        try
+        {
+            drawing.done.get();
+        }
+        catch (...)
+        {
+            if (!firstFailure)
+            {
+                firstFailure = std::current_exception();
+            }
+        }
+        for (const std::string& path : drawing.removeAfter)
+        {
+            std::error_code ignored;
+            std::filesystem::remove(path, ignored);
+        }
+    }
+    m_drawing.clear();
+    if (firstFailure)
+    {
+        std::rethrow_exception(firstFailure);
+    }
 }
 } // namespace masse::scene

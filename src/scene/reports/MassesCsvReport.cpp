@@ -72,7 +72,7 @@ std::string massesCsv(Scene& scene)
 class MassesCsv final : public RunningReport
 {
 public:
-    void write(Scene& scene, const std::string& directory) override
+    void write(Scene& scene, const std::string& directory, PlotBatch& /*plots*/) override
     {
         writeFileAtomically(directory + "/masses.csv", massesCsv(scene));
     }

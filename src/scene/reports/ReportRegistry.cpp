@@ -28,7 +28,7 @@ constexpr const ReportEntry* reportTable[] = {
 
 void RunningReport::afterStep(const Scene&) {}
 void RunningReport::summarize(const Scene&, nlohmann::json&) {}
-void RunningReport::write(Scene&, const std::string&) {}
+void RunningReport::write(Scene&, const std::string&, PlotBatch&) {}
 
 std::span<const ReportEntry* const> reports()
 {

@@ -7,6 +7,7 @@
 
 #include "scene/Scene.h"
 #include "scene/json/JsonObject.h"
+#include "scene/output/Plot.h"
 
 #include <nlohmann/json.hpp>
 
@@ -30,8 +31,9 @@ public:
     virtual void afterStep(const Scene& scene);
     /// Adds its values to `summary` at the end; the scene's state is finite.
     virtual void summarize(const Scene& scene, nlohmann::json& summary);
-    /// Writes its files into `directory`, the run's output folder, after the summary.
-    virtual void write(Scene& scene, const std::string& directory);
+    /// Writes its files into `directory`, the run's output folder, after the summary; its plots go into `plots`,
+    /// which the run finishes before the folder is complete.
+    virtual void write(Scene& scene, const std::string& directory, PlotBatch& plots);
 };
 
 /// The `start` of a report whose running part is made from nothing but its type.

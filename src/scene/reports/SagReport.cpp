@@ -95,11 +95,11 @@ public:
         summary["final"]["sag"] = m_series.back().second;
     }
 
-    void write(Scene& scene, const std::string& directory) override
+    void write(Scene& scene, const std::string& directory, PlotBatch& plots) override
     {
         const std::string csv = directory + "/sag.csv";
         writeFileAtomically(csv, csvText());
-        plotPng(plotScript(csv, scene.spec().name), directory + "/sag.png");
+        plots.add(plotScript(csv, scene.spec().name), directory + "/sag.png");
     }
 
 private:

@@ -26,7 +26,7 @@ bool temperatureMapDrawn(const SceneSpec& spec)
 class TemperatureMap final : public RunningReport
 {
 public:
-    void write(Scene& scene, const std::string& directory) override
+    void write(Scene& scene, const std::string& directory, PlotBatch& plots) override
     {
         if (!scene.thermal())
         {
@@ -38,7 +38,7 @@ public:
             celsius.push_back(kelvinToCelsius(kelvin));
         }
         const auto [lo, hi] = std::minmax_element(celsius.begin(), celsius.end());
-        drawTopViewMap(scene, celsius, directory + "/temperature_map.png",
+        drawTopViewMap(plots, scene, celsius, directory + "/temperature_map.png",
                        scene.spec().name + ": temperature, top view",
                        "from " + formatNumber("%.1f", *lo) + " to " + formatNumber("%.1f", *hi) + " C",
                        "temperature (C)", "rgb 33,13,10", {});

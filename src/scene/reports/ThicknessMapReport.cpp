@@ -44,7 +44,7 @@ bool thicknessMapDrawn(const SceneSpec& spec)
 class ThicknessMap final : public RunningReport
 {
 public:
-    void write(Scene& scene, const std::string& directory) override
+    void write(Scene& scene, const std::string& directory, PlotBatch& plots) override
     {
         const SheetThickness* thickness = scene.thickness();
         if (!thickness)
@@ -67,7 +67,7 @@ public:
             formatNumber("%.1f%%", 100 * thinAreaShare(*thickness, settings.thinBelow)) + " of the area below " +
             formatNumber("%.0f%%", 100 * settings.thinBelow) + " of h0";
         const Real h0 = 1000 * thickness->initialThickness();
-        drawTopViewMap(scene, millimetres, directory + "/thickness_map.png",
+        drawTopViewMap(plots, scene, millimetres, directory + "/thickness_map.png",
                        scene.spec().name + ": wall thickness, top view", subtitle, "thickness (mm)",
                        "defined (0 '#3b0f70', 0.25 '#8c2981', 0.5 '#de4968', 0.75 '#fe9f6d', 1 '#fcfdbf')",
                        {settings.rangeLow * h0, settings.rangeHigh * h0});

@@ -33,7 +33,7 @@ bool sectionDrawn(const SceneSpec& spec)
 class ThicknessSection final : public RunningReport
 {
 public:
-    void write(Scene& scene, const std::string& directory) override
+    void write(Scene& scene, const std::string& directory, PlotBatch& plots) override
     {
         if (!scene.thickness())
         {
@@ -41,7 +41,7 @@ public:
         }
         const std::string csv = directory + "/thickness_section.csv";
         writeFileAtomically(csv, sectionCsv(thicknessSection(scene)));
-        plotPng(sectionPlotScript(csv, scene.spec().name), directory + "/thickness_section.png");
+        plots.add(sectionPlotScript(csv, scene.spec().name), directory + "/thickness_section.png");
     }
 };
 

@@ -134,23 +134,14 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
            dataPath + "' using 1:2:3 with image\n";
 }
 
-void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
+void drawTopViewMap(PlotBatch& plots, const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
                     const std::string& title, const std::string& subtitle, const std::string& unitLabel,
                     const std::string& palette, const std::vector<Real>& colourRange)
 {
     const int pixels = thicknessMapSettings(scene.spec()).pixels;
     const std::string dataPath = pngPath + ".dat.tmp";
     writeFileAtomically(dataPath, mapData(topViewMap(scene, perMass, pixels / 3)));
-    try
-    {
-        plotPng(mapPlotScript(dataPath, title, subtitle, unitLabel, palette, colourRange), pngPath, pixels,
-                pixels * 4 / 5);
-    }
-    catch (...)
-    {
-        std::filesystem::remove(dataPath);
-        throw;
-    }
-    std::filesystem::remove(dataPath);
+    plots.add(mapPlotScript(dataPath, title, subtitle, unitLabel, palette, colourRange), pngPath, pixels,
+              pixels * 4 / 5, {dataPath});
 }
 } // namespace masse::scene

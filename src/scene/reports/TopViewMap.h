@@ -3,6 +3,7 @@
 /// `masse converge`'s error band.
 
 #include "scene/Scene.h"
+#include "scene/output/Plot.h"
 
 #include <string>
 #include <vector>
@@ -31,8 +32,8 @@ std::string mapPlotScript(const std::string& dataPath, const std::string& title,
                           const std::vector<Real>& colourRange = {});
 
 /// Draws `perMass` on the scene's sheet seen from above into `pngPath` (report.thickness_map.pixels wide), through a
-/// data file beside it that is removed afterwards, whatever happens.
-void drawTopViewMap(const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
+/// data file beside it that is removed once drawn, whatever happens; the drawing is one of `plots`.
+void drawTopViewMap(PlotBatch& plots, const Scene& scene, const std::vector<Real>& perMass, const std::string& pngPath,
                     const std::string& title, const std::string& subtitle, const std::string& unitLabel,
                     const std::string& palette, const std::vector<Real>& colourRange = {});
 } // namespace masse::scene

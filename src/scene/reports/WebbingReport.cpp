@@ -27,7 +27,7 @@ public:
         summary["final"]["webbing_masses"] = summary["webbing"]["masses"]; // for an expect block
     }
 
-    void write(Scene&, const std::string& directory) override
+    void write(Scene&, const std::string& directory, PlotBatch&) override
     {
         writeFileAtomically(directory + "/webbing.csv", webbingCsv(m_places));
     }
