@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <utility>
 
 namespace masse
@@ -41,7 +42,8 @@ void validate(const SelfContactSettings& settings)
     }
 }
 
-SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadphase, const SelfContactSettings& settings)
+SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadphase, const SelfContactSettings& settings,
+                         Exclusions exclusions)
     : m_broadphase(broadphase), m_settings(settings)
 {
     validate(settings);
@@ -65,10 +67,14 @@ SelfContact::SelfContact(const Lattice& lattice, SelfContactBroadphase& broadpha
     m_waiting.has.assign(n, 0);
     listTrianglesOfMasses(n);
     m_broadphase.setTriangles(m_triangles);
-    listExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
+    listSpringExclusions(lattice.springs.adjacency(n)); // the lattice's springs, not kept: the hook holds nothing of it
+    if (exclusions == Exclusions::Listed)
+    {
+        listRestExclusions();
+    }
 }
 
-void SelfContact::listExclusions(const SpringAdjacency& springsAt)
+void SelfContact::listSpringExclusions(const SpringAdjacency& springsAt)
 {
     const std::size_t n = m_restPosition.size();
     std::vector<std::vector<Index>> excluded(n);
@@ -93,35 +99,8 @@ void SelfContact::listExclusions(const SpringAdjacency& springsAt)
             }
         }
     }
-    // Near at rest: with a radius above the lattice's spacing (a fine sheet) or its layers' distance (a thin one),
-    // the flat sheet itself would be in contact with itself everywhere. Every pair within twice the radius at rest is
-    // among the broadphase's pairs for the rest positions with a skin of one radius (their boxes are then within
-    // three radii); the exact test sorts them out once, instead of at every list. The pairs are sought for a batch of
-    // vertices at a time: each vertex's pairs do not depend on the others asked with it, and the broadphase's pairs
-    // of the whole sheet at once (about (3 radius / spacing)^2 per vertex, kept twice) would be the largest
-    // allocation of a run on a fine lattice.
-    m_excluded.start.assign(n + 1, 0); // nothing excluded while they are sought
+    m_excluded.start.assign(n + 1, 0);
     m_excluded.triangles.clear();
-    std::fill(m_skin.begin(), m_skin.end(), m_settings.radius);
-    const Real limitSquared = 4 * m_settings.radius * m_settings.radius;
-    std::vector<Index> batch;
-    for (std::size_t first = 0; first < m_vertices.size(); first += exclusionBatchSize)
-    {
-        const auto from = m_vertices.begin() + std::ptrdiff_t(first);
-        batch.assign(from, from + std::ptrdiff_t(std::min(exclusionBatchSize, m_vertices.size() - first)));
-        m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, batch, m_excluded, m_pairs);
-        for (const SelfContactPair& pair : m_pairs)
-        {
-            const Triangle& t = m_triangles[pair.triangle];
-            const std::vector<Vec3>& x = m_restPosition;
-            if ((x[pair.vertex] - closestPointOnTriangle(x[pair.vertex], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
-                limitSquared)
-            {
-                excluded[pair.vertex].push_back(pair.triangle);
-            }
-        }
-    }
-    std::vector<SelfContactPair>().swap(m_pairs);
     std::size_t total = 0;
     for (std::vector<Index>& list : excluded)
     {
@@ -132,11 +111,68 @@ void SelfContact::listExclusions(const SpringAdjacency& springsAt)
     m_excluded.triangles.reserve(total);
     for (std::size_t i = 0; i < n; ++i)
     {
-        std::vector<Index>& list = excluded[i];
-        m_excluded.start[i + 1] = m_excluded.start[i] + list.size();
-        m_excluded.triangles.insert(m_excluded.triangles.end(), list.begin(), list.end());
-        std::vector<Index>().swap(list);
+        m_excluded.start[i + 1] = m_excluded.start[i] + excluded[i].size();
+        m_excluded.triangles.insert(m_excluded.triangles.end(), excluded[i].begin(), excluded[i].end());
     }
+    m_restExcluded = false;
+}
+
+bool SelfContact::nearAtRest(Index v, Index k) const
+{
+    const Triangle& t = m_triangles[k];
+    const std::vector<Vec3>& x = m_restPosition;
+    return (x[v] - closestPointOnTriangle(x[v], x[t[0]], x[t[1]], x[t[2]])).squaredNorm() <
+           4 * m_settings.radius * m_settings.radius;
+}
+
+void SelfContact::listRestExclusions()
+{
+    if (m_restExcluded)
+    {
+        return;
+    }
+    // Every pair within twice the radius at rest is among the broadphase's pairs for the rest positions with a skin of
+    // one radius (their boxes are then within three radii); the exact test sorts them out once, instead of at every
+    // list. The pairs are sought for a batch of vertices at a time: each vertex's pairs do not depend on the others
+    // asked with it, and the broadphase's pairs of the whole sheet at once (about (3 radius / spacing)^2 per vertex,
+    // kept twice) would be the largest allocation of a run on a fine lattice. The springs' exclusions are in place
+    // while they are sought: those pairs would be excluded anyway.
+    const std::size_t n = m_restPosition.size();
+    std::vector<std::vector<Index>> near(n);
+    std::fill(m_skin.begin(), m_skin.end(), m_settings.radius);
+    std::vector<Index> batch;
+    for (std::size_t first = 0; first < m_vertices.size(); first += exclusionBatchSize)
+    {
+        const auto from = m_vertices.begin() + std::ptrdiff_t(first);
+        batch.assign(from, from + std::ptrdiff_t(std::min(exclusionBatchSize, m_vertices.size() - first)));
+        m_broadphase.findPairs(m_restPosition, m_skin, m_settings.radius, batch, m_excluded, m_pairs);
+        for (const SelfContactPair& pair : m_pairs)
+        {
+            if (nearAtRest(pair.vertex, pair.triangle))
+            {
+                near[pair.vertex].push_back(pair.triangle);
+            }
+        }
+    }
+    std::vector<SelfContactPair>().swap(m_pairs);
+    // Each mass's list: its springs' exclusions and those near at rest, merged in increasing order.
+    SelfContactExclusions merged;
+    merged.start.assign(n + 1, 0);
+    std::vector<Index> list;
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        std::sort(near[i].begin(), near[i].end());
+        near[i].erase(std::unique(near[i].begin(), near[i].end()), near[i].end());
+        const auto springsFirst = m_excluded.triangles.begin() + std::ptrdiff_t(m_excluded.start[i]);
+        const auto springsLast = m_excluded.triangles.begin() + std::ptrdiff_t(m_excluded.start[i + 1]);
+        list.clear();
+        std::set_union(springsFirst, springsLast, near[i].begin(), near[i].end(), std::back_inserter(list));
+        merged.triangles.insert(merged.triangles.end(), list.begin(), list.end());
+        merged.start[i + 1] = merged.triangles.size();
+        std::vector<Index>().swap(near[i]);
+    }
+    m_excluded = std::move(merged);
+    m_restExcluded = true;
 }
 
 void SelfContact::beginFrame(MassSpringSystem& system, StepContext& context, Real /*time*/, Real dt)
@@ -238,6 +274,7 @@ bool SelfContact::preparedFor(const Particles& p, Real dt) const
 
 int SelfContact::solvesFor(MassSpringSystem& system, Real dt)
 {
+    listRestExclusions(); // once, for a self-contact made with SpringsOnly that runs frames after all
     // The frame's pairs are listed and weighed now, as beginFrame would (it keeps them unless a stage before it has
     // moved a mass), and the frame is split when some pair would close by more than closingPerSolve lattice spacings
     // in one solve: the constraints are set once a solve, along each pair's normal at its start, and where a fold
@@ -427,6 +464,12 @@ void SelfContact::pairsWithin(const std::vector<Vec3>& x, Real distance, std::ve
     // No reach: the broadphase lists exactly the pairs closer than the distance.
     const std::vector<Real> noReach(x.size(), 0);
     m_broadphase.findPairs(x, noReach, distance, m_vertices, m_excluded, out);
+    if (!m_restExcluded)
+    {
+        // The pairs the rest exclusions would have left: the broadphase's walk skips an excluded pair and keeps the
+        // others in its order.
+        std::erase_if(out, [&](const SelfContactPair& pair) { return nearAtRest(pair.vertex, pair.triangle); });
+    }
 }
 
 void SelfContact::markTouchingMasses(std::vector<std::uint8_t>& flags) const

@@ -64,7 +64,7 @@ std::vector<WebbingPlace> webbingPlaces(const Scene& scene)
     bridge::SelfContactTree tree;
     SelfContactSettings settings;
     settings.radius = scene.spec().contact.radius;
-    SelfContact surface(scene.lattice(), tree, settings);
+    SelfContact surface(scene.lattice(), tree, settings, SelfContact::Exclusions::SpringsOnly);
     return findWebbing(surface, scene.lattice(), scene.system().particles.position, webbingDistance(scene.spec()));
 }
 

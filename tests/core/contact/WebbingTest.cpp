@@ -98,6 +98,40 @@ TEST(Webbing, FoldInANarrowVTroughIsNamedWhereItLies)
     std::vector<SelfContactPair> closer;
     surface.pairsWithin(x, 0.99 * radius, closer);
     EXPECT_TRUE(closer.empty()) << closer.size() << " pairs closer than the contact radius minus 1%";
+
+    // The report's own self-contact lists only the springs' exclusions and tests the pairs it meets for the rest: the
+    // same pairs as one with every exclusion listed. With a radius of two lattice spacings, the masses near each other
+    // at rest (a spring's length and more apart) are many, and both must leave them out.
+    SelfContactSettings wide = settings;
+    wide.radius = 2 * spacing;
+    bridge::SelfContactTree listedTree;
+    SelfContact listing(scene.lattice(), listedTree, wide);
+    std::vector<SelfContactPair> listed;
+    listing.pairsWithin(x, 2 * wide.radius, listed);
+    bridge::SelfContactTree testedTree;
+    SelfContact tested(scene.lattice(), testedTree, wide, SelfContact::Exclusions::SpringsOnly);
+    std::vector<SelfContactPair> testedPairs;
+    tested.pairsWithin(x, 2 * wide.radius, testedPairs);
+    const auto sorted = [](const std::vector<SelfContactPair>& pairs)
+    {
+        std::vector<std::pair<Index, Index>> out;
+        for (const SelfContactPair& pair : pairs)
+        {
+            out.emplace_back(pair.vertex, pair.triangle);
+        }
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    EXPECT_FALSE(listed.empty()) << "the fold's legs are within four spacings of each other";
+    EXPECT_EQ(sorted(testedPairs), sorted(listed)); // their order follows each tree's own history of refits
+    // Without the exclusions near at rest (a radius too small for any), the sheet pairs with itself where it is flat.
+    SelfContactSettings tiny = settings;
+    tiny.radius = 1e-6;
+    bridge::SelfContactTree plainTree;
+    SelfContact plain(scene.lattice(), plainTree, tiny);
+    std::vector<SelfContactPair> unexcluded;
+    plain.pairsWithin(x, 2 * wide.radius, unexcluded);
+    EXPECT_GT(unexcluded.size(), listed.size() + listed.size() / 2);
 }
 
 // The control: the same sheet dropped flat onto a floor lies on nothing but the floor, and its two layers (1 cm apart,
