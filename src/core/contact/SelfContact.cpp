@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <utility>
 
 namespace masse
@@ -28,6 +27,23 @@ constexpr int maxSolvesAFrame = 8;
 /// (about 4 (3 radius / spacing)^2 each, held twice) stay below the lists they leave, and enough that the
 /// broadphase's refit of the whole sheet before each batch (4 ms at 128x2x128) is paid only a few times.
 constexpr std::size_t exclusionBatchSize = 4096;
+
+/// Per mass, its list of triangles sorted and made unique, laid out one after another (the lists are emptied).
+SelfContactExclusions exclusionsOf(std::vector<std::vector<Index>>& lists)
+{
+    SelfContactExclusions out;
+    out.start.assign(lists.size() + 1, 0);
+    for (std::size_t i = 0; i < lists.size(); ++i)
+    {
+        std::vector<Index>& list = lists[i];
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        out.triangles.insert(out.triangles.end(), list.begin(), list.end());
+        out.start[i + 1] = out.triangles.size();
+        std::vector<Index>().swap(list);
+    }
+    return out;
+}
 } // namespace
 
 void validate(const SelfContactSettings& settings)
@@ -99,21 +115,7 @@ void SelfContact::listSpringExclusions(const SpringAdjacency& springsAt)
             }
         }
     }
-    m_excluded.start.assign(n + 1, 0);
-    m_excluded.triangles.clear();
-    std::size_t total = 0;
-    for (std::vector<Index>& list : excluded)
-    {
-        std::sort(list.begin(), list.end());
-        list.erase(std::unique(list.begin(), list.end()), list.end());
-        total += list.size();
-    }
-    m_excluded.triangles.reserve(total);
-    for (std::size_t i = 0; i < n; ++i)
-    {
-        m_excluded.start[i + 1] = m_excluded.start[i] + excluded[i].size();
-        m_excluded.triangles.insert(m_excluded.triangles.end(), excluded[i].begin(), excluded[i].end());
-    }
+    m_excluded = exclusionsOf(excluded);
     m_restExcluded = false;
 }
 
@@ -155,23 +157,13 @@ void SelfContact::listRestExclusions()
         }
     }
     std::vector<SelfContactPair>().swap(m_pairs);
-    // Each mass's list: its springs' exclusions and those near at rest, merged in increasing order.
-    SelfContactExclusions merged;
-    merged.start.assign(n + 1, 0);
-    std::vector<Index> list;
+    // Each mass's list: those near at rest and its springs' exclusions.
     for (std::size_t i = 0; i < n; ++i)
     {
-        std::sort(near[i].begin(), near[i].end());
-        near[i].erase(std::unique(near[i].begin(), near[i].end()), near[i].end());
-        const auto springsFirst = m_excluded.triangles.begin() + std::ptrdiff_t(m_excluded.start[i]);
-        const auto springsLast = m_excluded.triangles.begin() + std::ptrdiff_t(m_excluded.start[i + 1]);
-        list.clear();
-        std::set_union(springsFirst, springsLast, near[i].begin(), near[i].end(), std::back_inserter(list));
-        merged.triangles.insert(merged.triangles.end(), list.begin(), list.end());
-        merged.start[i + 1] = merged.triangles.size();
-        std::vector<Index>().swap(near[i]);
+        near[i].insert(near[i].end(), m_excluded.triangles.begin() + std::ptrdiff_t(m_excluded.start[i]),
+                       m_excluded.triangles.begin() + std::ptrdiff_t(m_excluded.start[i + 1]));
     }
-    m_excluded = std::move(merged);
+    m_excluded = exclusionsOf(near);
     m_restExcluded = true;
 }
 

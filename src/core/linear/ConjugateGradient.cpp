@@ -41,10 +41,7 @@ void updateDirection(Vector& p, const Vector& z, Real beta, Eigen::Index begin, 
         p[i] = z[i] + beta * p[i];
     }
 }
-} // namespace
 
-namespace
-{
 /// Whether rows `first` and `second` of `a` (its columns: the matrix is symmetric) have the same columns.
 [[gnu::always_inline]] inline bool sameColumns(const SparseMatrix& a, Eigen::Index first, Eigen::Index second)
 {

@@ -14,6 +14,19 @@
 
 namespace masse::scene
 {
+namespace
+{
+/// Removes `paths`, those that exist (a plot's data, whatever became of the plot).
+void removeAll(const std::vector<std::string>& paths)
+{
+    for (const std::string& path : paths)
+    {
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
+    }
+}
+} // namespace
+
 void plotPng(const std::string& script, const std::string& pngPath, int width, int height)
 {
     const std::string stem = pngPath + ".tmp-" + std::to_string(::getpid());
@@ -57,11 +70,7 @@ PlotBatch::~PlotBatch()
         {
             drawing.done.wait();
         }
-        for (const std::string& path : drawing.removeAfter)
-        {
-            std::error_code ignored;
-            std::filesystem::remove(path, ignored);
-        }
+        removeAll(drawing.removeAfter);
     }
 }
 
@@ -92,11 +101,7 @@ void PlotBatch::finish()
                 firstFailure = std::current_exception();
             }
         }
-        for (const std::string& path : drawing.removeAfter)
-        {
-            std::error_code ignored;
-            std::filesystem::remove(path, ignored);
-        }
+        removeAll(drawing.removeAfter);
     }
     m_drawing.clear();
     if (firstFailure)

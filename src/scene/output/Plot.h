@@ -12,10 +12,10 @@ namespace masse::scene
 void plotPng(const std::string& script, const std::string& pngPath, int width = 1000, int height = 700);
 
 /// Plots drawn side by side. Each gnuplot runs on one core, and a forming run draws three: the thickness and
-/// temperature maps (some 0.08 s each at 64x2x64) and the section (0.04 s), one after another 0.2 s of a run of 3 s.
-/// `add` starts each as soon as its data is written, so they draw together, and while the run writes its other
-/// files. `finish` waits for them all and throws the first failure; a batch destroyed unfinished (an exception on the
-/// way) still waits for its gnuplots, so none is left writing into a folder being removed.
+/// temperature maps (some 0.08 s each at 64x2x64) and the section (0.04 s). `add` starts each as soon as its data is
+/// written, so they draw together on the machine's cores, and while the run writes its other files. `finish` waits for
+/// them all and throws the first failure; a batch destroyed unfinished (an exception on the way) still waits for its
+/// gnuplots, so none is left writing into a folder being removed.
 class PlotBatch
 {
 public:

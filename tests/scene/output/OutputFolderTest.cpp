@@ -2,6 +2,7 @@
 // name no user would choose, a process that has exited and, for folders, MaSSE's marker inside; runs into one folder
 // take a lock.
 
+#include "support/TempFolder.h"
 #include "support/TestSystems.h"
 
 #include "scene/output/AtomicFile.h"
@@ -23,10 +24,7 @@ namespace
 {
 fs::path freshFolder(const std::string& name)
 {
-    const fs::path folder = fs::path(testing::TempDir()) / ("output-folder-" + name);
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
+    return masse::test::freshTempFolder("output-folder-" + name);
 }
 
 void writeText(const fs::path& path, const std::string& text)

@@ -1,6 +1,8 @@
 // Plots drawn side by side (PlotBatch): every plot of a batch is drawn, its data removed once drawn, and a plot that
 // fails is reported after the others have ended, leaving no PNG of its own.
 
+#include "support/TempFolder.h"
+
 #include "scene/output/Plot.h"
 
 #include <gtest/gtest.h>
@@ -17,10 +19,7 @@ namespace
 {
 fs::path freshFolder(const std::string& name)
 {
-    const fs::path folder = fs::path(testing::TempDir()) / ("plot-batch-" + name);
-    fs::remove_all(folder);
-    fs::create_directories(folder);
-    return folder;
+    return masse::test::freshTempFolder("plot-batch-" + name);
 }
 
 /// A data file of a line, and the script that plots it.
