@@ -41,7 +41,14 @@ void Simulator::setIntegrator(IntegratorKind kind)
 {
     m_settings.integrator = kind;
     m_integrator = makeIntegrator(kind, m_settings.implicit);
+    m_integrator->setStageObserver(m_observer);
     m_system.markChanged();
+}
+
+void Simulator::setStageObserver(StageObserver* observer)
+{
+    m_observer = observer;
+    m_integrator->setStageObserver(observer);
 }
 
 const StabilityEstimate& Simulator::stability() const

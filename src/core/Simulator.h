@@ -67,6 +67,9 @@ public:
     StepContext& context() { return m_context; }
     const SimulatorSettings& settings() const { return m_settings; }
     void setIntegrator(IntegratorKind kind);
+    /// Reports the integrator's stages (the implicit solve's, StageObserver.h) to `observer`, which must outlive its
+    /// use here, or to none with nullptr; kept across setIntegrator.
+    void setStageObserver(StageObserver* observer);
     /// Contact with obstacles (the three contact stages), replacing any earlier one; nullptr for none. The solver must
     /// outlive its use here. Its report's contact forces are the guard's.
     void setContactSolver(ContactSolver* contact);
@@ -114,6 +117,7 @@ private:
     SimulatorSettings m_settings;
     std::shared_ptr<TaskPool> m_pool;
     std::unique_ptr<Integrator> m_integrator;
+    StageObserver* m_observer = nullptr; ///< the integrator's, kept across setIntegrator
     ContactSolver* m_contact = nullptr;
     std::vector<StepHook*> m_hooks; ///< every hook, the contact solver among them, in the order added
     std::vector<int> m_solvesAsked; ///< per hook, the solves it asked for the frame being split (step)

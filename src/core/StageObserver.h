@@ -1,21 +1,26 @@
 #pragma once
 /// The step's stage boundaries, for a profiler outside the core: the engine reads no clock itself (`masse bench`
-/// times the contact stages through this; a program embedding the engine can attach its own profiler the same way).
+/// times the contact stages and the implicit solve's through this; a program embedding the engine can attach its own
+/// profiler the same way). Stages do not nest within themselves; the implicit solve's lie within the integrator's step.
 
 namespace masse
 {
 enum class Stage
 {
-    ContactDetection,  ///< finding every mass's planes with the detector, once per frame
-    ContactProjection, ///< applying the planes after every substep
-    ContactSweep,      ///< the end-of-frame sweep and reports
-    SelfContactPairs,  ///< the sheet's self-contact broadphase: each frame's start and when a mass outruns its skin
-    SelfContactSolve,  ///< the sheet's self-contact narrowphase and response after every substep
-    EdgeContactPairs,  ///< listing the sheet's edges and triangles near obstacle edges and corners
-    EdgeContactSolve,  ///< their narrowphase and response after every substep
+    ContactDetection,     ///< finding every mass's planes with the detector, once per frame
+    ContactProjection,    ///< applying the planes after every substep
+    ContactSweep,         ///< the end-of-frame sweep and reports
+    SelfContactPairs,     ///< the sheet's self-contact broadphase: each frame's start and when a mass outruns its skin
+    SelfContactSolve,     ///< the sheet's self-contact narrowphase and response after every substep
+    EdgeContactPairs,     ///< listing the sheet's edges and triangles near obstacle edges and corners
+    EdgeContactSolve,     ///< their narrowphase and response after every substep
+    SolverAnalysis,       ///< the implicit solve's matrix pattern, ordering and factor analysis, once per topology
+    SolverAssembly,       ///< each solve's matrix and right-hand side, and its constraints' filter
+    SolverPreconditioner, ///< refactorisations of the preconditioner, and its following of the diagonal between them
+    SolverIterations,     ///< the conjugate gradient's iterations
 };
 
-inline constexpr int stageCount = 7;
+inline constexpr int stageCount = 11;
 
 class StageObserver
 {

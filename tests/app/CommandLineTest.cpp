@@ -187,6 +187,35 @@ TEST(CommandLine, BenchTimesTheSceneItIsGiven)
     EXPECT_NE(both.output.find("--contact"), std::string::npos) << both.output;
 }
 
+// On an implicit scene `masse bench` says where the step goes in the implicit solve: each solve's matrix, the
+// preconditioner's refreshes and following, the conjugate gradient's iterations. The vacuum cup's first frames at
+// 16x2x16 (the sheet landing on the mould, its constraints changing every frame) take iterations and assembly every
+// solve; the parts are each within the rounds' wall time and together no more than it, and the warm-up step holds the
+// pattern's analysis. An explicit scene has no solver stages.
+TEST(CommandLine, BenchSaysWhereTheImplicitSolvesTimeGoes)
+{
+    const Outcome cup =
+        runMasse("bench " + source + "/data/scenes/vacuum-forming-cup.json --size 16x2x16 --steps 5 --repeat 1");
+    ASSERT_EQ(cup.exitCode, 0) << cup.output;
+    const nlohmann::json c = nlohmann::json::parse(cup.output.substr(cup.output.find('{')));
+    ASSERT_TRUE(c.contains("solver_stages")) << c.dump();
+    const nlohmann::json& stages = c["solver_stages"];
+    const double wall = c["wall_seconds"].get<double>();
+    EXPECT_GT(stages["assembly_seconds"].get<double>(), 0.0);
+    EXPECT_GT(stages["iterations_seconds"].get<double>(), 0.0);
+    EXPECT_GE(stages["preconditioner_seconds"].get<double>(), 0.0);
+    EXPECT_EQ(stages["analysis_seconds"].get<double>(), 0.0);
+    const double parts = stages["assembly_seconds"].get<double>() + stages["preconditioner_seconds"].get<double>() +
+                         stages["iterations_seconds"].get<double>();
+    EXPECT_LE(parts, wall);
+    EXPECT_NEAR(stages["share_of_step"].get<double>(), parts / wall, 1e-9);
+    EXPECT_NEAR(stages["iterations_share"].get<double>(), stages["iterations_seconds"].get<double>() / wall, 1e-9);
+
+    const Outcome freeFall = runMasse("bench --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(freeFall.exitCode, 0) << freeFall.output;
+    EXPECT_FALSE(nlohmann::json::parse(freeFall.output).contains("solver_stages"));
+}
+
 // `masse compare` on the reference landing (the 8 x 2 x 8 Table 1 sheet onto a box at dt = 0.03 s), cut to 2 s:
 // compare.json holds, for MaSSE and for each Bullet run asked, its events, penetration, tunnelled nodes, kinetic
 // energy and wall time, and for each Bullet run its distance to MaSSE; the plots and the series are written whole;

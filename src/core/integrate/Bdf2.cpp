@@ -118,6 +118,7 @@ public:
     }
 
     IntegratorKind kind() const override { return IntegratorKind::Bdf2; }
+    void setStageObserver(StageObserver* observer) override { m_solve.setStageObserver(observer); }
     bool honoursConstraints() const override { return true; }
 
     void continueFrom(const MassSpringSystem& system, const std::vector<Vec3>& previousPosition,

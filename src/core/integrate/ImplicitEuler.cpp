@@ -30,6 +30,7 @@ public:
     }
 
     IntegratorKind kind() const override { return IntegratorKind::ImplicitEuler; }
+    void setStageObserver(StageObserver* observer) override { m_solve.setStageObserver(observer); }
     bool honoursConstraints() const override { return true; }
 
 private:

@@ -28,6 +28,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
     const std::size_t n = system.particles.size();
     if (m_patternSystem != &system || m_patternMasses != n || m_patternSprings != system.springs.size())
     {
+        const StageScope analysis(m_observer, Stage::SolverAnalysis);
         buildPattern(system);
     }
     for (VelocityConstraint& c : constraints)
@@ -39,9 +40,14 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
     const Real driving = drivingImpulse(system, a); // the same for every round: masses and loads do not change
     for (int round = 1;; ++round)
     {
-        const std::vector<Vec3>& roundOffset = heldOffset(system.particles, constraints, a, offset, held);
-        assemble(system, a, roundOffset, momentum);
-        const bool constrained = applyConstraints(system, constraints, a);
+        bool constrained = false;
+        const std::vector<Vec3>* roundOffset = &offset;
+        {
+            const StageScope assembly(m_observer, Stage::SolverAssembly);
+            roundOffset = &heldOffset(system.particles, constraints, a, offset, held);
+            assemble(system, a, *roundOffset, momentum);
+            constrained = applyConstraints(system, constraints, a);
+        }
         m_tolerance = solverTolerance(driving);
         stats.add(runSolver());
         if (constrained)
@@ -57,7 +63,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
             return stats;
         }
         const bool capped = m_coulombCap && constrained && capFriction(system, constraints, a);
-        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, roundOffset);
+        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, *roundOffset);
         const bool lifted = m_releaseLifting && constrained && releaseLifting(constraints);
         if (!capped && !arrivals && !lifted)
         {
@@ -225,10 +231,21 @@ IntegratorStats ImplicitSolve::runSolver()
     const int cap = m_settings.maxIterations;
     SolveResult result;
     int refactorisations = 0;
+    // The stages a profiler sees (StageObserver.h): the preconditioner's refreshes and following, and the iterations.
+    const auto refresh = [&](auto& preconditioner)
+    {
+        const StageScope stage(m_observer, Stage::SolverPreconditioner);
+        return preconditioner.refresh(m_matrix.matrix());
+    };
+    const auto iterate = [&](const Preconditioner& preconditioner, int maxIterations, bool foresee = false)
+    {
+        const StageScope stage(m_observer, Stage::SolverIterations);
+        return m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, preconditioner, m_tolerance, maxIterations, foresee);
+    };
     if (m_settings.preconditioner == PreconditionerKind::Jacobi)
     {
-        m_jacobi.refresh(m_matrix.matrix());
-        result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_jacobi, m_tolerance, cap);
+        refresh(m_jacobi);
+        result = iterate(m_jacobi, cap);
     }
     else
     {
@@ -241,10 +258,11 @@ IntegratorStats ImplicitSolve::runSolver()
         if (!recent.ready())
         {
             ++refactorisations;
-            fresh = recent.refresh(m_matrix.matrix());
+            fresh = refresh(recent);
         }
         if (!fresh && !multigrid)
         {
+            const StageScope stage(m_observer, Stage::SolverPreconditioner);
             m_cholesky.followDiagonal(m_matrix.matrix()); // see CholeskyPreconditioner.h
         }
         // A factor fresh from the matrix solves in one or two iterations, and is kept while the iterations it takes
@@ -261,8 +279,7 @@ IntegratorStats ImplicitSolve::runSolver()
         const int firstTry = fresh ? cap : std::min(cap, allowance);
         if (recent.ready())
         {
-            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, firstTry,
-                                !fresh && !multigrid && firstTry >= foresightFrom);
+            result = iterate(recent, firstTry, !fresh && !multigrid && firstTry >= foresightFrom);
             if (fresh)
             {
                 m_refreshBudget.refreshed(result.iterations);
@@ -277,18 +294,18 @@ IntegratorStats ImplicitSolve::runSolver()
         {
             ++refactorisations;
         }
-        if (drifted && recent.refresh(m_matrix.matrix()))
+        if (drifted && refresh(recent))
         {
             const int used = result.iterations;
-            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, recent, m_tolerance, cap - used);
+            result = iterate(recent, cap - used);
             m_refreshBudget.refreshed(result.iterations);
             result.iterations += used;
         }
         if (!recent.ready()) // not positive definite to the factorisation: fall back to the diagonal
         {
             const int used = result.iterations;
-            m_jacobi.refresh(m_matrix.matrix());
-            result = m_cg.solve(m_matrix.matrix(), m_rhs, m_deltaV, m_jacobi, m_tolerance, cap - used);
+            refresh(m_jacobi);
+            result = iterate(m_jacobi, cap - used);
             result.iterations += used;
         }
     }

@@ -24,6 +24,7 @@
 /// The matrix is a SlotMatrix of 3x3 blocks, its pattern built once per topology; each step only rewrites values
 /// through its slots, and every work array keeps its capacity, so a step allocates nothing once the first has run.
 
+#include "core/StageObserver.h"
 #include "core/integrate/ImplicitSpringTerms.h"
 #include "core/integrate/Integrator.h"
 #include "core/linear/CholeskyPreconditioner.h"
@@ -86,6 +87,8 @@ public:
                    : Mat3(Mat3::Zero());
     }
     bool constrained() const { return !m_constrainedMasses.empty(); }
+    /// Reports the solve's stages (Stage::SolverAnalysis to SolverIterations) to `observer`; nullptr for none.
+    void setStageObserver(StageObserver* observer) { m_observer = observer; }
 
 private:
     void buildPattern(const MassSpringSystem& system);
@@ -124,6 +127,7 @@ private:
     bool releaseLifting(std::vector<VelocityConstraint>& constraints);
 
     ImplicitSettings m_settings;
+    StageObserver* m_observer = nullptr;
     bool m_speculative;
     bool m_coulombCap;
     bool m_releaseLifting;

@@ -3,6 +3,7 @@
 /// stability estimate; implicit Euler, BDF2 and TR-BDF2 are stable at any step.
 
 #include "core/MassSpringSystem.h"
+#include "core/StageObserver.h"
 #include "core/StepContext.h"
 #include "core/StepStage.h"
 
@@ -138,6 +139,9 @@ public:
         return step(system, none, h);
     }
     virtual IntegratorKind kind() const = 0;
+    /// Reports the implicit solve's stages (StageObserver.h) to `observer`, or to none with nullptr; the explicit
+    /// integrators have none.
+    virtual void setStageObserver(StageObserver* /*observer*/) {}
     /// Whether the step honours the context's constraints (otherwise the contact solver's projection does all).
     virtual bool honoursConstraints() const { return false; }
 };

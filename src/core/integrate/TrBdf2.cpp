@@ -105,6 +105,11 @@ public:
     }
 
     IntegratorKind kind() const override { return IntegratorKind::TrBdf2; }
+    void setStageObserver(StageObserver* observer) override
+    {
+        m_trapezoid.setStageObserver(observer);
+        m_bdf2.setStageObserver(observer);
+    }
     bool honoursConstraints() const override { return true; }
 
 private:

@@ -2,6 +2,7 @@
 
 #include "support/TestSystems.h"
 
+#include "core/StageObserver.h"
 #include "core/forces/Damping.h"
 #include "core/forces/Energy.h"
 #include "core/forces/SimdPath.h"
@@ -11,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -494,4 +496,80 @@ TEST(ImplicitSolve, TwoConstraintsOnAMassEachHoldTheirOwnNormalsVelocity)
         EXPECT_NEAR(constraints[0].reaction.cross(Vec3::UnitX()).norm(), 0, 1e-12);
         EXPECT_NEAR(constraints[1].reaction.cross(second).norm(), 0, 1e-12);
     }
+}
+
+namespace
+{
+/// Every solver stage boundary it is told of, in order (true for a begin).
+class SolverStageRecorder final : public StageObserver
+{
+public:
+    struct Boundary
+    {
+        Stage stage;
+        bool begin;
+    };
+    void begin(Stage stage) override { boundaries.push_back({stage, true}); }
+    void end(Stage stage) override { boundaries.push_back({stage, false}); }
+    int begun(Stage stage) const
+    {
+        return int(std::count_if(boundaries.begin(), boundaries.end(),
+                                 [&](const Boundary& b) { return b.stage == stage && b.begin; }));
+    }
+    std::vector<Boundary> boundaries;
+};
+} // namespace
+
+// The implicit solve tells a simulator's stage observer (StageObserver.h) where its time goes, for `masse bench` or a
+// program's own profiler: the pattern's analysis once per topology, each solve's assembly, the preconditioner's
+// refreshes and following, the iterations; each stage ends before the next begins. The observer stays with the
+// simulator when it changes integrator: the explicit ones report no solver stages, a new implicit one its analysis
+// again. Without an observer nothing is reported.
+TEST(ImplicitEuler, TellsAStageObserverWhereItsSolvesGo)
+{
+    LatticeSpec spec;
+    spec.countX = 8;
+    spec.countZ = 8;
+    const Lattice lattice = buildLattice(spec);
+    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    sheet.particles.setPinned(lattice.bottomCorners()[0], true);
+    SimulatorSettings settings;
+    settings.integrator = IntegratorKind::ImplicitEuler;
+    Simulator simulator(std::move(sheet), settings);
+    SolverStageRecorder recorder;
+    simulator.setStageObserver(&recorder);
+
+    simulator.step(paperTimeStep);
+    EXPECT_EQ(recorder.begun(Stage::SolverAnalysis), 1);
+    EXPECT_GE(recorder.begun(Stage::SolverPreconditioner), 1); // the first factorisation
+    EXPECT_GE(recorder.begun(Stage::SolverIterations), recorder.begun(Stage::SolverAssembly));
+    EXPECT_GE(recorder.begun(Stage::SolverAssembly), 1);
+    for (std::size_t k = 0; k < recorder.boundaries.size(); ++k)
+    {
+        const SolverStageRecorder::Boundary& b = recorder.boundaries[k];
+        ASSERT_EQ(b.begin, k % 2 == 0) << "boundary " << k << ": stages are told one at a time, each begun then ended";
+        if (!b.begin)
+        {
+            EXPECT_EQ(b.stage, recorder.boundaries[k - 1].stage) << "boundary " << k;
+        }
+    }
+    recorder.boundaries.clear();
+    simulator.step(paperTimeStep);
+    EXPECT_EQ(recorder.begun(Stage::SolverAnalysis), 0); // the same topology
+    EXPECT_GE(recorder.begun(Stage::SolverAssembly), 1);
+    EXPECT_GE(recorder.begun(Stage::SolverIterations), 1);
+
+    recorder.boundaries.clear();
+    simulator.setIntegrator(IntegratorKind::SymplecticEuler);
+    simulator.step(paperTimeStep);
+    EXPECT_TRUE(recorder.boundaries.empty());
+    simulator.setIntegrator(IntegratorKind::ImplicitEuler);
+    simulator.step(paperTimeStep);
+    EXPECT_EQ(recorder.begun(Stage::SolverAnalysis), 1);
+    EXPECT_GE(recorder.begun(Stage::SolverIterations), 1);
+
+    recorder.boundaries.clear();
+    simulator.setStageObserver(nullptr);
+    simulator.step(paperTimeStep);
+    EXPECT_TRUE(recorder.boundaries.empty());
 }
