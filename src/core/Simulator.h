@@ -62,8 +62,8 @@ public:
 
     MassSpringSystem& system() { return m_system; }
     const MassSpringSystem& system() const { return m_system; }
-    /// What the frame's stages hand one another (the contact's velocity constraints). With a contact solver it is
-    /// rewritten every frame; without one, constraints a program sets here hold until it changes them.
+    /// What the frame's stages hand one another (the contact's velocity constraints). Its constraints are cleared at
+    /// each frame's start, before the hooks that set them (the contact solver, the self-contact) run.
     StepContext& context() { return m_context; }
     const SimulatorSettings& settings() const { return m_settings; }
     void setIntegrator(IntegratorKind kind);

@@ -9,6 +9,7 @@
 #include "core/NumericalError.h"
 #include "core/StateHash.h"
 #include "core/StepContext.h"
+#include "core/StepHook.h"
 #include "core/contact/ContactSolver.h"
 #include "core/forces/Damping.h"
 #include "core/forces/Forces.h"
@@ -34,6 +35,22 @@ using namespace masse::test;
 namespace
 {
 constexpr Real sheetThickness = 0.002; ///< m, also the lattice's layer spacing
+
+/// Holds the same velocity constraints every frame: the Simulator clears the context's at each frame's start, before
+/// the stages that set them.
+class HeldEveryFrame final : public StepHook
+{
+public:
+    explicit HeldEveryFrame(std::vector<VelocityConstraint> constraints) : m_constraints(std::move(constraints)) {}
+    StageSet stages() const override { return {StepStage::BeginFrame}; }
+    void beginFrame(MassSpringSystem& /*system*/, StepContext& context, Real /*time*/, Real /*dt*/) override
+    {
+        context.constraints.insert(context.constraints.end(), m_constraints.begin(), m_constraints.end());
+    }
+
+private:
+    std::vector<VelocityConstraint> m_constraints;
+};
 
 /// A two-layer TRiMM sheet of `width` (x) by `span` (z), its bottom layer's first and last rows pinned: clamped on two
 /// edges, free on the other two.
@@ -241,6 +258,7 @@ TEST(ThermoplasticSheet, NewtonianSagGrowsAsCubeRootOfTime)
     settings.dampingRatio = 0;
     ClampedSheet sheet(nx, nz, width, span, liquid, temperature, settings);
     // Plane strain: every free mass keeps its x.
+    std::vector<VelocityConstraint> planeStrain;
     for (std::size_t i = 0; i < sheet.system().massCount(); ++i)
     {
         if (!sheet.system().particles.pinned[i])
@@ -249,9 +267,11 @@ TEST(ThermoplasticSheet, NewtonianSagGrowsAsCubeRootOfTime)
             c.mass = Index(i);
             c.directions = 1;
             c.normal = Vec3::UnitX();
-            sheet.simulator->context().constraints.push_back(c);
+            planeStrain.push_back(c);
         }
     }
+    HeldEveryFrame held(planeStrain);
+    sheet.simulator->addHook(&held);
 
     // K_el: stretch a copy of the lattice 0.1% along z between its clamps, elastic springs k = g E_ref, let it
     // settle, and read the tension from the force the springs put on the clamped first row.
@@ -275,7 +295,7 @@ TEST(ThermoplasticSheet, NewtonianSagGrowsAsCubeRootOfTime)
         }
         stretched.forces.gravity.setZero();
         Simulator settle(std::move(stretched), SimulatorSettings{});
-        settle.context().constraints = sheet.simulator->context().constraints; // plane strain here too
+        settle.addHook(&held); // plane strain here too
         simulate(settle, 3.0, 0.03, [](const Simulator&) {});
         std::vector<Vec3> force;
         evaluateForces(settle.system(), settle.system().particles.position, settle.system().particles.velocity, force);
