@@ -341,9 +341,6 @@ void runBench(const BenchOptions& options)
             {"preconditioner_share", preconditioner / allSeconds},
             {"iterations_share", iterations / allSeconds},
         };
-    }
-    if (!isExplicit(spec.time.integrator))
-    {
         const std::string warning = scene::solverCapWarning(rounds.solver, simulator.settings().implicit);
         if (!warning.empty())
         {

@@ -40,12 +40,11 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
     const Real driving = drivingImpulse(system, a); // the same for every round: masses and loads do not change
     for (int round = 1;; ++round)
     {
+        const std::vector<Vec3>& roundOffset = heldOffset(system.particles, constraints, a, offset, held);
         bool constrained = false;
-        const std::vector<Vec3>* roundOffset = &offset;
         {
             const StageScope assembly(m_observer, Stage::SolverAssembly);
-            roundOffset = &heldOffset(system.particles, constraints, a, offset, held);
-            assemble(system, a, *roundOffset, momentum);
+            assemble(system, a, roundOffset, momentum);
             constrained = applyConstraints(system, constraints, a);
         }
         m_tolerance = solverTolerance(driving);
@@ -63,7 +62,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
             return stats;
         }
         const bool capped = m_coulombCap && constrained && capFriction(system, constraints, a);
-        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, *roundOffset);
+        const bool arrivals = m_speculative && updateSpeculative(system, constraints, a, roundOffset);
         const bool lifted = m_releaseLifting && constrained && releaseLifting(constraints);
         if (!capped && !arrivals && !lifted)
         {

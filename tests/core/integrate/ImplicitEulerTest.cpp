@@ -527,11 +527,8 @@ public:
 // again. Without an observer nothing is reported.
 TEST(ImplicitEuler, TellsAStageObserverWhereItsSolvesGo)
 {
-    LatticeSpec spec;
-    spec.countX = 8;
-    spec.countZ = 8;
-    const Lattice lattice = buildLattice(spec);
-    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    Lattice lattice;
+    MassSpringSystem sheet = paperSheet(8, &lattice);
     sheet.particles.setPinned(lattice.bottomCorners()[0], true);
     SimulatorSettings settings;
     settings.integrator = IntegratorKind::ImplicitEuler;
