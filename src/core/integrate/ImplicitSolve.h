@@ -57,6 +57,8 @@ class ImplicitSolve
 public:
     /// The most solves one step takes for its speculative constraints (an impact frame of a falling sheet takes 3).
     static constexpr int maxSpeculativeRounds = 6;
+    /// The smallest residual scale, over the driving impulse (see residualScale).
+    static constexpr Real equilibriumFloor = 1e-2;
 
     /// With `speculative`, speculative constraints are engaged where the step would carry their masses through
     /// their surfaces; without, they are never engaged (the contact's projection deals with those masses). With
@@ -102,9 +104,9 @@ private:
     /// The impulse over a step a of the loads that drive the sheet: its weight, a |g| sqrt(sum m_i^2), or the loads
     /// applied to it, a sqrt(sum |f_i|^2), whichever is larger.
     static Real drivingImpulse(const MassSpringSystem& system, Real a);
-    /// The relative tolerance of this round: the settings' one, tightened so that the residual never exceeds it times
-    /// `drivingImpulse` (see the definition for why).
-    Real solverTolerance(Real drivingImpulse) const;
+    /// The scale the settings' tolerance applies to in a round whose right-hand side has norm `rhs`: |b|, at most
+    /// `drivingImpulse` and at least equilibriumFloor times it (see the definition for why).
+    static Real residualScale(Real rhs, Real drivingImpulse);
     void writeReactions(std::vector<VelocityConstraint>& constraints);
     /// Splits the reaction of a mass under two constraints between them (see the definition).
     void splitSharedReactions(std::vector<VelocityConstraint>& constraints);

@@ -87,8 +87,11 @@ PreconditionerKind parsePreconditioner(std::string_view name);
 /// Settings of the implicit solver.
 struct ImplicitSettings
 {
-    Real tolerance = 1e-5; ///< relative residual of the conjugate gradient (1e-5: the physics tests agree with 1e-7 at
-                           ///< a third of the iterations)
+    /// The conjugate gradient's residual, at most this times a scale: the right-hand side's norm, kept between a
+    /// hundredth of and the whole impulse over the step of the loads that drive the sheet (its weight, or its applied
+    /// loads where they are larger; ImplicitSolve::residualScale). 1e-5: the physics tests agree with 1e-7 at a third
+    /// of the iterations.
+    Real tolerance = 1e-5;
     int maxIterations = 1000; ///< per step
     PreconditionerKind preconditioner = PreconditionerKind::Cholesky;
     /// Iterations the old factor always gets before it is refactored from the current matrix (the solve then
@@ -104,8 +107,9 @@ struct ImplicitSettings
 /// What one step of an integrator reports.
 struct IntegratorStats
 {
-    int solverIterations = 0;     ///< conjugate-gradient iterations (implicit only)
-    Real solverResidual = 0;      ///< relative residual reached (implicit only)
+    int solverIterations = 0; ///< conjugate-gradient iterations (implicit only)
+    /// Residual reached, over the scale the tolerance applies to (implicit only; see ImplicitSettings::tolerance)
+    Real solverResidual = 0;
     bool hitIterationCap = false; ///< the solve stopped at maxIterations short of the tolerance
     int refactorisations = 0;     ///< preconditioner rebuilds (implicit with a refreshed preconditioner only)
 

@@ -15,7 +15,7 @@ struct SolverTally
     std::uint64_t iterations = 0;       ///< summed over them
     int largestIterations = 0;          ///< in one step
     std::uint64_t capHits = 0;          ///< steps that stopped at the iteration cap
-    Real finalResidual = 0;             ///< relative residual of the last solve
+    Real finalResidual = 0;             ///< residual of the last solve, over its tolerance's scale (IntegratorStats)
     Real largestResidual = 0;           ///< over all solves
     std::uint64_t refactorisations = 0; ///< preconditioner rebuilds (the Cholesky factor's or the multigrid's)
 
