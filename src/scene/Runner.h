@@ -42,7 +42,8 @@ nlohmann::json summarize(Scene& scene, Real wallSeconds);
 std::vector<std::string> summaryKeysAddedByTheRun(const SceneSpec& spec);
 
 /// The implicit solver's statistics as summary.json and `masse bench` report them: mean and largest iterations per
-/// step, the steps that stopped at the iteration cap, the final and largest relative residual, the preconditioner.
+/// step, the steps that stopped at the iteration cap, the final and largest residual (over the tolerance's scale,
+/// IntegratorStats), the preconditioner.
 nlohmann::json solverSummary(const SolverTally& tally, const ImplicitSettings& settings);
 
 /// A one-line warning for the terminal when steps stopped at the iteration cap, or "" when none did.
