@@ -130,6 +130,9 @@ struct BenchRounds
     std::uint64_t substeps = 0; ///< in the last round
     long long solverIterations = 0;
     SolverTally solver; ///< the timed steps only: the warm-up step made the first factorisation
+
+    /// s, all the timed rounds together: what the stages' shares of the step are over.
+    double timedSeconds() const { return std::accumulate(walls.begin(), walls.end(), 0.0); }
 };
 
 /// Repeated rounds, reported by their median: this machine kind shares its host, and single timings wander. The
@@ -169,7 +172,7 @@ nlohmann::json contactFigures(const Simulator& simulator, const ContactSolver& c
                               const BenchRounds& rounds, int repeat)
 {
     const double contactSeconds = stageTimer.contactSeconds();
-    const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+    const double allSeconds = rounds.timedSeconds();
     std::vector<Vec3> force(simulator.system().massCount(), Vec3::Zero());
     const MassSpringSystem& system = simulator.system();
     const PoolScope threads(simulator.pool()); // the spring forces on the threads the steps had
@@ -292,7 +295,7 @@ void runBench(const BenchOptions& options)
     {
         // The sheet against itself: its pair lists (Bullet's btDbvt) and its per-substep tests and responses, as
         // shares of the timed rounds' wall time.
-        const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+        const double allSeconds = rounds.timedSeconds();
         const double pairs = stageTimer.seconds(Stage::SelfContactPairs);
         const double solve = stageTimer.seconds(Stage::SelfContactSolve);
         out["self_contact"] = {
@@ -308,7 +311,7 @@ void runBench(const BenchOptions& options)
     {
         // The sheet's edges and triangles against the obstacles' edges and corners: its listings (Bullet's btDbvt over
         // the sheet) and its per-substep tests and responses, as shares of the timed rounds' wall time.
-        const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+        const double allSeconds = rounds.timedSeconds();
         const double pairs = stageTimer.seconds(Stage::EdgeContactPairs);
         const double solve = stageTimer.seconds(Stage::EdgeContactSolve);
         out["edge_contact"] = {
@@ -326,7 +329,7 @@ void runBench(const BenchOptions& options)
         // The implicit solve: building each solve's matrix and filter, refreshing (or following) the preconditioner,
         // and the conjugate gradient's iterations, as shares of the timed rounds' wall time; the pattern's analysis is
         // in the untimed warm-up step unless the topology changes.
-        const double allSeconds = std::accumulate(rounds.walls.begin(), rounds.walls.end(), 0.0);
+        const double allSeconds = rounds.timedSeconds();
         const double analysis = stageTimer.seconds(Stage::SolverAnalysis);
         const double assembly = stageTimer.seconds(Stage::SolverAssembly);
         const double preconditioner = stageTimer.seconds(Stage::SolverPreconditioner);

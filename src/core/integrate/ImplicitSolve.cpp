@@ -226,12 +226,13 @@ Real ImplicitSolve::residualScale(Real rhs, Real drivingImpulse)
     //   vacuum of 80 kPa on a 2 mm sheet is some 4000 times its weight: held to the weight alone, the cup at 64x2x64
     //   takes 9.4 iterations a step and 21 refactorisations, held to the load 7.7 and 14, for the same thinnest wall
     //   to seven digits.
-    // - Where |b| is smaller, the sheet is near its equilibrium and the scale is |b|, down to a hundredth of D: the
-    //   drape-forming sheet under its heater has |b| at 4e-8 of D, and resolving its balance to 1e-13 of its weight
-    //   costs iterations and refactorisations at every softening of its heated springs (at 128x2x128, 10.3
-    //   iterations a step and 29 refactorisations over the 60 s; 9.2 and 26 with the floor, the same thinnest wall to
-    //   nine digits). Held to D alone (no floor, 7.8 and 22) the solve leaves errors that decide a buckling: the
-    //   heated band of ThermoplasticSheet.HeaterSoftensTheSideItWarms then bulges up, not down.
+    // - Where |b| is smaller the sheet is near its equilibrium, and the scale is |b|, down to a hundredth of D. The
+    // floor
+    //   keeps such a sheet from being balanced far below its weight at every step: the drape-forming sheet under its
+    //   heater has |b| at 4e-8 of D, and at 128x2x128 it takes 9.2 iterations a step and 26 refactorisations over the
+    //   60 s where holding the residual to |b| takes 10.3 and 29, for the same thinnest wall to nine digits. Above the
+    //   floor the scale stays |b|: near equilibrium a residual of tol D is large enough to decide a buckling (the
+    //   heated band of ThermoplasticSheet.HeaterSoftensTheSideItWarms bulges up with it, not down).
     return std::max(std::min(rhs, drivingImpulse), equilibriumFloor * drivingImpulse);
 }
 
