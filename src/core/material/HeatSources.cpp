@@ -99,8 +99,10 @@ Real viewFactorToHeater(const RadiantHeater& heater, const Vec3& x, const Vec3& 
     // Clip the panel to the patch's front half-space (Sutherland-Hodgman against one plane).
     const std::array<Vec3, 4> corners = heaterCorners(heater);
     const Real tolerance = Real(1e-12) * (heater.width + heater.length);
-    std::vector<Vec3> polygon;
-    polygon.reserve(8);
+    // A quadrilateral clipped by one plane keeps at most five corners; on the stack, as this runs for every exposed
+    // mass and heater at every step.
+    std::array<Vec3, 8> polygon;
+    std::size_t count = 0;
     for (std::size_t k = 0; k < corners.size(); ++k)
     {
         const Vec3& a = corners[k];
@@ -109,22 +111,22 @@ Real viewFactorToHeater(const RadiantHeater& heater, const Vec3& x, const Vec3& 
         const Real db = (b - x).dot(n) - tolerance;
         if (da > 0)
         {
-            polygon.push_back(a);
+            polygon[count++] = a;
         }
         if ((da > 0) != (db > 0))
         {
-            polygon.push_back(a + (da / (da - db)) * (b - a));
+            polygon[count++] = a + (da / (da - db)) * (b - a);
         }
     }
-    if (polygon.size() < 3)
+    if (count < 3)
     {
         return 0;
     }
     Real sum = 0;
-    for (std::size_t k = 0; k < polygon.size(); ++k)
+    for (std::size_t k = 0; k < count; ++k)
     {
         const Vec3 r0 = polygon[k] - x;
-        const Vec3 r1 = polygon[(k + 1) % polygon.size()] - x;
+        const Vec3 r1 = polygon[(k + 1) % count] - x;
         const Vec3 c = r0.cross(r1);
         const Real cn = c.norm();
         if (!(cn > 0))

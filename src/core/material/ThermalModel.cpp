@@ -4,6 +4,7 @@
 #include "core/InputError.h"
 #include "core/NumericalError.h"
 #include "core/Simulator.h"
+#include "core/parallel/TaskPool.h"
 
 #include <Eigen/Geometry>
 
@@ -19,6 +20,8 @@ namespace masse
 {
 namespace
 {
+/// Springs per chunk of the conductances' pass on the pool.
+constexpr std::size_t springChunkSize = 8192;
 constexpr std::uint8_t bottomFace = 1;
 constexpr std::uint8_t topFace = 2;
 
@@ -234,21 +237,25 @@ void ThermalModel::computeConductances()
     const Real layers = Real(m_geometry.layerCount());
     const std::vector<Real>& h = m_geometry.thickness();
     const Real h0 = m_geometry.initialThickness();
-    for (std::size_t s = 0; s < m_ends.size(); ++s)
-    {
-        const SpringEnds e = m_ends[s];
-        const Real layerThickness = Real(0.5) * (h[e.a] + h[e.b]) / layers;
-        if (m_class[s] == SpringClass::Planar)
-        {
-            m_conductance[s] = conductivity * layerThickness * m_weight[s];
-        }
-        else
-        {
-            // The rest share, stretched as the sheet is: A / A0 = h0 / h at each end.
-            const Real stretch = Real(0.5) * (h0 / h[e.a] + h0 / h[e.b]);
-            m_conductance[s] = conductivity * m_interLayerArea * stretch / layerThickness;
-        }
-    }
+    parallelFor(m_ends.size(), springChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t s = begin; s < end; ++s)
+                    {
+                        const SpringEnds e = m_ends[s];
+                        const Real layerThickness = Real(0.5) * (h[e.a] + h[e.b]) / layers;
+                        if (m_class[s] == SpringClass::Planar)
+                        {
+                            m_conductance[s] = conductivity * layerThickness * m_weight[s];
+                        }
+                        else
+                        {
+                            // The rest share, stretched as the sheet is: A / A0 = h0 / h at each end.
+                            const Real stretch = Real(0.5) * (h0 / h[e.a] + h0 / h[e.b]);
+                            m_conductance[s] = conductivity * m_interLayerArea * stretch / layerThickness;
+                        }
+                    }
+                });
 }
 
 void ThermalModel::beginFrame(MassSpringSystem& /*system*/, StepContext& context, Real /*time*/, Real dt)
@@ -343,37 +350,46 @@ void ThermalModel::assembleExchanges(const std::vector<Vec3>& x, std::span<const
     m_airSource.assign(n, Real(0));
     m_contactCoefficient.assign(n, Real(0));
     m_contactSource.assign(n, Real(0));
-    for (std::size_t i = 0; i < n; ++i)
+    m_absorbed.assign(n, Real(0));
+    // Each mass writes its own row, on the pool (the heaters' view factors are most of a heated step's thermal cost).
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const Real diagonal = m_capacity[i] / dt;
+                        m_matrix.value(m_matrix.diagonal(i)) += diagonal;
+                        m_rhs[Eigen::Index(i)] = diagonal * m_temperature[i];
+                        const int faceCount = ((m_faces[i] & bottomFace) ? 1 : 0) + ((m_faces[i] & topFace) ? 1 : 0);
+                        if (faceCount > 0)
+                        {
+                            const AirAt air = airAt(x[i]);
+                            m_airCoefficient[i] = air.heatTransfer * area[i] * Real(faceCount);
+                            m_airSource[i] = m_airCoefficient[i] * air.temperature;
+                            m_absorbed[i] = absorbedHeat(i, x[i], normal[i]);
+                            m_rhs[Eigen::Index(i)] += m_absorbed[i];
+                        }
+                        if (!touchingObstacle.empty())
+                        {
+                            const int obstacle = touchingObstacle[i];
+                            if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTemperature.size())
+                            {
+                                m_contactCoefficient[i] = m_settings.contactHeatTransfer * area[i];
+                                const Real given = m_obstacleTemperature[std::size_t(obstacle)];
+                                const Real surface = std::isnan(given) ? m_settings.airTemperature : given;
+                                m_contactSource[i] = m_contactCoefficient[i] * surface;
+                            }
+                        }
+                        m_matrix.value(m_matrix.diagonal(i)) += m_airCoefficient[i] + m_contactCoefficient[i];
+                        m_rhs[Eigen::Index(i)] += m_airSource[i] + m_contactSource[i];
+                    }
+                });
+    for (std::size_t i = 0; i < n; ++i) // in mass order, as the report's sum always is
     {
-        const Real diagonal = m_capacity[i] / dt;
-        m_matrix.value(m_matrix.diagonal(i)) += diagonal;
-        m_rhs[Eigen::Index(i)] = diagonal * m_temperature[i];
-        const int faceCount = ((m_faces[i] & bottomFace) ? 1 : 0) + ((m_faces[i] & topFace) ? 1 : 0);
-        if (faceCount > 0)
+        if (!m_held[i])
         {
-            const AirAt air = airAt(x[i]);
-            m_airCoefficient[i] = air.heatTransfer * area[i] * Real(faceCount);
-            m_airSource[i] = m_airCoefficient[i] * air.temperature;
-            const Real absorbed = absorbedHeat(i, x[i], normal[i]);
-            if (!m_held[i])
-            {
-                m_report.heaterPower += absorbed;
-            }
-            m_rhs[Eigen::Index(i)] += absorbed;
+            m_report.heaterPower += m_absorbed[i];
         }
-        if (!touchingObstacle.empty())
-        {
-            const int obstacle = touchingObstacle[i];
-            if (obstacle >= 0 && std::size_t(obstacle) < m_obstacleTemperature.size())
-            {
-                m_contactCoefficient[i] = m_settings.contactHeatTransfer * area[i];
-                const Real given = m_obstacleTemperature[std::size_t(obstacle)];
-                const Real surface = std::isnan(given) ? m_settings.airTemperature : given;
-                m_contactSource[i] = m_contactCoefficient[i] * surface;
-            }
-        }
-        m_matrix.value(m_matrix.diagonal(i)) += m_airCoefficient[i] + m_contactCoefficient[i];
-        m_rhs[Eigen::Index(i)] += m_airSource[i] + m_contactSource[i];
     }
 }
 

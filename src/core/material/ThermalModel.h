@@ -158,6 +158,7 @@ private:
     std::vector<Real> m_airSource;
     std::vector<Real> m_contactCoefficient;
     std::vector<Real> m_contactSource;
+    std::vector<Real> m_absorbed; ///< W from the heaters
 
     SlotMatrix<1> m_matrix; ///< C/dt + conductances + exchange coefficients, a scalar per mass and per spring end
     Eigen::VectorX<Real> m_rhs;

@@ -2,6 +2,7 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/parallel/TaskPool.h"
 
 #include <Eigen/Geometry>
 
@@ -75,6 +76,7 @@ SheetThickness::SheetThickness(const Lattice& lattice, Real thickness) : m_initi
     m_layerCount = lattice.spec.layers;
     for (int layer = 0; layer < m_layerCount; ++layer)
     {
+        m_layerCellStart.push_back(m_cells.size() / std::size_t(m_cornersPerCell));
         if (triangular)
         {
             appendTriangles(lattice, layer, m_cells);
@@ -84,6 +86,7 @@ SheetThickness::SheetThickness(const Lattice& lattice, Real thickness) : m_initi
             appendSquares(lattice, layer, m_cells);
         }
     }
+    m_layerCellStart.push_back(m_cells.size() / std::size_t(m_cornersPerCell));
     // Orient every cell counter-clockwise seen from +y, so that normals point to the sheet's top side.
     const std::size_t corners = std::size_t(m_cornersPerCell);
     for (std::size_t start = 0; start < m_cells.size(); start += corners)
@@ -131,37 +134,44 @@ void SheetThickness::accumulate(const std::vector<Vec3>& x, std::vector<Real>& a
     area.assign(m_layer.size(), Real(0));
     vectorArea.assign(m_layer.size(), Vec3::Zero());
     const std::size_t corners = std::size_t(m_cornersPerCell);
-    const std::size_t cellCount = m_cells.size() / corners;
-    for (std::size_t cellIndex = 0; cellIndex < cellCount; ++cellIndex)
-    {
-        const Index* cell = m_cells.data() + cellIndex * corners;
-        Vec3 doubled;
-        Real size;
-        if (corners == 3)
-        {
-            doubled = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[2]]);
-            size = Real(0.5) * doubled.norm();
-        }
-        else
-        {
-            // A bent square's area is the mean of its two splits into triangles (along either diagonal), so that a
-            // square and its mirror image have the same area and a mirror-symmetric sheet a mirror-symmetric
-            // thickness field (Forming.MirrorSymmetric*). The vector area is the same for either split.
-            const Vec3 first = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[2]]);
-            const Vec3 second = doubleVectorArea(x[cell[0]], x[cell[2]], x[cell[3]]);
-            const Vec3 third = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[3]]);
-            const Vec3 fourth = doubleVectorArea(x[cell[1]], x[cell[2]], x[cell[3]]);
-            doubled = first + second;
-            size = Real(0.25) * ((first.norm() + second.norm()) + (third.norm() + fourth.norm()));
-        }
-        const Real share = size / Real(corners);
-        const Vec3 vectorShare = doubled * (Real(0.5) / Real(corners));
-        for (std::size_t k = 0; k < corners; ++k)
-        {
-            area[cell[k]] += share;
-            vectorArea[cell[k]] += vectorShare;
-        }
-    }
+    // A layer's cells have their corners in that layer alone: the layers add to disjoint masses, each in its cells'
+    // order, so they run at once and every sum has the same bits at any thread count.
+    parallelFor(m_layerCellStart.size() - 1, 1,
+                [&](std::size_t firstLayer, std::size_t endLayer)
+                {
+                    for (std::size_t cellIndex = m_layerCellStart[firstLayer]; cellIndex < m_layerCellStart[endLayer];
+                         ++cellIndex)
+                    {
+                        const Index* cell = m_cells.data() + cellIndex * corners;
+                        Vec3 doubled;
+                        Real size;
+                        if (corners == 3)
+                        {
+                            doubled = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[2]]);
+                            size = Real(0.5) * doubled.norm();
+                        }
+                        else
+                        {
+                            // A bent square's area is the mean of its two splits into triangles (along either
+                            // diagonal), so that a square and its mirror image have the same area and a
+                            // mirror-symmetric sheet a mirror-symmetric thickness field (Forming.MirrorSymmetric*).
+                            // The vector area is the same for either split.
+                            const Vec3 first = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[2]]);
+                            const Vec3 second = doubleVectorArea(x[cell[0]], x[cell[2]], x[cell[3]]);
+                            const Vec3 third = doubleVectorArea(x[cell[0]], x[cell[1]], x[cell[3]]);
+                            const Vec3 fourth = doubleVectorArea(x[cell[1]], x[cell[2]], x[cell[3]]);
+                            doubled = first + second;
+                            size = Real(0.25) * ((first.norm() + second.norm()) + (third.norm() + fourth.norm()));
+                        }
+                        const Real share = size / Real(corners);
+                        const Vec3 vectorShare = doubled * (Real(0.5) / Real(corners));
+                        for (std::size_t k = 0; k < corners; ++k)
+                        {
+                            area[cell[k]] += share;
+                            vectorArea[cell[k]] += vectorShare;
+                        }
+                    }
+                });
 }
 
 void SheetThickness::update(const std::vector<Vec3>& x)
@@ -170,20 +180,28 @@ void SheetThickness::update(const std::vector<Vec3>& x)
     const std::size_t n = m_layer.size();
     m_thickness.resize(n);
     m_normal.resize(n);
+    parallelFor(n, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const Real rest = m_restArea[i];
+                        if (m_cellless[i])
+                        {
+                            m_area[i] = rest;
+                        }
+                        const Real current = std::max(m_area[i], collapsedAreaFraction * rest);
+                        m_thickness[i] = m_initialThickness * rest / current;
+                        const Real length = m_vectorArea[i].norm();
+                        m_normal[i] = length > 0 ? Vec3(m_vectorArea[i] / length) : Vec3(Vec3::UnitY());
+                    }
+                });
+    // The volume and the thinnest mass in mass order (a sum's bits depend on its order; the first thinnest wins).
     m_minimumThickness = std::numeric_limits<Real>::infinity();
     m_thinnestMass = 0;
     m_volume = 0;
     for (std::size_t i = 0; i < n; ++i)
     {
-        const Real rest = m_restArea[i];
-        if (m_cellless[i])
-        {
-            m_area[i] = rest;
-        }
-        const Real current = std::max(m_area[i], collapsedAreaFraction * rest);
-        m_thickness[i] = m_initialThickness * rest / current;
-        const Real length = m_vectorArea[i].norm();
-        m_normal[i] = length > 0 ? Vec3(m_vectorArea[i] / length) : Vec3(Vec3::UnitY());
         if (m_layer[i] == 0)
         {
             m_volume += m_thickness[i] * m_area[i];

@@ -60,13 +60,14 @@ public:
     Real restVolume() const { return m_restVolume; }
 
 private:
-    /// Accumulates per-mass areas and normals (vector areas) of the cells for positions x.
+    /// Accumulates per-mass areas and normals (vector areas) of the cells for positions x, the layers on the pool.
     void accumulate(const std::vector<Vec3>& x, std::vector<Real>& area, std::vector<Vec3>& vectorArea) const;
 
     Real m_initialThickness;
     int m_cornersPerCell = 3;
     int m_layerCount = 1;
     std::vector<Index> m_cells;
+    std::vector<std::size_t> m_layerCellStart; ///< per layer and one past, its first cell (cells() in cells)
     std::vector<int> m_layer;
     std::vector<std::uint8_t> m_cellless; ///< masses of no cell
     std::vector<Real> m_restArea;

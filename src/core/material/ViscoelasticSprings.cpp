@@ -222,7 +222,7 @@ void ViscoelasticSprings::start(const MassSpringSystem& system, const StepContex
     m_started = true;
 }
 
-void ViscoelasticSprings::rebuildSteps(MassSpringSystem& system, Real h)
+void ViscoelasticSprings::rebuildSteps(MassSpringSystem& system, Real h, bool changedChunksOnly)
 {
     std::vector<Real>& springStiffness = system.springs.mutableStiffness();
     std::vector<Real>& springDamping = system.springs.mutableDamping();
@@ -230,6 +230,10 @@ void ViscoelasticSprings::rebuildSteps(MassSpringSystem& system, Real h)
     parallelFor(springStiffness.size(), springChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
+                    if (changedChunksOnly && m_chunkChanged[begin / springChunkSize] == 0)
+                    {
+                        return; // its parameters and h are those its coefficients were built for
+                    }
                     for (std::size_t s = begin; s < end; ++s)
                     {
                         m_step[s] = burgersStep(m_params[s], h);
@@ -273,7 +277,7 @@ void ViscoelasticSprings::beginFrame(MassSpringSystem& system, StepContext& cont
     const Real h = m_stepLength > 0 ? m_stepLength : dt;
     if (changed || h != m_stepLength)
     {
-        rebuildSteps(system, h);
+        rebuildSteps(system, h, h == m_stepLength);
     }
     writeRestLengths(system);
 }
@@ -288,7 +292,7 @@ void ViscoelasticSprings::afterSubstep(MassSpringSystem& system, StepContext& co
     const std::vector<Vec3>& x = system.particles.position;
     if (h != m_stepLength)
     {
-        rebuildSteps(system, h); // the state update below must use the step actually taken
+        rebuildSteps(system, h, false); // the state update below must use the step actually taken
     }
     const bool elastic = m_settings.model == SpringModel::Elastic;
     m_chunkFinite.assign(chunkCount(springs.size(), springChunkSize), 1);

@@ -116,8 +116,10 @@ private:
     /// Recomputes the coefficients of springs whose temperature or thickness changed; returns whether any did.
     bool refreshParameters(const MassSpringSystem& system, std::span<const Real> temperature,
                            SheetThickness* thickness);
-    /// Rebuilds the step coefficients for a substep of h and writes k_eff and damping into the system.
-    void rebuildSteps(MassSpringSystem& system, Real h);
+    /// Rebuilds the step coefficients for a substep of h and writes k_eff and damping into the system: of every
+    /// spring, or with `changedChunksOnly` (h being the step they were built for) of the chunks whose parameters
+    /// refreshParameters changed.
+    void rebuildSteps(MassSpringSystem& system, Real h, bool changedChunksOnly);
     /// Writes the effective rest lengths for the next substep from the state.
     void writeRestLengths(MassSpringSystem& system);
 
