@@ -76,6 +76,11 @@ void requirePositiveStep(Real dt)
 int Simulator::substepsFor(Real dt) const
 {
     requirePositiveStep(dt);
+    if (!isExplicit(m_settings.integrator))
+    {
+        return 1; // an implicit step is stable at any length: no estimate to make (it would be a pass over every
+                  // spring)
+    }
     const PoolScope threads(*m_pool);
     const StabilityEstimate& estimate = stability();
     if (!std::isfinite(estimate.stableStep))
