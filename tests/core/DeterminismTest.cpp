@@ -10,6 +10,8 @@
 #include "core/forces/Forces.h"
 #include "core/forces/SimdPath.h"
 #include "core/lattice/Lattice.h"
+#include "core/material/HeatSources.h"
+#include "core/material/ThermalModel.h"
 #include "core/parallel/TaskPool.h"
 #include "scene/Scene.h"
 #include "scene/SceneFile.h"
@@ -20,7 +22,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -634,6 +638,81 @@ TEST(Determinism, LatticeRowsMakeLongRuns)
     EXPECT_GT(Real(massesInLongRuns) / Real(lattice.massCount()), 0.95);
     EXPECT_GT(Real(springsInLongRuns) / Real(lattice.springCount()), 0.95);
     EXPECT_GT(plan.bandCount(), std::size_t(1));
+}
+
+// The thermal step runs its per-mass and per-spring passes, and the sheet's areas layer by layer, on the pool: a
+// drawn, heated sheet touching an obstacle over part of its underside has the same temperatures, thicknesses,
+// normals and heater power, bit for bit, with no pool and with pools of two and three threads. The sheet has enough
+// masses and springs for several chunks of each pass.
+TEST(Determinism, HeatAndThicknessHaveTheSameBitsWithAndWithoutThePool)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::TRiMM;
+    spec.countX = 64;
+    spec.countZ = 64;
+    spec.minCorner = Vec3(-0.3, 0, -0.3);
+    spec.maxCorner = Vec3(0.3, 0.03, 0.3);
+    const Lattice lattice = buildLattice(spec);
+    ASSERT_GT(lattice.massCount(), massChunkSize);
+    MassSpringSystem system = makeSheet(lattice, SheetParams{});
+    for (std::size_t i = 0; i < lattice.massCount(); ++i)
+    {
+        const Vec3 rest = lattice.position[i];
+        system.particles.position[i].y() -= 0.05 * std::exp(-20 * rest.squaredNorm()) + 0.01 * rest.x() * rest.z();
+    }
+    std::vector<int> touching(lattice.massCount(), -1);
+    for (std::size_t i = 0; i < lattice.massCount(); ++i)
+    {
+        if (lattice.coord[i].layer == 0 && lattice.position[i].x() > 0.1)
+        {
+            touching[i] = 0;
+        }
+    }
+    ThermalSettings settings;
+    settings.initialTemperature = 300;
+    RadiantHeater heater;
+    heater.centre = Vec3(0.05, 0.2, -0.02);
+    heater.normal = Vec3(0, -1, 0);
+    heater.width = 0.5;
+    heater.length = 0.4;
+    heater.power = 8000;
+    settings.heaters.push_back(heater);
+    struct Outcome
+    {
+        std::vector<Real> temperature, thickness, area, conductance;
+        std::vector<Vec3> normal;
+        Real volume = 0;
+        Real heaterPower = 0;
+    };
+    const auto run = [&](int threads)
+    {
+        ThermalModel model(lattice, Material{}, 0.002, settings);
+        model.setObstacleTemperatures({320});
+        std::unique_ptr<TaskPool> pool = threads > 1 ? std::make_unique<TaskPool>(threads) : nullptr;
+        std::unique_ptr<PoolScope> scope = pool ? std::make_unique<PoolScope>(*pool) : nullptr;
+        for (int step = 0; step < 3; ++step)
+        {
+            model.advance(system, 0.1, touching);
+        }
+        const SheetThickness& sheet = model.sheetThickness();
+        return Outcome{model.temperature(),           sheet.thickness(), sheet.area(),
+                       model.conductance(),           sheet.normal(),    sheet.volume(),
+                       model.lastReport().heaterPower};
+    };
+    const Outcome alone = run(1);
+    EXPECT_GT(alone.heaterPower, 0);
+    EXPECT_GT(*std::max_element(alone.temperature.begin(), alone.temperature.end()), 300.01);
+    for (const int threads : {2, 3})
+    {
+        const Outcome pooled = run(threads);
+        EXPECT_EQ(pooled.temperature, alone.temperature) << threads << " threads";
+        EXPECT_EQ(pooled.thickness, alone.thickness) << threads << " threads";
+        EXPECT_EQ(pooled.area, alone.area) << threads << " threads";
+        EXPECT_EQ(pooled.normal, alone.normal) << threads << " threads";
+        EXPECT_EQ(pooled.volume, alone.volume) << threads << " threads";
+        EXPECT_EQ(pooled.heaterPower, alone.heaterPower) << threads << " threads";
+        EXPECT_EQ(pooled.conductance, alone.conductance) << threads << " threads";
+    }
 }
 
 TEST(SimdPath, NamesRoundTripAndTheBaselineIsAlwaysSupported)
