@@ -287,6 +287,19 @@ void runBench(const BenchOptions& options)
         {"scene", std::chrono::duration<double>(warmUpStart - buildStart).count()},
         {"first_step", std::chrono::duration<double>(warmUpEnd - warmUpStart).count()},
     };
+    {
+        // Where the frame goes: each stage of the frame's table (docs/step.md), the Simulator's own work and its
+        // models' hooks in it, as seconds and shares of the timed rounds' wall time (what is left is the caller's
+        // loop and the solves' splitting of a frame).
+        const double allSeconds = rounds.timedSeconds();
+        nlohmann::json stages = nlohmann::json::object();
+        for (const StepStageEntry& entry : stepStageTable)
+        {
+            const double seconds = stageTimer.seconds(entry.stage);
+            stages[std::string(entry.name)] = {{"seconds", seconds}, {"share", seconds / allSeconds}};
+        }
+        out["step_stages"] = stages;
+    }
     if (spec.environment.room.enabled || !spec.obstacles.empty())
     {
         out["contact"] = contactFigures(simulator, scene.contact(), stageTimer, rounds, options.repeat);

@@ -236,6 +236,7 @@ void Simulator::runHooks(StepStage stage, const Frame& frame)
 
 void Simulator::runStage(StepStage stage, Frame& frame)
 {
+    const StepStageScope timed(m_observer, stage);
     FramePlan& plan = frame.plan;
     const bool hooksHere = !m_stageHooks[int(stage)].empty();
     switch (stage)

@@ -3,6 +3,8 @@
 /// times the contact stages and the implicit solve's through this; a program embedding the engine can attach its own
 /// profiler the same way). Stages do not nest within themselves; the implicit solve's lie within the integrator's step.
 
+#include "core/StepStage.h"
+
 namespace masse
 {
 enum class Stage
@@ -28,6 +30,36 @@ public:
     virtual ~StageObserver() = default;
     virtual void begin(Stage stage) = 0;
     virtual void end(Stage stage) = 0;
+    /// A stage of the frame's table (StepStage.h) begins or ends: the Simulator's own work and its hooks' in it. The
+    /// stages above lie within these (the solve's within `integrate`, the obstacle contact's within its stages).
+    virtual void beginStep(StepStage /*stage*/) {}
+    virtual void endStep(StepStage /*stage*/) {}
+};
+
+/// Tells an observer (if any) that a stage of the frame's table runs for the lifetime of this object.
+class StepStageScope
+{
+public:
+    StepStageScope(StageObserver* observer, StepStage stage) : m_observer(observer), m_stage(stage)
+    {
+        if (m_observer)
+        {
+            m_observer->beginStep(m_stage);
+        }
+    }
+    ~StepStageScope()
+    {
+        if (m_observer)
+        {
+            m_observer->endStep(m_stage);
+        }
+    }
+    StepStageScope(const StepStageScope&) = delete;
+    StepStageScope& operator=(const StepStageScope&) = delete;
+
+private:
+    StageObserver* m_observer;
+    StepStage m_stage;
 };
 
 /// Tells an observer (if any) that a stage runs for the lifetime of this object.

@@ -3,6 +3,8 @@
 #include "support/MasseCommand.h"
 #include "support/Sanitizers.h"
 
+#include "core/StepStage.h"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -214,6 +216,44 @@ TEST(CommandLine, BenchSaysWhereTheImplicitSolvesTimeGoes)
     const Outcome freeFall = runMasse("bench --size 8x2x8 --steps 1 --repeat 1");
     ASSERT_EQ(freeFall.exitCode, 0) << freeFall.output;
     EXPECT_FALSE(nlohmann::json::parse(freeFall.output).contains("solver_stages"));
+}
+
+// `masse bench` says where the frame goes, stage by stage of the frame's table (docs/step.md): every stage is named,
+// each within the rounds' wall time, together no more than it and most of it (the rest is the rounds' own loop), and
+// the implicit solve's stages lie within `integrate`. On the drape-forming sheet under its heater the heat model's
+// step (`endFrame`) and the springs' refresh (`beginFrame`) take time; an explicit free fall's frame is its
+// `integrate` stage's substeps.
+TEST(CommandLine, BenchSaysWhereTheFrameGoesStageByStage)
+{
+    const Outcome drape =
+        runMasse("bench " + source + "/data/scenes/drape-forming.json --size 16x2x16 --steps 5 --repeat 1");
+    ASSERT_EQ(drape.exitCode, 0) << drape.output;
+    const nlohmann::json d = nlohmann::json::parse(drape.output.substr(drape.output.find('{')));
+    ASSERT_TRUE(d.contains("step_stages")) << d.dump();
+    const nlohmann::json& stages = d["step_stages"];
+    const double wall = d["wall_seconds"].get<double>();
+    double sum = 0;
+    for (const masse::StepStageEntry& entry : masse::stepStageTable)
+    {
+        ASSERT_TRUE(stages.contains(std::string(entry.name))) << entry.name;
+        const double seconds = stages[std::string(entry.name)]["seconds"].get<double>();
+        EXPECT_GE(seconds, 0.0) << entry.name;
+        EXPECT_NEAR(stages[std::string(entry.name)]["share"].get<double>(), seconds / wall, 1e-9) << entry.name;
+        sum += seconds;
+    }
+    EXPECT_LE(sum, wall);
+    EXPECT_GT(sum, 0.5 * wall);
+    EXPECT_GT(stages["endFrame"]["seconds"].get<double>(), 0.0);
+    EXPECT_GT(stages["beginFrame"]["seconds"].get<double>(), 0.0);
+    const nlohmann::json& solver = d["solver_stages"];
+    EXPECT_LE(solver["assembly_seconds"].get<double>() + solver["preconditioner_seconds"].get<double>() +
+                  solver["iterations_seconds"].get<double>(),
+              stages["integrate"]["seconds"].get<double>());
+
+    const Outcome freeFall = runMasse("bench --size 8x2x8 --steps 1 --repeat 1");
+    ASSERT_EQ(freeFall.exitCode, 0) << freeFall.output;
+    const nlohmann::json f = nlohmann::json::parse(freeFall.output);
+    EXPECT_GT(f["step_stages"]["integrate"]["seconds"].get<double>(), 0.0);
 }
 
 // `masse compare` on the reference landing (the 8 x 2 x 8 Table 1 sheet onto a box at dt = 0.03 s), cut to 2 s:
