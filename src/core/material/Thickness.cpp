@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -176,6 +177,12 @@ void SheetThickness::accumulate(const std::vector<Vec3>& x, std::vector<Real>& a
 
 void SheetThickness::update(const std::vector<Vec3>& x)
 {
+    static_assert(sizeof(Vec3) == 3 * sizeof(Real), "positions are compared as their bytes");
+    if (x.size() == m_updatedAt.size() && std::memcmp(x.data(), m_updatedAt.data(), x.size() * sizeof(Vec3)) == 0)
+    {
+        return; // the same bits give the same areas, normals and thicknesses
+    }
+    m_updatedAt = x;
     accumulate(x, m_area, m_vectorArea);
     const std::size_t n = m_layer.size();
     m_thickness.resize(n);

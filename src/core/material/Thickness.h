@@ -30,7 +30,9 @@ public:
     /// `thickness` is the sheet's initial thickness h0 (m, > 0); the lattice's rest positions are the initial shape.
     SheetThickness(const Lattice& lattice, Real thickness);
 
-    /// Recomputes areas, normals and thicknesses for the positions x (one per mass of the lattice).
+    /// Recomputes areas, normals and thicknesses for the positions x (one per mass of the lattice); nothing when x
+    /// holds the same bits as at the last update (a frame's springs and its heat step read the sheet at the same
+    /// positions, one at the frame's end and one at the next frame's start).
     void update(const std::vector<Vec3>& x);
 
     Real initialThickness() const { return m_initialThickness; }
@@ -73,6 +75,7 @@ private:
     std::vector<Real> m_restArea;
     std::vector<Real> m_area;
     std::vector<Vec3> m_vectorArea;
+    std::vector<Vec3> m_updatedAt; ///< the positions of the last update
     std::vector<Vec3> m_normal;
     std::vector<Real> m_thickness;
     Real m_minimumThickness = 0;
