@@ -1,9 +1,12 @@
 #pragma once
 /// The step's stage boundaries, for a profiler outside the core: the engine reads no clock itself (`masse bench`
-/// times the contact stages and the implicit solve's through this; a program embedding the engine can attach its own
-/// profiler the same way). Stages do not nest within themselves; the implicit solve's lie within the integrator's step.
+/// times the frame's stages, the contact's and the implicit solve's through this; a program embedding the engine can
+/// attach its own profiler the same way). Stages do not nest within themselves; the implicit solve's lie within the
+/// integrator's step.
 
 #include "core/StepStage.h"
+
+#include <type_traits>
 
 namespace masse
 {
@@ -36,55 +39,44 @@ public:
     virtual void endStep(StepStage /*stage*/) {}
 };
 
-/// Tells an observer (if any) that a stage of the frame's table runs for the lifetime of this object.
-class StepStageScope
+/// Tells an observer (if any) that a stage runs for the lifetime of this object: a profiler's Stage, or a StepStage of
+/// the frame's table.
+template <class Kind> class ObservedStage
 {
 public:
-    StepStageScope(StageObserver* observer, StepStage stage) : m_observer(observer), m_stage(stage)
+    ObservedStage(StageObserver* observer, Kind stage) : m_observer(observer), m_stage(stage)
     {
         if (m_observer)
         {
-            m_observer->beginStep(m_stage);
+            notify(true);
         }
     }
-    ~StepStageScope()
+    ~ObservedStage()
     {
         if (m_observer)
         {
-            m_observer->endStep(m_stage);
+            notify(false);
         }
     }
-    StepStageScope(const StepStageScope&) = delete;
-    StepStageScope& operator=(const StepStageScope&) = delete;
+    ObservedStage(const ObservedStage&) = delete;
+    ObservedStage& operator=(const ObservedStage&) = delete;
 
 private:
-    StageObserver* m_observer;
-    StepStage m_stage;
-};
-
-/// Tells an observer (if any) that a stage runs for the lifetime of this object.
-class StageScope
-{
-public:
-    StageScope(StageObserver* observer, Stage stage) : m_observer(observer), m_stage(stage)
+    void notify(bool begins)
     {
-        if (m_observer)
+        if constexpr (std::is_same_v<Kind, StepStage>)
         {
-            m_observer->begin(m_stage);
+            begins ? m_observer->beginStep(m_stage) : m_observer->endStep(m_stage);
+        }
+        else
+        {
+            begins ? m_observer->begin(m_stage) : m_observer->end(m_stage);
         }
     }
-    ~StageScope()
-    {
-        if (m_observer)
-        {
-            m_observer->end(m_stage);
-        }
-    }
-    StageScope(const StageScope&) = delete;
-    StageScope& operator=(const StageScope&) = delete;
 
-private:
     StageObserver* m_observer;
-    Stage m_stage;
+    Kind m_stage;
 };
+using StageScope = ObservedStage<Stage>;
+using StepStageScope = ObservedStage<StepStage>;
 } // namespace masse
