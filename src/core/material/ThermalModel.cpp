@@ -21,7 +21,7 @@ namespace masse
 namespace
 {
 /// Springs per chunk of the conductances' pass on the pool.
-constexpr std::size_t springChunkSize = 8192;
+constexpr std::size_t conductanceChunkSize = 8192;
 constexpr std::uint8_t bottomFace = 1;
 constexpr std::uint8_t topFace = 2;
 
@@ -237,7 +237,7 @@ void ThermalModel::computeConductances()
     const Real layers = Real(m_geometry.layerCount());
     const std::vector<Real>& h = m_geometry.thickness();
     const Real h0 = m_geometry.initialThickness();
-    parallelFor(m_ends.size(), springChunkSize,
+    parallelFor(m_ends.size(), conductanceChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     for (std::size_t s = begin; s < end; ++s)
