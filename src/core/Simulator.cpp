@@ -78,8 +78,8 @@ int Simulator::substepsFor(Real dt) const
     requirePositiveStep(dt);
     if (!isExplicit(m_settings.integrator))
     {
-        return 1; // an implicit step is stable at any length: no estimate to make (it would be a pass over every
-                  // spring)
+        // An implicit step is stable at any length: the estimate, a pass over every spring, would not change this.
+        return 1;
     }
     const PoolScope threads(*m_pool);
     const StabilityEstimate& estimate = stability();

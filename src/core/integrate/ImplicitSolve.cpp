@@ -229,8 +229,7 @@ Real ImplicitSolve::residualScale(Real rhs, Real drivingImpulse)
     // - Where |b| is smaller the sheet is near its equilibrium, and the scale is |b|, down to a hundredth of D. The
     //   floor keeps such a sheet from being balanced far below its weight at every step: the drape-forming sheet under
     //   its heater has |b| at 4e-8 of D, and at 128x2x128 the floor saves a tenth of the iterations and of the
-    //   refactorisations over the 60 s (9.2 iterations a step and 26 refactorisations against 10.3 and 29, measured
-    //   with one refresh estimate for both), for the same thinnest wall to nine digits. Above the floor the scale
+    //   refactorisations over the 60 s, for the same thinnest wall to nine digits. Above the floor the scale
     //   stays |b|: near equilibrium a residual of tol D is large enough to decide a buckling (the heated band of
     //   ThermoplasticSheet.HeaterSoftensTheSideItWarms bulges up with it, not down).
     return std::max(std::min(rhs, drivingImpulse), equilibriumFloor * drivingImpulse);

@@ -60,26 +60,29 @@ public:
     }
     /// What a refresh costs, in conjugate gradient iterations with the factor, estimated from the pattern (so the same
     /// on every machine and at any thread count, as the refreshes it decides must be). A refresh takes some
-    /// updatesPerEntry() applications of the factor, and an iteration is an application, the product and the vector
-    /// work. Where the factor and the matrix stay in the cache from one iteration to the next (64x2x64: 3.4 M values
-    /// of the factor, 7 MB in half precision) the estimate is 0.85 updatesPerEntry(): in the vacuum cup, the tray and
-    /// the plug-assist cup at 64x2x64 less is no faster (0.38 instead: 0.98, 1.05 and 1.06-1.13 of their wall time). A
-    /// larger factor streams from memory at every application: at 128x2x128 (17.7 M values, 35 MB) an application
-    /// takes 6.6 ms in the drape-forming run against 3.1 ms in masse_benchmarks' choleskyApply, where the factor stays
-    /// cached between applications, while a refresh still takes 0.6-0.7 s. There the estimate is 0.38
-    /// updatesPerEntry() (drape forming over its 60 s: 0.90-0.92 of the wall time, 6.9 iterations a step and 35
-    /// refactorisations against 9.2 and 26; 0.26 and 0.51 gave 0.99 and 1.04 of that; the vacuum cup 0.95), between
-    /// the two by the factor's size. Within a factor of two either way a refresh rule of this kind pays at most about
-    /// twice the best schedule's cost (RefreshBudget), so the estimate needs no more precision than this.
+    /// updatesPerEntry() applications of the factor; an iteration is an application, the product and the vector work.
+    /// What an application costs depends on where the factor lives:
+    /// - A factor that stays in the cache from one iteration to the next (up to cachedFactorValues; 64x2x64 has 3.4 M
+    ///   values, 7 MB in half precision) costs an iteration as in masse_benchmarks' choleskyApply, and a refresh is
+    ///   worth cachedCostPerUpdate iterations per update.
+    /// - A factor past twice that streams from memory at every application: at 128x2x128 (17.7 M values, 35 MB) an
+    ///   application takes 6.6 ms in the drape-forming run against 3.1 ms in choleskyApply/128, while a refresh stays
+    ///   0.6-0.7 s, so a refresh is worth streamedCostPerUpdate iterations per update. Drape forming at 128x2x128 runs
+    ///   its 60 s in 6.9 iterations a step and 35 refactorisations with it.
+    /// - Between the two, the estimate goes linearly with the factor's size.
+    /// Within a factor of two either way a refresh rule of this kind pays at most about twice the best schedule's cost
+    /// (RefreshBudget), so the estimate needs no more precision than this.
     double refreshCost() const
     {
         const double streamed =
             std::clamp((double(m_factor.lower().nonZeros()) - cachedFactorValues) / cachedFactorValues, 0.0, 1.0);
-        return (0.85 - 0.47 * streamed) * updatesPerEntry();
+        return (cachedCostPerUpdate - (cachedCostPerUpdate - streamedCostPerUpdate) * streamed) * updatesPerEntry();
     }
-    /// Values of the factor up to which the refresh's cost is estimated as for a cached factor (see refreshCost); it
-    /// is counted as streamed from memory from twice as many.
+    /// Values of the factor up to which it counts as cached (see refreshCost); from twice as many, as streamed.
     static constexpr double cachedFactorValues = 8e6;
+    /// Iterations a refresh is worth per update of an entry, for a cached factor and for a streamed one.
+    static constexpr double cachedCostPerUpdate = 0.85;
+    static constexpr double streamedCostPerUpdate = 0.38;
     /// Factorisations since construction.
     int refreshCount() const override { return m_refreshCount; }
 
