@@ -2,6 +2,7 @@
 
 #include "core/parallel/TaskPool.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -28,6 +29,48 @@ void forEachStrictlyLower(const Eigen::SparseMatrix<Real>& lower, Eigen::Index b
                 visit(inner[k], StorageIndex(column), std::size_t(k));
             }
         }
+    }
+}
+
+/// Whether the `count` halves from `values` are all zero (+0 or -0).
+bool allZero(const std::uint16_t* values, std::size_t count)
+{
+    unsigned bits = 0;
+    for (std::size_t k = 0; k < count; ++k)
+    {
+        bits |= values[k];
+    }
+    return (bits & 0x7FFFu) == 0;
+}
+
+/// Calls keep(first, length) for each stretch [first, first + length) of a run's entries that the solves read (see
+/// MassBlockRows::view): the longest stretches of its groups of sixteen entries, and of its last length mod 16, whose
+/// values are not all zero, in increasing order. `values` are the run's, laid out as runValueOffset says.
+template <class Keep> void forEachLiveStretch(const std::uint16_t* values, StorageIndex length, const Keep& keep)
+{
+    constexpr StorageIndex group = 16;
+    const StorageIndex full = length / group * group;
+    StorageIndex first = -1; // the stretch being gathered, -1 for none
+    for (StorageIndex t = 0; t < full; t += group)
+    {
+        const bool zero = allZero(values + 3 * t, 3 * group);
+        if (!zero && first < 0)
+        {
+            first = t;
+        }
+        else if (zero && first >= 0)
+        {
+            keep(first, t - first);
+            first = -1;
+        }
+    }
+    if (full < length && !allZero(values + 3 * full, std::size_t(3 * (length - full))))
+    {
+        keep(first >= 0 ? first : full, length - (first >= 0 ? first : full));
+    }
+    else if (first >= 0)
+    {
+        keep(first, full - first);
     }
 }
 
@@ -153,6 +196,70 @@ void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
                         else if (place != noPlace)
                         {
                             m_inBlock[place - inBlockPlaces] = floatFromHalf(halfFromReal(values[k]));
+                        }
+                    }
+                });
+    gatherLiveRuns();
+}
+
+void MassBlockRows::gatherLiveRuns()
+{
+    // Two passes over the blocks in chunks on the pool: each block's live runs and values counted, then, at the
+    // places their running sums give, written.
+    const std::size_t blockCount = m_blockRuns.size() - 1;
+    m_live.blockRuns.assign(blockCount + 1, 0);
+    m_live.blockValues.assign(blockCount + 1, 0);
+    parallelFor(blockCount, gatherBlocksPerChunk,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t b = begin; b < end; ++b)
+                    {
+                        StorageIndex runs = 0;
+                        StorageIndex values = 0;
+                        for (auto r = std::size_t(m_blockRuns[b]); r < std::size_t(m_blockRuns[b + 1]); ++r)
+                        {
+                            forEachLiveStretch(m_values.data() + m_runStart[r], m_runLength[r],
+                                               [&](StorageIndex, StorageIndex length)
+                                               {
+                                                   ++runs;
+                                                   values += 3 * length;
+                                               });
+                        }
+                        m_live.blockRuns[b + 1] = runs;
+                        m_live.blockValues[b + 1] = values;
+                    }
+                });
+    for (std::size_t b = 0; b < blockCount; ++b)
+    {
+        m_live.blockRuns[b + 1] += m_live.blockRuns[b];
+        m_live.blockValues[b + 1] += m_live.blockValues[b];
+    }
+    const auto runCount = std::size_t(m_live.blockRuns[blockCount]);
+    m_live.runColumn.resize(runCount);
+    m_live.runStart.resize(runCount);
+    m_live.runLength.resize(runCount);
+    m_live.values.assign(std::size_t(m_live.blockValues[blockCount]) + valuePadding, 0);
+    parallelFor(blockCount, gatherBlocksPerChunk,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t b = begin; b < end; ++b)
+                    {
+                        auto run = std::size_t(m_live.blockRuns[b]);
+                        StorageIndex start = m_live.blockValues[b];
+                        for (auto r = std::size_t(m_blockRuns[b]); r < std::size_t(m_blockRuns[b + 1]); ++r)
+                        {
+                            const std::uint16_t* values = m_values.data() + m_runStart[r];
+                            forEachLiveStretch(values, m_runLength[r],
+                                               [&](StorageIndex first, StorageIndex length)
+                                               {
+                                                   m_live.runColumn[run] = m_runColumn[r] + first;
+                                                   m_live.runStart[run] = start;
+                                                   m_live.runLength[run] = length;
+                                                   std::copy(values + 3 * first, values + 3 * (first + length),
+                                                             m_live.values.begin() + start);
+                                                   ++run;
+                                                   start += 3 * length;
+                                               });
                         }
                     }
                 });

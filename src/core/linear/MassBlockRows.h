@@ -15,6 +15,13 @@
 /// entries are theirs) and pay its own reduction and its own reads of the runs and of the vector; a mass at a time,
 /// three independent sums share them, and the dependent arithmetic is the 3x3 block's three entries.
 ///
+/// A sheet held where it touches (sticky contact, a clamp) gives the factor many exact zeros: a held mass's rows and
+/// columns of the filtered matrix are the identity's, so its rows and columns of L are zero, and so is the fill that
+/// elimination through it would have made (in the vacuum cup at 64x2x64, 35% of the stored values at the first
+/// refresh, 82% once the sheet lies on the mould). The solves read the runs with their groups of sixteen columns whose
+/// values are all zero left out (view(), gathered at every refill): a group that is left out would only have added
+/// zeros to sums that are never -0, so every sum has the bits it has with the group read.
+///
 /// The values are half precision (IEEE binary16, 11 significant bits, see Half.h), and the solves run in single
 /// precision: the factor only preconditions the conjugate gradient, which converges in double precision whatever the
 /// preconditioner's rounding (both solves read the same rounded factor L~, and L~ D L~^T is symmetric positive definite
@@ -55,6 +62,8 @@ public:
     /// Values stored in the shared runs (three a run column, the zeros of joined runs included).
     std::size_t entries() const { return m_values.size() - valuePadding; }
     std::size_t runs() const { return m_runColumn.size(); }
+    /// Values the solves read: those of the groups of sixteen run columns that are not all zero.
+    std::size_t liveEntries() const { return m_live.values.size() - valuePadding; }
 
     /// Two columns of a block at most this many apart are in one run, the columns between stored as zeros. A run costs
     /// the solves its loads and a masked vector of its last entries whatever its length. The zeros add nothing to a
@@ -73,7 +82,18 @@ public:
     };
     /// Entries past the last value, so that a kernel may read a full vector of halves from any run's last entries.
     static constexpr std::size_t valuePadding = 16;
+    /// The runs the solves read: each laid-out run less its groups of sixteen columns whose values are all zero (a
+    /// group of the run from its first column on, or the run's last length mod 16 columns), the groups left on either
+    /// side of one left out in runs of their own. A run kept from column 16k of a laid-out run on has its values laid
+    /// out as runValueOffset says, as the laid-out run's from there, so each entry goes to the same one of the
+    /// kernels' sixteen sums as in the laid-out run.
     View view() const
+    {
+        return {m_live.blockRuns.data(), m_live.runColumn.data(), m_live.runStart.data(),
+                m_live.runLength.data(), m_live.values.data(),    m_inBlock.data()};
+    }
+    /// Every run as laid out for the pattern, zeros and all.
+    View laidOut() const
     {
         return {m_blockRuns.data(), m_runColumn.data(), m_runStart.data(),
                 m_runLength.data(), m_values.data(),    m_inBlock.data()};
@@ -83,6 +103,10 @@ private:
     /// Where L(row, column) (of the pattern laid out) is kept: an index into m_values, or inBlockPlaces plus one into
     /// m_inBlock.
     std::uint32_t placeOf(StorageIndex row, StorageIndex column) const;
+    /// m_live from the laid-out runs and their values.
+    void gatherLiveRuns();
+    /// Blocks a task of gatherLiveRuns handles.
+    static constexpr std::size_t gatherBlocksPerChunk = 512;
     /// Columns of the factor a task of the layout finds the places of.
     static constexpr std::size_t placeColumnsPerChunk = 2048;
     /// Entries of the factor a task of the refill writes.
@@ -98,6 +122,18 @@ private:
     std::vector<float> m_inBlock;
     /// Per stored entry of the factor laid out, in its storage order: its placeOf, or noPlace.
     std::vector<std::uint32_t> m_place;
+    /// The runs the solves read (see view()), with their own copy of the values, so that the solves stream them in
+    /// one ascending pass.
+    struct LiveRuns
+    {
+        std::vector<StorageIndex> blockRuns;
+        std::vector<StorageIndex> runColumn;
+        std::vector<StorageIndex> runStart;
+        std::vector<StorageIndex> runLength;
+        std::vector<std::uint16_t> values;
+        std::vector<StorageIndex> blockValues; ///< per block and one past, where its values start (a gather's counts)
+    };
+    LiveRuns m_live;
 };
 
 /// Where block row `row`'s entry t of a run of `length` entries is among the run's values: the three rows' full groups

@@ -6,7 +6,9 @@
 
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -37,7 +39,7 @@ bool avx512()
 /// The stored halves of every block, run by run.
 std::vector<std::uint16_t> storedValues(const MassBlockRows& m)
 {
-    const MassBlockRows::View view = m.view();
+    const MassBlockRows::View view = m.laidOut();
     return std::vector<std::uint16_t>(view.values, view.values + m.entries());
 }
 
@@ -199,6 +201,92 @@ TEST(MassBlockRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGive
 
     // A factor of another pattern is refused: its values would land in the places of the pattern laid out.
     EXPECT_THROW(refilled.refillLowerRows(randomLower(99, 11, false)), std::invalid_argument);
+}
+
+/// The bits of `values`, so that +0 and -0 differ.
+std::vector<std::uint32_t> bitsOf(const std::vector<float>& values)
+{
+    std::vector<std::uint32_t> bits(values.size());
+    std::memcpy(bits.data(), values.data(), values.size() * sizeof(float));
+    return bits;
+}
+
+// The masses a sheet's contact holds have zero rows and columns in the factor, and so has the fill through them. The
+// solves read the runs with their all-zero groups of sixteen columns left out (view()), and get the bits of reading
+// every run as laid out (laidOut()): each block's three sums and the sums every block scatters into the columns below
+// it, by the default path and by the AVX-512 one, on a random factor whose masses 40 to 89 are held (their rows and
+// columns zero) and a vector of both signs (so the left-out products would have been -0 and +0). The groups left out
+// are the all-zero ones and no others: the values read are the laid-out values of the groups that are not all zero.
+TEST(MassBlockRows, TheSolvesLeaveOutAllZeroGroupsWithTheSameBits)
+{
+    const Eigen::Index masses = 150;
+    Eigen::SparseMatrix<Real> lower = randomLower(masses, 7, false);
+    const auto held = [](Eigen::Index row) { return row / 3 >= 40 && row / 3 < 90; };
+    for (Eigen::Index column = 0; column < lower.outerSize(); ++column)
+    {
+        for (Eigen::SparseMatrix<Real>::InnerIterator it(lower, column); it; ++it)
+        {
+            if (held(it.row()) || held(column))
+            {
+                it.valueRef() = 0;
+            }
+        }
+    }
+    MassBlockRows rows;
+    rows.assignLowerRows(lower);
+    const MassBlockRows::View live = rows.view();
+    const MassBlockRows::View laidOut = rows.laidOut();
+
+    std::size_t nonZeroGroupValues = 0;
+    for (std::size_t r = 0; r < rows.runs(); ++r)
+    {
+        const int length = laidOut.runLength[r];
+        for (int t = 0; t < length; t += 16)
+        {
+            const int count = 3 * std::min(16, length - t);
+            const std::uint16_t* group = laidOut.values + laidOut.runStart[r] + 3 * t;
+            nonZeroGroupValues += std::any_of(group, group + count, [](std::uint16_t v) { return (v & 0x7FFF) != 0; })
+                                      ? std::size_t(count)
+                                      : 0;
+        }
+    }
+    EXPECT_EQ(rows.liveEntries(), nonZeroGroupValues);
+    EXPECT_LT(rows.liveEntries(), rows.entries() * 3 / 4); // a third of the masses held leave out much of the factor
+    EXPECT_GT(rows.liveEntries(), rows.entries() / 4);
+
+    std::mt19937_64 random(9);
+    std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+    std::vector<float> x(std::size_t(3 * masses));
+    for (float& xi : x)
+    {
+        xi = value(random);
+    }
+    std::vector<float> wLaidOut(x.size(), 0.0f);
+    std::vector<float> wLive(x.size(), 0.0f);
+    std::vector<float> wLiveAvx512(x.size(), 0.0f);
+    for (Eigen::Index block = masses - 1; block >= 0; --block)
+    {
+        std::vector<float> sLaidOut(3);
+        std::vector<float> sLive(3);
+        blockDots(laidOut, block, x.data(), floatFromHalf, sLaidOut.data());
+        blockDots(live, block, x.data(), floatFromHalf, sLive.data());
+        ASSERT_EQ(bitsOf(sLive), bitsOf(sLaidOut)) << "block " << block;
+        blockScatter(laidOut, block, x.data() + 3 * block, wLaidOut.data(), floatFromHalf);
+        blockScatter(live, block, x.data() + 3 * block, wLive.data(), floatFromHalf);
+#if defined(__x86_64__) && defined(__GNUC__)
+        if (avx512())
+        {
+            blockDotsOnAvx512(live, block, x.data(), sLive.data());
+            ASSERT_EQ(bitsOf(sLive), bitsOf(sLaidOut)) << "block " << block << ", AVX-512";
+            blockScatterOnAvx512(live, block, x.data() + 3 * block, wLiveAvx512.data());
+        }
+#endif
+    }
+    EXPECT_EQ(bitsOf(wLive), bitsOf(wLaidOut));
+    if (avx512())
+    {
+        EXPECT_EQ(bitsOf(wLiveAvx512), bitsOf(wLaidOut));
+    }
 }
 
 // The AVX-512 kernels give the default path's bits on a random matrix and vector, runs of every length: each block's
