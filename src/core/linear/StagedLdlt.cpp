@@ -59,6 +59,17 @@ constexpr std::size_t lanes = StagedLdlt::lanes;
 /// MassLanes): a dense column's vectors start at any of its entries.
 typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligned(sizeof(Real))));
 
+/// Whether every lane of `values` is zero (+0 or -0).
+[[gnu::always_inline]] inline bool allLanesZero(const LaneValues& values)
+{
+    bool zero = true;
+    for (std::size_t lane = 0; lane < lanes; ++lane)
+    {
+        zero = zero && values[lane] == 0;
+    }
+    return zero;
+}
+
 // One copy of the blocks' kernels per SIMD path: only the instruction set differs (each lane's arithmetic is the
 // scalar code's, in the same order, so the bits do not).
 #define MASSE_BLOCK_KERNELS(suffix, targetAttribute)                                                                   \
@@ -77,6 +88,10 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
             const LaneValues yv = *yc;                                                                                 \
             *reinterpret_cast<LaneValues*>(block.y + j * lanes) = yv;                                                  \
             *yc = LaneValues{};                                                                                        \
+            if (allLanesZero(yv)) /* a column no row of the block reaches: its updates would subtract zeros */         \
+            {                                                                                                          \
+                continue;                                                                                              \
+            }                                                                                                          \
             pivots -= (yv / diagonal[c]) * yv;                                                                         \
             for (StorageIndex p = start[c]; p < block.belowEnd[j]; ++p)                                                \
             {                                                                                                          \
@@ -94,6 +109,10 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
         {                                                                                                              \
             const LaneValues yc = *reinterpret_cast<const LaneValues*>(block.y + j * lanes);                           \
+            if (allLanesZero(yc))                                                                                      \
+            {                                                                                                          \
+                continue;                                                                                              \
+            }                                                                                                          \
             for (StorageIndex p = block.belowEnd[j]; p < block.separatorEnd[j] && rows[p] < lastRow; ++p)              \
             {                                                                                                          \
                 LaneValues* target = reinterpret_cast<LaneValues*>(z + std::size_t(rows[p] - begin) * lanes);          \
@@ -142,6 +161,16 @@ struct MassColumns
             *yc = MassLanes{};                                                                                         \
             const MassLanes l = yv / mass.diagonal[c];                                                                 \
             const StorageIndex last = mass.start[c] + mass.columnCount[c];                                             \
+            for (int r = 0; r < 3; ++r)                                                                                \
+            {                                                                                                          \
+                mass.rows[last + r] = mass.firstRow + r;                                                               \
+                mass.values[last + r] = l[r];                                                                          \
+            }                                                                                                          \
+            mass.columnCount[c] += 3;                                                                                  \
+            if (yv[0] == 0 && yv[1] == 0 && yv[2] == 0) /* its updates would subtract zeros */                         \
+            {                                                                                                          \
+                continue;                                                                                              \
+            }                                                                                                          \
             for (StorageIndex p = mass.start[c]; p < last; ++p)                                                        \
             {                                                                                                          \
                 MassLanes* target = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(mass.rows[p]));          \
@@ -150,12 +179,6 @@ struct MassColumns
             inBlock[0] -= l[0] * yv[1];                                                                                \
             inBlock[1] -= l[0] * yv[2];                                                                                \
             inBlock[2] -= l[1] * yv[2];                                                                                \
-            for (int r = 0; r < 3; ++r)                                                                                \
-            {                                                                                                          \
-                mass.rows[last + r] = mass.firstRow + r;                                                               \
-                mass.values[last + r] = l[r];                                                                          \
-            }                                                                                                          \
-            mass.columnCount[c] += 3;                                                                                  \
             pivots -= l * yv;                                                                                          \
         }                                                                                                              \
         *reinterpret_cast<MassLanes*>(pivotsOut) = pivots;                                                             \

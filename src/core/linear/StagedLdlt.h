@@ -24,6 +24,11 @@
 /// pattern's entries written to L. Each entry of a separator's rows sums the columns below in increasing order, and its
 /// own block's columns in increasing order.
 ///
+/// A column whose y is zero in every row being factored (one of a held mass's, whose rows and columns of the filtered
+/// matrix are the identity's, or one whose fill the held masses cut off) gives those rows zero entries and updates
+/// nothing: its updates, which would subtract zeros, are left out, in the parts and in steps 1 and 2, as the dense
+/// factorisation leaves out a column's zero entries. A formed sheet held on its mould is mostly such columns.
+///
 /// These orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's in its last
 /// bits; they are fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
 /// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount). With Eigen's row-by-row arithmetic throughout,

@@ -203,6 +203,8 @@ TEST(MassBlockRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGive
     EXPECT_THROW(refilled.refillLowerRows(randomLower(99, 11, false)), std::invalid_argument);
 }
 
+namespace
+{
 /// The bits of `values`, so that +0 and -0 differ.
 std::vector<std::uint32_t> bitsOf(const std::vector<float>& values)
 {
@@ -210,6 +212,7 @@ std::vector<std::uint32_t> bitsOf(const std::vector<float>& values)
     std::memcpy(bits.data(), values.data(), values.size() * sizeof(float));
     return bits;
 }
+} // namespace
 
 // The masses a sheet's contact holds have zero rows and columns in the factor, and so has the fill through them. The
 // solves read the runs with their all-zero groups of sixteen columns left out (view()), and get the bits of reading

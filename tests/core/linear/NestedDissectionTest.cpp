@@ -446,6 +446,24 @@ SparseMatrix withZeroRow(const SparseMatrix& matrix, Eigen::Index row)
     return zeroed;
 }
 
+/// `matrix` with the masses `held` says as the contact filter leaves a held mass (S = 0 in S A S + I - S): their rows
+/// and columns zero but for a unit diagonal (their entries kept in the pattern).
+template <class Held> SparseMatrix withHeldMasses(const SparseMatrix& matrix, const Held& held)
+{
+    SparseMatrix filtered = matrix;
+    for (Eigen::Index k = 0; k < filtered.outerSize(); ++k)
+    {
+        for (SparseMatrix::InnerIterator it(filtered, k); it; ++it)
+        {
+            if (held(Index(it.row() / 3)) || held(Index(it.col() / 3)))
+            {
+                it.valueRef() = it.row() == it.col() ? 1 : 0;
+            }
+        }
+    }
+    return filtered;
+}
+
 /// The staged factorisation of `a` (a matrix of `sheet`'s springs, three rows a mass) against Eigen's SimplicialLDLT
 /// (see the tests below); `massesTogether` is how many masses it should factor a mass at a time.
 void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std::size_t massesTogether)
@@ -567,6 +585,48 @@ TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
         SCOPED_TRACE("uncoupled coordinates, factored row by row");
         checkStagedFactor(sheet, springMatrix(sheet, 3), 0);
     }
+    // The sheet's left half held, as sticky contact holds a formed sheet: the updates of the columns no row reaches
+    // are left out (they would subtract zeros), and the factor is still Eigen's to rounding, the held masses' rows and
+    // columns of L exactly zero.
+    const auto held = [&](Index mass) { return sheet.particles.position[mass].x() < 0; };
+    const SparseMatrix heldBlocks = withHeldMasses(blocks, held);
+    {
+        SCOPED_TRACE("full 3x3 blocks, the left half held");
+        checkStagedFactor(sheet, heldBlocks, firstStageMasses);
+    }
+    const RowPermutation permutation = rowPermutation(dissection, 3);
+    std::vector<std::vector<OrderRange>> rowStages;
+    for (const std::vector<OrderRange>& stage : dissection.stages)
+    {
+        rowStages.emplace_back();
+        for (const OrderRange& range : stage)
+        {
+            rowStages.back().push_back({3 * range.begin, 3 * range.end});
+        }
+    }
+    SparseMatrix permuted;
+    permuted = heldBlocks.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+    StagedLdlt staged;
+    staged.analyse(permuted, rowStages);
+    ASSERT_TRUE(staged.factorize(permuted));
+    std::vector<bool> heldRow(std::size_t(permuted.rows()));
+    for (Eigen::Index row = 0; row < heldBlocks.rows(); ++row)
+    {
+        heldRow[std::size_t(permutation.indices()[row])] = held(Index(row / 3));
+    }
+    std::size_t heldEntries = 0;
+    for (Eigen::Index column = 0; column < staged.lower().outerSize(); ++column)
+    {
+        for (SparseMatrix::InnerIterator it(staged.lower(), column); it; ++it)
+        {
+            if (heldRow[std::size_t(it.row())] || heldRow[std::size_t(column)])
+            {
+                ++heldEntries;
+                ASSERT_EQ(it.value(), 0) << "L(" << it.row() << ", " << column << ")";
+            }
+        }
+    }
+    EXPECT_GT(heldEntries, std::size_t(staged.lower().nonZeros() / 10));
 }
 
 // A refresh gathers the permuted matrix's values through maps found once (PermutedValues.h): for new values on the
