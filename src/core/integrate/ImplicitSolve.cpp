@@ -46,6 +46,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
             const StageScope assembly(m_observer, Stage::SolverAssembly);
             assemble(system, a, roundOffset, momentum);
             constrained = applyConstraints(system, constraints, a);
+            markIdentityMasses(system.particles);
         }
         const Real rhs = m_rhs.norm();
         const Real scale = residualScale(rhs, driving);
@@ -375,6 +376,8 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     }
     // Each mass's three columns hold the same blocks: the conjugate gradient's product may take them as threes.
     m_cg.setMassRows(rowsComeInThrees(m_matrix.matrix()));
+    m_identityMasses.assign(n, 0);
+    m_cg.setIdentityMasses(&m_identityMasses);
     const Eigen::Index size = m_matrix.matrix().rows();
     m_rhs.setZero(size);
     m_deltaV.setZero(size);
@@ -392,6 +395,23 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     m_patternSystem = &system;
     m_patternMasses = n;
     m_patternSprings = springs.size();
+}
+
+void ImplicitSolve::markIdentityMasses(const Particles& p)
+{
+    // A pinned mass's rows are assembled as the identity's, and a mass held in every direction (S = 0) has the
+    // identity's rows in S A S + I - S, the filter's zeros times its blocks.
+    for (std::size_t i = 0; i < m_identityMasses.size(); ++i)
+    {
+        m_identityMasses[i] = p.pinned[i] ? 1 : 0;
+    }
+    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
+    {
+        if ((m_filters[k].array() == 0).all())
+        {
+            m_identityMasses[std::size_t(m_constrainedMasses[k])] = 1;
+        }
+    }
 }
 
 /// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.

@@ -100,6 +100,8 @@ private:
     void assemble(const MassSpringSystem& system, Real a, const std::vector<Vec3>& offset,
                   const std::vector<Vec3>& momentum);
     bool applyConstraints(const MassSpringSystem& system, const std::vector<VelocityConstraint>& constraints, Real a);
+    /// m_identityMasses for the matrix just assembled and filtered.
+    void markIdentityMasses(const Particles& p);
     IntegratorStats runSolver();
     /// The impulse over a step a of the loads that drive the sheet: its weight, a |g| sqrt(sum m_i^2), or the loads
     /// applied to it, a sqrt(sum |f_i|^2), whichever is larger.
@@ -169,6 +171,9 @@ private:
 
     // Constraint filter of the current step; cleared, not freed, between steps.
     std::vector<int> m_constraintOf; ///< per mass: index into the arrays below, or -1
+    /// Per mass, whether its rows of the filtered matrix are the identity's (pinned, or held in every direction); the
+    /// conjugate gradient's product takes those rows as they are (ConjugateGradient::setIdentityMasses).
+    std::vector<std::uint8_t> m_identityMasses;
     std::vector<Index> m_constrainedMasses;
     std::vector<Mat3> m_filters;    ///< S_i
     std::vector<Vec3> m_prescribed; ///< c_i, the velocity change in the constrained directions

@@ -104,10 +104,19 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
     }
 }
 
-void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end)
+void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end,
+                      const std::uint8_t* identityMasses)
 {
     for (Eigen::Index row = begin; row < end; row += 3)
     {
+        if (identityMasses && identityMasses[row / 3])
+        {
+            for (Eigen::Index r = row; r < row + 3; ++r)
+            {
+                y[r] = x[r] + Real(0); // -0 becomes +0, as in the sum
+            }
+            continue;
+        }
         multiplyMassRow(a, x.data(), y, row);
     }
 }
@@ -133,9 +142,12 @@ void ConjugateGradient::multiply(const SparseMatrix& a, const Vector& x, Vector&
     static_assert(productChunk % 3 == 0, "a range of the product starts on a mass's first row");
     if (m_massRows)
     {
+        const std::uint8_t* identity = m_identityMasses && Eigen::Index(m_identityMasses->size()) * 3 == a.rows()
+                                           ? m_identityMasses->data()
+                                           : nullptr;
         parallelFor(std::size_t(a.rows()), std::size_t(productChunk),
                     [&](std::size_t begin, std::size_t end)
-                    { multiplyMassRows(a, x, y, Eigen::Index(begin), Eigen::Index(end)); });
+                    { multiplyMassRows(a, x, y, Eigen::Index(begin), Eigen::Index(end), identity); });
         return;
     }
     parallelFor(std::size_t(a.rows()), std::size_t(productChunk),

@@ -7,6 +7,9 @@
 
 #include "core/Types.h"
 
+#include <cstdint>
+#include <vector>
+
 #include <Eigen/SparseCore>
 
 namespace masse
@@ -39,7 +42,11 @@ void multiplySymmetricRows(const SparseMatrix& a, const Vector& x, Vector& y, Ei
 /// The same product, bit for bit, for a matrix whose rows come in threes sharing their columns (a mass's three rows in
 /// the implicit matrix's 3x3 blocks): multiplySymmetricRows compares each mass's three rows' columns before summing
 /// them together, which reads the column indices three times over. `begin` and `end` are multiples of three.
-void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end);
+/// `identityMasses`, if not null, marks per mass whether its three rows are the identity's (a one on the diagonal,
+/// zeros elsewhere, as a pinned or held mass's rows of the implicit matrix are): their entries are x's own plus +0,
+/// which is what the sum over the row gives (a sum from +0 never ends at -0) for a finite x.
+void multiplyMassRows(const SparseMatrix& a, const Vector& x, Vector& y, Eigen::Index begin, Eigen::Index end,
+                      const std::uint8_t* identityMasses = nullptr);
 /// Whether every three rows of `a` from the first share their columns, as multiplyMassRows needs.
 bool rowsComeInThrees(const SparseMatrix& a);
 
@@ -58,6 +65,9 @@ public:
     /// Whether the matrices solved have their rows in threes sharing their columns (rowsComeInThrees, for
     /// multiplyMassRows); false by default, and the product then finds the threes itself.
     void setMassRows(bool massRows) { m_massRows = massRows; }
+    /// Per mass, whether its three rows of the matrices solved are the identity's (see multiplyMassRows; only with
+    /// mass rows); null for none. The caller keeps it up to date for each solve, and it outlives them.
+    void setIdentityMasses(const std::vector<std::uint8_t>* identityMasses) { m_identityMasses = identityMasses; }
 
 private:
     void multiply(const SparseMatrix& a, const Vector& x, Vector& y) const;
@@ -68,5 +78,6 @@ private:
     Vector m_preconditioned;
     Vector m_product;
     bool m_massRows = false;
+    const std::vector<std::uint8_t>* m_identityMasses = nullptr;
 };
 } // namespace masse

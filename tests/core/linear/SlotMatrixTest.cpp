@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -184,4 +187,47 @@ TEST(SlotMatrix, ProductSumsEachRowInItsOwnOrder)
 {
     expectProductIsEachRowsPlainSum<3>();
     expectProductIsEachRowsPlainSum<1>();
+}
+
+// A pinned or held mass's rows of the implicit matrix are the identity's: a one on the diagonal, and its blocks with
+// every other mass zeros of either sign (the filter's zeros times the blocks). The product told which masses those are
+// takes their rows as x's own and gets the bits of summing them, signed zeros included: masses 1 and 3 of the chain
+// held, their blocks' zeros -0 and +0, and x -0 at one of their coordinates and of both signs elsewhere.
+TEST(SlotMatrix, ProductTakesIdentityRowsAsTheyAreWithTheSameBits)
+{
+    SlotMatrix<3> matrix;
+    matrix.build(chainMasses, chainEnds);
+    const auto held = [](Index mass) { return mass == 1 || mass == 3; };
+    for (std::size_t i = 0; i < chainMasses; ++i)
+    {
+        matrix.add(matrix.diagonal(i), held(Index(i)) ? Mat3(Mat3::Identity()) : distinctBlock<3>(int(i)));
+    }
+    for (std::size_t s = 0; s < chainEnds.size(); ++s)
+    {
+        const Mat3 block = distinctBlock<3>(10 + int(s));
+        if (held(chainEnds[s].a) || held(chainEnds[s].b))
+        {
+            matrix.write(matrix.ab(s), Real(0) * block); // zeros with the block's signs
+            matrix.write(matrix.ba(s), Real(0) * -block.transpose());
+            continue;
+        }
+        matrix.add(matrix.ab(s), -block);
+        matrix.add(matrix.ba(s), -block.transpose());
+    }
+    const SparseMatrix& a = matrix.matrix();
+    Vector x(a.rows());
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+    {
+        x[i] = Real(1) / Real(3 + i) - Real(0.37) * Real(i % 5);
+    }
+    x[4] = -Real(0); // mass 1's second coordinate
+    std::vector<std::uint8_t> identity(chainMasses, 0);
+    identity[1] = identity[3] = 1;
+    Vector summed = Vector::Constant(a.rows(), -1);
+    Vector taken = Vector::Constant(a.rows(), -1);
+    multiplyMassRows(a, x, summed, 0, a.rows());
+    multiplyMassRows(a, x, taken, 0, a.rows(), identity.data());
+    ASSERT_EQ(std::memcmp(summed.data(), taken.data(), std::size_t(a.rows()) * sizeof(Real)), 0);
+    EXPECT_FALSE(std::signbit(taken[4]));
+    EXPECT_EQ(taken[3], x[3]);
 }
