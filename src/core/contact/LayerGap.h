@@ -23,15 +23,17 @@
 /// each corner by -w_j lambda n / k; the approach velocity along n is removed in the same shares. Pinned masses and
 /// masses touching an obstacle have w = 0: the mould holds what it touches, so the layer above is pushed off it
 /// rather than the layer below into it, and a plug holds the upper layer it presses. An upper mass touching an
-/// obstacle over a cell that touches one too has gone through its cell: it is the one that moves. A cell folded over
-/// a mould's rim (warped: its diagonals' midpoints apart along its normal) has no plane to stand over, so the floor
-/// falls with the warp, to nothing at a warp of the rest height; and no correction moves a mass more than eight
-/// floor heights, so that a tangled mass comes back over a few substeps rather than being thrown across the mould.
-/// After a substep the approach velocity is removed; after the implicit solve, no more of it than the deficit / h the
-/// solve itself can have closed (as position-based dynamics sets v = (x - x0) / h), so that a deficit older than the
-/// solve is put right in position and not thrown into the velocity. The correction after the substep comes after the
-/// obstacle projection, so a lower mass it pushes toward the mould (under an upper mass the plug holds) is kept from
-/// going through it (ContactSolver::keepInFront).
+/// obstacle over a cell that touches one too has gone through its cell: it is the one that moves, alone; and so is one
+/// that has gone through a cell only partly on an obstacle (draped over a mould's rim), whose free corners would
+/// otherwise take the whole correction, several times the deficit, along a normal the rim may have tipped over. A cell
+/// folded over a mould's rim (warped: its diagonals' midpoints apart along its normal) has no plane to stand over, so
+/// the floor falls with the warp, to nothing at a warp of the rest height; and no correction moves a mass more than
+/// eight floor heights, so that a tangled mass comes back over a few substeps rather than being thrown across the
+/// mould. After a substep the approach velocity is removed; after the implicit solve, no more of it than the deficit /
+/// h the solve itself can have closed (as position-based dynamics sets v = (x - x0) / h), so that a deficit older than
+/// the solve is put right in position and not thrown into the velocity. The correction after the substep comes after
+/// the obstacle projection, so a lower mass it pushes toward the mould (under an upper mass the plug holds) is kept
+/// from going through it (ContactSolver::keepInFront).
 ///
 /// Order and threads: every constraint is solved from the same positions (Jacobi), and each mass gathers its
 /// corrections in a fixed order (its own constraint first, then those of the upper masses over it), so the result is
@@ -98,7 +100,7 @@ private:
     std::vector<Real> m_positionShare; ///< lambda: the position correction's size, 0 when the floor holds
     std::vector<Real> m_velocityShare; ///< the approach velocity's correction
     std::vector<Vec3> m_normal;
-    std::vector<std::uint8_t> m_upperYields; ///< touches an obstacle over a cell that touches one too
+    std::vector<std::uint8_t> m_upperYields; ///< moves back alone (see the file comment); its corners stay
     std::size_t m_lastCorrected = 0;
     ContactSolver* m_contact = nullptr;
 };

@@ -1,8 +1,9 @@
 // The layer floor (core/contact/LayerGap.h): an upper-layer mass pushed onto or through the cell of masses beneath it
-// is put back at its floor, its approach stopped, momentum kept; a mass held by an obstacle does not give way; and a
-// mirror-symmetric push is corrected mirror-symmetrically; the floor falls over a warped cell, a correction moves a
-// mass at most eight floor heights, after the implicit solve the velocity takes no more of it than the solve
-// closed, and after the projection no correction puts a mass's centre behind the mould.
+// is put back at its floor, its approach stopped, momentum kept; a mass held by an obstacle does not give way, and one
+// on the mould through a cell partly on it moves back alone; a mirror-symmetric push is corrected mirror-symmetrically;
+// the floor falls over a warped cell, a correction moves a mass at most eight floor heights, after the implicit solve
+// the velocity takes no more of it than the solve closed, and after the projection no correction puts a mass's centre
+// behind the mould.
 
 #include "support/FlatMould.h"
 #include "support/TestSystems.h"
@@ -155,6 +156,49 @@ TEST(LayerGap, AMassHeldByAnObstacleDoesNotGiveWay)
     gap.afterSubstep(s.sheet, context, 0.01, 0.02);
     EXPECT_TRUE(test::sameBits(after, s.sheet.particles.position));
     EXPECT_EQ(gap.lastCorrected(), 0u);
+}
+
+// An upper mass on the mould that has gone through a cell only partly on it (a cell draped over a rim: one corner on
+// the flange, the others free) moves back alone: the free corners stay where they were, where they would otherwise
+// take the whole correction, three times the deficit on a lone free corner. Above its cell (not through it) such a
+// mass is held like any other, and the free corners take the correction.
+TEST(LayerGap, AMassThroughACellPartlyOnTheMouldMovesBackAlone)
+{
+    for (const Real depth : {1.5, 0.9})
+    {
+        PushedSheet s = pushedSheet(Structure::TRiMM, depth);
+        std::vector<int> touching(s.sheet.massCount(), -1);
+        const std::vector<Index> cell = cellOf(s.lattice, s.upper);
+        ASSERT_EQ(cell.size(), 3u);
+        touching[s.upper] = 0;
+        touching[cell[0]] = 0;
+        std::vector<Vec3> cellBefore;
+        for (Index j : cell)
+        {
+            cellBefore.push_back(s.sheet.particles.position[j]);
+        }
+        const Vec3 upperBefore = s.sheet.particles.position[s.upper];
+        LayerGap gap(s.lattice);
+        StepContext context;
+        context.touchingObstacle = touching;
+        gap.afterSubstep(s.sheet, context, 0.01, 0.01);
+        EXPECT_NEAR(heightOverCell(s), s.restHeight, 1e-12 * s.restHeight) << "depth " << depth;
+        if (depth > 1)
+        {
+            for (std::size_t k = 0; k < cell.size(); ++k)
+            {
+                EXPECT_EQ(s.sheet.particles.position[cell[k]], cellBefore[k]) << "corner " << k;
+            }
+            EXPECT_EQ(gap.lastCorrected(), 1u);
+        }
+        else
+        {
+            EXPECT_EQ(s.sheet.particles.position[s.upper], upperBefore);
+            EXPECT_EQ(s.sheet.particles.position[cell[0]], cellBefore[0]);
+            EXPECT_NE(s.sheet.particles.position[cell[1]], cellBefore[1]);
+            EXPECT_EQ(gap.lastCorrected(), 2u);
+        }
+    }
 }
 
 // A SaMM sheet of odd counts pressed flat in a mirror-symmetric pattern is corrected mirror-symmetrically: every
