@@ -49,6 +49,19 @@ std::vector<float> inBlockValues(const MassBlockRows& m)
     return std::vector<float>(view.inBlock, view.inBlock + 3 * m.blocks());
 }
 
+/// `size` values drawn evenly from [-1, 1) with `seed`.
+std::vector<float> randomVector(std::size_t size, std::uint64_t seed)
+{
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+    std::vector<float> x(size);
+    for (float& xi : x)
+    {
+        xi = value(random);
+    }
+    return x;
+}
+
 /// A random lower triangular matrix of `masses` masses (three rows each): each row's own pattern below its mass (rows
 /// of one mass share some columns and not others, so a block's runs are their union), and its mass's block full. The
 /// pattern depends on the seed alone; `someZeros` makes a fifth of the values below the blocks zero.
@@ -257,13 +270,7 @@ TEST(MassBlockRows, TheSolvesLeaveOutAllZeroGroupsWithTheSameBits)
     EXPECT_LT(rows.liveEntries(), rows.entries() * 3 / 4); // a third of the masses held leave out much of the factor
     EXPECT_GT(rows.liveEntries(), rows.entries() / 4);
 
-    std::mt19937_64 random(9);
-    std::uniform_real_distribution<float> value(-1.0f, 1.0f);
-    std::vector<float> x(std::size_t(3 * masses));
-    for (float& xi : x)
-    {
-        xi = value(random);
-    }
+    const std::vector<float> x = randomVector(std::size_t(3 * masses), 9);
     std::vector<float> wLaidOut(x.size(), 0.0f);
     std::vector<float> wLive(x.size(), 0.0f);
     std::vector<float> wLiveAvx512(x.size(), 0.0f);
@@ -307,13 +314,7 @@ TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
     MassBlockRows rows;
     rows.assignLowerRows(lower);
     const MassBlockRows::View view = rows.view();
-    std::mt19937_64 random(3);
-    std::uniform_real_distribution<float> value(-1.0f, 1.0f);
-    std::vector<float> x(std::size_t(3 * masses));
-    for (float& xi : x)
-    {
-        xi = value(random);
-    }
+    const std::vector<float> x = randomVector(std::size_t(3 * masses), 3);
     std::vector<float> wDefault(x.size(), 0.0f);
     std::vector<float> wAvx512(x.size(), 0.0f);
     for (Eigen::Index block = masses - 1; block >= 0; --block)

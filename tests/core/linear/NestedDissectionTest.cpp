@@ -446,6 +446,21 @@ SparseMatrix withZeroRow(const SparseMatrix& matrix, Eigen::Index row)
     return zeroed;
 }
 
+/// The dissection's stages in rows (three a mass), as StagedLdlt takes them.
+std::vector<std::vector<OrderRange>> rowStagesOf(const DissectionOrder& dissection)
+{
+    std::vector<std::vector<OrderRange>> rowStages;
+    for (const std::vector<OrderRange>& stage : dissection.stages)
+    {
+        rowStages.emplace_back();
+        for (const OrderRange& range : stage)
+        {
+            rowStages.back().push_back({3 * range.begin, 3 * range.end});
+        }
+    }
+    return rowStages;
+}
+
 /// `matrix` with the masses `held` says as the contact filter leaves a held mass (S = 0 in S A S + I - S): their rows
 /// and columns zero but for a unit diagonal (their entries kept in the pattern).
 template <class Held> SparseMatrix withHeldMasses(const SparseMatrix& matrix, const Held& held)
@@ -472,15 +487,7 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
         nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
     ASSERT_GT(dissection.stages[0].size(), 4u);
     const RowPermutation permutation = rowPermutation(dissection, 3);
-    std::vector<std::vector<OrderRange>> rowStages;
-    for (const std::vector<OrderRange>& stage : dissection.stages)
-    {
-        rowStages.emplace_back();
-        for (const OrderRange& range : stage)
-        {
-            rowStages.back().push_back({3 * range.begin, 3 * range.end});
-        }
-    }
+    const std::vector<std::vector<OrderRange>> rowStages = rowStagesOf(dissection);
     ASSERT_GT(rowStages.size(), 2u) << "separators at several levels";
     SparseMatrix permuted;
     permuted = a.selfadjointView<Eigen::Lower>().twistedBy(permutation);
@@ -595,15 +602,7 @@ TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
         checkStagedFactor(sheet, heldBlocks, firstStageMasses);
     }
     const RowPermutation permutation = rowPermutation(dissection, 3);
-    std::vector<std::vector<OrderRange>> rowStages;
-    for (const std::vector<OrderRange>& stage : dissection.stages)
-    {
-        rowStages.emplace_back();
-        for (const OrderRange& range : stage)
-        {
-            rowStages.back().push_back({3 * range.begin, 3 * range.end});
-        }
-    }
+    const std::vector<std::vector<OrderRange>> rowStages = rowStagesOf(dissection);
     SparseMatrix permuted;
     permuted = heldBlocks.selfadjointView<Eigen::Lower>().twistedBy(permutation);
     StagedLdlt staged;

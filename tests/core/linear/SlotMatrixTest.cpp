@@ -125,6 +125,20 @@ TEST(SlotMatrix, TooManyMassesIsAnInputError)
     EXPECT_GT(SlotMatrix<1>::maxMasses(), SlotMatrix<3>::maxMasses());
 }
 
+namespace
+{
+/// x for the product tests: distinct values of both signs, none of them exact in binary.
+Vector productInput(Eigen::Index size)
+{
+    Vector x(size);
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+    {
+        x[i] = Real(1) / Real(3 + i) - Real(0.37) * Real(i % 5);
+    }
+    return x;
+}
+} // namespace
+
 // The conjugate gradient's product (multiplySymmetricRows) sums a mass's three rows together where they share their
 // columns: each row's sum must be the plain one-row loop's, bit for bit, over the whole matrix and over row ranges
 // that cut a mass's rows apart; a matrix of scalar blocks, whose neighbouring rows mostly differ, too.
@@ -143,11 +157,7 @@ template <int B> void expectProductIsEachRowsPlainSum()
         matrix.add(matrix.ba(s), -block.transpose());
     }
     const SparseMatrix& a = matrix.matrix();
-    Vector x(a.rows());
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-    {
-        x[i] = Real(1) / Real(3 + i) - Real(0.37) * Real(i % 5);
-    }
+    Vector x = productInput(a.rows());
     Vector expected(a.rows());
     for (Eigen::Index row = 0; row < a.rows(); ++row)
     {
@@ -215,11 +225,7 @@ TEST(SlotMatrix, ProductTakesIdentityRowsAsTheyAreWithTheSameBits)
         matrix.add(matrix.ba(s), -block.transpose());
     }
     const SparseMatrix& a = matrix.matrix();
-    Vector x(a.rows());
-    for (Eigen::Index i = 0; i < x.size(); ++i)
-    {
-        x[i] = Real(1) / Real(3 + i) - Real(0.37) * Real(i % 5);
-    }
+    Vector x = productInput(a.rows());
     x[4] = -Real(0); // mass 1's second coordinate
     std::vector<std::uint8_t> identity(chainMasses, 0);
     identity[1] = identity[3] = 1;
