@@ -224,6 +224,30 @@ TEST(CommandLine, BenchSaysWhereTheImplicitSolvesTimeGoes)
     EXPECT_FALSE(benchJson("--size 8x2x8 --steps 1 --repeat 1").contains("solver_stages"));
 }
 
+// `masse bench` counts the preconditioner's refactorisations in its timed rounds, as `masse run` counts a run's: the
+// vacuum cup at 16x2x16, its first 31 frames run, refactor as often as its first frame (the bench's warm-up step) and
+// then the bench's 30 timed frames do; the mould's arrival makes some in those frames.
+TEST(CommandLine, BenchCountsTheRefactorisationsOfItsRounds)
+{
+    const std::string cup = source + "/data/scenes/vacuum-forming-cup.json --size 16x2x16";
+    const auto refactorisationsOfRun = [&](const char* duration, const char* name)
+    {
+        const std::filesystem::path out = std::filesystem::temp_directory_path() / name;
+        std::filesystem::remove_all(out);
+        const Outcome o = runMasse("run " + cup + " --set run.duration=" + duration + " --quiet --out " + out.string());
+        EXPECT_EQ(o.exitCode, 0) << o.output;
+        std::ifstream file(out / "summary.json");
+        const nlohmann::json summary = nlohmann::json::parse(file);
+        std::filesystem::remove_all(out);
+        return summary["solver"]["refactorisations"].get<long long>();
+    };
+    const long long firstFrame = refactorisationsOfRun("0.03", "masse-bench-refactorisations-1");
+    const long long thirtyOneFrames = refactorisationsOfRun("0.93", "masse-bench-refactorisations-31");
+    const nlohmann::json bench = benchJson(cup + " --steps 30 --repeat 1");
+    ASSERT_GT(thirtyOneFrames, firstFrame);
+    EXPECT_EQ(bench["solver"]["refactorisations"].get<long long>(), thirtyOneFrames - firstFrame);
+}
+
 // `masse bench` says where the frame goes, stage by stage of the frame's table (docs/step.md): every stage is named,
 // each within the rounds' wall time, together no more than it and most of it (the rest is the rounds' own loop), and
 // the implicit solve's stages lie within `integrate`. On the drape-forming sheet under its heater the heat model's
