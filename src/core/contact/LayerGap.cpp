@@ -259,9 +259,9 @@ void LayerGap::correct(MassSpringSystem& system, const StepContext& context, Rea
                 // a cell partly on it once the mass has gone through the cell (gap < 0): such a cell is draped over a
                 // mould's rim, some corners on the flange and some over the cavity, and the correction would fall on
                 // its free corners, k times the deficit on a lone one, along a normal that a cell tipped over the rim
-                // may point the wrong way. The pressure tray at 128x2x128 had its floor throw a lower mass at the rim
-                // 9 mm and to 64 m/s in one substep, and such throws split every frame into its most solves until
-                // the run diverged.
+                // may point the wrong way: on the pressure tray at 128x2x128 that throws a lower mass at the rim 9 mm,
+                // to 64 m/s, in one substep, and such throws split every frame into its most solves until the run
+                // diverges.
                 m_upperYields[u] = touches(i) && (cellTouches || (cornerTouches && gap < 0));
                 const Real upperWeight = m_upperYields[u] ? p.inverseMass[i] : weight(i);
                 const Real weights = upperWeight + (m_upperYields[u] ? Real(0) : cornerWeights / (k * k));
