@@ -238,7 +238,10 @@ void MassBlockRows::gatherLiveRuns()
     m_live.runColumn.resize(runCount);
     m_live.runStart.resize(runCount);
     m_live.runLength.resize(runCount);
-    m_live.values.assign(std::size_t(m_live.blockValues[blockCount]) + valuePadding, 0);
+    // Every value before the padding is written below: only the padding needs its zeros.
+    const auto liveValues = std::size_t(m_live.blockValues[blockCount]);
+    m_live.values.resize(liveValues + valuePadding);
+    std::fill(m_live.values.begin() + std::ptrdiff_t(liveValues), m_live.values.end(), std::uint16_t(0));
     parallelFor(blockCount, gatherBlocksPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {
