@@ -2,8 +2,7 @@
 /// The broadphase of the sheet's edge contact, through Bullet: a btDbvt over the sheet's surface triangles, a leaf per
 /// patch of 8 x 8 cells (SheetSurface), built once from the sheet as it first lies (a patch, and a subtree over
 /// neighbouring patches, stays a compact piece of the sheet however it folds) and refitted from the leaves up at every
-/// listing, no leaf reinserted. (A leaf per triangle would make the tree's one-off build take 9 s and each refit 20 ms
-/// at 256x2x256, against the listing's 7 ms of queries.) Every sharp edge and corner of every obstacle
+/// listing, no leaf reinserted. Every sharp edge and corner of every obstacle
 /// (ObstacleFeatures.h; the room's walls are left out) is a query of the tree with its box over the frame; the
 /// triangles it meets give their edges (for an edge) or themselves (for a corner), kept when their distance at the
 /// listing is within the radius plus what both can move (core's closed forms). EdgeContactDetector.h says what the

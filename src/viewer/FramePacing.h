@@ -17,7 +17,7 @@ struct FrameMoment
 
 /// While the scene runs: a new picture at most every `runningInterval` (a little under 1/30 s: a snapshot published
 /// just after the mark would otherwise wait for the next, and a scene keeping real time, some 32 snapshots a second,
-/// would be drawn at 25 frames a second instead of 27-28); the same picture only every `idleInterval`, which keeps the
+/// would be drawn at 25 frames a second); the same picture only every `idleInterval`, which keeps the
 /// panel's own timers (a text cursor's blink) alive. Paused: up to 60 frames a second.
 struct FramePacing
 {

@@ -18,7 +18,7 @@ namespace
 /// The most a correction moves a mass across its cell's plane in one substep, in floor heights. A mass further across
 /// than that has not been pressed too close to the layer beneath: its cell is tangled (folded over a corner, or turned
 /// over by a throw). Put back in one substep it is thrown across distances the sheet never moves in a step, and on
-/// the pressure tray (SaMM 33x2x25) those throws grew a 1e-11 rounding difference between mirror halves into a
+/// the pressure tray (SaMM 33x2x25) such throws would grow a 1e-11 rounding difference between mirror halves into a
 /// whole wall's difference; brought back over a few substeps it comes back as the sheet moves.
 constexpr Real largestCorrection = 8;
 constexpr Index notUpper = std::numeric_limits<Index>::max();

@@ -224,15 +224,13 @@ Real ImplicitSolve::residualScale(Real rhs, Real drivingImpulse)
     // - Where |b| is larger than D (stiff material springs whose forces nearly cancel in the sheet's slow motion), a
     //   residual of tol |b| leaves an error in that motion larger than gravity's own impulse: energy appears, b grows
     //   with it, and so does the error allowed (a cold PET sheet over a pyramid reaches 149 m/s). The scale is D. A
-    //   vacuum of 80 kPa on a 2 mm sheet is some 4000 times its weight: held to the weight alone, the cup at 64x2x64
-    //   takes 9.4 iterations a step and 21 refactorisations, held to the load 7.7 and 14, for the same thinnest wall
-    //   to seven digits.
+    //   vacuum of 80 kPa on a 2 mm sheet is some 4000 times its weight, and held to the load the cup's thinnest wall
+    //   is the one held to its weight gives, to seven digits.
     // - Where |b| is smaller the sheet is near its equilibrium, and the scale is |b|, down to a hundredth of D. The
     //   floor keeps such a sheet from being balanced far below its weight at every step: the drape-forming sheet under
-    //   its heater has |b| at 4e-8 of D, and at 128x2x128 the floor saves a tenth of the iterations and of the
-    //   refactorisations over the 60 s, for the same thinnest wall to nine digits. Above the floor the scale
-    //   stays |b|: near equilibrium a residual of tol D is large enough to decide a buckling (the heated band of
-    //   ThermoplasticSheet.HeaterSoftensTheSideItWarms bulges up with it, not down).
+    //   its heater has |b| at 4e-8 of D, and with the floor its thinnest wall at 128x2x128 is the same to nine digits.
+    //   Above the floor the scale stays |b|: near equilibrium a residual of tol D is large enough to decide a buckling
+    //   (the heated band of ThermoplasticSheet.HeaterSoftensTheSideItWarms bulges up with it, not down).
     return std::max(std::min(rhs, drivingImpulse), equilibriumFloor * drivingImpulse);
 }
 

@@ -125,9 +125,9 @@ private:
     /// After a solve: releases each resting constraint (one direction, not speculative) whose reaction pulls, so
     /// that its mass may leave the surface within the step. Returns whether any was released (then the step is
     /// solved again). A resting constraint is set up at the frame's start from the press of the frame before; without
-    /// the release a mass the rest of the sheet lifts off in this step is held down for the whole step. Measured on the
-    /// drop scene under BDF2: without the release the sheet tipping over the block's edge reaches the wedge at
-    /// 0.96-1.08 s (8x2x8 in the same frame as the floor), with it at 0.93-1.02 s (symplectic: 0.95-0.96 s).
+    /// the release a mass the rest of the sheet lifts off in this step is held down for the whole step. With the
+    /// release, the drop scene's sheet under BDF2 tips over the block's edge onto the wedge at 0.93-1.02 s, as the
+    /// symplectic integrator's does (0.95-0.96 s).
     bool releaseLifting(std::vector<VelocityConstraint>& constraints);
 
     ImplicitSettings m_settings;

@@ -96,8 +96,8 @@ struct ImplicitSettings
     PreconditionerKind preconditioner = PreconditionerKind::Cholesky;
     /// Iterations the old factor always gets before it is refactored from the current matrix (the solve then
     /// finishes in one or two more); beyond that it keeps its factor while the iterations it takes beyond a fresh
-    /// factor's, summed since the last refactorisation, cost less than one (RefreshBudget). 10 rather than 8: as a
-    /// rule on its own, 10 makes drape forming at 128x2x128 refactor 64 times instead of 81 and run 12% faster.
+    /// factor's, summed since the last refactorisation, cost less than one (RefreshBudget). Ten iterations let
+    /// a factor that has drifted a little finish its solve where a refactorisation for it would cost more.
     int refreshAfterIterations = 10;
     /// The same for the multigrid hierarchy: it is rebuilt after this many iterations, or after half this many beyond
     /// what it took fresh if that is more (a fresh cycle takes several).

@@ -67,8 +67,7 @@ public:
     ///   worth cachedCostPerUpdate iterations per update.
     /// - A factor past twice that streams from memory at every application: at 128x2x128 (17.7 M values, 35 MB) an
     ///   application takes 6.6 ms in the drape-forming run against 3.1 ms in choleskyApply/128, while a refresh stays
-    ///   0.6-0.7 s, so a refresh is worth streamedCostPerUpdate iterations per update. Drape forming at 128x2x128 runs
-    ///   its 60 s in 6.9 iterations a step and 35 refactorisations with it.
+    ///   0.6-0.7 s, so a refresh is worth streamedCostPerUpdate iterations per update.
     /// - Between the two, the estimate goes linearly with the factor's size.
     /// Within a factor of two either way a refresh rule of this kind pays at most about twice the best schedule's cost
     /// (RefreshBudget), so the estimate needs no more precision than this.

@@ -5,10 +5,6 @@
 /// schedule would (the ski-rental bound), whatever the drift: a matrix that drifts slowly keeps its factor for many
 /// steps, and one that changes fast (contact spreading over the sheet) is not refactored every step for a few
 /// iterations saved each time. A solve always gets at least `minimum` iterations before a refresh.
-///
-/// Measured on drape forming at 128x2x128 over the whole 60 s (a refresh worth 182 iterations there): refactoring
-/// whenever a solve needs more than 10 iterations, 65 refactorisations, 5.83 iterations a step (largest 12) and
-/// 208.7 s; with this budget, 44, 6.35 (largest 75) and 185.0 s (one run each, alternated, 2 threads).
 
 #include <algorithm>
 

@@ -4,15 +4,13 @@
 ///
 /// The factorisation is up-looking, as Eigen's: row k of L comes from a sparse triangular solve with the rows above it
 /// that k's elimination-tree subtree holds. The ranges of one dissection stage are separate subtrees (see
-/// DissectionOrder), so their rows read and write disjoint columns of L and can be computed at once. Eigen's
-/// factorisation runs on one core and is most of a refresh (4.6 s of 5.4 at 128x2x128).
+/// DissectionOrder), so their rows read and write disjoint columns of L and can be computed at once.
 ///
 /// The first stage's ranges (the dissection's parts) are factored a mass at a time: the three rows of a mass share
 /// their columns below its block (the implicit matrix's 3x3 blocks give them that), so each of those columns is read
 /// once and updates the three rows' y in one vector operation, in row k0's topological order; the mass's own block
 /// follows as Eigen's rows would finish it. Rows without that structure are factored one by one with Eigen's
-/// arithmetic. At 128x2x128 a refactorisation takes 0.60-0.89 s, and 0.85-0.98 s with every row of the parts factored
-/// one by one (median ratio 0.73 over five alternated rounds of choleskyRefresh in masse_benchmarks, two threads).
+/// arithmetic.
 ///
 /// The later stages' ranges are separators, whose rows hold most of the arithmetic (at 128x2x128 the top one alone,
 /// 765 rows, 1.4 G of the 5 G updates): row by row, each row would stream all the columns below it from memory again.
@@ -31,8 +29,7 @@
 ///
 /// These orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's in its last
 /// bits; they are fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
-/// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount). With Eigen's row-by-row arithmetic throughout,
-/// a refactorisation at 128x2x128 takes 2.8-3.3 s.
+/// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount).
 
 #include "core/Types.h"
 #include "core/linear/NestedDissection.h"
