@@ -49,6 +49,7 @@ struct BlockColumns
     const StorageIndex* column;
     const StorageIndex* belowEnd;
     const StorageIndex* separatorEnd;
+    const char* triple; ///< StagedLdlt::Blocks::triple
     Real* y;
 };
 
@@ -75,7 +76,8 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
 #define MASSE_BLOCK_KERNELS(suffix, targetAttribute)                                                                   \
     /* Step 1 for a block: each column below in increasing order takes its y from the block's scratch `y` (lanes       \
        values per row, cleared as it goes), keeps it, and updates the y of its entries below the separator and the     \
-       block's pivots d. */                                                                                            \
+       block's pivots d. A mass's three columns with the same rows (block.triple) update each row's y in one read and  \
+       write, each column's subtraction in turn. */                                                                    \
     targetAttribute void eliminateBelow##suffix(const BlockColumns& block, const StorageIndex* start,                  \
                                                 const StorageIndex* rows, const Real* values, const Real* diagonal,    \
                                                 Real* y, Real* d)                                                      \
@@ -84,6 +86,61 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
         {                                                                                                              \
             const StorageIndex c = block.column[j];                                                                    \
+            if (block.triple[j])                                                                                       \
+            {                                                                                                          \
+                /* The mass's block first: column c's entries in rows c + 1 and c + 2, column c + 1's in row c + 2. */ \
+                LaneValues yv[3];                                                                                      \
+                bool live[3];                                                                                          \
+                const Real* columnValues[3];                                                                           \
+                for (std::size_t r = 0; r < 3; ++r)                                                                    \
+                {                                                                                                      \
+                    const StorageIndex cr = c + StorageIndex(r);                                                       \
+                    LaneValues* yc = reinterpret_cast<LaneValues*>(y + std::size_t(cr) * lanes);                       \
+                    yv[r] = *yc;                                                                                       \
+                    *reinterpret_cast<LaneValues*>(block.y + (j + r) * lanes) = yv[r];                                 \
+                    *yc = LaneValues{};                                                                                \
+                    live[r] = !allLanesZero(yv[r]);                                                                    \
+                    const StorageIndex first = start[cr];                                                              \
+                    columnValues[r] = values + first + (2 - r);                                                        \
+                    if (!live[r])                                                                                      \
+                    {                                                                                                  \
+                        continue;                                                                                      \
+                    }                                                                                                  \
+                    pivots -= (yv[r] / diagonal[cr]) * yv[r];                                                          \
+                    for (std::size_t q = r + 1; q < 3; ++q)                                                            \
+                    {                                                                                                  \
+                        *reinterpret_cast<LaneValues*>(y + std::size_t(c + StorageIndex(q)) * lanes) -=                \
+                            values[first + (q - r - 1)] * yv[r];                                                       \
+                    }                                                                                                  \
+                }                                                                                                      \
+                const StorageIndex* rowsBelow = rows + start[c] + 2;                                                   \
+                const std::size_t count = std::size_t(block.belowEnd[j] - (start[c] + 2));                             \
+                if (live[0] && live[1] && live[2])                                                                     \
+                {                                                                                                      \
+                    for (std::size_t i = 0; i < count; ++i)                                                            \
+                    {                                                                                                  \
+                        LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rowsBelow[i]) * lanes);     \
+                        LaneValues t = *target;                                                                        \
+                        t -= columnValues[0][i] * yv[0];                                                               \
+                        t -= columnValues[1][i] * yv[1];                                                               \
+                        t -= columnValues[2][i] * yv[2];                                                               \
+                        *target = t;                                                                                   \
+                    }                                                                                                  \
+                }                                                                                                      \
+                else                                                                                                   \
+                {                                                                                                      \
+                    for (std::size_t r = 0; r < 3; ++r)                                                                \
+                    {                                                                                                  \
+                        for (std::size_t i = 0; live[r] && i < count; ++i)                                             \
+                        {                                                                                              \
+                            LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rowsBelow[i]) * lanes); \
+                            *target -= columnValues[r][i] * yv[r];                                                     \
+                        }                                                                                              \
+                    }                                                                                                  \
+                }                                                                                                      \
+                j += 2;                                                                                                \
+                continue;                                                                                              \
+            }                                                                                                          \
             LaneValues* yc = reinterpret_cast<LaneValues*>(y + std::size_t(c) * lanes);                                \
             const LaneValues yv = *yc;                                                                                 \
             *reinterpret_cast<LaneValues*>(block.y + j * lanes) = yv;                                                  \
@@ -102,12 +159,57 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
         *reinterpret_cast<LaneValues*>(d) = pivots;                                                                    \
     }                                                                                                                  \
     /* Step 2 for a block: each column below subtracts its entries in the separator's rows before `lastRow` times      \
-       the block's y from `z` (lanes values per separator row from `begin`). */                                        \
+       the block's y from `z` (lanes values per separator row from `begin`); a mass's three columns with the same      \
+       rows (block.triple) in one read and write of each row's z, as step 1. */                                        \
     targetAttribute void schurBlock##suffix(const BlockColumns& block, const StorageIndex* rows, const Real* values,   \
                                             StorageIndex begin, StorageIndex lastRow, Real* z)                         \
     {                                                                                                                  \
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
         {                                                                                                              \
+            if (block.triple[j])                                                                                       \
+            {                                                                                                          \
+                LaneValues yc[3];                                                                                      \
+                bool live[3];                                                                                          \
+                for (std::size_t r = 0; r < 3; ++r)                                                                    \
+                {                                                                                                      \
+                    yc[r] = *reinterpret_cast<const LaneValues*>(block.y + (j + r) * lanes);                           \
+                    live[r] = !allLanesZero(yc[r]);                                                                    \
+                }                                                                                                      \
+                const StorageIndex* rowsIn = rows + block.belowEnd[j];                                                 \
+                std::size_t count = std::size_t(block.separatorEnd[j] - block.belowEnd[j]);                            \
+                count = std::size_t(std::lower_bound(rowsIn, rowsIn + count, lastRow) - rowsIn);                       \
+                const Real* v0 = values + block.belowEnd[j];                                                           \
+                const Real* v1 = values + block.belowEnd[j + 1];                                                       \
+                const Real* v2 = values + block.belowEnd[j + 2];                                                       \
+                if (live[0] && live[1] && live[2])                                                                     \
+                {                                                                                                      \
+                    for (std::size_t i = 0; i < count; ++i)                                                            \
+                    {                                                                                                  \
+                        LaneValues* target =                                                                           \
+                            reinterpret_cast<LaneValues*>(z + std::size_t(rowsIn[i] - begin) * lanes);                 \
+                        LaneValues t = *target;                                                                        \
+                        t -= v0[i] * yc[0];                                                                            \
+                        t -= v1[i] * yc[1];                                                                            \
+                        t -= v2[i] * yc[2];                                                                            \
+                        *target = t;                                                                                   \
+                    }                                                                                                  \
+                }                                                                                                      \
+                else                                                                                                   \
+                {                                                                                                      \
+                    const Real* v[3] = {v0, v1, v2};                                                                   \
+                    for (std::size_t r = 0; r < 3; ++r)                                                                \
+                    {                                                                                                  \
+                        for (std::size_t i = 0; live[r] && i < count; ++i)                                             \
+                        {                                                                                              \
+                            LaneValues* target =                                                                       \
+                                reinterpret_cast<LaneValues*>(z + std::size_t(rowsIn[i] - begin) * lanes);             \
+                            *target -= v[r][i] * yc[r];                                                                \
+                        }                                                                                              \
+                    }                                                                                                  \
+                }                                                                                                      \
+                j += 2;                                                                                                \
+                continue;                                                                                              \
+            }                                                                                                          \
             const LaneValues yc = *reinterpret_cast<const LaneValues*>(block.y + j * lanes);                           \
             if (allLanesZero(yc))                                                                                      \
             {                                                                                                          \
@@ -396,6 +498,7 @@ void StagedLdlt::analyseSeparators()
     std::vector<std::size_t> ownStart{0};    // per row of the separator and one past: its entries in its own columns
     std::vector<StorageIndex> ownColumn;     // those columns
     std::vector<StorageIndex> slot(std::size_t(n), -1); // per column: its entry in the block being built
+    StorageIndex* structure = m_lower.innerIndexPtr();
     for (StorageIndex k = 0; k < n; ++k)
     {
         const std::ptrdiff_t which = separatorOf[std::size_t(k)];
@@ -412,6 +515,7 @@ void StagedLdlt::analyseSeparators()
         {
             const StorageIndex column = pattern[std::size_t(t)];
             const StorageIndex position = start[column] + filled[std::size_t(column)]++;
+            structure[position] = k; // the factorisation writes the same rows there
             if (!separator)
             {
                 continue;
@@ -515,6 +619,18 @@ void StagedLdlt::analyseSeparators()
             }
         }
     }
+    m_blocks.triple.assign(m_blocks.column.size(), 0);
+    for (std::size_t b = 0; b + 1 < m_blocks.start.size(); ++b)
+    {
+        for (std::size_t e = m_blocks.start[b]; e + 2 < m_blocks.start[b + 1]; ++e)
+        {
+            if (startsTriple(e, m_blocks.start[b + 1], structure))
+            {
+                m_blocks.triple[e] = 1;
+                e += 2;
+            }
+        }
+    }
     m_blocks.y.resize(m_blocks.column.size() * lanes);
     for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
     {
@@ -572,6 +688,37 @@ void StagedLdlt::assignUpper(const SparseMatrix& permuted)
             m_upper);
     }
     gatherPermutedValues(permuted, m_upperSources, m_upper);
+}
+
+bool StagedLdlt::startsTriple(std::size_t e, std::size_t blockEnd, const StorageIndex* structure) const
+{
+    const StorageIndex* start = m_lower.outerIndexPtr();
+    const std::vector<StorageIndex>& column = m_blocks.column;
+    const StorageIndex c = column[e];
+    if (c % 3 != 0 || e + 2 >= blockEnd || column[e + 1] != c + 1 || column[e + 2] != c + 2)
+    {
+        return false;
+    }
+    // Column c's first two entries are rows c + 1 and c + 2, column c + 1's first is row c + 2 (the mass's block);
+    // after them the three columns' entries must be in the same rows, as far as the steps read them.
+    const StorageIndex firsts[3] = {start[c] + 2, start[c + 1] + 1, start[c + 2]};
+    if (m_blocks.belowEnd[e] < firsts[0] || m_blocks.belowEnd[e + 1] < firsts[1] || structure[start[c]] != c + 1 ||
+        structure[start[c] + 1] != c + 2 || structure[start[c + 1]] != c + 2)
+    {
+        return false;
+    }
+    for (std::size_t r = 1; r < 3; ++r)
+    {
+        const StorageIndex below = m_blocks.belowEnd[e] - firsts[0];
+        const StorageIndex inSeparator = m_blocks.separatorEnd[e] - m_blocks.belowEnd[e];
+        if (m_blocks.belowEnd[e + r] - firsts[r] != below ||
+            m_blocks.separatorEnd[e + r] - m_blocks.belowEnd[e + r] != inSeparator ||
+            !std::equal(structure + firsts[0], structure + m_blocks.separatorEnd[e], structure + firsts[r]))
+        {
+            return false;
+        }
+    }
+    return true;
 }
 
 bool StagedLdlt::factorize(const SparseMatrix& permuted)
@@ -793,6 +940,10 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
         return true;
     }
     const std::vector<std::size_t>& blocks = m_stageBlocks[stage];
+    if (!m_takeTriples)
+    {
+        m_noTriples.assign(m_blocks.triple.size(), 0);
+    }
     const StorageIndex* start = m_lower.outerIndexPtr();
     StorageIndex* rows = m_lower.innerIndexPtr();
     Real* values = m_lower.valuePtr();
@@ -803,8 +954,11 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
     auto blockColumns = [&](std::size_t b)
     {
         const std::size_t first = m_blocks.start[b];
-        return BlockColumns{m_blocks.start[b + 1] - first, m_blocks.column.data() + first,
-                            m_blocks.belowEnd.data() + first, m_blocks.separatorEnd.data() + first,
+        return BlockColumns{m_blocks.start[b + 1] - first,
+                            m_blocks.column.data() + first,
+                            m_blocks.belowEnd.data() + first,
+                            m_blocks.separatorEnd.data() + first,
+                            (m_takeTriples ? m_blocks.triple.data() : m_noTriples.data()) + first,
                             m_blocks.y.data() + first * lanes};
     };
 

@@ -20,7 +20,10 @@
 /// 2); then the separator's own block, whose Schur complement is nearly dense: factored as a dense matrix,
 /// right-looking, each column's update of the later ones one vector operation over their entries (step 3), and its
 /// pattern's entries written to L. Each entry of a separator's rows sums the columns below in increasing order, and its
-/// own block's columns in increasing order.
+/// own block's columns in increasing order. Where a mass's three columns below have the same rows (the implicit
+/// matrix's 3x3 blocks give that to every mass), steps 1 and 2 take them together: each row's y is then read and
+/// written once for the three rather than once a column, which is most of what those steps move through memory, and the
+/// three subtractions keep their order, so the bits stay the same.
 ///
 /// A column whose y is zero in every row being factored (one of a held mass's, whose rows and columns of the filtered
 /// matrix are the identity's, or one whose fill the held masses cut off) gives those rows zero entries and updates
@@ -62,6 +65,14 @@ public:
     /// The multiply-adds of a factorisation, from the analysed pattern: a column's entries update each other's rows,
     /// sum over the columns of count (count - 1) / 2.
     double updates() const { return m_updates; }
+    /// The separators' block entries taken three columns at once (see Blocks::triple), from the analysis.
+    std::size_t triplesTaken() const
+    {
+        return m_takeTriples ? std::size_t(std::count(m_blocks.triple.begin(), m_blocks.triple.end(), char(1))) : 0;
+    }
+    /// Whether the factorisations take such columns together (the default) or one by one; the factor has the same
+    /// bits either way.
+    void takeTriples(bool take) { m_takeTriples = take; }
     /// The masses (rows 3m to 3m + 2) the analysis found can be factored a mass at a time (see m_massTogether).
     std::size_t massesFactoredTogether() const
     {
@@ -137,9 +148,19 @@ private:
         std::vector<StorageIndex> position;
         std::vector<StorageIndex> belowEnd;
         std::vector<StorageIndex> separatorEnd;
+        /// Per entry: 1 where it and the next two are one mass's three columns (3m, 3m + 1, 3m + 2) whose entries
+        /// below the mass's block are in the same rows, below the separator and in it. The steps take such columns
+        /// together: each row's y is read and written once for the three, which subtract from it in the same order
+        /// as column by column, so with the same bits.
+        std::vector<char> triple;
         // Per factorisation:
         std::vector<Real> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
     };
+    /// Whether block entry e starts a triple (see Blocks::triple), from L's rows (`structure`, laid out by the
+    /// analysis).
+    bool startsTriple(std::size_t e, std::size_t blockEnd, const StorageIndex* structure) const;
     Blocks m_blocks;
+    bool m_takeTriples = true;
+    std::vector<char> m_noTriples; ///< all zero, read for Blocks::triple where triples are not taken
 };
 } // namespace masse

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -501,6 +502,14 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
     StagedLdlt reference;
     reference.analyse(permuted, rowStages);
     ASSERT_EQ(reference.massesFactoredTogether(), massesTogether);
+    if (massesTogether > 0)
+    {
+        EXPECT_GT(reference.triplesTaken(), 100u) << "the separators' steps take masses' columns three at once";
+    }
+    else
+    {
+        EXPECT_EQ(reference.triplesTaken(), 0u) << "no mass's columns share their rows below its block";
+    }
     ASSERT_TRUE(reference.factorize(permuted));
     Real largestDifference = 0;
     Real largestPivotDifference = 0;
@@ -547,6 +556,20 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
                 ASSERT_EQ(staged.diagonal()[k], reference.diagonal()[k])
                     << "pivot " << k << " at " << threads << " threads on the " << simdPathName(path) << " path";
             }
+            // A mass's three columns taken together give each value the bits, signed zeros included, of the columns
+            // taken one by one.
+            StagedLdlt oneByOne;
+            oneByOne.analyse(permuted, rowStages);
+            oneByOne.takeTriples(false);
+            ASSERT_TRUE(oneByOne.factorize(permuted));
+            ASSERT_EQ(std::memcmp(oneByOne.lower().valuePtr(), lower.valuePtr(),
+                                  sizeof(Real) * std::size_t(lower.nonZeros())),
+                      0)
+                << "L at " << threads << " threads on the " << simdPathName(path) << " path";
+            ASSERT_EQ(
+                std::memcmp(oneByOne.diagonal().data(), staged.diagonal().data(), sizeof(Real) * std::size_t(a.rows())),
+                0)
+                << "D at " << threads << " threads on the " << simdPathName(path) << " path";
         }
     }
 
