@@ -243,6 +243,9 @@ struct MassColumns
     const Real* diagonal;
     Real* massY;
     StorageIndex firstRow;
+    /// Per mass: whether its three columns have the same rows below its block (StagedLdlt::m_columnsShareRows),
+    /// all zero where the triples are not taken.
+    const char* shareRows;
 };
 
 // One copy of the mass kernel per SIMD path, as the blocks' kernels (each lane's arithmetic is the scalar code's, in
@@ -251,37 +254,86 @@ struct MassColumns
     /* Each column below the mass: its y for the three rows gives their entries and updates the y of its entries so    \
        far (rows below the mass), and, as Eigen's later rows of the mass would see them, the entries just made in the  \
        earlier rows (`inBlock`: row 1's y in column 0, row 2's in columns 0 and 1); `pivots` less each column's part.  \
-     */                                                                                                                \
+       An earlier mass's three columns that come together and have the same rows (mass.shareRows) update each row's    \
+       y in one read and write, each column's subtraction in turn. */                                                  \
     targetAttribute void massColumns##suffix(const MassColumns& mass, Real* pivotsOut, Real* inBlock)                  \
     {                                                                                                                  \
         MassLanes pivots = *reinterpret_cast<const MassLanes*>(pivotsOut);                                             \
         for (std::size_t j = 0; j < mass.count; ++j)                                                                   \
         {                                                                                                              \
             const StorageIndex c = mass.column[j];                                                                     \
-            MassLanes* yc = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(c));                             \
-            const MassLanes yv = *yc;                                                                                  \
-            *yc = MassLanes{};                                                                                         \
-            const MassLanes l = yv / mass.diagonal[c];                                                                 \
-            const StorageIndex last = mass.start[c] + mass.columnCount[c];                                             \
-            for (int r = 0; r < 3; ++r)                                                                                \
+            const bool triple = c % 3 == 0 && j + 2 < mass.count && mass.column[j + 1] == c + 1 &&                     \
+                                mass.column[j + 2] == c + 2 && mass.shareRows[c / 3];                                  \
+            const std::size_t taken = triple ? 3 : 1;                                                                  \
+            MassLanes yv[3];                                                                                           \
+            bool live[3];                                                                                              \
+            StorageIndex last[3];                                                                                      \
+            for (std::size_t r = 0; r < taken; ++r)                                                                    \
             {                                                                                                          \
-                mass.rows[last + r] = mass.firstRow + r;                                                               \
-                mass.values[last + r] = l[r];                                                                          \
+                const StorageIndex cr = c + StorageIndex(r);                                                           \
+                MassLanes* yc = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(cr));                        \
+                yv[r] = *yc;                                                                                           \
+                *yc = MassLanes{};                                                                                     \
+                const MassLanes l = yv[r] / mass.diagonal[cr];                                                         \
+                last[r] = mass.start[cr] + mass.columnCount[cr];                                                       \
+                for (int q = 0; q < 3; ++q)                                                                            \
+                {                                                                                                      \
+                    mass.rows[last[r] + q] = mass.firstRow + q;                                                        \
+                    mass.values[last[r] + q] = l[q];                                                                   \
+                }                                                                                                      \
+                mass.columnCount[cr] += 3;                                                                             \
+                live[r] = !(yv[r][0] == 0 && yv[r][1] == 0 && yv[r][2] == 0); /* else its updates subtract zeros */    \
+                if (!live[r])                                                                                          \
+                {                                                                                                      \
+                    continue;                                                                                          \
+                }                                                                                                      \
+                /* Taken alone, all its entries so far; taken together, its entries in the mass's own block (rows      \
+                   after it among the three), the rows below after all three. */                                       \
+                const StorageIndex end = triple ? mass.start[cr] + StorageIndex(2 - r) : last[r];                      \
+                for (StorageIndex p = mass.start[cr]; p < end; ++p)                                                    \
+                {                                                                                                      \
+                    MassLanes* target = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(mass.rows[p]));      \
+                    *target -= mass.values[p] * yv[r];                                                                 \
+                }                                                                                                      \
+                inBlock[0] -= l[0] * yv[r][1];                                                                         \
+                inBlock[1] -= l[0] * yv[r][2];                                                                         \
+                inBlock[2] -= l[1] * yv[r][2];                                                                         \
+                pivots -= l * yv[r];                                                                                   \
             }                                                                                                          \
-            mass.columnCount[c] += 3;                                                                                  \
-            if (yv[0] == 0 && yv[1] == 0 && yv[2] == 0) /* its updates would subtract zeros */                         \
+            if (!triple)                                                                                               \
             {                                                                                                          \
                 continue;                                                                                              \
             }                                                                                                          \
-            for (StorageIndex p = mass.start[c]; p < last; ++p)                                                        \
+            const StorageIndex* rowsBelow = mass.rows + mass.start[c] + 2;                                             \
+            const Real* v0 = mass.values + mass.start[c] + 2;                                                          \
+            const Real* v1 = mass.values + mass.start[c + 1] + 1;                                                      \
+            const Real* v2 = mass.values + mass.start[c + 2];                                                          \
+            const std::size_t count = std::size_t(last[0] - (mass.start[c] + 2));                                      \
+            if (live[0] && live[1] && live[2])                                                                         \
             {                                                                                                          \
-                MassLanes* target = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(mass.rows[p]));          \
-                *target -= mass.values[p] * yv;                                                                        \
+                for (std::size_t i = 0; i < count; ++i)                                                                \
+                {                                                                                                      \
+                    MassLanes* target = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(rowsBelow[i]));      \
+                    MassLanes t = *target;                                                                             \
+                    t -= v0[i] * yv[0];                                                                                \
+                    t -= v1[i] * yv[1];                                                                                \
+                    t -= v2[i] * yv[2];                                                                                \
+                    *target = t;                                                                                       \
+                }                                                                                                      \
             }                                                                                                          \
-            inBlock[0] -= l[0] * yv[1];                                                                                \
-            inBlock[1] -= l[0] * yv[2];                                                                                \
-            inBlock[2] -= l[1] * yv[2];                                                                                \
-            pivots -= l * yv;                                                                                          \
+            else                                                                                                       \
+            {                                                                                                          \
+                const Real* v[3] = {v0, v1, v2};                                                                       \
+                for (std::size_t r = 0; r < 3; ++r)                                                                    \
+                {                                                                                                      \
+                    for (std::size_t i = 0; live[r] && i < count; ++i)                                                 \
+                    {                                                                                                  \
+                        MassLanes* target = reinterpret_cast<MassLanes*>(mass.massY + 4 * std::size_t(rowsBelow[i]));  \
+                        *target -= v[r][i] * yv[r];                                                                    \
+                    }                                                                                                  \
+                }                                                                                                      \
+            }                                                                                                          \
+            j += 2;                                                                                                    \
         }                                                                                                              \
         *reinterpret_cast<MassLanes*>(pivotsOut) = pivots;                                                             \
     }
@@ -449,6 +501,7 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     }
     m_lower.resizeNonZeros(start[n]);
     m_diagonal.resize(n);
+    m_columnsShareRows.assign(std::size_t(n / 3), 0);
     analyseSeparators();
     analyseMasses();
 }
@@ -619,6 +672,17 @@ void StagedLdlt::analyseSeparators()
             }
         }
     }
+    for (std::size_t m = 0; m < m_columnsShareRows.size(); ++m)
+    {
+        const StorageIndex c = StorageIndex(3 * m);
+        const StorageIndex* count = m_columnCount.data() + c;
+        const StorageIndex below = count[0] - 2;
+        m_columnsShareRows[m] =
+            below >= 0 && count[1] - 1 == below && count[2] == below && structure[start[c]] == c + 1 &&
+            structure[start[c] + 1] == c + 2 && structure[start[c + 1]] == c + 2 &&
+            std::equal(structure + start[c] + 2, structure + start[c] + 2 + below, structure + start[c + 1] + 1) &&
+            std::equal(structure + start[c] + 2, structure + start[c] + 2 + below, structure + start[c + 2]);
+    }
     m_blocks.triple.assign(m_blocks.column.size(), 0);
     for (std::size_t b = 0; b + 1 < m_blocks.start.size(); ++b)
     {
@@ -724,6 +788,10 @@ bool StagedLdlt::startsTriple(std::size_t e, std::size_t blockEnd, const Storage
 bool StagedLdlt::factorize(const SparseMatrix& permuted)
 {
     assignUpper(permuted);
+    if (!m_takeTriples)
+    {
+        m_noTriples.assign(std::max(m_blocks.triple.size(), m_columnsShareRows.size()), 0);
+    }
     m_generation = ++factorisations;
     std::atomic<bool> ok{true};
     for (std::size_t stage = 0; stage < m_stages.size(); ++stage)
@@ -853,8 +921,16 @@ bool StagedLdlt::factorMass(StorageIndex k0, Real* massY, long long visit, long 
             }
         }
     }
-    MassColumns columns{
-        pattern + top, std::size_t(n - top), start, m_columnCount.data(), rows, values, m_diagonal.data(), massY, k0};
+    MassColumns columns{pattern + top,
+                        std::size_t(n - top),
+                        start,
+                        m_columnCount.data(),
+                        rows,
+                        values,
+                        m_diagonal.data(),
+                        massY,
+                        k0,
+                        m_takeTriples ? m_columnsShareRows.data() : m_noTriples.data()};
     massColumnsOn(activeSimdPath(), columns, pivots, inBlock);
     // The mass's block, as Eigen's rows k0 + 1 and k0 + 2 finish with columns k0 and k0 + 1.
     const StorageIndex k1 = k0 + 1;
@@ -940,10 +1016,6 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
         return true;
     }
     const std::vector<std::size_t>& blocks = m_stageBlocks[stage];
-    if (!m_takeTriples)
-    {
-        m_noTriples.assign(m_blocks.triple.size(), 0);
-    }
     const StorageIndex* start = m_lower.outerIndexPtr();
     StorageIndex* rows = m_lower.innerIndexPtr();
     Real* values = m_lower.valuePtr();

@@ -10,7 +10,9 @@
 /// their columns below its block (the implicit matrix's 3x3 blocks give them that), so each of those columns is read
 /// once and updates the three rows' y in one vector operation, in row k0's topological order; the mass's own block
 /// follows as Eigen's rows would finish it. Rows without that structure are factored one by one with Eigen's
-/// arithmetic.
+/// arithmetic. The same blocks give an earlier mass's three columns the same rows below its block, and they come
+/// together in that order: they are taken together, each row's y read and written once for the three (see
+/// m_columnsShareRows).
 ///
 /// The later stages' ranges are separators, whose rows hold most of the arithmetic (at 128x2x128 the top one alone,
 /// 765 rows, 1.4 G of the 5 G updates): row by row, each row would stream all the columns below it from memory again.
@@ -70,6 +72,13 @@ public:
     {
         return m_takeTriples ? std::size_t(std::count(m_blocks.triple.begin(), m_blocks.triple.end(), char(1))) : 0;
     }
+    /// The masses whose three columns have the same rows below their block, taken together by later masses of the
+    /// parts (see m_columnsShareRows), from the analysis.
+    std::size_t massesSharingRows() const
+    {
+        return m_takeTriples ? std::size_t(std::count(m_columnsShareRows.begin(), m_columnsShareRows.end(), char(1)))
+                             : 0;
+    }
     /// Whether the factorisations take such columns together (the default) or one by one; the factor has the same
     /// bits either way.
     void takeTriples(bool take) { m_takeTriples = take; }
@@ -113,6 +122,10 @@ private:
     /// full and have the same columns below it (the implicit matrix's 3x3 blocks give that to every mass); such a
     /// mass's rows are factored together.
     std::vector<char> m_massTogether;
+    /// Per mass: whether its three columns have the same rows below its block (column 3m's first two entries in rows
+    /// 3m + 1 and 3m + 2, column 3m + 1's first in row 3m + 2); the factorisation of a later mass takes such columns
+    /// together where they come together, as the separators' steps do (see Blocks::triple).
+    std::vector<char> m_columnsShareRows;
     double m_updates = 0;
     long long m_generation = 0; ///< this factorisation's number in the process (tells its visit marks from others')
 
@@ -161,6 +174,6 @@ private:
     bool startsTriple(std::size_t e, std::size_t blockEnd, const StorageIndex* structure) const;
     Blocks m_blocks;
     bool m_takeTriples = true;
-    std::vector<char> m_noTriples; ///< all zero, read for Blocks::triple where triples are not taken
+    std::vector<char> m_noTriples; ///< all zero, read for the triples' flags where they are not taken
 };
 } // namespace masse

@@ -505,10 +505,12 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
     if (massesTogether > 0)
     {
         EXPECT_GT(reference.triplesTaken(), 100u) << "the separators' steps take masses' columns three at once";
+        EXPECT_EQ(reference.massesSharingRows(), sheet.massCount()) << "and so do the parts'";
     }
     else
     {
         EXPECT_EQ(reference.triplesTaken(), 0u) << "no mass's columns share their rows below its block";
+        EXPECT_EQ(reference.massesSharingRows(), 0u);
     }
     ASSERT_TRUE(reference.factorize(permuted));
     Real largestDifference = 0;
