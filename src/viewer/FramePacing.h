@@ -15,13 +15,14 @@ struct FrameMoment
     Real sinceLastFrame = 0; ///< s since the last frame started
 };
 
-/// While the scene runs: a new picture at most every `runningInterval` (a little under 1/30 s: a snapshot published
-/// just after the mark would otherwise wait for the next, and a scene keeping real time, some 32 snapshots a second,
-/// would be drawn at 25 frames a second); the same picture only every `idleInterval`, which keeps the
-/// panel's own timers (a text cursor's blink) alive. Paused: up to 60 frames a second.
+/// While the scene runs: a new picture at most every `runningInterval` (0.8 of 1/30 s: snapshots come at the scene's
+/// steps, some 33 a second for a forming scene keeping real time at dt = 0.03 s, and not evenly, as steps take longer
+/// where the solver refactors; a new picture due only a full 1/30 s after the last frame would wait for the next
+/// snapshot often enough to draw such a scene at 29.7 frames a second); the same picture only every `idleInterval`,
+/// which keeps the panel's own timers (a text cursor's blink) alive. Paused: up to 60 frames a second.
 struct FramePacing
 {
-    Real runningInterval = Real(0.9) / 30;
+    Real runningInterval = Real(0.8) / 30;
     Real idleInterval = Real(0.25);
     Real pausedInterval = Real(1) / 60;
 };

@@ -60,9 +60,16 @@ TEST(StepScheduler, SpendsBankedWallTimeInWholeSteps)
 
 TEST(StepScheduler, OwesNoMoreThanItsCapAndSaysWhenItDropsTime)
 {
+    // By default a hiccup of a second (a forming scene's first frame: 0.6 s at 64x2x64) is caught up, no more.
+    StepScheduler catchingUp(0.03);
+    EXPECT_FALSE(catchingUp.addWallTime(0.6));
+    EXPECT_NEAR(catchingUp.owed(), 0.6, 1e-12);
+    EXPECT_TRUE(catchingUp.addWallTime(0.6));
+    EXPECT_NEAR(catchingUp.owed(), 1.0, 1e-12);
+
     StepScheduler scheduler(0.03, 0.25);
     EXPECT_FALSE(scheduler.addWallTime(0.2));
-    EXPECT_TRUE(scheduler.addWallTime(5)) << "a stall (a window drag, a scene load) is not caught up";
+    EXPECT_TRUE(scheduler.addWallTime(5)) << "more than the cap is not caught up";
     EXPECT_NEAR(scheduler.owed(), 0.25, 1e-12);
 
     StepScheduler slow(0.5, 0.25);
@@ -97,10 +104,10 @@ TEST(FramePacing, TheSamePictureIsNotDrawnAgainWhileTheSceneRuns)
 {
     FrameMoment moment;
     moment.newPicture = true;
-    moment.sinceLastFrame = 0.02;
+    moment.sinceLastFrame = 0.025;
     EXPECT_FALSE(frameDue(moment)) << "a new picture waits for the frame-rate cap";
-    moment.sinceLastFrame = 0.031;
-    EXPECT_TRUE(frameDue(moment)) << "a new picture just under 1/30 s after the last frame";
+    moment.sinceLastFrame = 0.027;
+    EXPECT_TRUE(frameDue(moment)) << "a new picture a little under 1/30 s after the last frame";
     moment.newPicture = false;
     EXPECT_FALSE(frameDue(moment)) << "the same picture again";
     moment.sinceLastFrame = 0.2;
@@ -133,10 +140,10 @@ TEST(ViewerSession, RunsInRealTimeWithinABudgetPerPass)
     EXPECT_EQ(session.advance(0, 10).steps, 7);
     EXPECT_NEAR(session.scene().time(), 0.3, 1e-12);
 
-    // Owing more than the cap (a quarter of a second) drops the excess: slow motion, not a spiral.
+    // Owing more than the cap (a second) drops the excess: slow motion, not a spiral.
     const Advance stalled = session.advance(2, 10);
     EXPECT_TRUE(stalled.behind);
-    EXPECT_EQ(stalled.steps, 8);
+    EXPECT_EQ(stalled.steps, 33);
 }
 
 TEST(ViewerSession, PauseHoldsTimeAndSingleStepsAdvanceByOneStep)
