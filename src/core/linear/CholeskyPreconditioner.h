@@ -66,8 +66,8 @@ public:
     ///   values, 7 MB in half precision) costs an iteration as in masse_benchmarks' choleskyApply, and a refresh is
     ///   worth cachedCostPerUpdate iterations per update.
     /// - A factor past twice that streams from memory at every application: at 128x2x128 (17.7 M values, 35 MB) an
-    ///   application takes 6.6 ms in the drape-forming run against 3.1 ms in choleskyApply/128, while a refresh stays
-    ///   0.6-0.7 s, so a refresh is worth streamedCostPerUpdate iterations per update.
+    ///   application takes 6.6 ms in the drape-forming run against 3.1 ms in choleskyApply/128, while a refresh takes
+    ///   0.4-0.5 s, so a refresh is worth some 0.3 to 0.35 iterations per update (streamedCostPerUpdate).
     /// - Between the two, the estimate goes linearly with the factor's size.
     /// Within a factor of two either way a refresh rule of this kind pays at most about twice the best schedule's cost
     /// (RefreshBudget), so the estimate needs no more precision than this.
