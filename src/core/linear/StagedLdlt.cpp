@@ -501,7 +501,17 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     }
     m_lower.resizeNonZeros(start[n]);
     m_diagonal.resize(n);
+    // A column's rows below its parent are among its parent's (the elimination tree's rule), so where column c's parent
+    // is c + 1 and it has one row more, its rows below c + 1 are c + 1's: a mass's three columns share their rows
+    // below its block where each is the next one's child with one row more.
     m_columnsShareRows.assign(std::size_t(n / 3), 0);
+    for (std::size_t m = 0; m < m_columnsShareRows.size(); ++m)
+    {
+        const std::size_t c = 3 * m;
+        m_columnsShareRows[m] = m_parent[c] == StorageIndex(c + 1) && m_parent[c + 1] == StorageIndex(c + 2) &&
+                                m_columnCount[c] == m_columnCount[c + 1] + 1 &&
+                                m_columnCount[c + 1] == m_columnCount[c + 2] + 1;
+    }
     analyseSeparators();
     analyseMasses();
 }
@@ -551,7 +561,6 @@ void StagedLdlt::analyseSeparators()
     std::vector<std::size_t> ownStart{0};    // per row of the separator and one past: its entries in its own columns
     std::vector<StorageIndex> ownColumn;     // those columns
     std::vector<StorageIndex> slot(std::size_t(n), -1); // per column: its entry in the block being built
-    StorageIndex* structure = m_lower.innerIndexPtr();
     for (StorageIndex k = 0; k < n; ++k)
     {
         const std::ptrdiff_t which = separatorOf[std::size_t(k)];
@@ -568,7 +577,6 @@ void StagedLdlt::analyseSeparators()
         {
             const StorageIndex column = pattern[std::size_t(t)];
             const StorageIndex position = start[column] + filled[std::size_t(column)]++;
-            structure[position] = k; // the factorisation writes the same rows there
             if (!separator)
             {
                 continue;
@@ -672,23 +680,12 @@ void StagedLdlt::analyseSeparators()
             }
         }
     }
-    for (std::size_t m = 0; m < m_columnsShareRows.size(); ++m)
-    {
-        const StorageIndex c = StorageIndex(3 * m);
-        const StorageIndex* count = m_columnCount.data() + c;
-        const StorageIndex below = count[0] - 2;
-        m_columnsShareRows[m] =
-            below >= 0 && count[1] - 1 == below && count[2] == below && structure[start[c]] == c + 1 &&
-            structure[start[c] + 1] == c + 2 && structure[start[c + 1]] == c + 2 &&
-            std::equal(structure + start[c] + 2, structure + start[c] + 2 + below, structure + start[c + 1] + 1) &&
-            std::equal(structure + start[c] + 2, structure + start[c] + 2 + below, structure + start[c + 2]);
-    }
     m_blocks.triple.assign(m_blocks.column.size(), 0);
     for (std::size_t b = 0; b + 1 < m_blocks.start.size(); ++b)
     {
         for (std::size_t e = m_blocks.start[b]; e + 2 < m_blocks.start[b + 1]; ++e)
         {
-            if (startsTriple(e, m_blocks.start[b + 1], structure))
+            if (startsTriple(e, m_blocks.start[b + 1]))
             {
                 m_blocks.triple[e] = 1;
                 e += 2;
@@ -754,35 +751,14 @@ void StagedLdlt::assignUpper(const SparseMatrix& permuted)
     gatherPermutedValues(permuted, m_upperSources, m_upper);
 }
 
-bool StagedLdlt::startsTriple(std::size_t e, std::size_t blockEnd, const StorageIndex* structure) const
+bool StagedLdlt::startsTriple(std::size_t e, std::size_t blockEnd) const
 {
-    const StorageIndex* start = m_lower.outerIndexPtr();
+    // A mass whose columns have the same rows below its block has them in every stretch the steps read: the stretches
+    // end at rows (the separator's first and last), and the rows are sorted.
     const std::vector<StorageIndex>& column = m_blocks.column;
     const StorageIndex c = column[e];
-    if (c % 3 != 0 || e + 2 >= blockEnd || column[e + 1] != c + 1 || column[e + 2] != c + 2)
-    {
-        return false;
-    }
-    // Column c's first two entries are rows c + 1 and c + 2, column c + 1's first is row c + 2 (the mass's block);
-    // after them the three columns' entries must be in the same rows, as far as the steps read them.
-    const StorageIndex firsts[3] = {start[c] + 2, start[c + 1] + 1, start[c + 2]};
-    if (m_blocks.belowEnd[e] < firsts[0] || m_blocks.belowEnd[e + 1] < firsts[1] || structure[start[c]] != c + 1 ||
-        structure[start[c] + 1] != c + 2 || structure[start[c + 1]] != c + 2)
-    {
-        return false;
-    }
-    for (std::size_t r = 1; r < 3; ++r)
-    {
-        const StorageIndex below = m_blocks.belowEnd[e] - firsts[0];
-        const StorageIndex inSeparator = m_blocks.separatorEnd[e] - m_blocks.belowEnd[e];
-        if (m_blocks.belowEnd[e + r] - firsts[r] != below ||
-            m_blocks.separatorEnd[e + r] - m_blocks.belowEnd[e + r] != inSeparator ||
-            !std::equal(structure + firsts[0], structure + m_blocks.separatorEnd[e], structure + firsts[r]))
-        {
-            return false;
-        }
-    }
-    return true;
+    return c % 3 == 0 && e + 2 < blockEnd && column[e + 1] == c + 1 && column[e + 2] == c + 2 &&
+           m_columnsShareRows[std::size_t(c / 3)];
 }
 
 bool StagedLdlt::factorize(const SparseMatrix& permuted)

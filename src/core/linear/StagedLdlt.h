@@ -169,9 +169,8 @@ private:
         // Per factorisation:
         std::vector<Real> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
     };
-    /// Whether block entry e starts a triple (see Blocks::triple), from L's rows (`structure`, laid out by the
-    /// analysis).
-    bool startsTriple(std::size_t e, std::size_t blockEnd, const StorageIndex* structure) const;
+    /// Whether block entry e starts a triple (see Blocks::triple), after m_columnsShareRows.
+    bool startsTriple(std::size_t e, std::size_t blockEnd) const;
     Blocks m_blocks;
     bool m_takeTriples = true;
     std::vector<char> m_noTriples; ///< all zero, read for the triples' flags where they are not taken
