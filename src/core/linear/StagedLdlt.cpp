@@ -49,7 +49,7 @@ struct BlockColumns
     const StorageIndex* column;
     const StorageIndex* belowEnd;
     const StorageIndex* separatorEnd;
-    const char* triple; ///< StagedLdlt::Blocks::triple
+    const unsigned char* together; ///< StagedLdlt::Blocks::together
     Real* y;
 };
 
@@ -76,8 +76,8 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
 #define MASSE_BLOCK_KERNELS(suffix, targetAttribute)                                                                   \
     /* Step 1 for a block: each column below in increasing order takes its y from the block's scratch `y` (lanes       \
        values per row, cleared as it goes), keeps it, and updates the y of its entries below the separator and the     \
-       block's pivots d. A mass's three columns with the same rows (block.triple) update each row's y in one read and  \
-       write, each column's subtraction in turn. */                                                                    \
+       block's pivots d. A run of columns with the same rows below it (block.together) updates each of those rows' y   \
+       in one read and write, each column's subtraction in turn. */                                                    \
     targetAttribute void eliminateBelow##suffix(const BlockColumns& block, const StorageIndex* start,                  \
                                                 const StorageIndex* rows, const Real* values, const Real* diagonal,    \
                                                 Real* y, Real* d)                                                      \
@@ -86,59 +86,62 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
         {                                                                                                              \
             const StorageIndex c = block.column[j];                                                                    \
-            if (block.triple[j])                                                                                       \
+            const std::size_t width = block.together[j];                                                               \
+            if (width > 1)                                                                                             \
             {                                                                                                          \
-                /* The mass's block first: column c's entries in rows c + 1 and c + 2, column c + 1's in row c + 2. */ \
-                LaneValues yv[3];                                                                                      \
-                bool live[3];                                                                                          \
-                const Real* columnValues[3];                                                                           \
-                for (std::size_t r = 0; r < 3; ++r)                                                                    \
+                /* The run's own triangle first: column c + r's first entries are rows c + r + 1 onwards. */           \
+                LaneValues yv[StagedLdlt::mostTogether];                                                               \
+                const Real* columnValues[StagedLdlt::mostTogether];                                                    \
+                std::size_t live = 0;                                                                                  \
+                for (std::size_t r = 0; r < width; ++r)                                                                \
                 {                                                                                                      \
                     const StorageIndex cr = c + StorageIndex(r);                                                       \
                     LaneValues* yc = reinterpret_cast<LaneValues*>(y + std::size_t(cr) * lanes);                       \
                     yv[r] = *yc;                                                                                       \
                     *reinterpret_cast<LaneValues*>(block.y + (j + r) * lanes) = yv[r];                                 \
                     *yc = LaneValues{};                                                                                \
-                    live[r] = !allLanesZero(yv[r]);                                                                    \
                     const StorageIndex first = start[cr];                                                              \
-                    columnValues[r] = values + first + (2 - r);                                                        \
-                    if (!live[r])                                                                                      \
+                    columnValues[r] = values + first + (width - 1 - r);                                                \
+                    if (allLanesZero(yv[r]))                                                                           \
                     {                                                                                                  \
+                        columnValues[r] = nullptr;                                                                     \
                         continue;                                                                                      \
                     }                                                                                                  \
+                    ++live;                                                                                            \
                     pivots -= (yv[r] / diagonal[cr]) * yv[r];                                                          \
-                    for (std::size_t q = r + 1; q < 3; ++q)                                                            \
+                    for (std::size_t q = r + 1; q < width; ++q)                                                        \
                     {                                                                                                  \
                         *reinterpret_cast<LaneValues*>(y + std::size_t(c + StorageIndex(q)) * lanes) -=                \
                             values[first + (q - r - 1)] * yv[r];                                                       \
                     }                                                                                                  \
                 }                                                                                                      \
-                const StorageIndex* rowsBelow = rows + start[c] + 2;                                                   \
-                const std::size_t count = std::size_t(block.belowEnd[j] - (start[c] + 2));                             \
-                if (live[0] && live[1] && live[2])                                                                     \
+                const StorageIndex* rowsBelow = rows + start[c] + StorageIndex(width - 1);                             \
+                const std::size_t count = std::size_t(block.belowEnd[j] - (start[c] + StorageIndex(width - 1)));       \
+                if (live == width)                                                                                     \
                 {                                                                                                      \
                     for (std::size_t i = 0; i < count; ++i)                                                            \
                     {                                                                                                  \
                         LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rowsBelow[i]) * lanes);     \
                         LaneValues t = *target;                                                                        \
-                        t -= columnValues[0][i] * yv[0];                                                               \
-                        t -= columnValues[1][i] * yv[1];                                                               \
-                        t -= columnValues[2][i] * yv[2];                                                               \
+                        for (std::size_t r = 0; r < width; ++r)                                                        \
+                        {                                                                                              \
+                            t -= columnValues[r][i] * yv[r];                                                           \
+                        }                                                                                              \
                         *target = t;                                                                                   \
                     }                                                                                                  \
                 }                                                                                                      \
                 else                                                                                                   \
                 {                                                                                                      \
-                    for (std::size_t r = 0; r < 3; ++r)                                                                \
+                    for (std::size_t r = 0; r < width; ++r)                                                            \
                     {                                                                                                  \
-                        for (std::size_t i = 0; live[r] && i < count; ++i)                                             \
+                        for (std::size_t i = 0; columnValues[r] && i < count; ++i)                                     \
                         {                                                                                              \
                             LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rowsBelow[i]) * lanes); \
                             *target -= columnValues[r][i] * yv[r];                                                     \
                         }                                                                                              \
                     }                                                                                                  \
                 }                                                                                                      \
-                j += 2;                                                                                                \
+                j += width - 1;                                                                                        \
                 continue;                                                                                              \
             }                                                                                                          \
             LaneValues* yc = reinterpret_cast<LaneValues*>(y + std::size_t(c) * lanes);                                \
@@ -159,55 +162,56 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
         *reinterpret_cast<LaneValues*>(d) = pivots;                                                                    \
     }                                                                                                                  \
     /* Step 2 for a block: each column below subtracts its entries in the separator's rows before `lastRow` times      \
-       the block's y from `z` (lanes values per separator row from `begin`); a mass's three columns with the same      \
-       rows (block.triple) in one read and write of each row's z, as step 1. */                                        \
+       the block's y from `z` (lanes values per separator row from `begin`); a run of columns with the same rows       \
+       (block.together) in one read and write of each row's z, as step 1. */                                           \
     targetAttribute void schurBlock##suffix(const BlockColumns& block, const StorageIndex* rows, const Real* values,   \
                                             StorageIndex begin, StorageIndex lastRow, Real* z)                         \
     {                                                                                                                  \
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
         {                                                                                                              \
-            if (block.triple[j])                                                                                       \
+            const std::size_t width = block.together[j];                                                               \
+            if (width > 1)                                                                                             \
             {                                                                                                          \
-                LaneValues yc[3];                                                                                      \
-                bool live[3];                                                                                          \
-                for (std::size_t r = 0; r < 3; ++r)                                                                    \
+                LaneValues yc[StagedLdlt::mostTogether];                                                               \
+                const Real* columnValues[StagedLdlt::mostTogether];                                                    \
+                std::size_t live = 0;                                                                                  \
+                for (std::size_t r = 0; r < width; ++r)                                                                \
                 {                                                                                                      \
                     yc[r] = *reinterpret_cast<const LaneValues*>(block.y + (j + r) * lanes);                           \
-                    live[r] = !allLanesZero(yc[r]);                                                                    \
+                    const bool zero = allLanesZero(yc[r]);                                                             \
+                    columnValues[r] = zero ? nullptr : values + block.belowEnd[j + r];                                 \
+                    live += zero ? 0 : 1;                                                                              \
                 }                                                                                                      \
                 const StorageIndex* rowsIn = rows + block.belowEnd[j];                                                 \
                 std::size_t count = std::size_t(block.separatorEnd[j] - block.belowEnd[j]);                            \
                 count = std::size_t(std::lower_bound(rowsIn, rowsIn + count, lastRow) - rowsIn);                       \
-                const Real* v0 = values + block.belowEnd[j];                                                           \
-                const Real* v1 = values + block.belowEnd[j + 1];                                                       \
-                const Real* v2 = values + block.belowEnd[j + 2];                                                       \
-                if (live[0] && live[1] && live[2])                                                                     \
+                if (live == width)                                                                                     \
                 {                                                                                                      \
                     for (std::size_t i = 0; i < count; ++i)                                                            \
                     {                                                                                                  \
                         LaneValues* target =                                                                           \
                             reinterpret_cast<LaneValues*>(z + std::size_t(rowsIn[i] - begin) * lanes);                 \
                         LaneValues t = *target;                                                                        \
-                        t -= v0[i] * yc[0];                                                                            \
-                        t -= v1[i] * yc[1];                                                                            \
-                        t -= v2[i] * yc[2];                                                                            \
+                        for (std::size_t r = 0; r < width; ++r)                                                        \
+                        {                                                                                              \
+                            t -= columnValues[r][i] * yc[r];                                                           \
+                        }                                                                                              \
                         *target = t;                                                                                   \
                     }                                                                                                  \
                 }                                                                                                      \
                 else                                                                                                   \
                 {                                                                                                      \
-                    const Real* v[3] = {v0, v1, v2};                                                                   \
-                    for (std::size_t r = 0; r < 3; ++r)                                                                \
+                    for (std::size_t r = 0; r < width; ++r)                                                            \
                     {                                                                                                  \
-                        for (std::size_t i = 0; live[r] && i < count; ++i)                                             \
+                        for (std::size_t i = 0; columnValues[r] && i < count; ++i)                                     \
                         {                                                                                              \
                             LaneValues* target =                                                                       \
                                 reinterpret_cast<LaneValues*>(z + std::size_t(rowsIn[i] - begin) * lanes);             \
-                            *target -= v[r][i] * yc[r];                                                                \
+                            *target -= columnValues[r][i] * yc[r];                                                     \
                         }                                                                                              \
                     }                                                                                                  \
                 }                                                                                                      \
-                j += 2;                                                                                                \
+                j += width - 1;                                                                                        \
                 continue;                                                                                              \
             }                                                                                                          \
             const LaneValues yc = *reinterpret_cast<const LaneValues*>(block.y + j * lanes);                           \
@@ -244,8 +248,8 @@ struct MassColumns
     Real* massY;
     StorageIndex firstRow;
     /// Per mass: whether its three columns have the same rows below its block (StagedLdlt::m_columnsShareRows),
-    /// all zero where the triples are not taken.
-    const char* shareRows;
+    /// all zero where columns are not taken together.
+    const unsigned char* shareRows;
 };
 
 // One copy of the mass kernel per SIMD path, as the blocks' kernels (each lane's arithmetic is the scalar code's, in
@@ -680,16 +684,14 @@ void StagedLdlt::analyseSeparators()
             }
         }
     }
-    m_blocks.triple.assign(m_blocks.column.size(), 0);
+    m_blocks.together.assign(m_blocks.column.size(), 0);
     for (std::size_t b = 0; b + 1 < m_blocks.start.size(); ++b)
     {
-        for (std::size_t e = m_blocks.start[b]; e + 2 < m_blocks.start[b + 1]; ++e)
+        for (std::size_t e = m_blocks.start[b]; e < m_blocks.start[b + 1];)
         {
-            if (startsTriple(e, m_blocks.start[b + 1]))
-            {
-                m_blocks.triple[e] = 1;
-                e += 2;
-            }
+            const std::size_t width = runFrom(e, m_blocks.start[b + 1]);
+            m_blocks.together[e] = (unsigned char)(width);
+            e += width;
         }
     }
     m_blocks.y.resize(m_blocks.column.size() * lanes);
@@ -751,22 +753,32 @@ void StagedLdlt::assignUpper(const SparseMatrix& permuted)
     gatherPermutedValues(permuted, m_upperSources, m_upper);
 }
 
-bool StagedLdlt::startsTriple(std::size_t e, std::size_t blockEnd) const
+std::size_t StagedLdlt::runFrom(std::size_t e, std::size_t blockEnd) const
 {
-    // A mass whose columns have the same rows below its block has them in every stretch the steps read: the stretches
-    // end at rows (the separator's first and last), and the rows are sorted.
+    // Column j's rows below its parent are among the parent's (the elimination tree's rule): where the parent is j + 1
+    // and j has one row more, j's rows below j + 1 are j + 1's. A run of such columns holds its own triangle in full
+    // and has the same rows below it, in every stretch the steps read: the stretches end at rows (the separator's
+    // first and last), and the rows are sorted.
     const std::vector<StorageIndex>& column = m_blocks.column;
-    const StorageIndex c = column[e];
-    return c % 3 == 0 && e + 2 < blockEnd && column[e + 1] == c + 1 && column[e + 2] == c + 2 &&
-           m_columnsShareRows[std::size_t(c / 3)];
+    std::size_t width = 1;
+    while (width < mostTogether && e + width < blockEnd && column[e + width] == column[e] + StorageIndex(width))
+    {
+        const std::size_t j = std::size_t(column[e + width - 1]);
+        if (m_parent[j] != StorageIndex(j + 1) || m_columnCount[j] != m_columnCount[j + 1] + 1)
+        {
+            break;
+        }
+        ++width;
+    }
+    return width;
 }
 
 bool StagedLdlt::factorize(const SparseMatrix& permuted)
 {
     assignUpper(permuted);
-    if (!m_takeTriples)
+    if (!m_takeTogether)
     {
-        m_noTriples.assign(std::max(m_blocks.triple.size(), m_columnsShareRows.size()), 0);
+        m_notTogether.assign(std::max(m_blocks.together.size(), m_columnsShareRows.size()), 0);
     }
     m_generation = ++factorisations;
     std::atomic<bool> ok{true};
@@ -906,7 +918,7 @@ bool StagedLdlt::factorMass(StorageIndex k0, Real* massY, long long visit, long 
                         m_diagonal.data(),
                         massY,
                         k0,
-                        m_takeTriples ? m_columnsShareRows.data() : m_noTriples.data()};
+                        m_takeTogether ? m_columnsShareRows.data() : m_notTogether.data()};
     massColumnsOn(activeSimdPath(), columns, pivots, inBlock);
     // The mass's block, as Eigen's rows k0 + 1 and k0 + 2 finish with columns k0 and k0 + 1.
     const StorageIndex k1 = k0 + 1;
@@ -1006,7 +1018,7 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                             m_blocks.column.data() + first,
                             m_blocks.belowEnd.data() + first,
                             m_blocks.separatorEnd.data() + first,
-                            (m_takeTriples ? m_blocks.triple.data() : m_noTriples.data()) + first,
+                            (m_takeTogether ? m_blocks.together.data() : m_notTogether.data()) + first,
                             m_blocks.y.data() + first * lanes};
     };
 

@@ -22,10 +22,11 @@
 /// 2); then the separator's own block, whose Schur complement is nearly dense: factored as a dense matrix,
 /// right-looking, each column's update of the later ones one vector operation over their entries (step 3), and its
 /// pattern's entries written to L. Each entry of a separator's rows sums the columns below in increasing order, and its
-/// own block's columns in increasing order. Where a mass's three columns below have the same rows (the implicit
-/// matrix's 3x3 blocks give that to every mass), steps 1 and 2 take them together: each row's y is then read and
-/// written once for the three rather than once a column, which is most of what those steps move through memory, and the
-/// three subtractions keep their order, so the bits stay the same.
+/// own block's columns in increasing order. Where consecutive columns below have the same rows (every mass's three,
+/// from the implicit matrix's 3x3 blocks, and longer runs among the separators' columns), steps 1 and 2 take up to
+/// mostTogether of them together: each row's y is then read and written once for the run rather than once a column,
+/// which is most of what those steps move through memory, and the run's subtractions keep their order, so the bits
+/// stay the same.
 ///
 /// A column whose y is zero in every row being factored (one of a held mass's, whose rows and columns of the filtered
 /// matrix are the identity's, or one whose fill the held masses cut off) gives those rows zero entries and updates
@@ -67,21 +68,28 @@ public:
     /// The multiply-adds of a factorisation, from the analysed pattern: a column's entries update each other's rows,
     /// sum over the columns of count (count - 1) / 2.
     double updates() const { return m_updates; }
-    /// The separators' block entries taken three columns at once (see Blocks::triple), from the analysis.
-    std::size_t triplesTaken() const
+    /// The most columns the separators' steps take together (see Blocks::together): each one's y for the block's
+    /// rows stays in a register through the run (half of AVX-512's 32).
+    static constexpr std::size_t mostTogether = 16;
+    /// The separators' block entries taken together with others (see Blocks::together), from the analysis.
+    std::size_t columnsTakenTogether() const
     {
-        return m_takeTriples ? std::size_t(std::count(m_blocks.triple.begin(), m_blocks.triple.end(), char(1))) : 0;
+        std::size_t taken = 0;
+        for (const unsigned char width : m_blocks.together)
+        {
+            taken += width > 1 ? width : 0;
+        }
+        return m_takeTogether ? taken : 0;
     }
     /// The masses whose three columns have the same rows below their block, taken together by later masses of the
     /// parts (see m_columnsShareRows), from the analysis.
     std::size_t massesSharingRows() const
     {
-        return m_takeTriples ? std::size_t(std::count(m_columnsShareRows.begin(), m_columnsShareRows.end(), char(1)))
-                             : 0;
+        return m_takeTogether ? std::size_t(std::count(m_columnsShareRows.begin(), m_columnsShareRows.end(), 1)) : 0;
     }
     /// Whether the factorisations take such columns together (the default) or one by one; the factor has the same
     /// bits either way.
-    void takeTriples(bool take) { m_takeTriples = take; }
+    void takeColumnsTogether(bool take) { m_takeTogether = take; }
     /// The masses (rows 3m to 3m + 2) the analysis found can be factored a mass at a time (see m_massTogether).
     std::size_t massesFactoredTogether() const
     {
@@ -124,8 +132,8 @@ private:
     std::vector<char> m_massTogether;
     /// Per mass: whether its three columns have the same rows below its block (column 3m's first two entries in rows
     /// 3m + 1 and 3m + 2, column 3m + 1's first in row 3m + 2); the factorisation of a later mass takes such columns
-    /// together where they come together, as the separators' steps do (see Blocks::triple).
-    std::vector<char> m_columnsShareRows;
+    /// together where they come together, as the separators' steps do (see Blocks::together).
+    std::vector<unsigned char> m_columnsShareRows;
     double m_updates = 0;
     long long m_generation = 0; ///< this factorisation's number in the process (tells its visit marks from others')
 
@@ -161,18 +169,21 @@ private:
         std::vector<StorageIndex> position;
         std::vector<StorageIndex> belowEnd;
         std::vector<StorageIndex> separatorEnd;
-        /// Per entry: 1 where it and the next two are one mass's three columns (3m, 3m + 1, 3m + 2) whose entries
-        /// below the mass's block are in the same rows, below the separator and in it. The steps take such columns
-        /// together: each row's y is read and written once for the three, which subtract from it in the same order
-        /// as column by column, so with the same bits.
-        std::vector<char> triple;
+        /// Per entry: how many columns from it, at most mostTogether, are taken together (0 inside such a run): a
+        /// run of consecutive columns, each the next one's child in the elimination tree with one row more, so with
+        /// the same rows below the run, below the separator and in it (a mass's three columns at least, from the
+        /// implicit matrix's 3x3 blocks; the separators' own columns come in longer runs). The steps take such
+        /// columns together: each row's y is read and written once for the run, and its columns subtract from it in
+        /// the same order as column by column, so with the same bits.
+        std::vector<unsigned char> together;
         // Per factorisation:
         std::vector<Real> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
     };
-    /// Whether block entry e starts a triple (see Blocks::triple), after m_columnsShareRows.
-    bool startsTriple(std::size_t e, std::size_t blockEnd) const;
+    /// How many of a block's columns from entry e, up to blockEnd, are taken together (see Blocks::together).
+    std::size_t runFrom(std::size_t e, std::size_t blockEnd) const;
     Blocks m_blocks;
-    bool m_takeTriples = true;
-    std::vector<char> m_noTriples; ///< all zero, read for the triples' flags where they are not taken
+    bool m_takeTogether = true;
+    std::vector<unsigned char>
+        m_notTogether; ///< all zero, read for the flags of columns taken together where they are not
 };
 } // namespace masse

@@ -504,12 +504,12 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
     ASSERT_EQ(reference.massesFactoredTogether(), massesTogether);
     if (massesTogether > 0)
     {
-        EXPECT_GT(reference.triplesTaken(), 100u) << "the separators' steps take masses' columns three at once";
+        EXPECT_GT(reference.columnsTakenTogether(), 100u) << "the separators' steps take runs of columns together";
         EXPECT_EQ(reference.massesSharingRows(), sheet.massCount()) << "and so do the parts'";
     }
     else
     {
-        EXPECT_EQ(reference.triplesTaken(), 0u) << "no mass's columns share their rows below its block";
+        EXPECT_EQ(reference.columnsTakenTogether(), 0u) << "no mass's columns share their rows below its block";
         EXPECT_EQ(reference.massesSharingRows(), 0u);
     }
     ASSERT_TRUE(reference.factorize(permuted));
@@ -562,7 +562,7 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
             // taken one by one.
             StagedLdlt oneByOne;
             oneByOne.analyse(permuted, rowStages);
-            oneByOne.takeTriples(false);
+            oneByOne.takeColumnsTogether(false);
             ASSERT_TRUE(oneByOne.factorize(permuted));
             ASSERT_EQ(std::memcmp(oneByOne.lower().valuePtr(), lower.valuePtr(),
                                   sizeof(Real) * std::size_t(lower.nonZeros())),
