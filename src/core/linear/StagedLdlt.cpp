@@ -120,7 +120,7 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
             if (width > 1)                                                                                             \
             {                                                                                                          \
                 /* The run's own triangle first: column c + r's first entries are rows c + r + 1 onwards. */           \
-                LaneValues yv[StagedLdlt::mostTogether];                                                               \
+                alignas(64) LaneValues yv[StagedLdlt::mostTogether]; /* clang loads them as aligned vectors */         \
                 const Real* columnValues[StagedLdlt::mostTogether];                                                    \
                 std::size_t live = 0;                                                                                  \
                 for (std::size_t r = 0; r < width; ++r)                                                                \
@@ -179,7 +179,7 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
             const std::size_t width = block.together[j];                                                               \
             if (width > 1)                                                                                             \
             {                                                                                                          \
-                LaneValues yc[StagedLdlt::mostTogether];                                                               \
+                alignas(64) LaneValues yc[StagedLdlt::mostTogether];                                                   \
                 const Real* columnValues[StagedLdlt::mostTogether];                                                    \
                 std::size_t live = 0;                                                                                  \
                 for (std::size_t r = 0; r < width; ++r)                                                                \
@@ -251,7 +251,7 @@ struct MassColumns
             const bool triple = c % 3 == 0 && j + 2 < mass.count && mass.column[j + 1] == c + 1 &&                     \
                                 mass.column[j + 2] == c + 2 && mass.shareRows[c / 3];                                  \
             const std::size_t taken = triple ? 3 : 1;                                                                  \
-            MassLanes yv[3];                                                                                           \
+            alignas(32) MassLanes yv[3];                                                                               \
             bool live[3];                                                                                              \
             StorageIndex last[3];                                                                                      \
             for (std::size_t r = 0; r < taken; ++r)                                                                    \
