@@ -74,36 +74,6 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
 // One copy of the blocks' kernels per SIMD path: only the instruction set differs (each lane's arithmetic is the
 // scalar code's, in the same order, so the bits do not).
 #define MASSE_BLOCK_KERNELS(suffix, targetAttribute)                                                                   \
-    /* A run of columns taken together (StagedLdlt::Blocks::together) on the rows they share, `count` from `rows`,     \
-       row r's `lanes` values at target + (r - rowOffset) lanes: each live column's entry times its y comes off each   \
-       row in the run's order, the row read and written once where every column of the run is live. */                 \
-    [[gnu::always_inline]] targetAttribute inline void subtractRun##suffix(                                            \
-        Real* target, const StorageIndex* rows, StorageIndex rowOffset, std::size_t count,                             \
-        const Real* const* columnValues, const LaneValues* yv, std::size_t width, bool allLive)                        \
-    {                                                                                                                  \
-        if (allLive)                                                                                                   \
-        {                                                                                                              \
-            for (std::size_t i = 0; i < count; ++i)                                                                    \
-            {                                                                                                          \
-                LaneValues* row = reinterpret_cast<LaneValues*>(target + std::size_t(rows[i] - rowOffset) * lanes);    \
-                LaneValues t = *row;                                                                                   \
-                for (std::size_t r = 0; r < width; ++r)                                                                \
-                {                                                                                                      \
-                    t -= columnValues[r][i] * yv[r];                                                                   \
-                }                                                                                                      \
-                *row = t;                                                                                              \
-            }                                                                                                          \
-            return;                                                                                                    \
-        }                                                                                                              \
-        for (std::size_t r = 0; r < width; ++r)                                                                        \
-        {                                                                                                              \
-            for (std::size_t i = 0; columnValues[r] && i < count; ++i)                                                 \
-            {                                                                                                          \
-                LaneValues* row = reinterpret_cast<LaneValues*>(target + std::size_t(rows[i] - rowOffset) * lanes);    \
-                *row -= columnValues[r][i] * yv[r];                                                                    \
-            }                                                                                                          \
-        }                                                                                                              \
-    }                                                                                                                  \
     /* Step 1 for a block: each column below in increasing order takes its y from the block's scratch `y` (lanes       \
        values per row, cleared as it goes), keeps it, and updates the y of its entries below the separator and the     \
        block's pivots d. A run of columns with the same rows below it (block.together) updates each of those rows' y   \
@@ -147,7 +117,30 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
                 }                                                                                                      \
                 const StorageIndex* rowsBelow = rows + start[c] + StorageIndex(width - 1);                             \
                 const std::size_t count = std::size_t(block.belowEnd[j] - (start[c] + StorageIndex(width - 1)));       \
-                subtractRun##suffix(y, rowsBelow, 0, count, columnValues, yv, width, live == width);                   \
+                if (live == width)                                                                                     \
+                {                                                                                                      \
+                    for (std::size_t i = 0; i < count; ++i)                                                            \
+                    {                                                                                                  \
+                        LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rowsBelow[i]) * lanes);     \
+                        LaneValues t = *target;                                                                        \
+                        for (std::size_t r = 0; r < width; ++r)                                                        \
+                        {                                                                                              \
+                            t -= columnValues[r][i] * yv[r];                                                           \
+                        }                                                                                              \
+                        *target = t;                                                                                   \
+                    }                                                                                                  \
+                }                                                                                                      \
+                else                                                                                                   \
+                {                                                                                                      \
+                    for (std::size_t r = 0; r < width; ++r)                                                            \
+                    {                                                                                                  \
+                        for (std::size_t i = 0; columnValues[r] && i < count; ++i)                                     \
+                        {                                                                                              \
+                            LaneValues* target = reinterpret_cast<LaneValues*>(y + std::size_t(rowsBelow[i]) * lanes); \
+                            *target -= columnValues[r][i] * yv[r];                                                     \
+                        }                                                                                              \
+                    }                                                                                                  \
+                }                                                                                                      \
                 j += width - 1;                                                                                        \
                 continue;                                                                                              \
             }                                                                                                          \
@@ -192,7 +185,32 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
                 const StorageIndex* rowsIn = rows + block.belowEnd[j];                                                 \
                 std::size_t count = std::size_t(block.separatorEnd[j] - block.belowEnd[j]);                            \
                 count = std::size_t(std::lower_bound(rowsIn, rowsIn + count, lastRow) - rowsIn);                       \
-                subtractRun##suffix(z, rowsIn, begin, count, columnValues, yc, width, live == width);                  \
+                if (live == width)                                                                                     \
+                {                                                                                                      \
+                    for (std::size_t i = 0; i < count; ++i)                                                            \
+                    {                                                                                                  \
+                        LaneValues* target =                                                                           \
+                            reinterpret_cast<LaneValues*>(z + std::size_t(rowsIn[i] - begin) * lanes);                 \
+                        LaneValues t = *target;                                                                        \
+                        for (std::size_t r = 0; r < width; ++r)                                                        \
+                        {                                                                                              \
+                            t -= columnValues[r][i] * yc[r];                                                           \
+                        }                                                                                              \
+                        *target = t;                                                                                   \
+                    }                                                                                                  \
+                }                                                                                                      \
+                else                                                                                                   \
+                {                                                                                                      \
+                    for (std::size_t r = 0; r < width; ++r)                                                            \
+                    {                                                                                                  \
+                        for (std::size_t i = 0; columnValues[r] && i < count; ++i)                                     \
+                        {                                                                                              \
+                            LaneValues* target =                                                                       \
+                                reinterpret_cast<LaneValues*>(z + std::size_t(rowsIn[i] - begin) * lanes);             \
+                            *target -= columnValues[r][i] * yc[r];                                                     \
+                        }                                                                                              \
+                    }                                                                                                  \
+                }                                                                                                      \
                 j += width - 1;                                                                                        \
                 continue;                                                                                              \
             }                                                                                                          \
