@@ -16,10 +16,10 @@ struct FrameMoment
 };
 
 /// While the scene runs: a new picture at most every `runningInterval` (0.8 of 1/30 s: snapshots come at the scene's
-/// steps, some 33 a second for a forming scene keeping real time at dt = 0.03 s, and not evenly, as steps take longer
-/// where the solver refactors; a new picture due only a full 1/30 s after the last frame would wait for the next
-/// snapshot often enough to draw such a scene at 29.7 frames a second); the same picture only every `idleInterval`,
-/// which keeps the panel's own timers (a text cursor's blink) alive. Paused: up to 60 frames a second.
+/// steps, some 33 a second for a forming scene keeping real time at dt = 0.03 s, and not evenly, as a step that
+/// refactors takes longer; the margin lets a snapshot that comes a little early be drawn rather than wait for the
+/// next); the same picture only every `idleInterval`, which keeps the panel's own timers (a text cursor's blink) alive.
+/// Paused: up to 60 frames a second.
 struct FramePacing
 {
     Real runningInterval = Real(0.8) / 30;

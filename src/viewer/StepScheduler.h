@@ -4,10 +4,10 @@
 /// slow frame) is caught up over the next passes; what is owed is capped, so a machine too slow for real time runs
 /// in slow motion instead of a spiral (each pass owing more than the last).
 ///
-/// The cap is a second: the hiccups of a forming scene that keeps real time otherwise are that long. Its first frame
+/// The cap is a second, longer than the hiccups of a forming scene that otherwise keeps real time: its first frame
 /// analyses the implicit solver's pattern and meets the mould in many short solves (0.6 s for the 64x2x64 vacuum cup,
-/// whose later frames take some 17 ms of their 30); a refactorisation at 128x2x128 takes 0.4 s. With a cap of a
-/// quarter of a second the cup's start would be dropped, and the scene would run 3% behind real time for good.
+/// whose later frames take some 17 ms of their 30), and a refactorisation at 128x2x128 takes 0.4 s. Such a hiccup is
+/// caught up, so the scene keeps to the wall clock.
 
 #include "core/Types.h"
 
