@@ -295,7 +295,7 @@ if command -v xvfb-run >/dev/null 2>&1; then
         label=${run%%:*}; rest=${run#*:}; scene=${rest%%:*}; rest=${rest#*:}; size=${rest%%:*}; frames=${rest#*:}
         cmd="xvfb-run -a $masse view data/scenes/$scene.json --size $size --frames $frames --benchmark"
         timed $cmd
-        row "viewer, $label, $size under Xvfb ($frames frames)" "$cmd" "$(py '"%.1f frames/s drawing %s (%.1f ms a frame), %.3gx real time over its first %.2f simulated s, a pick carried out in %.0f ms" % (d["fps"], d.get("scalar") or d["draw"], d["draw_ms"], d["realtime_factor"], d["sim_seconds"], d.get("pick_applied_ms") or float("nan"))' "$work/out")"
+        row "viewer, $label, $size under Xvfb ($frames frames)" "$cmd" "$(py '"%.1f frames/s drawing %s (%.1f ms a frame), %.2fx real time over its first %.2f simulated s, a pick carried out in %.0f ms" % (d["fps"], d.get("scalar") or d["draw"], d["draw_ms"], d["realtime_factor"], d["sim_seconds"], d.get("pick_applied_ms") or float("nan"))' "$work/out")"
     done
 fi
 
