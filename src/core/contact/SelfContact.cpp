@@ -656,8 +656,8 @@ SelfContact::Responded SelfContact::respond(Particles& p, const Touch& touch, Re
     // Whether this response moved the pair by more than a thousandth of the radius (or stopped an approach that would
     // have, over the step): the passes after an implicit step go on until none does. A pair pushed apart by an
     // earlier pass is often found again a little inside the radius, its neighbours' pushes having moved it; with
-    // rounding as the bound (a millionth of the radius) most frames of the 64x2x64 fold would take all 128 passes, and
-    // the run 31.4 s against 24.4 s with this bound; the halves keep the radius to 0.1% all the same (SelfContactTest).
+    // rounding as the bound (a millionth of the radius) most frames of the 64x2x64 fold would take all 128 passes. With
+    // this bound the halves keep the radius to 0.1% (SelfContactTest).
     const Real settled = Real(1e-3) * m_settings.radius;
     const bool moved = m_settings.radius - distance > settled || -normalSpeed * h > settled;
     // A mass's share of an impulse J moves it by at most the largest of these times J.

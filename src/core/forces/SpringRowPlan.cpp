@@ -11,10 +11,9 @@ namespace
 {
 /// Masses a band should hold: between about 4,000 and 8,000, whose state (72 bytes a mass) and spring forces stay in a
 /// core's L2 cache. The rows before each band are computed twice (once for the band above, from the state in memory),
-/// so larger bands cost less where a sheet has bands to spare: 8,192 at 256x2x256 (16 rows of 512 masses) streams
-/// 1.07-1.16x as many spring-steps per second as 4,096 at two threads (`masse bench --size 256x2x256 --baseline`,
-/// alternated three times), and 16,384 no more. A sheet keeps about 8 bands for the threads down to 4,096 masses a
-/// band, and one smaller than that is one band, which the kernel runs inline without waking a thread.
+/// so larger bands cost less where a sheet has bands to spare: 8,192 at 256x2x256 (16 rows of 512 masses). A sheet
+/// keeps about 8 bands for the threads down to 4,096 masses a band, and one smaller than that is one band, which the
+/// kernel runs inline without waking a thread.
 constexpr std::size_t smallestBand = 4096;
 constexpr std::size_t largestBand = 8192;
 constexpr std::size_t bandsWanted = 8;

@@ -505,16 +505,10 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     }
     m_lower.resizeNonZeros(start[n]);
     m_diagonal.resize(n);
-    // A column's rows below its parent are among its parent's (the elimination tree's rule), so where column c's parent
-    // is c + 1 and it has one row more, its rows below c + 1 are c + 1's: a mass's three columns share their rows
-    // below its block where each is the next one's child with one row more.
     m_columnsShareRows.assign(std::size_t(n / 3), 0);
     for (std::size_t m = 0; m < m_columnsShareRows.size(); ++m)
     {
-        const std::size_t c = 3 * m;
-        m_columnsShareRows[m] = m_parent[c] == StorageIndex(c + 1) && m_parent[c + 1] == StorageIndex(c + 2) &&
-                                m_columnCount[c] == m_columnCount[c + 1] + 1 &&
-                                m_columnCount[c + 1] == m_columnCount[c + 2] + 1;
+        m_columnsShareRows[m] = sharesRowsWithNext(3 * m) && sharesRowsWithNext(3 * m + 1);
     }
     analyseSeparators();
     analyseMasses();
@@ -753,21 +747,23 @@ void StagedLdlt::assignUpper(const SparseMatrix& permuted)
     gatherPermutedValues(permuted, m_upperSources, m_upper);
 }
 
-std::size_t StagedLdlt::runFrom(std::size_t e, std::size_t blockEnd) const
+bool StagedLdlt::sharesRowsWithNext(std::size_t j) const
 {
     // Column j's rows below its parent are among the parent's (the elimination tree's rule): where the parent is j + 1
-    // and j has one row more, j's rows below j + 1 are j + 1's. A run of such columns holds its own triangle in full
-    // and has the same rows below it, in every stretch the steps read: the stretches end at rows (the separator's
-    // first and last), and the rows are sorted.
+    // and j has one row more, j's rows below j + 1 are j + 1's.
+    return m_parent[j] == StorageIndex(j + 1) && m_columnCount[j] == m_columnCount[j + 1] + 1;
+}
+
+std::size_t StagedLdlt::runFrom(std::size_t e, std::size_t blockEnd) const
+{
+    // A run of columns each sharing its rows with the next holds its own triangle in full and has the same rows below
+    // it, in every stretch the steps read: the stretches end at rows (the separator's first and last), and the rows
+    // are sorted.
     const std::vector<StorageIndex>& column = m_blocks.column;
     std::size_t width = 1;
-    while (width < mostTogether && e + width < blockEnd && column[e + width] == column[e] + StorageIndex(width))
+    while (width < mostTogether && e + width < blockEnd && column[e + width] == column[e] + StorageIndex(width) &&
+           sharesRowsWithNext(std::size_t(column[e + width - 1])))
     {
-        const std::size_t j = std::size_t(column[e + width - 1]);
-        if (m_parent[j] != StorageIndex(j + 1) || m_columnCount[j] != m_columnCount[j + 1] + 1)
-        {
-            break;
-        }
         ++width;
     }
     return width;

@@ -179,11 +179,14 @@ private:
         // Per factorisation:
         std::vector<Real> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
     };
+    /// Whether column j has column j + 1's rows below j + 1, and those alone: j is j + 1's child in the elimination
+    /// tree with one row more (j + 1 must be a column).
+    bool sharesRowsWithNext(std::size_t j) const;
     /// How many of a block's columns from entry e, up to blockEnd, are taken together (see Blocks::together).
     std::size_t runFrom(std::size_t e, std::size_t blockEnd) const;
     Blocks m_blocks;
     bool m_takeTogether = true;
-    std::vector<unsigned char>
-        m_notTogether; ///< all zero, read for the flags of columns taken together where they are not
+    /// All zero: read for the flags of the columns taken together while takeColumnsTogether(false) holds.
+    std::vector<unsigned char> m_notTogether;
 };
 } // namespace masse
