@@ -240,13 +240,13 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     {
         // The solves' copy of the factor: its runs depend only on the factor's pattern, the analysed one at every
         // refresh, so they are laid out at the first refresh, and later ones write the values.
-        const Vector& diagonal = m_factor.diagonal();
+        const auto& diagonal = m_factor.diagonal();
         m_diagonal.resize(std::size_t(diagonal.size()));
         for (Eigen::Index i = 0; i < diagonal.size(); ++i)
         {
             m_diagonal[std::size_t(i)] = float(diagonal[i]);
         }
-        const SparseMatrix& lower = m_factor.lower();
+        const auto& lower = m_factor.lower();
         m_rowsLaidOut ? m_rows.refillLowerRows(lower) : m_rows.assignLowerRows(lower);
         m_rowsLaidOut = true;
     }

@@ -63,14 +63,16 @@ public:
     /// updatesPerEntry() applications of the factor; an iteration is an application, the product and the vector work.
     /// What an application costs depends on where the factor lives:
     /// - A factor that stays in the cache from one iteration to the next (up to cachedFactorValues; 64x2x64 has 3.4 M
-    ///   values, 7 MB in half precision) costs an iteration as in masse_benchmarks' choleskyApply, and a refresh is
-    ///   worth cachedCostPerUpdate iterations per update.
+    ///   values, 7 MB in half precision) costs an iteration as in masse_benchmarks' choleskyApply: 0.62 ms at 64x2x64,
+    ///   where a refresh takes 31 ms and 125 updates an entry, some 0.4 iterations per update.
     /// - A factor past twice that streams from memory at every application: at 128x2x128 (17.7 M values, 35 MB) an
-    ///   application takes 6.6 ms in the drape-forming run against 3.1 ms in choleskyApply/128, while a refresh takes
-    ///   0.4-0.5 s, so a refresh is worth some 0.3 to 0.35 iterations per update (streamedCostPerUpdate).
+    ///   application takes 6.6 ms in the drape-forming run against 2.8 ms in choleskyApply/128, while a refresh takes
+    ///   0.23 s and 214 updates an entry, some 0.16 iterations per update.
     /// - Between the two, the estimate goes linearly with the factor's size.
     /// Within a factor of two either way a refresh rule of this kind pays at most about twice the best schedule's cost
-    /// (RefreshBudget), so the estimate needs no more precision than this.
+    /// (RefreshBudget), so the estimate needs no more precision than this: cachedCostPerUpdate and
+    /// streamedCostPerUpdate are some 1.5 times those ratios, and the shipped forming runs take the same time to within
+    /// a few percent anywhere from the ratios to twice them.
     double refreshCost() const
     {
         const double streamed =
@@ -80,8 +82,8 @@ public:
     /// Values of the factor up to which it counts as cached (see refreshCost); from twice as many, as streamed.
     static constexpr double cachedFactorValues = 8e6;
     /// Iterations a refresh is worth per update of an entry, for a cached factor and for a streamed one.
-    static constexpr double cachedCostPerUpdate = 0.85;
-    static constexpr double streamedCostPerUpdate = 0.38;
+    static constexpr double cachedCostPerUpdate = 0.6;
+    static constexpr double streamedCostPerUpdate = 0.27;
     /// Factorisations since construction.
     int refreshCount() const override { return m_refreshCount; }
 

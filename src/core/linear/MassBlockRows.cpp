@@ -15,7 +15,7 @@ using StorageIndex = MassBlockRows::StorageIndex;
 /// Calls visit(row, column, k) for every entry of `lower`'s strictly lower part in columns [begin, end), k its index in
 /// the value array, walking the columns in increasing order, which gives each row's entries in increasing column.
 template <class Visit>
-void forEachStrictlyLower(const Eigen::SparseMatrix<Real>& lower, Eigen::Index begin, Eigen::Index end,
+void forEachStrictlyLower(const Eigen::SparseMatrix<float>& lower, Eigen::Index begin, Eigen::Index end,
                           const Visit& visit)
 {
     const auto* outer = lower.outerIndexPtr();
@@ -182,7 +182,7 @@ void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
     {
         throw std::invalid_argument("MassBlockRows: a refill needs the pattern last assigned");
     }
-    const Real* values = lower.valuePtr();
+    const float* values = lower.valuePtr();
     parallelFor(m_place.size(), refillEntriesPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {

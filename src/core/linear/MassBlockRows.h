@@ -45,7 +45,8 @@ namespace masse
 class MassBlockRows
 {
 public:
-    using SparseMatrix = Eigen::SparseMatrix<Real>;
+    /// The factor as StagedLdlt computes it, in single precision.
+    using SparseMatrix = Eigen::SparseMatrix<float>;
     using StorageIndex = SparseMatrix::StorageIndex;
 
     /// The strictly lower part of `lower` (column-major, each column's rows increasing, three rows a mass): block m

@@ -10,6 +10,7 @@
 namespace masse
 {
 using StorageIndex = StagedLdlt::StorageIndex;
+using Value = StagedLdlt::Value;
 
 namespace
 {
@@ -20,10 +21,10 @@ std::atomic<long long> factorisations{0};
 /// One thread's scratch for the rows it factors: kept from call to call (no allocation per refresh).
 struct RowWorkspace
 {
-    std::vector<Real> y;               ///< the row being solved for, scattered; all zero between rows
+    std::vector<Value> y;              ///< the row being solved for, scattered; all zero between rows
     std::vector<StorageIndex> pattern; ///< the row's pattern, as a stack in topological order
     std::vector<long long> mark;       ///< generation * n + row of the row that last visited each row
-    std::vector<Real> massY;           ///< a mass's three rows, scattered, four values a row; all zero between masses
+    std::vector<Value> massY;          ///< a mass's three rows, scattered, four values a row; all zero between masses
 
     void fit(std::size_t n)
     {
@@ -36,10 +37,10 @@ struct RowWorkspace
         }
     }
 };
-/// A mass's three rows' values of one column, and a fourth lane kept at zero: GCC's vector extension (one AVX2
-/// register, two SSE2 ones); each lane's arithmetic is the scalar operation. Aligned as a double, since its vectors
-/// start at any row's values; declared with typedef, as clang ignores `aligned` on an alias declaration.
-typedef Real MassLanes __attribute__((vector_size(4 * sizeof(Real)), aligned(sizeof(Real))));
+/// A mass's three rows' values of one column, and a fourth lane kept at zero: GCC's vector extension (one SSE
+/// register); each lane's arithmetic is the scalar operation. Aligned as one value, since its vectors start at any
+/// row's values; declared with typedef, as clang ignores `aligned` on an alias declaration.
+typedef Value MassLanes __attribute__((vector_size(4 * sizeof(Value)), aligned(sizeof(Value))));
 /// One block of separator rows' entries (StagedLdlt::Blocks' arrays from the block's first entry): `count` columns
 /// below the separator, each with where its entries below the separator and in the separator's rows end, and the
 /// block's y (`lanes` to a column).
@@ -50,15 +51,15 @@ struct BlockColumns
     const StorageIndex* belowEnd;
     const StorageIndex* separatorEnd;
     const unsigned char* together; ///< StagedLdlt::Blocks::together
-    Real* y;
+    Value* y;
 };
 
 constexpr std::size_t lanes = StagedLdlt::lanes;
 
 /// A block's lanes as one value: GCC's vector extension, one AVX-512 register on that path and split into the
-/// path's registers on the others; each lane's arithmetic is the scalar operation. Aligned as a double (a typedef, as
-/// MassLanes): a dense column's vectors start at any of its entries.
-typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligned(sizeof(Real))));
+/// path's registers on the others; each lane's arithmetic is the scalar operation. Aligned as one value (a typedef,
+/// as MassLanes): a dense column's vectors start at any of its entries.
+typedef Value LaneValues __attribute__((vector_size(lanes * sizeof(Value)), aligned(sizeof(Value))));
 
 /// Whether every lane of `values` is zero (+0 or -0).
 [[gnu::always_inline]] inline bool allLanesZero(const LaneValues& values)
@@ -79,8 +80,8 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
        block's pivots d. A run of columns with the same rows below it (block.together) updates each of those rows' y   \
        in one read and write, each column's subtraction in turn. */                                                    \
     targetAttribute void eliminateBelow##suffix(const BlockColumns& block, const StorageIndex* start,                  \
-                                                const StorageIndex* rows, const Real* values, const Real* diagonal,    \
-                                                Real* y, Real* d)                                                      \
+                                                const StorageIndex* rows, const Value* values, const Value* diagonal,  \
+                                                Value* y, Value* d)                                                    \
     {                                                                                                                  \
         LaneValues pivots = *reinterpret_cast<const LaneValues*>(d);                                                   \
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
@@ -91,7 +92,7 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
             {                                                                                                          \
                 /* The run's own triangle first: column c + r's first entries are rows c + r + 1 onwards. */           \
                 alignas(64) LaneValues yv[StagedLdlt::mostTogether]; /* clang loads them as aligned vectors */         \
-                const Real* columnValues[StagedLdlt::mostTogether];                                                    \
+                const Value* columnValues[StagedLdlt::mostTogether];                                                   \
                 std::size_t live = 0;                                                                                  \
                 for (std::size_t r = 0; r < width; ++r)                                                                \
                 {                                                                                                      \
@@ -164,8 +165,8 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
     /* Step 2 for a block: each column below subtracts its entries in the separator's rows before `lastRow` times      \
        the block's y from `z` (lanes values per separator row from `begin`); a run of columns with the same rows       \
        (block.together) in one read and write of each row's z, as step 1. */                                           \
-    targetAttribute void schurBlock##suffix(const BlockColumns& block, const StorageIndex* rows, const Real* values,   \
-                                            StorageIndex begin, StorageIndex lastRow, Real* z)                         \
+    targetAttribute void schurBlock##suffix(const BlockColumns& block, const StorageIndex* rows, const Value* values,  \
+                                            StorageIndex begin, StorageIndex lastRow, Value* z)                        \
     {                                                                                                                  \
         for (std::size_t j = 0; j < block.count; ++j)                                                                  \
         {                                                                                                              \
@@ -173,7 +174,7 @@ typedef Real LaneValues __attribute__((vector_size(lanes * sizeof(Real)), aligne
             if (width > 1)                                                                                             \
             {                                                                                                          \
                 alignas(64) LaneValues yc[StagedLdlt::mostTogether];                                                   \
-                const Real* columnValues[StagedLdlt::mostTogether];                                                    \
+                const Value* columnValues[StagedLdlt::mostTogether];                                                   \
                 std::size_t live = 0;                                                                                  \
                 for (std::size_t r = 0; r < width; ++r)                                                                \
                 {                                                                                                      \
@@ -243,9 +244,9 @@ struct MassColumns
     const StorageIndex* start;
     StorageIndex* columnCount;
     StorageIndex* rows;
-    Real* values;
-    const Real* diagonal;
-    Real* massY;
+    Value* values;
+    const Value* diagonal;
+    Value* massY;
     StorageIndex firstRow;
     /// Per mass: whether its three columns have the same rows below its block (StagedLdlt::m_columnsShareRows),
     /// all zero where columns are not taken together.
@@ -253,14 +254,15 @@ struct MassColumns
 };
 
 // One copy of the mass kernel per SIMD path, as the blocks' kernels (each lane's arithmetic is the scalar code's, in
-// the same order, so the bits do not differ); four lanes fill one AVX2 register, so the AVX-512 path takes that copy.
+// the same order, so the bits do not differ); four lanes fill one SSE register, so the AVX-512 path takes the AVX2
+// copy.
 #define MASSE_MASS_KERNEL(suffix, targetAttribute)                                                                     \
     /* Each column below the mass: its y for the three rows gives their entries and updates the y of its entries so    \
        far (rows below the mass), and, as Eigen's later rows of the mass would see them, the entries just made in the  \
        earlier rows (`inBlock`: row 1's y in column 0, row 2's in columns 0 and 1); `pivots` less each column's part.  \
        An earlier mass's three columns that come together and have the same rows (mass.shareRows) update each row's    \
        y in one read and write, each column's subtraction in turn. */                                                  \
-    targetAttribute void massColumns##suffix(const MassColumns& mass, Real* pivotsOut, Real* inBlock)                  \
+    targetAttribute void massColumns##suffix(const MassColumns& mass, Value* pivotsOut, Value* inBlock)                \
     {                                                                                                                  \
         MassLanes pivots = *reinterpret_cast<const MassLanes*>(pivotsOut);                                             \
         for (std::size_t j = 0; j < mass.count; ++j)                                                                   \
@@ -309,9 +311,9 @@ struct MassColumns
                 continue;                                                                                              \
             }                                                                                                          \
             const StorageIndex* rowsBelow = mass.rows + mass.start[c] + 2;                                             \
-            const Real* v0 = mass.values + mass.start[c] + 2;                                                          \
-            const Real* v1 = mass.values + mass.start[c + 1] + 1;                                                      \
-            const Real* v2 = mass.values + mass.start[c + 2];                                                          \
+            const Value* v0 = mass.values + mass.start[c] + 2;                                                         \
+            const Value* v1 = mass.values + mass.start[c + 1] + 1;                                                     \
+            const Value* v2 = mass.values + mass.start[c + 2];                                                         \
             const std::size_t count = std::size_t(last[0] - (mass.start[c] + 2));                                      \
             if (live[0] && live[1] && live[2])                                                                         \
             {                                                                                                          \
@@ -327,7 +329,7 @@ struct MassColumns
             }                                                                                                          \
             else                                                                                                       \
             {                                                                                                          \
-                const Real* v[3] = {v0, v1, v2};                                                                       \
+                const Value* v[3] = {v0, v1, v2};                                                                      \
                 for (std::size_t r = 0; r < 3; ++r)                                                                    \
                 {                                                                                                      \
                     for (std::size_t i = 0; live[r] && i < count; ++i)                                                 \
@@ -348,7 +350,7 @@ MASSE_MASS_KERNEL(Avx2, __attribute__((target("avx2"))))
 #endif
 #undef MASSE_MASS_KERNEL
 
-void massColumnsOn(SimdPath path, const MassColumns& mass, Real* pivots, Real* inBlock)
+void massColumnsOn(SimdPath path, const MassColumns& mass, Value* pivots, Value* inBlock)
 {
     switch (path)
     {
@@ -368,12 +370,12 @@ void massColumnsOn(SimdPath path, const MassColumns& mass, Real* pivots, Real* i
     /* LDL^T of the symmetric `count` x `count` matrix whose lower triangle `m` holds (column-major), in place, right- \
        looking: column k's entries below its pivot d_k become L's, and each later column j takes l_ik t_j from its     \
        entries i >= j (t: column k before the division, d_k l_jk). False if a pivot is zero. */                        \
-    targetAttribute bool denseLdlt##suffix(Real* m, std::size_t count, Real* t, Real* d)                               \
+    targetAttribute bool denseLdlt##suffix(Value* m, std::size_t count, Value* t, Value* d)                            \
     {                                                                                                                  \
         for (std::size_t k = 0; k < count; ++k)                                                                        \
         {                                                                                                              \
-            Real* columnK = m + k * count;                                                                             \
-            const Real dk = columnK[k];                                                                                \
+            Value* columnK = m + k * count;                                                                            \
+            const Value dk = columnK[k];                                                                               \
             d[k] = dk;                                                                                                 \
             if (dk == 0)                                                                                               \
             {                                                                                                          \
@@ -386,12 +388,12 @@ void massColumnsOn(SimdPath path, const MassColumns& mass, Real* pivots, Real* i
             }                                                                                                          \
             for (std::size_t j = k + 1; j < count; ++j)                                                                \
             {                                                                                                          \
-                const Real tj = t[j];                                                                                  \
+                const Value tj = t[j];                                                                                 \
                 if (tj == 0) /* a zero of the pattern: the update would subtract zeros */                              \
                 {                                                                                                      \
                     continue;                                                                                          \
                 }                                                                                                      \
-                Real* columnJ = m + j * count;                                                                         \
+                Value* columnJ = m + j * count;                                                                        \
                 std::size_t i = j;                                                                                     \
                 for (; i + lanes <= count; i += lanes)                                                                 \
                 {                                                                                                      \
@@ -414,7 +416,7 @@ MASSE_DENSE_KERNEL(Avx512, __attribute__((target("avx512f"))))
 #endif
 #undef MASSE_DENSE_KERNEL
 
-bool denseLdltOn(SimdPath path, Real* m, std::size_t count, Real* t, Real* d)
+bool denseLdltOn(SimdPath path, Value* m, std::size_t count, Value* t, Value* d)
 {
     switch (path)
     {
@@ -430,7 +432,7 @@ bool denseLdltOn(SimdPath path, Real* m, std::size_t count, Real* t, Real* d)
 }
 
 void eliminateBelowOn(SimdPath path, const BlockColumns& block, const StorageIndex* start, const StorageIndex* rows,
-                      const Real* values, const Real* diagonal, Real* y, Real* d)
+                      const Value* values, const Value* diagonal, Value* y, Value* d)
 {
     switch (path)
     {
@@ -445,8 +447,8 @@ void eliminateBelowOn(SimdPath path, const BlockColumns& block, const StorageInd
     }
 }
 
-void schurBlockOn(SimdPath path, const BlockColumns& block, const StorageIndex* rows, const Real* values,
-                  StorageIndex begin, StorageIndex lastRow, Real* z)
+void schurBlockOn(SimdPath path, const BlockColumns& block, const StorageIndex* rows, const Value* values,
+                  StorageIndex begin, StorageIndex lastRow, Value* z)
 {
     switch (path)
     {
@@ -805,14 +807,14 @@ bool StagedLdlt::factorize(const SparseMatrix& permuted)
     return true;
 }
 
-Real StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Real* y)
+Value StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Value* y)
 {
     const StorageIndex* start = m_lower.outerIndexPtr();
     StorageIndex* rows = m_lower.innerIndexPtr();
-    Real* values = m_lower.valuePtr();
-    const Real yi = y[i];
+    Value* values = m_lower.valuePtr();
+    const Value yi = y[i];
     y[i] = 0;
-    const Real lki = yi / m_diagonal[i];
+    const Value lki = yi / m_diagonal[i];
     const StorageIndex last = start[i] + m_columnCount[std::size_t(i)];
     StorageIndex p = start[i];
     for (; p < last; ++p)
@@ -832,7 +834,7 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
     thread_local RowWorkspace work;
     const std::size_t n = std::size_t(m_upper.rows());
     work.fit(n);
-    Real* y = work.y.data();
+    Value* y = work.y.data();
     StorageIndex* pattern = work.pattern.data();
     long long* mark = work.mark.data();
     const long long base = m_generation * (long long)(n);
@@ -859,7 +861,7 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
             }
         }
         // Row k's values: a sparse triangular solve with the rows above.
-        Real d = y[k];
+        Value d = y[k];
         y[k] = 0;
         for (; top < StorageIndex(n); ++top)
         {
@@ -874,16 +876,16 @@ bool StagedLdlt::factorRows(StorageIndex begin, StorageIndex end)
     }
     return true;
 }
-bool StagedLdlt::factorMass(StorageIndex k0, Real* massY, long long visit, long long* mark, StorageIndex* pattern)
+bool StagedLdlt::factorMass(StorageIndex k0, Value* massY, long long visit, long long* mark, StorageIndex* pattern)
 {
     const StorageIndex* start = m_lower.outerIndexPtr();
     StorageIndex* rows = m_lower.innerIndexPtr();
-    Real* values = m_lower.valuePtr();
+    Value* values = m_lower.valuePtr();
     const StorageIndex n = StorageIndex(m_upper.rows());
     // The mass's columns below its block, in topological order: row k0's pattern, which the other two rows share.
     const StorageIndex top = rowPattern(k0, visit, mark, pattern);
-    alignas(32) Real pivots[4] = {};
-    Real inBlock[3] = {}; // row k0 + 1's y in column k0, row k0 + 2's in columns k0 and k0 + 1
+    alignas(32) Value pivots[4] = {};
+    Value inBlock[3] = {}; // row k0 + 1's y in column k0, row k0 + 2's in columns k0 and k0 + 1
     for (int r = 0; r < 3; ++r)
     {
         const StorageIndex k = k0 + r;
@@ -919,32 +921,32 @@ bool StagedLdlt::factorMass(StorageIndex k0, Real* massY, long long visit, long 
     // The mass's block, as Eigen's rows k0 + 1 and k0 + 2 finish with columns k0 and k0 + 1.
     const StorageIndex k1 = k0 + 1;
     const StorageIndex k2 = k0 + 2;
-    Real& y10 = inBlock[0];
-    Real& y20 = inBlock[1];
-    Real& y21 = inBlock[2];
-    const Real d0 = pivots[0];
+    Value& y10 = inBlock[0];
+    Value& y20 = inBlock[1];
+    Value& y21 = inBlock[2];
+    const Value d0 = pivots[0];
     m_diagonal[k0] = d0;
     if (d0 == 0)
     {
         return false;
     }
-    const Real l10 = y10 / d0;
+    const Value l10 = y10 / d0;
     rows[start[k0]] = k1;
     values[start[k0]] = l10;
-    const Real d1 = pivots[1] - l10 * y10;
+    const Value d1 = pivots[1] - l10 * y10;
     m_diagonal[k1] = d1;
     if (d1 == 0)
     {
         return false;
     }
-    const Real l20 = y20 / d0;
+    const Value l20 = y20 / d0;
     y21 -= l10 * y20;
     rows[start[k0] + 1] = k2;
     values[start[k0] + 1] = l20;
-    const Real l21 = y21 / d1;
+    const Value l21 = y21 / d1;
     rows[start[k1]] = k2;
     values[start[k1]] = l21;
-    const Real d2 = (pivots[2] - l20 * y20) - l21 * y21;
+    const Value d2 = (pivots[2] - l20 * y20) - l21 * y21;
     m_diagonal[k2] = d2;
     m_columnCount[std::size_t(k0)] = 2;
     m_columnCount[std::size_t(k1)] = 1;
@@ -1002,7 +1004,7 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
     const std::vector<std::size_t>& blocks = m_stageBlocks[stage];
     const StorageIndex* start = m_lower.outerIndexPtr();
     StorageIndex* rows = m_lower.innerIndexPtr();
-    Real* values = m_lower.valuePtr();
+    Value* values = m_lower.valuePtr();
     const std::size_t n = std::size_t(m_upper.rows());
     const SimdPath path = activeSimdPath();
     // Row r's column of the Schur complement holds its r entries above it, packed after those of the rows before.
@@ -1030,13 +1032,13 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                   Separator& separator = m_separators[m_blocks.separator[b]];
                   const StorageIndex firstRow = m_blocks.firstRow[b];
                   const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
-                  thread_local std::vector<Real> scratch; // lanes values per row, all zero between blocks
+                  thread_local std::vector<Value> scratch; // lanes values per row, all zero between blocks
                   if (scratch.size() != n * lanes)
                   {
                       scratch.assign(n * lanes, 0);
                   }
-                  Real* y = scratch.data();
-                  alignas(64) Real d[lanes] = {};
+                  Value* y = scratch.data();
+                  alignas(64) Value d[lanes] = {};
                   for (std::size_t lane = 0; lane < count; ++lane)
                   {
                       const StorageIndex k = firstRow + StorageIndex(lane);
@@ -1059,7 +1061,7 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                   for (std::size_t j = 0; j < block.count; ++j)
                   {
                       const StorageIndex* position = m_blocks.position.data() + (firstEntry + j) * lanes;
-                      const Real* yc = block.y + j * lanes;
+                      const Value* yc = block.y + j * lanes;
                       for (unsigned set = m_blocks.rows[firstEntry + j]; set != 0; set &= set - 1)
                       {
                           const int lane = __builtin_ctz(set);
@@ -1084,13 +1086,13 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                   const StorageIndex firstRow = m_blocks.firstRow[b];
                   const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
                   const std::size_t first = std::size_t(firstRow - separator.begin);
-                  thread_local std::vector<Real> scratch; // lanes values per separator row
+                  thread_local std::vector<Value> scratch; // lanes values per separator row
                   const std::size_t needed = (first + count) * lanes;
                   if (scratch.size() < needed)
                   {
                       scratch.resize(needed, 0);
                   }
-                  Real* z = scratch.data();
+                  Value* z = scratch.data();
                   for (std::size_t lane = 0; lane < count; ++lane)
                   {
                       const StorageIndex k = firstRow + StorageIndex(lane);
@@ -1110,13 +1112,13 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                   for (std::size_t lane = 0; lane < count; ++lane)
                   {
                       const std::size_t r = first + lane;
-                      Real* packed = separator.schur.data() + schurOffset(r);
+                      Value* packed = separator.schur.data() + schurOffset(r);
                       for (std::size_t j = 0; j < r; ++j)
                       {
                           packed[j] = z[j * lanes + lane];
                       }
                   }
-                  std::fill(z, z + (first + count - 1) * lanes, Real(0));
+                  std::fill(z, z + (first + count - 1) * lanes, Value(0));
               });
 
     // 3. Each separator's own block: its Schur complement, dense, factored column by column, then its pattern's
@@ -1127,8 +1129,8 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
               {
                   Separator& separator = m_separators[firstSeparator + task];
                   const std::size_t count = std::size_t(separator.end - separator.begin);
-                  thread_local std::vector<Real> dense; // column-major, the lower triangle used
-                  thread_local std::vector<Real> scratch;
+                  thread_local std::vector<Value> dense; // column-major, the lower triangle used
+                  thread_local std::vector<Value> scratch;
                   if (dense.size() < count * count)
                   {
                       dense.resize(count * count);
@@ -1137,17 +1139,17 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
                   {
                       scratch.resize(2 * count);
                   }
-                  Real* m = dense.data();
+                  Value* m = dense.data();
                   for (std::size_t r = 0; r < count; ++r)
                   {
-                      const Real* z = separator.schur.data() + schurOffset(r);
+                      const Value* z = separator.schur.data() + schurOffset(r);
                       for (std::size_t j = 0; j < r; ++j)
                       {
                           m[r + j * count] = z[j];
                       }
                       m[r + r * count] = separator.partialPivot[r];
                   }
-                  Real* d = scratch.data();
+                  Value* d = scratch.data();
                   if (!denseLdltOn(path, m, count, scratch.data() + count, d))
                   {
                       ok = false;

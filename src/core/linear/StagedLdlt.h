@@ -33,9 +33,15 @@
 /// nothing: its updates, which would subtract zeros, are left out, in the parts and in steps 1 and 2, as the dense
 /// factorisation leaves out a column's zero entries. A formed sheet held on its mould is mostly such columns.
 ///
-/// These orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's in its last
-/// bits; they are fixed by the analysis, so the factor has the same bits at any thread count and on any SIMD path
-/// (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount).
+/// The factor is computed in single precision (Value) from the double-precision matrix. It only preconditions the
+/// conjugate gradient, which converges in double precision whatever the preconditioner's rounding, and its solves
+/// keep it in half precision (MassBlockRows.h): single precision's rounding, some 1e-6 of an entry at 24x2x24, is
+/// far below the half values' 5e-4, and the preconditioner takes the same iterations. Single values halve what the
+/// factorisation moves through memory, which is what bounds it: each row's y and the columns' values.
+///
+/// These orders differ from Eigen's (each row's own topological one), so a value may differ from Eigen's single
+/// precision factor in its last bits; they are fixed by the analysis, so the factor has the same bits at any thread
+/// count and on any SIMD path (StagedLdlt.IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount).
 
 #include "core/Types.h"
 #include "core/linear/NestedDissection.h"
@@ -51,10 +57,13 @@ class StagedLdlt
 {
 public:
     using SparseMatrix = Eigen::SparseMatrix<Real>;
-    using Vector = Eigen::VectorX<Real>;
     using StorageIndex = SparseMatrix::StorageIndex;
-    /// A separator's rows taken at once in the steps over its columns below (one AVX-512 register of doubles).
-    static constexpr std::size_t lanes = 8;
+    /// The factor's values: single precision (see above).
+    using Value = float;
+    using FactorMatrix = Eigen::SparseMatrix<Value>;
+    using FactorVector = Eigen::VectorX<Value>;
+    /// A separator's rows taken at once in the steps over its columns below (one AVX-512 register of Values).
+    static constexpr std::size_t lanes = 16;
 
     /// The elimination tree and L's pattern of `permuted` (a symmetric matrix stored in full, already in elimination
     /// order), whose rows `stages` split as DissectionOrder::stages does (in rows, not masses).
@@ -63,8 +72,8 @@ public:
     bool factorize(const SparseMatrix& permuted);
 
     /// L's strictly lower part, column-major, each column's rows increasing (unit diagonal not stored).
-    const SparseMatrix& lower() const { return m_lower; }
-    const Vector& diagonal() const { return m_diagonal; }
+    const FactorMatrix& lower() const { return m_lower; }
+    const FactorVector& diagonal() const { return m_diagonal; }
     /// The multiply-adds of a factorisation, from the analysed pattern: a column's entries update each other's rows,
     /// sum over the columns of count (count - 1) / 2.
     double updates() const { return m_updates; }
@@ -103,12 +112,12 @@ private:
     bool factorRows(StorageIndex begin, StorageIndex end);
     /// One step of row k's sparse triangular solve, Eigen's: y_i gives l_ki = y_i / d_i, appended to column i; column
     /// i's entries so far update y. Returns l_ki y_i, the step's part of the pivot.
-    [[gnu::always_inline]] inline Real appendToColumn(StorageIndex i, StorageIndex k, Real* y);
+    [[gnu::always_inline]] inline Value appendToColumn(StorageIndex i, StorageIndex k, Value* y);
     /// Rows k0, k0 + 1 and k0 + 2 of L and D, one mass's, at once (see m_massTogether): each column below the mass's
     /// block is read once for the three rows, whose scattered y are `massY` (four values a row, all zero between
     /// masses: every value scattered is in a column of the mass's pattern, and each column is cleared as it is taken,
     /// so it is all zero again on return, a refused pivot included). False if a pivot is zero.
-    bool factorMass(StorageIndex k0, Real* massY, long long visit, long long* mark, StorageIndex* pattern);
+    bool factorMass(StorageIndex k0, Value* massY, long long visit, long long* mark, StorageIndex* pattern);
     /// Which masses factorMass can take (m_massTogether), after the elimination tree and L's column starts.
     void analyseMasses();
     /// The separators of stage `stage` (see the file comment); false if a pivot is zero.
@@ -121,8 +130,8 @@ private:
 
     SparseMatrix m_upper;                     ///< the matrix's upper triangle, as Eigen's factorisation reads it
     std::vector<StorageIndex> m_upperSources; ///< per value of m_upper, the permuted matrix's it copies
-    SparseMatrix m_lower;
-    Vector m_diagonal;
+    FactorMatrix m_lower;
+    FactorVector m_diagonal;
     std::vector<StorageIndex> m_parent;      ///< elimination tree: parent of each row, -1 for a root
     std::vector<StorageIndex> m_columnCount; ///< entries of each column of L so far
     std::vector<std::vector<OrderRange>> m_stages;
@@ -147,8 +156,8 @@ private:
         std::vector<std::size_t> ownColumnStart; ///< per column of the separator and one past: its rows in it
         std::vector<StorageIndex> ownColumnRows; ///< those rows, increasing
         // Per factorisation:
-        std::vector<Real> partialPivot; ///< per row: a_kk - sum over the columns below of l_kc y_c
-        std::vector<Real> schur;        ///< per row k, packed: a_jk - sum over the columns below of l_jc y_c, j < k
+        std::vector<Value> partialPivot; ///< per row: a_kk - sum over the columns below of l_kc y_c
+        std::vector<Value> schur;        ///< per row k, packed: a_jk - sum over the columns below of l_jc y_c, j < k
     };
     std::vector<Separator> m_separators;
     std::vector<std::size_t> m_stageSeparators; ///< per stage and one past: its first separator (none in stage 0)
@@ -177,7 +186,7 @@ private:
         /// the same order as column by column, so with the same bits.
         std::vector<unsigned char> together;
         // Per factorisation:
-        std::vector<Real> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
+        std::vector<Value> y; ///< per entry and row: y_c = l_kc d_c, before the division (0 where the row has none)
     };
     /// Whether column j has column j + 1's rows below j + 1, and those alone: j is j + 1's child in the elimination
     /// tree with one row more (j + 1 must be a column).

@@ -65,13 +65,13 @@ std::vector<float> randomVector(std::size_t size, std::uint64_t seed)
 /// A random lower triangular matrix of `masses` masses (three rows each): each row's own pattern below its mass (rows
 /// of one mass share some columns and not others, so a block's runs are their union), and its mass's block full. The
 /// pattern depends on the seed alone; `someZeros` makes a fifth of the values below the blocks zero.
-Eigen::SparseMatrix<Real> randomLower(Eigen::Index masses, std::uint64_t seed, bool someZeros)
+MassBlockRows::SparseMatrix randomLower(Eigen::Index masses, std::uint64_t seed, bool someZeros)
 {
     const Eigen::Index n = 3 * masses;
     std::mt19937_64 random(seed);
     std::uniform_int_distribution<int> skip(1, 2 * MassBlockRows::joinGap);
     std::uniform_real_distribution<double> value(-2.0, 2.0);
-    std::vector<Eigen::Triplet<Real>> triplets;
+    std::vector<Eigen::Triplet<float>> triplets;
     for (Eigen::Index row = 0; row < n; ++row)
     {
         const Eigen::Index first = row - row % 3;
@@ -85,7 +85,7 @@ Eigen::SparseMatrix<Real> randomLower(Eigen::Index masses, std::uint64_t seed, b
             triplets.emplace_back(row, column, value(random));
         }
     }
-    Eigen::SparseMatrix<Real> lower(n, n);
+    MassBlockRows::SparseMatrix lower(n, n);
     lower.setFromTriplets(triplets.begin(), triplets.end());
     return lower;
 }
@@ -110,7 +110,7 @@ TEST(MassBlockRows, ABlocksRowsShareRunsThroughStoredZeros)
     columns.push_back(columns.back() + 2);       // joined: one zero between
     ASSERT_LT(columns.back(), 3 * block);
     const auto value = [](Eigen::Index row, std::size_t k) { return Real(int(k) + 1 + int(row % 3)) * 0.5; };
-    std::vector<Eigen::Triplet<Real>> triplets;
+    std::vector<Eigen::Triplet<float>> triplets;
     for (Eigen::Index row = 3 * block; row < 3 * block + 3; ++row)
     {
         const std::size_t count = row % 3 == 1 ? columns.size() - 1 : columns.size();
@@ -122,7 +122,7 @@ TEST(MassBlockRows, ABlocksRowsShareRunsThroughStoredZeros)
     triplets.emplace_back(3 * block + 1, 3 * block, 0.25);
     triplets.emplace_back(3 * block + 2, 3 * block, -0.5);
     triplets.emplace_back(3 * block + 2, 3 * block + 1, 0.75);
-    Eigen::SparseMatrix<Real> lower(n, n);
+    MassBlockRows::SparseMatrix lower(n, n);
     lower.setFromTriplets(triplets.begin(), triplets.end());
 
     MassBlockRows rows;
@@ -194,8 +194,8 @@ TEST(MassBlockRows, ABlocksRowsShareRunsThroughStoredZeros)
 // the joined runs' zeros still zero.
 TEST(MassBlockRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGives)
 {
-    const Eigen::SparseMatrix<Real> a = randomLower(100, 11, false);
-    const Eigen::SparseMatrix<Real> b = randomLower(100, 11, true);
+    const MassBlockRows::SparseMatrix a = randomLower(100, 11, false);
+    const MassBlockRows::SparseMatrix b = randomLower(100, 11, true);
     ASSERT_EQ(a.nonZeros(), b.nonZeros());
 
     MassBlockRows refilled;
@@ -236,11 +236,11 @@ std::vector<std::uint32_t> bitsOf(const std::vector<float>& values)
 TEST(MassBlockRows, TheSolvesLeaveOutAllZeroGroupsWithTheSameBits)
 {
     const Eigen::Index masses = 150;
-    Eigen::SparseMatrix<Real> lower = randomLower(masses, 7, false);
+    MassBlockRows::SparseMatrix lower = randomLower(masses, 7, false);
     const auto held = [](Eigen::Index row) { return row / 3 >= 40 && row / 3 < 90; };
     for (Eigen::Index column = 0; column < lower.outerSize(); ++column)
     {
-        for (Eigen::SparseMatrix<Real>::InnerIterator it(lower, column); it; ++it)
+        for (MassBlockRows::SparseMatrix::InnerIterator it(lower, column); it; ++it)
         {
             if (held(it.row()) || held(column))
             {
@@ -310,7 +310,7 @@ TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
     }
 #if defined(__x86_64__) && defined(__GNUC__)
     const Eigen::Index masses = 150;
-    const Eigen::SparseMatrix<Real> lower = randomLower(masses, 5, true);
+    const MassBlockRows::SparseMatrix lower = randomLower(masses, 5, true);
     MassBlockRows rows;
     rows.assignLowerRows(lower);
     const MassBlockRows::View view = rows.view();
@@ -336,9 +336,9 @@ TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
 TEST(MassBlockRows, AFactorThatIsNotThreeRowsAMassIsRefused)
 {
     MassBlockRows rows;
-    EXPECT_THROW(rows.assignLowerRows(Eigen::SparseMatrix<Real>(10, 10)), std::invalid_argument);
-    EXPECT_THROW(rows.assignLowerRows(Eigen::SparseMatrix<Real>(9, 6)), std::invalid_argument);
-    EXPECT_NO_THROW(rows.assignLowerRows(Eigen::SparseMatrix<Real>(9, 9)));
+    EXPECT_THROW(rows.assignLowerRows(MassBlockRows::SparseMatrix(10, 10)), std::invalid_argument);
+    EXPECT_THROW(rows.assignLowerRows(MassBlockRows::SparseMatrix(9, 6)), std::invalid_argument);
+    EXPECT_NO_THROW(rows.assignLowerRows(MassBlockRows::SparseMatrix(9, 9)));
     EXPECT_EQ(rows.blocks(), 3);
 }
 } // namespace masse
