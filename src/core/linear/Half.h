@@ -1,10 +1,15 @@
 #pragma once
 /// IEEE binary16 ("half") values, for the Cholesky factor the triangular solves stream (see MassBlockRows.h). The
-/// rounding to half is done in software (halfFromReal), the same bits whatever the processor; reading a half back is
-/// exact on every SIMD path.
+/// rounding to half is done in software (halfFromReal), the same bits whatever the processor, and on the SIMD paths
+/// that have F16C by its conversion (halvesFromFloatsF16c), which rounds the same way (HalfTest checks that they
+/// agree); reading a half back is exact on every SIMD path.
 
 #include <cstdint>
 #include <cstring>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#endif
 
 namespace masse
 {
@@ -57,4 +62,17 @@ inline float floatFromHalf(std::uint16_t bits)
     std::memcpy(&value, &floatBits, sizeof value);
     return value;
 }
+
+#if defined(__x86_64__) && defined(__GNUC__)
+/// halfFromReal of eight floats at once with F16C's conversion, which rounds to the nearest half, ties to even, as
+/// halfFromReal does: the magnitudes past 65504 are clamped to it first, as halfFromReal clamps them (IEEE would give
+/// infinity from 65520 up). A NaN is not a value a factor holds: its lane is left to the caller (halfFromReal gives
+/// 0x7BFF with its sign).
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) __m128i halvesFromFloatsF16c(__m256 values)
+{
+    const __m256 largest = _mm256_set1_ps(65504.0f);
+    const __m256 clamped = _mm256_min_ps(_mm256_max_ps(values, _mm256_sub_ps(_mm256_setzero_ps(), largest)), largest);
+    return _mm256_cvtps_ph(clamped, _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+}
+#endif
 } // namespace masse

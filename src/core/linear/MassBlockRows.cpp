@@ -1,5 +1,6 @@
 #include "core/linear/MassBlockRows.h"
 
+#include "core/forces/SimdPath.h"
 #include "core/parallel/TaskPool.h"
 
 #include <algorithm>
@@ -183,24 +184,56 @@ void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
         throw std::invalid_argument("MassBlockRows: a refill needs the pattern last assigned");
     }
     const float* values = lower.valuePtr();
+    const bool f16c = activeSimdPath() != SimdPath::Default; // the AVX2 and AVX-512 paths have F16C (SimdPath.cpp)
     parallelFor(m_place.size(), refillEntriesPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {
-                    for (std::size_t k = begin; k < end; ++k)
+                    std::size_t k = begin;
+#if defined(__x86_64__) && defined(__GNUC__)
+                    if (f16c)
                     {
-                        const std::uint32_t place = m_place[k];
-                        if (place < inBlockPlaces)
-                        {
-                            m_values[place] = halfFromReal(values[k]);
-                        }
-                        else if (place != noPlace)
-                        {
-                            m_inBlock[place - inBlockPlaces] = floatFromHalf(halfFromReal(values[k]));
-                        }
+                        k = refillF16c(values, begin, end);
+                    }
+#endif
+                    for (; k < end; ++k)
+                    {
+                        place(k, halfFromReal(values[k]));
                     }
                 });
     gatherLiveRuns();
 }
+
+void MassBlockRows::place(std::size_t k, std::uint16_t half)
+{
+    const std::uint32_t where = m_place[k];
+    if (where < inBlockPlaces)
+    {
+        m_values[where] = half;
+    }
+    else if (where != noPlace)
+    {
+        m_inBlock[where - inBlockPlaces] = floatFromHalf(half);
+    }
+}
+
+#if defined(__x86_64__) && defined(__GNUC__)
+__attribute__((target("avx2,f16c"))) std::size_t MassBlockRows::refillF16c(const float* values, std::size_t begin,
+                                                                           std::size_t end)
+{
+    std::size_t k = begin;
+    for (; k + 8 <= end; k += 8)
+    {
+        alignas(16) std::uint16_t halves[8];
+        _mm_store_si128(reinterpret_cast<__m128i*>(halves), halvesFromFloatsF16c(_mm256_loadu_ps(values + k)));
+        for (std::size_t lane = 0; lane < 8; ++lane)
+        {
+            const float value = values[k + lane];
+            place(k + lane, value == value ? halves[lane] : halfFromReal(value));
+        }
+    }
+    return k;
+}
+#endif
 
 void MassBlockRows::gatherLiveRuns()
 {

@@ -106,6 +106,13 @@ private:
     std::uint32_t placeOf(StorageIndex row, StorageIndex column) const;
     /// m_live from the laid-out runs and their values.
     void gatherLiveRuns();
+    /// Writes `half`, the factor's stored entry k rounded, to its place (m_place[k]).
+    void place(std::size_t k, std::uint16_t half);
+#if defined(__x86_64__) && defined(__GNUC__)
+    /// The refill of entries [begin, end) eight at a time with F16C's conversion (halvesFromFloatsF16c: the same
+    /// halves as halfFromReal's); returns where the eights end.
+    std::size_t refillF16c(const float* values, std::size_t begin, std::size_t end);
+#endif
     /// Blocks a task of gatherLiveRuns handles.
     static constexpr std::size_t gatherBlocksPerChunk = 512;
     /// Columns of the factor a task of the layout finds the places of.

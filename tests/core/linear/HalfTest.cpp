@@ -1,10 +1,15 @@
 #include "core/linear/Half.h"
 
+#include "core/forces/SimdPath.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <random>
+#include <vector>
 
 namespace masse
 {
@@ -110,4 +115,75 @@ TEST(Half, RoundingIsIeeeNearestEvenAndClampsInsteadOfOverflowing)
     EXPECT_EQ(halfFromReal(-1e300), 0xFBFF);
     EXPECT_EQ(halfFromReal(1e-300), 0x0000);
 }
+
+#if defined(__x86_64__) && defined(__GNUC__)
+namespace
+{
+/// halvesFromFloatsF16c of eight floats, compiled for F16C (it is inlined into its caller, which must be).
+__attribute__((target("avx2,f16c"))) void halvesF16c(const float* values, std::uint16_t* halves)
+{
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(halves), halvesFromFloatsF16c(_mm256_loadu_ps(values)));
+}
+} // namespace
+
+// The AVX2 and AVX-512 paths round the factor's single-precision values to half with F16C's conversion
+// (halvesFromFloatsF16c), the default path with halfFromReal: both give the same halves for every finite float and
+// the infinities, checked on every float whose bits are a multiple of 251 (17 million, every exponent and sign) and on
+// every float within four steps of each half and of each midpoint between neighbouring halves (ties and the values
+// either side of them), subnormal halves and the clamp at 65504 included.
+TEST(Half, F16cConversionGivesHalfFromRealsHalves)
+{
+    if (!simdPathSupported(SimdPath::Avx2))
+    {
+        GTEST_SKIP() << "no F16C";
+    }
+    std::vector<float> values;
+    for (std::uint64_t bits = 0; bits <= 0xFFFFFFFFull; bits += 251)
+    {
+        const auto word = std::uint32_t(bits);
+        float value;
+        std::memcpy(&value, &word, sizeof value);
+        if (!std::isnan(value))
+        {
+            values.push_back(value);
+        }
+    }
+    for (std::uint32_t bits = 0; bits < 0x7C00; ++bits)
+    {
+        const double value = halfValue(std::uint16_t(bits));
+        const double midpoint = (value + halfValue(std::uint16_t(bits + 1))) / 2;
+        for (const double centre : {value, midpoint})
+        {
+            float probe = float(centre); // exact: a half and a midpoint have at most 12 bits
+            for (int step = 0; step < 4; ++step)
+            {
+                probe = std::nextafter(probe, -1.0f);
+            }
+            for (int step = 0; step < 9; ++step)
+            {
+                values.push_back(probe);
+                values.push_back(-probe);
+                probe = std::nextafter(probe, 2.0f * float(centre) + 1.0f);
+            }
+        }
+    }
+    values.push_back(std::numeric_limits<float>::infinity());
+    values.push_back(-std::numeric_limits<float>::infinity());
+    values.push_back(65520.0f);
+    values.push_back(1e38f);
+    while (values.size() % 8 != 0)
+    {
+        values.push_back(0.0f);
+    }
+    std::vector<std::uint16_t> halves(values.size());
+    for (std::size_t k = 0; k < values.size(); k += 8)
+    {
+        halvesF16c(values.data() + k, halves.data() + k);
+    }
+    for (std::size_t k = 0; k < values.size(); ++k)
+    {
+        ASSERT_EQ(halves[k], halfFromReal(double(values[k]))) << values[k];
+    }
+}
+#endif
 } // namespace masse

@@ -1,14 +1,18 @@
 #include "core/linear/MassBlockRows.h"
 
 #include "core/forces/SimdPath.h"
+#include "support/TestSystems.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
+#include <limits>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -41,6 +45,14 @@ std::vector<std::uint16_t> storedValues(const MassBlockRows& m)
 {
     const MassBlockRows::View view = m.laidOut();
     return std::vector<std::uint16_t>(view.values, view.values + m.entries());
+}
+
+/// The bits of `values`, so that +0 and -0 differ (and a NaN equals itself).
+std::vector<std::uint32_t> bitsOf(const std::vector<float>& values)
+{
+    std::vector<std::uint32_t> bits(values.size());
+    std::memcpy(bits.data(), values.data(), values.size() * sizeof(float));
+    return bits;
 }
 
 std::vector<float> inBlockValues(const MassBlockRows& m)
@@ -216,16 +228,48 @@ TEST(MassBlockRows, RefillingTheValuesOfTheSamePatternGivesWhatAssigningThemGive
     EXPECT_THROW(refilled.refillLowerRows(randomLower(99, 11, false)), std::invalid_argument);
 }
 
-namespace
+// A refill rounds the factor's single-precision values to half with F16C's conversion on the AVX2 and AVX-512 paths
+// and with halfFromReal on the default one: the same halves and in-block values on every path, on a factor whose
+// values span all the halves' kinds (subnormal, normal, ties between two halves, past the largest half, both zeros,
+// infinities and a NaN).
+TEST(MassBlockRows, ARefillHasTheSameHalvesOnEveryPath)
 {
-/// The bits of `values`, so that +0 and -0 differ.
-std::vector<std::uint32_t> bitsOf(const std::vector<float>& values)
-{
-    std::vector<std::uint32_t> bits(values.size());
-    std::memcpy(bits.data(), values.data(), values.size() * sizeof(float));
-    return bits;
+    MassBlockRows::SparseMatrix lower = randomLower(200, 13, false);
+    std::mt19937_64 random(5);
+    std::uniform_real_distribution<float> exponent(-30.0f, 17.0f);
+    const float special[] = {0.0f,
+                             -0.0f,
+                             65504.0f,
+                             65519.0f,
+                             65520.0f,
+                             -1e30f,
+                             1e-30f,
+                             5.9604645e-8f,
+                             2.9802322e-8f,
+                             1.0f + 1.0f / 2048.0f, // a tie between 1 and its next half: to 1, the even one
+                             1.0f + 3.0f / 2048.0f, // a tie: up to the even one
+                             std::numeric_limits<float>::infinity(),
+                             -std::numeric_limits<float>::infinity(),
+                             std::numeric_limits<float>::quiet_NaN()};
+    for (Eigen::Index k = 0; k < lower.nonZeros(); ++k)
+    {
+        const auto index = std::size_t(k);
+        lower.valuePtr()[k] =
+            index < std::size(special) ? special[index] : (index % 2 ? -1.0f : 1.0f) * std::exp2(exponent(random));
+    }
+    const test::SimdPathGuard guard;
+    setSimdPath(SimdPath::Default);
+    MassBlockRows reference;
+    reference.assignLowerRows(lower);
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        setSimdPath(path);
+        MassBlockRows rows;
+        rows.assignLowerRows(lower);
+        EXPECT_EQ(storedValues(rows), storedValues(reference)) << simdPathName(path);
+        EXPECT_EQ(bitsOf(inBlockValues(rows)), bitsOf(inBlockValues(reference))) << simdPathName(path);
+    }
 }
-} // namespace
 
 // The masses a sheet's contact holds have zero rows and columns in the factor, and so has the fill through them. The
 // solves read the runs with their all-zero groups of sixteen columns left out (view()), and get the bits of reading
