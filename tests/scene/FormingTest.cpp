@@ -822,7 +822,7 @@ TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt64)
                        {"drape-forming.json", "64x2x64"}});
 }
 
-// And at 128x2x128, also run by docs/figures.sh: minutes on two cores (over a minute of it the plug-assist cup), so
+// And at 128x2x128, also run by docs/figures.sh: minutes on two cores (some 40 s of it the plug-assist cup), so
 // not part of the suite either.
 TEST(Forming, DISABLED_LayersStayApartOnTheMouldAt128)
 {
