@@ -323,10 +323,9 @@ TEST(ImplicitEuler, CholeskyPreconditionerAgreesWithDiagonal)
     EXPECT_EQ(cholesky.capHits, 0u);
     EXPECT_EQ(jacobi.capHits, 0u);
     // A drifted factor is kept while its extra iterations since it was made cost less than rebuilding it
-    // (RefreshBudget): at this size a rebuild is worth 27 iterations (CholeskyPreconditioner::refreshCost), so a step
-    // takes at most that beyond a fresh factor's two. Measured: largest 17 (11 when the factor was rebuilt whenever a
-    // step needed more than 10, 25 rebuilds instead of 20).
-    EXPECT_LE(cholesky.largestIterations, 2 + 27);
+    // (RefreshBudget): at this size a rebuild is worth 19 iterations (CholeskyPreconditioner::refreshCost), so a step
+    // takes at most that beyond a fresh factor's two. Measured: largest 14, 18 rebuilds in the 100 steps.
+    EXPECT_LE(cholesky.largestIterations, 2 + 19);
     EXPECT_LT(cholesky.meanIterations(), 0.5 * jacobi.meanIterations());
     // The tally counts the factor's rebuilds: the first step's, and one each time it drifted; the diagonal has none.
     EXPECT_GE(cholesky.refactorisations, 1u);
