@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 
 namespace masse
 {
@@ -804,7 +805,9 @@ bool StagedLdlt::factorize(const SparseMatrix& permuted)
             return false;
         }
     }
-    return true;
+    // A matrix whose elimination leaves single precision's range (no implicit matrix of a sheet comes near it) has an
+    // infinite or NaN pivot, and every row after it is lost with it.
+    return std::all_of(m_diagonal.begin(), m_diagonal.end(), [](Value d) { return std::isfinite(d); });
 }
 
 Value StagedLdlt::appendToColumn(StorageIndex i, StorageIndex k, Value* y)

@@ -69,7 +69,7 @@ public:
     /// The elimination tree and L's pattern of `permuted` (a symmetric matrix stored in full, already in elimination
     /// order), whose rows `stages` split as DissectionOrder::stages does (in rows, not masses).
     void analyse(const SparseMatrix& permuted, const std::vector<std::vector<OrderRange>>& stages);
-    /// Factors `permuted` (the analysed pattern); false if a pivot is zero.
+    /// Factors `permuted` (the analysed pattern); false if a pivot is zero or not finite in single precision.
     bool factorize(const SparseMatrix& permuted);
 
     /// L's strictly lower part, column-major, each column's rows increasing (unit diagonal not stored).

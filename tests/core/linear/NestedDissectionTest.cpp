@@ -597,6 +597,10 @@ void checkStagedFactor(const MassSpringSystem& sheet, const SparseMatrix& a, std
         EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after one refused at row " << row;
         EXPECT_EQ(staged.diagonal()[row], reference.diagonal()[row]);
     }
+    // A matrix past single precision's range: refused, not factored into infinities.
+    const SparseMatrix huge = permuted * 1e39;
+    EXPECT_FALSE(staged.factorize(huge));
+    EXPECT_TRUE(staged.factorize(permuted)) << "a factorisation after one refused for its range";
 }
 
 // The staged factorisation gives Eigen's SimplicialLDLT factor in single precision, the same pattern and each value to
