@@ -6,8 +6,8 @@
 ///
 /// The cap is a second, longer than the hiccups of a forming scene that otherwise keeps real time: its first frame
 /// analyses the implicit solver's pattern and meets the mould in many short solves (0.6 s for the 64x2x64 vacuum cup,
-/// whose later frames take some 17 ms of their 30), and a refactorisation at 128x2x128 takes 0.4 s. Such a hiccup is
-/// caught up, so the scene keeps to the wall clock.
+/// whose later frames take some 17 ms of their 30), and a refactorisation at 128x2x128 takes a quarter of a second.
+/// Such a hiccup is caught up, so the scene keeps to the wall clock.
 
 #include "core/Types.h"
 

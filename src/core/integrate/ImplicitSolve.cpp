@@ -279,7 +279,7 @@ IntegratorStats ImplicitSolve::runSolver()
         // solve needs more than its allowance beyond what it took fresh. The try with an old factor stops as soon as
         // its rate foretells that it will not finish within the allowance (ConjugateGradient's `foresee`): in the
         // plug-assist cup's stroke, where the friction under the plug changes the matrix every frame, a factor one
-        // frame old would take its whole allowance of some 95 iterations before each refresh, a fresh one 2 or 3.
+        // frame old would take its whole allowance of some 75 iterations before each refresh, a fresh one 2 or 3.
         const int allowance =
             multigrid ? std::max(m_settings.multigridRefreshAfterIterations,
                                  m_refreshBudget.freshIterations() + m_settings.multigridRefreshAfterIterations / 2)

@@ -240,12 +240,6 @@ bool CholeskyPreconditioner::refresh(const SparseMatrix& a)
     {
         // The solves' copy of the factor: its runs depend only on the factor's pattern, the analysed one at every
         // refresh, so they are laid out at the first refresh, and later ones write the values.
-        const auto& diagonal = m_factor.diagonal();
-        m_diagonal.resize(std::size_t(diagonal.size()));
-        for (Eigen::Index i = 0; i < diagonal.size(); ++i)
-        {
-            m_diagonal[std::size_t(i)] = float(diagonal[i]);
-        }
         const auto& lower = m_factor.lower();
         m_rowsLaidOut ? m_rows.refillLowerRows(lower) : m_rows.assignLowerRows(lower);
         m_rowsLaidOut = true;
@@ -389,7 +383,7 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
         runChunks(ranges.size(),
                   [&](std::size_t k)
                   {
-                      backwardBlocksOn(path, rows, m_diagonal.data(), work, m_scattered.data(),
+                      backwardBlocksOn(path, rows, m_factor.diagonal().data(), work, m_scattered.data(),
                                        Eigen::Index(ranges[k].begin / 3), Eigen::Index(ranges[k].end / 3));
                   });
     }

@@ -71,8 +71,7 @@ public:
     /// - Between the two, the estimate goes linearly with the factor's size.
     /// Within a factor of two either way a refresh rule of this kind pays at most about twice the best schedule's cost
     /// (RefreshBudget), so the estimate needs no more precision than this: cachedCostPerUpdate and
-    /// streamedCostPerUpdate are some 1.5 times those ratios, and the shipped forming runs take the same time to within
-    /// a few percent anywhere from the ratios to twice them.
+    /// streamedCostPerUpdate are some 1.5 times those ratios, well within it.
     double refreshCost() const
     {
         const double streamed =
@@ -108,7 +107,6 @@ private:
     const std::vector<Index>* m_masses = nullptr;
     const std::vector<Mat3>* m_filters = nullptr;
     mutable Vector m_filtered;
-    std::vector<float> m_diagonal;          ///< D, rounded to single precision at each refresh
     mutable std::vector<float> m_permuted;  ///< the solves' work vector, in single precision (see solveWithFactor)
     mutable std::vector<float> m_scattered; ///< the backward solve's sums of the solved rows' entries, per column
     std::vector<SlotMatrix<3>::Slots> m_diagonalSlots; ///< per mass, its diagonal block in the analysed pattern

@@ -197,13 +197,13 @@ void MassBlockRows::refillLowerRows(const SparseMatrix& lower)
 #endif
                     for (; k < end; ++k)
                     {
-                        place(k, halfFromReal(values[k]));
+                        store(k, halfFromReal(values[k]));
                     }
                 });
     gatherLiveRuns();
 }
 
-void MassBlockRows::place(std::size_t k, std::uint16_t half)
+void MassBlockRows::store(std::size_t k, std::uint16_t half)
 {
     const std::uint32_t where = m_place[k];
     if (where < inBlockPlaces)
@@ -228,7 +228,7 @@ __attribute__((target("avx2,f16c"))) std::size_t MassBlockRows::refillF16c(const
         for (std::size_t lane = 0; lane < 8; ++lane)
         {
             const float value = values[k + lane];
-            place(k + lane, value == value ? halves[lane] : halfFromReal(value));
+            store(k + lane, value == value ? halves[lane] : halfFromReal(value));
         }
     }
     return k;

@@ -107,7 +107,7 @@ private:
     /// m_live from the laid-out runs and their values.
     void gatherLiveRuns();
     /// Writes `half`, the factor's stored entry k rounded, to its place (m_place[k]).
-    void place(std::size_t k, std::uint16_t half);
+    void store(std::size_t k, std::uint16_t half);
 #if defined(__x86_64__) && defined(__GNUC__)
     /// The refill of entries [begin, end) eight at a time with F16C's conversion (halvesFromFloatsF16c: the same
     /// halves as halfFromReal's); returns where the eights end.

@@ -135,7 +135,7 @@ TEST(Half, F16cConversionGivesHalfFromRealsHalves)
 {
     if (!simdPathSupported(SimdPath::Avx2))
     {
-        GTEST_SKIP() << "no F16C";
+        GTEST_SKIP() << "this processor has no F16C: there is no hardware conversion to compare";
     }
     std::vector<float> values;
     for (std::uint64_t bits = 0; bits <= 0xFFFFFFFFull; bits += 251)
