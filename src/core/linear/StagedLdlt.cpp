@@ -1,6 +1,7 @@
 #include "core/linear/StagedLdlt.h"
 
 #include "core/forces/SimdPath.h"
+#include "core/linear/FlushSubnormals.h"
 #include "core/linear/PermutedValues.h"
 #include "core/parallel/TaskPool.h"
 
@@ -56,6 +57,17 @@ struct BlockColumns
 };
 
 constexpr std::size_t lanes = StagedLdlt::lanes;
+
+/// runChunks with subnormals flushed in every chunk, whichever thread runs it (FlushSubnormals.h).
+template <class Body> void runFlushedChunks(std::size_t chunkCount, const Body& body)
+{
+    runChunks(chunkCount,
+              [&](std::size_t chunk)
+              {
+                  const FlushSubnormals flush;
+                  body(chunk);
+              });
+}
 
 /// A block's lanes as one value: GCC's vector extension, one AVX-512 register on that path and split into the
 /// path's registers on the others; each lane's arithmetic is the scalar operation. Aligned as one value (a typedef,
@@ -774,6 +786,7 @@ std::size_t StagedLdlt::runFrom(std::size_t e, std::size_t blockEnd) const
 
 bool StagedLdlt::factorize(const SparseMatrix& permuted)
 {
+    const FlushSubnormals flush; // for the work on this thread outside the chunks: the single-precision copy of A
     assignUpper(permuted);
     if (!m_takeTogether)
     {
@@ -792,14 +805,14 @@ bool StagedLdlt::factorize(const SparseMatrix& permuted)
             continue;
         }
         const std::vector<OrderRange>& ranges = m_stages[stage];
-        runChunks(ranges.size(),
-                  [&](std::size_t r)
-                  {
-                      if (!factorRows(StorageIndex(ranges[r].begin), StorageIndex(ranges[r].end)))
-                      {
-                          ok = false;
-                      }
-                  });
+        runFlushedChunks(ranges.size(),
+                         [&](std::size_t r)
+                         {
+                             if (!factorRows(StorageIndex(ranges[r].begin), StorageIndex(ranges[r].end)))
+                             {
+                                 ok = false;
+                             }
+                         });
         if (!ok)
         {
             return false;
@@ -1028,150 +1041,151 @@ bool StagedLdlt::factorSeparators(std::size_t stage)
     // are read once for the block rather than once a row (row by row, these reads would be most of a refactorisation).
     // The block's columns come in increasing order; where a row has no entry its y is zero, and its lane's arithmetic
     // changes nothing.
-    runChunks(blocks.size(),
-              [&](std::size_t task)
-              {
-                  const std::size_t b = blocks[task];
-                  Separator& separator = m_separators[m_blocks.separator[b]];
-                  const StorageIndex firstRow = m_blocks.firstRow[b];
-                  const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
-                  thread_local std::vector<Value> scratch; // lanes values per row, all zero between blocks
-                  if (scratch.size() != n * lanes)
-                  {
-                      scratch.assign(n * lanes, 0);
-                  }
-                  Value* y = scratch.data();
-                  alignas(64) Value d[lanes] = {};
-                  for (std::size_t lane = 0; lane < count; ++lane)
-                  {
-                      const StorageIndex k = firstRow + StorageIndex(lane);
-                      for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
-                      {
-                          const StorageIndex i = StorageIndex(it.index());
-                          if (i < separator.begin)
-                          {
-                              y[std::size_t(i) * lanes + lane] += it.value();
-                          }
-                          else if (i == k)
-                          {
-                              d[lane] += it.value();
-                          }
-                      }
-                  }
-                  const BlockColumns block = blockColumns(b);
-                  eliminateBelowOn(path, block, start, rows, values, m_diagonal.data(), y, d);
-                  const std::size_t firstEntry = m_blocks.start[b];
-                  for (std::size_t j = 0; j < block.count; ++j)
-                  {
-                      const StorageIndex* position = m_blocks.position.data() + (firstEntry + j) * lanes;
-                      const Value* yc = block.y + j * lanes;
-                      for (unsigned set = m_blocks.rows[firstEntry + j]; set != 0; set &= set - 1)
-                      {
-                          const int lane = __builtin_ctz(set);
-                          rows[position[lane]] = firstRow + StorageIndex(lane);
-                          values[position[lane]] = yc[lane] / m_diagonal[block.column[j]];
-                      }
-                  }
-                  for (std::size_t lane = 0; lane < count; ++lane)
-                  {
-                      separator.partialPivot[std::size_t(firstRow - separator.begin) + lane] = d[lane];
-                  }
-              });
+    runFlushedChunks(blocks.size(),
+                     [&](std::size_t task)
+                     {
+                         const std::size_t b = blocks[task];
+                         Separator& separator = m_separators[m_blocks.separator[b]];
+                         const StorageIndex firstRow = m_blocks.firstRow[b];
+                         const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
+                         thread_local std::vector<Value> scratch; // lanes values per row, all zero between blocks
+                         if (scratch.size() != n * lanes)
+                         {
+                             scratch.assign(n * lanes, 0);
+                         }
+                         Value* y = scratch.data();
+                         alignas(64) Value d[lanes] = {};
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             const StorageIndex k = firstRow + StorageIndex(lane);
+                             for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+                             {
+                                 const StorageIndex i = StorageIndex(it.index());
+                                 if (i < separator.begin)
+                                 {
+                                     y[std::size_t(i) * lanes + lane] += it.value();
+                                 }
+                                 else if (i == k)
+                                 {
+                                     d[lane] += it.value();
+                                 }
+                             }
+                         }
+                         const BlockColumns block = blockColumns(b);
+                         eliminateBelowOn(path, block, start, rows, values, m_diagonal.data(), y, d);
+                         const std::size_t firstEntry = m_blocks.start[b];
+                         for (std::size_t j = 0; j < block.count; ++j)
+                         {
+                             const StorageIndex* position = m_blocks.position.data() + (firstEntry + j) * lanes;
+                             const Value* yc = block.y + j * lanes;
+                             for (unsigned set = m_blocks.rows[firstEntry + j]; set != 0; set &= set - 1)
+                             {
+                                 const int lane = __builtin_ctz(set);
+                                 rows[position[lane]] = firstRow + StorageIndex(lane);
+                                 values[position[lane]] = yc[lane] / m_diagonal[block.column[j]];
+                             }
+                         }
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             separator.partialPivot[std::size_t(firstRow - separator.begin) + lane] = d[lane];
+                         }
+                     });
 
     // 2. Each row's column of the Schur complement: A's entries above it in the separator, less what the columns
     // below give them (their entries in the separator's rows above this one, written in step 1), a block of rows at
     // once as in step 1.
-    runChunks(blocks.size(),
-              [&](std::size_t task)
-              {
-                  const std::size_t b = blocks[task];
-                  Separator& separator = m_separators[m_blocks.separator[b]];
-                  const StorageIndex firstRow = m_blocks.firstRow[b];
-                  const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
-                  const std::size_t first = std::size_t(firstRow - separator.begin);
-                  thread_local std::vector<Value> scratch; // lanes values per separator row
-                  const std::size_t needed = (first + count) * lanes;
-                  if (scratch.size() < needed)
-                  {
-                      scratch.resize(needed, 0);
-                  }
-                  Value* z = scratch.data();
-                  for (std::size_t lane = 0; lane < count; ++lane)
-                  {
-                      const StorageIndex k = firstRow + StorageIndex(lane);
-                      for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
-                      {
-                          const StorageIndex i = StorageIndex(it.index());
-                          if (i >= separator.begin && i < k)
-                          {
-                              z[std::size_t(i - separator.begin) * lanes + lane] += it.value();
-                          }
-                      }
-                  }
-                  const StorageIndex lastRow = firstRow + StorageIndex(count) - 1;
-                  schurBlockOn(path, blockColumns(b), rows, values, separator.begin, lastRow, z);
-                  // Each row takes the rows above it in its lane; the block's rows before its last were
-                  // written for the lanes below them, and all are cleared for the next block.
-                  for (std::size_t lane = 0; lane < count; ++lane)
-                  {
-                      const std::size_t r = first + lane;
-                      Value* packed = separator.schur.data() + schurOffset(r);
-                      for (std::size_t j = 0; j < r; ++j)
-                      {
-                          packed[j] = z[j * lanes + lane];
-                      }
-                  }
-                  std::fill(z, z + (first + count - 1) * lanes, Value(0));
-              });
+    runFlushedChunks(blocks.size(),
+                     [&](std::size_t task)
+                     {
+                         const std::size_t b = blocks[task];
+                         Separator& separator = m_separators[m_blocks.separator[b]];
+                         const StorageIndex firstRow = m_blocks.firstRow[b];
+                         const std::size_t count = std::min(lanes, std::size_t(separator.end - firstRow));
+                         const std::size_t first = std::size_t(firstRow - separator.begin);
+                         thread_local std::vector<Value> scratch; // lanes values per separator row
+                         const std::size_t needed = (first + count) * lanes;
+                         if (scratch.size() < needed)
+                         {
+                             scratch.resize(needed, 0);
+                         }
+                         Value* z = scratch.data();
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             const StorageIndex k = firstRow + StorageIndex(lane);
+                             for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
+                             {
+                                 const StorageIndex i = StorageIndex(it.index());
+                                 if (i >= separator.begin && i < k)
+                                 {
+                                     z[std::size_t(i - separator.begin) * lanes + lane] += it.value();
+                                 }
+                             }
+                         }
+                         const StorageIndex lastRow = firstRow + StorageIndex(count) - 1;
+                         schurBlockOn(path, blockColumns(b), rows, values, separator.begin, lastRow, z);
+                         // Each row takes the rows above it in its lane; the block's rows before its last were
+                         // written for the lanes below them, and all are cleared for the next block.
+                         for (std::size_t lane = 0; lane < count; ++lane)
+                         {
+                             const std::size_t r = first + lane;
+                             Value* packed = separator.schur.data() + schurOffset(r);
+                             for (std::size_t j = 0; j < r; ++j)
+                             {
+                                 packed[j] = z[j * lanes + lane];
+                             }
+                         }
+                         std::fill(z, z + (first + count - 1) * lanes, Value(0));
+                     });
 
     // 3. Each separator's own block: its Schur complement, dense, factored column by column, then its pattern's
     // entries written to L.
     std::atomic<bool> ok{true};
-    runChunks(endSeparator - firstSeparator,
-              [&](std::size_t task)
-              {
-                  Separator& separator = m_separators[firstSeparator + task];
-                  const std::size_t count = std::size_t(separator.end - separator.begin);
-                  thread_local std::vector<Value> dense; // column-major, the lower triangle used
-                  thread_local std::vector<Value> scratch;
-                  if (dense.size() < count * count)
-                  {
-                      dense.resize(count * count);
-                  }
-                  if (scratch.size() < 2 * count)
-                  {
-                      scratch.resize(2 * count);
-                  }
-                  Value* m = dense.data();
-                  for (std::size_t r = 0; r < count; ++r)
-                  {
-                      const Value* z = separator.schur.data() + schurOffset(r);
-                      for (std::size_t j = 0; j < r; ++j)
-                      {
-                          m[r + j * count] = z[j];
-                      }
-                      m[r + r * count] = separator.partialPivot[r];
-                  }
-                  Value* d = scratch.data();
-                  if (!denseLdltOn(path, m, count, scratch.data() + count, d))
-                  {
-                      ok = false;
-                      return;
-                  }
-                  for (std::size_t j = 0; j < count; ++j)
-                  {
-                      const StorageIndex column = separator.begin + StorageIndex(j);
-                      m_diagonal[column] = d[j];
-                      StorageIndex p = start[column];
-                      for (std::size_t e = separator.ownColumnStart[j]; e < separator.ownColumnStart[j + 1]; ++e, ++p)
-                      {
-                          const StorageIndex row = separator.ownColumnRows[e];
-                          rows[p] = row;
-                          values[p] = m[std::size_t(row - separator.begin) + j * count];
-                      }
-                      m_columnCount[std::size_t(column)] = p - start[column];
-                  }
-              });
+    runFlushedChunks(endSeparator - firstSeparator,
+                     [&](std::size_t task)
+                     {
+                         Separator& separator = m_separators[firstSeparator + task];
+                         const std::size_t count = std::size_t(separator.end - separator.begin);
+                         thread_local std::vector<Value> dense; // column-major, the lower triangle used
+                         thread_local std::vector<Value> scratch;
+                         if (dense.size() < count * count)
+                         {
+                             dense.resize(count * count);
+                         }
+                         if (scratch.size() < 2 * count)
+                         {
+                             scratch.resize(2 * count);
+                         }
+                         Value* m = dense.data();
+                         for (std::size_t r = 0; r < count; ++r)
+                         {
+                             const Value* z = separator.schur.data() + schurOffset(r);
+                             for (std::size_t j = 0; j < r; ++j)
+                             {
+                                 m[r + j * count] = z[j];
+                             }
+                             m[r + r * count] = separator.partialPivot[r];
+                         }
+                         Value* d = scratch.data();
+                         if (!denseLdltOn(path, m, count, scratch.data() + count, d))
+                         {
+                             ok = false;
+                             return;
+                         }
+                         for (std::size_t j = 0; j < count; ++j)
+                         {
+                             const StorageIndex column = separator.begin + StorageIndex(j);
+                             m_diagonal[column] = d[j];
+                             StorageIndex p = start[column];
+                             for (std::size_t e = separator.ownColumnStart[j]; e < separator.ownColumnStart[j + 1];
+                                  ++e, ++p)
+                             {
+                                 const StorageIndex row = separator.ownColumnRows[e];
+                                 rows[p] = row;
+                                 values[p] = m[std::size_t(row - separator.begin) + j * count];
+                             }
+                             m_columnCount[std::size_t(column)] = p - start[column];
+                         }
+                     });
     return ok;
 }
 } // namespace masse

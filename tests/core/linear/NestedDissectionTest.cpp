@@ -7,6 +7,7 @@
 #include "core/forces/SimdPath.h"
 #include "core/linear/CholeskyPreconditioner.h"
 #include "core/linear/ConjugateGradient.h"
+#include "core/linear/FlushSubnormals.h"
 #include "core/linear/Half.h"
 #include "core/linear/NestedDissection.h"
 #include "core/linear/PermutedValues.h"
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <immintrin.h>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -668,6 +670,80 @@ TEST(StagedLdlt, IsEigensFactorToRoundingWithTheSameBitsAtAnyThreadCount)
         }
     }
     EXPECT_GT(heldEntries, std::size_t(staged.lower().nonZeros() / 10));
+}
+
+// A short step's matrix is nearly its diagonal of masses, and its factor's fill entries shrink geometrically away from
+// the diagonal, below single precision's smallest normal (2^-126) far from it: Eigen's single-precision factor of such
+// a matrix holds subnormal entries, on each of which the processor would take a slow assist. The staged factor flushes
+// them to zero (FlushSubnormals.h), at any thread count and on every SIMD path, and is Eigen's elsewhere to the bound
+// above; the caller's floating-point mode is as it was after the factorisation.
+TEST(StagedLdlt, FlushesTheFillBelowSinglePrecisionsNormalsToZero)
+{
+    const MassSpringSystem sheet = paperSheet(24);
+    const SparseMatrix springs = blockSpringMatrix(sheet);
+    // M + a K with a K's entries a thousandth of the masses': the fill falls by about that at each step away.
+    SparseMatrix shortStep = springs * 1e-4;
+    for (Eigen::Index row = 0; row < shortStep.rows(); ++row)
+    {
+        shortStep.coeffRef(row, row) += 1;
+    }
+    shortStep.makeCompressed();
+    const DissectionOrder dissection =
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth);
+    const RowPermutation permutation = rowPermutation(dissection, 3);
+    const std::vector<std::vector<OrderRange>> rowStages = rowStagesOf(dissection);
+    SparseMatrix permuted;
+    permuted = shortStep.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+    using FactorMatrix = StagedLdlt::FactorMatrix;
+    const FactorMatrix permutedValues = permuted.cast<StagedLdlt::Value>();
+    Eigen::SimplicialLDLT<FactorMatrix, Eigen::Lower, Eigen::NaturalOrdering<FactorMatrix::StorageIndex>> eigen(
+        permutedValues);
+    ASSERT_EQ(eigen.info(), Eigen::Success);
+    const FactorMatrix& expected = eigen.matrixL().nestedExpression();
+    const auto subnormal = [](StagedLdlt::Value value) { return std::fpclassify(value) == FP_SUBNORMAL; };
+    const std::size_t eigenSubnormals =
+        std::size_t(std::count_if(expected.valuePtr(), expected.valuePtr() + expected.nonZeros(), subnormal));
+    ASSERT_GT(eigenSubnormals, std::size_t(100)) << "the matrix has fill in the subnormal range";
+
+    const SimdPathGuard simdGuard;
+    for (const SimdPath path : supportedSimdPaths())
+    {
+        setSimdPath(path);
+        for (const int threads : {1, 2, 3})
+        {
+            const test::BoundPool pool(threads);
+            const unsigned modeBefore = _mm_getcsr();
+            StagedLdlt staged;
+            staged.analyse(permuted, rowStages);
+            ASSERT_TRUE(staged.factorize(permuted));
+            EXPECT_EQ(_mm_getcsr(), modeBefore) << "the caller's floating-point mode restored";
+            const FactorMatrix& lower = staged.lower();
+            ASSERT_EQ(lower.nonZeros(), expected.nonZeros());
+            std::size_t flushed = 0;
+            for (Eigen::Index k = 0; k < expected.nonZeros(); ++k)
+            {
+                const StagedLdlt::Value value = lower.valuePtr()[k];
+                ASSERT_FALSE(subnormal(value))
+                    << "entry " << k << " at " << threads << " threads on the " << simdPathName(path) << " path";
+                if (subnormal(expected.valuePtr()[k]))
+                {
+                    flushed += value == 0 ? 1 : 0;
+                }
+                else
+                {
+                    ASSERT_NEAR(value, expected.valuePtr()[k], 1e-5) << "entry " << k;
+                }
+            }
+            EXPECT_GT(flushed, eigenSubnormals / 2) << "Eigen's subnormal entries are zero here";
+        }
+    }
+    // The mode itself: inside its scope a product below the normals is zero, outside it is the subnormal.
+    volatile float smallest = std::numeric_limits<float>::min();
+    {
+        const FlushSubnormals flush;
+        EXPECT_EQ(smallest * 0.5f, 0.0f);
+    }
+    EXPECT_TRUE(subnormal(smallest * 0.5f));
 }
 
 // A refresh gathers the permuted matrix's values through maps found once (PermutedValues.h): for new values on the
