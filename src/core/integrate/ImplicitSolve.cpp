@@ -3,6 +3,7 @@
 #include "core/InputError.h"
 #include "core/forces/Forces.h"
 #include "core/forces/SpringForce.h"
+#include "core/lattice/SpringAdjacency.h"
 #include "core/linear/NestedDissection.h"
 #include "core/parallel/TaskPool.h"
 
@@ -405,7 +406,7 @@ void ImplicitSolve::markIdentityMasses(const Particles& p)
     }
     for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
     {
-        if ((m_filters[k].array() == 0).all())
+        if (m_heldEverywhere[k])
         {
             m_identityMasses[std::size_t(m_constrainedMasses[k])] = 1;
         }
@@ -570,48 +571,53 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         m_rhs.segment<3>(Eigen::Index(3 * c.mass)) -=
             (a * c.tangentialDamping) * (tangential * (p.velocity[c.mass] - c.velocity));
     }
-    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
-    {
-        Mat3 held = Mat3::Zero(); // I - S: projection onto the constrained directions
-        for (int b = 0; b < m_bases[k].count; ++b)
-        {
-            held += m_bases[k].direction[std::size_t(b)] * m_bases[k].direction[std::size_t(b)].transpose();
-        }
-        m_filters.push_back(Mat3::Identity() - held);
-        const Vec3& v = p.velocity[m_constrainedMasses[k]];
-        if (m_bases[k].constraints == 1)
-        {
-            // The projection of its one constraint's velocity change: the sum below, in the fewest roundings.
-            m_prescribed[k] = held * (m_prescribed[k] - v);
-        }
-        else
-        {
-            // Several constraints (an obstacle's and the self-contact's): each direction takes its own
-            // constraint's speed.
-            Vec3 change = Vec3::Zero();
-            for (int b = 0; b < m_bases[k].count; ++b)
-            {
-                const Vec3& d = m_bases[k].direction[std::size_t(b)];
-                change += (m_bases[k].speed[std::size_t(b)] - d.dot(v)) * d;
-            }
-            m_prescribed[k] = change;
-        }
-    }
-    auto filterOf = [&](Index i) -> const Mat3*
-    { return m_constraintOf[i] < 0 ? nullptr : &m_filters[std::size_t(m_constraintOf[i])]; };
-    auto changeOf = [&](Index i) { return m_prescribed[std::size_t(m_constraintOf[i])]; };
+    // Each constrained mass's filter, velocity change and rows before the filter, on the pool: each writes its own.
+    const std::size_t constrainedCount = m_constrainedMasses.size();
+    m_filters.resize(constrainedCount);
+    m_heldEverywhere.resize(constrainedCount);
+    m_rowDiagonal.resize(constrainedCount);
+    m_rowRhs.resize(constrainedCount);
+    parallelFor(constrainedCount, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const Basis& basis = m_bases[k];
+                        Mat3 held = Mat3::Zero(); // I - S: projection onto the constrained directions
+                        for (int b = 0; b < basis.count; ++b)
+                        {
+                            held += basis.direction[std::size_t(b)] * basis.direction[std::size_t(b)].transpose();
+                        }
+                        m_filters[k] = Mat3::Identity() - held;
+                        m_heldEverywhere[k] = (m_filters[k].array() == 0).all() ? 1 : 0;
+                        const Index i = m_constrainedMasses[k];
+                        const Vec3& v = p.velocity[i];
+                        if (basis.constraints == 1)
+                        {
+                            // The projection of its one constraint's velocity change: the sum below, in the fewest
+                            // roundings.
+                            m_prescribed[k] = held * (m_prescribed[k] - v);
+                        }
+                        else
+                        {
+                            // Several constraints (an obstacle's and the self-contact's): each direction takes its
+                            // own constraint's speed.
+                            Vec3 change = Vec3::Zero();
+                            for (int b = 0; b < basis.count; ++b)
+                            {
+                                const Vec3& d = basis.direction[std::size_t(b)];
+                                change += (basis.speed[std::size_t(b)] - d.dot(v)) * d;
+                            }
+                            m_prescribed[k] = change;
+                        }
+                        m_rowDiagonal[k] = m_matrix.read(m_matrix.diagonal(i));
+                        m_rowRhs[k] = m_rhs.segment<3>(Eigen::Index(3 * i));
+                    }
+                });
 
-    m_rowDiagonal.resize(m_constrainedMasses.size());
-    m_rowRhs.resize(m_constrainedMasses.size());
-    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
-    {
-        const Index i = m_constrainedMasses[k];
-        m_rowDiagonal[k] = m_matrix.read(m_matrix.diagonal(i));
-        m_rowRhs[k] = m_rhs.segment<3>(Eigen::Index(3 * i));
-    }
     // The springs with a constrained end, and their blocks before the filter, read once on the pool into one array
-    // that the passes below and the reactions read in sequence (a contact-rich frame constrains half the masses, and
-    // the matrix's blocks, read spring by spring, are scattered over its columns).
+    // that the filter and the reactions read in sequence (a contact-rich frame constrains half the masses, and the
+    // matrix's blocks, read spring by spring, are scattered over its columns).
     const SpringSet& springs = system.springs;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
@@ -633,38 +639,63 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
                     }
                 });
 
-    // b' = b - A c, before A is filtered.
-    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
-    {
-        const Index i = m_constrainedMasses[k];
-        m_rhs.segment<3>(Eigen::Index(3 * i)) -= m_matrix.read(m_matrix.diagonal(i)) * m_prescribed[k];
-    }
-    for (std::size_t j = 0; j < m_constrainedSprings.size(); ++j)
-    {
-        const Index ea = m_constrainedSprings[j].a;
-        const Index eb = m_constrainedSprings[j].b;
-        if (m_constraintOf[eb] >= 0)
-        {
-            m_rhs.segment<3>(Eigen::Index(3 * ea)) -= m_constrainedBlocks[2 * j] * changeOf(eb);
-        }
-        if (m_constraintOf[ea] >= 0)
-        {
-            m_rhs.segment<3>(Eigen::Index(3 * eb)) -= m_constrainedBlocks[2 * j + 1] * changeOf(ea);
-        }
-    }
+    // b' = b - A c, before A is filtered: each mass gathers its row's terms, on the pool, its own block's first and
+    // then its springs' in increasing spring order (the adjacency's), the order of a scatter spring by spring.
+    const SpringAdjacency& adjacency = springs.adjacency(p.size());
+    parallelFor(p.size(), massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const int own = m_constraintOf[i];
+                        Vec3 rhs = m_rhs.segment<3>(Eigen::Index(3 * i));
+                        bool changed = false;
+                        if (own >= 0)
+                        {
+                            rhs -= m_matrix.read(m_matrix.diagonal(Index(i))) * m_prescribed[std::size_t(own)];
+                            changed = true;
+                        }
+                        for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
+                        {
+                            const int other = m_constraintOf[adjacency.entries[e].other];
+                            if (other < 0)
+                            {
+                                continue;
+                            }
+                            const std::size_t s = std::size_t(adjacency.entries[e].spring);
+                            const bool first = springs.ends()[s].a == Index(i) &&
+                                               (e == adjacency.offsets[i] || adjacency.entries[e - 1].spring != s);
+                            const Mat3 block = m_matrix.read(first ? m_matrix.ab(s) : m_matrix.ba(s));
+                            rhs -= block * m_prescribed[std::size_t(other)];
+                            changed = true;
+                        }
+                        if (changed)
+                        {
+                            m_rhs.segment<3>(Eigen::Index(3 * i)) = rhs;
+                        }
+                    }
+                });
+
     // Filter: rows and columns of constrained masses. Each spring writes its own two blocks, on the pool; springs
-    // sharing their blocks filter them one after the other, each the block the one before left.
+    // sharing their blocks filter them one after the other, each the block the one before left. A mass held in every
+    // direction has a zero filter, and its springs' blocks are zero.
     const auto filterSprings = [&](std::size_t begin, std::size_t end)
     {
         for (std::size_t j = begin; j < end; ++j)
         {
             const ConstrainedSpring& spring = m_constrainedSprings[j];
-            const Mat3* filterA = filterOf(spring.a);
-            const Mat3* filterB = filterOf(spring.b);
-            const Mat3 sa = filterA ? *filterA : Mat3::Identity();
-            const Mat3 sb = filterB ? *filterB : Mat3::Identity();
+            const int ka = m_constraintOf[spring.a];
+            const int kb = m_constraintOf[spring.b];
             const SlotMatrix<3>::Slots& ab = m_matrix.ab(spring.spring);
             const SlotMatrix<3>::Slots& ba = m_matrix.ba(spring.spring);
+            if ((ka >= 0 && m_heldEverywhere[std::size_t(ka)]) || (kb >= 0 && m_heldEverywhere[std::size_t(kb)]))
+            {
+                m_matrix.write(ab, Mat3::Zero());
+                m_matrix.write(ba, Mat3::Zero());
+                continue;
+            }
+            const Mat3 sa = ka >= 0 ? m_filters[std::size_t(ka)] : Mat3(Mat3::Identity());
+            const Mat3 sb = kb >= 0 ? m_filters[std::size_t(kb)] : Mat3(Mat3::Identity());
             const Mat3 blockAB = m_sharedBlocks ? m_matrix.read(ab) : m_constrainedBlocks[2 * j];
             const Mat3 blockBA = m_sharedBlocks ? m_matrix.read(ba) : m_constrainedBlocks[2 * j + 1];
             m_matrix.write(ab, sa * blockAB * sb);
@@ -679,14 +710,19 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     {
         parallelFor(m_constrainedSprings.size(), springChunkSize, filterSprings);
     }
-    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
-    {
-        const Index i = m_constrainedMasses[k];
-        const Mat3& filter = m_filters[k];
-        m_matrix.write(m_matrix.diagonal(i),
-                       filter * m_matrix.read(m_matrix.diagonal(i)) * filter + (Mat3::Identity() - filter));
-        m_rhs.segment<3>(Eigen::Index(3 * i)) = filter * m_rhs.segment<3>(Eigen::Index(3 * i));
-    }
+    parallelFor(constrainedCount, massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const Index i = m_constrainedMasses[k];
+                        const Mat3& filter = m_filters[k];
+                        const SlotMatrix<3>::Slots& diagonal = m_matrix.diagonal(i);
+                        m_matrix.write(diagonal,
+                                       filter * m_matrix.read(diagonal) * filter + (Mat3::Identity() - filter));
+                        m_rhs.segment<3>(Eigen::Index(3 * i)) = filter * m_rhs.segment<3>(Eigen::Index(3 * i));
+                    }
+                });
     return true;
 }
 

@@ -175,8 +175,9 @@ private:
     /// conjugate gradient's product takes those rows as they are (ConjugateGradient::setIdentityMasses).
     std::vector<std::uint8_t> m_identityMasses;
     std::vector<Index> m_constrainedMasses;
-    std::vector<Mat3> m_filters;    ///< S_i
-    std::vector<Vec3> m_prescribed; ///< c_i, the velocity change in the constrained directions
+    std::vector<Mat3> m_filters;                ///< S_i
+    std::vector<std::uint8_t> m_heldEverywhere; ///< S_i is zero: the mass is held in all three directions
+    std::vector<Vec3> m_prescribed;             ///< c_i, the velocity change in the constrained directions
     /// Orthonormal constrained directions per constrained mass.
     struct Basis
     {
