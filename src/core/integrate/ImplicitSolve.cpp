@@ -18,6 +18,10 @@ namespace
 {
 /// Springs per chunk of the assembly's spring pass: about a megabyte of terms.
 constexpr std::size_t springChunkSize = 8192;
+/// Constrained masses, and springs with a constrained end, per chunk of the filter's passes (applyConstraints): each
+/// item reads and writes a few blocks scattered over the matrix, some hundred nanoseconds, so a thousand is worth
+/// waking a thread for, and the few thousand a 64x2x64 sheet has on the mould make several chunks.
+constexpr std::size_t constrainedChunkSize = 1024;
 /// The smallest allowance of an old factor's try that the conjugate gradient's foresight watches (see runSolver).
 constexpr int foresightFrom = 64;
 } // namespace
@@ -339,7 +343,8 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     m_matrix.build(n, springs.ends());
     // A spring's two off-diagonal blocks are shared with any other spring joining the same two masses; the block
     // above the diagonal names the pair.
-    std::vector<OffDiagonal> offDiagonal(springs.size(), OffDiagonal::None);
+    std::vector<OffDiagonal>& offDiagonal = m_pairKind;
+    offDiagonal.assign(springs.size(), OffDiagonal::None);
     m_sharedBlocks = false;
     std::vector<bool> pairSeen(std::size_t(m_matrix.matrix().nonZeros()), false);
     for (std::size_t s = 0; s < springs.size(); ++s)
@@ -381,6 +386,8 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     m_rhs.setZero(size);
     m_deltaV.setZero(size);
     m_constraintOf.assign(n, -1);
+    m_constrainedSpringOf.assign(springs.size(), -1);
+    m_constrainedSprings.clear();
     if (m_settings.preconditioner == PreconditionerKind::Cholesky)
     {
         m_cholesky.analyse(m_matrix.matrix(),
@@ -424,6 +431,10 @@ void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
     for (std::size_t j = 0; j < m_constrainedSprings.size(); ++j)
     {
         const ConstrainedSpring& spring = m_constrainedSprings[j];
+        if (m_pairKind[spring.spring] != OffDiagonal::First)
+        {
+            continue; // a pair's block once, at its first spring (it holds the others' too)
+        }
         if (m_constraintOf[spring.a] >= 0)
         {
             m_reaction[std::size_t(m_constraintOf[spring.a])] += m_constrainedBlocks[2 * j] * deltaV(spring.b);
@@ -504,6 +515,10 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     {
         m_constraintOf[i] = -1;
     }
+    for (const ConstrainedSpring& spring : m_constrainedSprings)
+    {
+        m_constrainedSpringOf[spring.spring] = -1;
+    }
     m_constrainedMasses.clear();
     m_filters.clear();
     m_prescribed.clear();
@@ -577,7 +592,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
     m_heldEverywhere.resize(constrainedCount);
     m_rowDiagonal.resize(constrainedCount);
     m_rowRhs.resize(constrainedCount);
-    parallelFor(constrainedCount, massChunkSize,
+    parallelFor(constrainedCount, constrainedChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     for (std::size_t k = begin; k < end; ++k)
@@ -616,31 +631,65 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
                 });
 
     // The springs with a constrained end, and their blocks before the filter, read once on the pool into one array
-    // that the filter and the reactions read in sequence (a contact-rich frame constrains half the masses, and the
-    // matrix's blocks, read spring by spring, are scattered over its columns).
+    // that the right-hand side's terms and the reactions read in sequence (a contact-rich frame constrains half the
+    // masses, and the matrix's blocks, read spring by spring, are scattered over its columns).
     const SpringSet& springs = system.springs;
     for (std::size_t s = 0; s < springs.size(); ++s)
     {
         const SpringEnds e = springs.ends()[s];
         if (m_constraintOf[e.a] >= 0 || m_constraintOf[e.b] >= 0)
         {
+            m_constrainedSpringOf[s] = int(m_constrainedSprings.size());
             m_constrainedSprings.push_back({std::uint32_t(s), e.a, e.b});
         }
     }
+    // Filter: rows and columns of constrained masses, S_a B S_b. A mass held in every direction has a zero filter,
+    // and its springs' blocks are zero.
+    const auto filterSpring = [&](const ConstrainedSpring& spring, const Mat3& blockAB, const Mat3& blockBA)
+    {
+        const int ka = m_constraintOf[spring.a];
+        const int kb = m_constraintOf[spring.b];
+        const SlotMatrix<3>::Slots& ab = m_matrix.ab(spring.spring);
+        const SlotMatrix<3>::Slots& ba = m_matrix.ba(spring.spring);
+        if ((ka >= 0 && m_heldEverywhere[std::size_t(ka)]) || (kb >= 0 && m_heldEverywhere[std::size_t(kb)]))
+        {
+            m_matrix.write(ab, Mat3::Zero());
+            m_matrix.write(ba, Mat3::Zero());
+            return;
+        }
+        const Mat3 sa = ka >= 0 ? m_filters[std::size_t(ka)] : Mat3(Mat3::Identity());
+        const Mat3 sb = kb >= 0 ? m_filters[std::size_t(kb)] : Mat3(Mat3::Identity());
+        m_matrix.write(ab, sa * blockAB * sb);
+        m_matrix.write(ba, sb * blockBA * sa);
+    };
+    // Each spring writes its own two blocks, on the pool, as it reads them; springs sharing their blocks are filtered
+    // below, one after the other, each the block the one before left.
     m_constrainedBlocks.resize(2 * m_constrainedSprings.size());
-    parallelFor(m_constrainedSprings.size(), springChunkSize,
+    parallelFor(m_constrainedSprings.size(), constrainedChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     for (std::size_t j = begin; j < end; ++j)
                     {
-                        const std::size_t s = m_constrainedSprings[j].spring;
-                        m_constrainedBlocks[2 * j] = m_matrix.read(m_matrix.ab(s));
-                        m_constrainedBlocks[2 * j + 1] = m_matrix.read(m_matrix.ba(s));
+                        const ConstrainedSpring& spring = m_constrainedSprings[j];
+                        m_constrainedBlocks[2 * j] = m_matrix.read(m_matrix.ab(spring.spring));
+                        m_constrainedBlocks[2 * j + 1] = m_matrix.read(m_matrix.ba(spring.spring));
+                        if (!m_sharedBlocks)
+                        {
+                            filterSpring(spring, m_constrainedBlocks[2 * j], m_constrainedBlocks[2 * j + 1]);
+                        }
                     }
                 });
+    if (m_sharedBlocks)
+    {
+        for (const ConstrainedSpring& spring : m_constrainedSprings)
+        {
+            filterSpring(spring, m_matrix.read(m_matrix.ab(spring.spring)), m_matrix.read(m_matrix.ba(spring.spring)));
+        }
+    }
 
-    // b' = b - A c, before A is filtered: each mass gathers its row's terms, on the pool, its own block's first and
-    // then its springs' in increasing spring order (the adjacency's), the order of a scatter spring by spring.
+    // b' = b - A c with A before the filter: each mass gathers its row's terms, on the pool, its own block's first
+    // (the diagonal blocks are filtered below) and then its springs' in increasing spring order (the adjacency's),
+    // the order of a scatter spring by spring.
     const SpringAdjacency& adjacency = springs.adjacency(p.size());
     parallelFor(p.size(), massChunkSize,
                 [&](std::size_t begin, std::size_t end)
@@ -658,15 +707,13 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
                         for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
                         {
                             const int other = m_constraintOf[adjacency.entries[e].other];
-                            if (other < 0)
+                            if (other < 0 || m_columnEntries[e].kind != OffDiagonal::First)
                             {
-                                continue;
+                                continue; // a pair's block once, at its first spring (it holds the others' too)
                             }
-                            const std::size_t s = std::size_t(adjacency.entries[e].spring);
-                            const bool first = springs.ends()[s].a == Index(i) &&
-                                               (e == adjacency.offsets[i] || adjacency.entries[e - 1].spring != s);
-                            const Mat3 block = m_matrix.read(first ? m_matrix.ab(s) : m_matrix.ba(s));
-                            rhs -= block * m_prescribed[std::size_t(other)];
+                            const std::size_t j = std::size_t(m_constrainedSpringOf[adjacency.entries[e].spring]);
+                            const bool first = m_columnEntries[e].first;
+                            rhs -= m_constrainedBlocks[first ? 2 * j : 2 * j + 1] * m_prescribed[std::size_t(other)];
                             changed = true;
                         }
                         if (changed)
@@ -675,42 +722,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
                         }
                     }
                 });
-
-    // Filter: rows and columns of constrained masses. Each spring writes its own two blocks, on the pool; springs
-    // sharing their blocks filter them one after the other, each the block the one before left. A mass held in every
-    // direction has a zero filter, and its springs' blocks are zero.
-    const auto filterSprings = [&](std::size_t begin, std::size_t end)
-    {
-        for (std::size_t j = begin; j < end; ++j)
-        {
-            const ConstrainedSpring& spring = m_constrainedSprings[j];
-            const int ka = m_constraintOf[spring.a];
-            const int kb = m_constraintOf[spring.b];
-            const SlotMatrix<3>::Slots& ab = m_matrix.ab(spring.spring);
-            const SlotMatrix<3>::Slots& ba = m_matrix.ba(spring.spring);
-            if ((ka >= 0 && m_heldEverywhere[std::size_t(ka)]) || (kb >= 0 && m_heldEverywhere[std::size_t(kb)]))
-            {
-                m_matrix.write(ab, Mat3::Zero());
-                m_matrix.write(ba, Mat3::Zero());
-                continue;
-            }
-            const Mat3 sa = ka >= 0 ? m_filters[std::size_t(ka)] : Mat3(Mat3::Identity());
-            const Mat3 sb = kb >= 0 ? m_filters[std::size_t(kb)] : Mat3(Mat3::Identity());
-            const Mat3 blockAB = m_sharedBlocks ? m_matrix.read(ab) : m_constrainedBlocks[2 * j];
-            const Mat3 blockBA = m_sharedBlocks ? m_matrix.read(ba) : m_constrainedBlocks[2 * j + 1];
-            m_matrix.write(ab, sa * blockAB * sb);
-            m_matrix.write(ba, sb * blockBA * sa);
-        }
-    };
-    if (m_sharedBlocks)
-    {
-        filterSprings(0, m_constrainedSprings.size());
-    }
-    else
-    {
-        parallelFor(m_constrainedSprings.size(), springChunkSize, filterSprings);
-    }
-    parallelFor(constrainedCount, massChunkSize,
+    parallelFor(constrainedCount, constrainedChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
                     for (std::size_t k = begin; k < end; ++k)

@@ -160,6 +160,9 @@ private:
         bool first; ///< i is the spring's first end (it gives the spring's kv away, the second end takes it)
     };
     std::vector<ColumnEntry> m_columnEntries;
+    /// Per spring, how it writes its pair's blocks: the first of the springs joining two masses writes them, the later
+    /// ones add to them, so the first's blocks hold them all (None: a spring from a mass to itself).
+    std::vector<OffDiagonal> m_pairKind;
     Vector m_rhs;
     Vector m_deltaV;
     std::vector<Vec3> m_heldOffset; ///< heldOffset's result, kept between steps for its capacity
@@ -200,6 +203,7 @@ private:
         Index b;
     };
     std::vector<ConstrainedSpring> m_constrainedSprings; ///< in increasing spring order
+    std::vector<int> m_constrainedSpringOf;              ///< per spring: its index in m_constrainedSprings, or -1
     std::vector<Mat3> m_constrainedBlocks;               ///< per constrained spring, its blocks (a, b) and (b, a)
     bool m_sharedBlocks = false; ///< two springs join the same two masses (OffDiagonal::Later), sharing their blocks
     std::vector<Vec3> m_reaction;
