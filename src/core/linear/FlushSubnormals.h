@@ -5,10 +5,10 @@
 /// Why the factorisation wants it: a Cholesky factor's fill entries shrink geometrically with their distance from the
 /// diagonal, the faster the shorter the step (a matrix M + a K with a small a is nearly diagonal). In single precision
 /// many of them fall below 2^-126, and every operation on a subnormal takes a microcode assist of a hundred cycles or
-/// more: a 128x2x128 pressure-forming sheet's refactorisation at a step of a few hundredths of its frame took 0.7 to
-/// 1 s with them, 0.15 s without. Such entries are zero in the solves' half-precision copy of the factor (whose
-/// smallest subnormal is 2^-24) and lie below the rounding of the normal entries they feed, so the preconditioner is
-/// the same.
+/// more, which on such a matrix (a pressure-formed sheet's first frame, split into steps of a few hundredths of it)
+/// would make the refactorisation several times as slow as at a full frame's step. Such entries are zero in the
+/// solves' half-precision copy of the factor (whose smallest subnormal is 2^-24) and lie below the rounding of the
+/// normal entries they feed, so the preconditioner is the same.
 ///
 /// The mode belongs to a thread, so a kernel run over chunks sets it in every chunk, on whichever thread runs it:
 /// every entry is then computed in the same mode, at any thread count and on every SIMD path.
