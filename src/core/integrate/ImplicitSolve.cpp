@@ -663,7 +663,7 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
         m_matrix.write(ba, sb * blockBA * sa);
     };
     // Each spring writes its own two blocks, on the pool, as it reads them; springs sharing their blocks are filtered
-    // below, one after the other, each the block the one before left.
+    // below.
     m_constrainedBlocks.resize(2 * m_constrainedSprings.size());
     parallelFor(m_constrainedSprings.size(), constrainedChunkSize,
                 [&](std::size_t begin, std::size_t end)
@@ -679,13 +679,6 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
                         }
                     }
                 });
-    if (m_sharedBlocks)
-    {
-        for (const ConstrainedSpring& spring : m_constrainedSprings)
-        {
-            filterSpring(spring, m_matrix.read(m_matrix.ab(spring.spring)), m_matrix.read(m_matrix.ba(spring.spring)));
-        }
-    }
 
     // b' = b - A c with A before the filter: each mass gathers its row's terms, on the pool, its own block's first
     // (the diagonal blocks are filtered below) and then its springs' in increasing spring order (the adjacency's),
@@ -722,6 +715,16 @@ bool ImplicitSolve::applyConstraints(const MassSpringSystem& system, const std::
                         }
                     }
                 });
+    // Springs sharing their blocks, one after the other, each filtering the block the one before left; after the
+    // gather, which reads the diagonal blocks as they were (a spring from a mass to itself has its mass's diagonal
+    // block).
+    if (m_sharedBlocks)
+    {
+        for (const ConstrainedSpring& spring : m_constrainedSprings)
+        {
+            filterSpring(spring, m_matrix.read(m_matrix.ab(spring.spring)), m_matrix.read(m_matrix.ba(spring.spring)));
+        }
+    }
     parallelFor(constrainedCount, constrainedChunkSize,
                 [&](std::size_t begin, std::size_t end)
                 {
