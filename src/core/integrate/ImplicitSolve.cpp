@@ -385,7 +385,10 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     const Eigen::Index size = m_matrix.matrix().rows();
     m_rhs.setZero(size);
     m_deltaV.setZero(size);
+    // No mass or spring is constrained in the new pattern: the lists the next round resets from are emptied with it
+    // (a pattern for fewer masses or springs would otherwise be reset at indices it no longer has).
     m_constraintOf.assign(n, -1);
+    m_constrainedMasses.clear();
     m_constrainedSpringOf.assign(springs.size(), -1);
     m_constrainedSprings.clear();
     if (m_settings.preconditioner == PreconditionerKind::Cholesky)

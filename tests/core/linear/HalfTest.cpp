@@ -135,6 +135,7 @@ TEST(Half, F16cConversionGivesHalfFromRealsHalves)
 {
     if (!simdPathSupported(SimdPath::Avx2))
     {
+        // Skipped without AVX2 (whose processors all have F16C): the software rounding above is then the only one.
         GTEST_SKIP() << "this processor has no F16C: there is no hardware conversion to compare";
     }
     std::vector<float> values;
