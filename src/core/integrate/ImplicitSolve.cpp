@@ -70,7 +70,7 @@ IntegratorStats ImplicitSolve::solve(MassSpringSystem& system, std::vector<Veloc
             {
                 m_deltaV.segment<3>(Eigen::Index(3 * m_constrainedMasses[k])) += m_prescribed[k];
             }
-            writeReactions(constraints);
+            writeReactions(system, constraints);
         }
         if (round == maxSpeculativeRounds)
         {
@@ -424,29 +424,33 @@ void ImplicitSolve::markIdentityMasses(const Particles& p)
 }
 
 /// r = A dv - b on the original rows of each constrained mass: the impulse its constraints applied.
-void ImplicitSolve::writeReactions(std::vector<VelocityConstraint>& constraints)
+void ImplicitSolve::writeReactions(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints)
 {
+    // Each constrained mass gathers its row of A dv - b, on the pool: its own block's term first, then its springs' in
+    // increasing spring order (the adjacency's), the order of a scatter spring by spring.
+    const SpringAdjacency& adjacency = system.springs.adjacency(system.particles.size());
     m_reaction.resize(m_constrainedMasses.size());
-    for (std::size_t k = 0; k < m_constrainedMasses.size(); ++k)
-    {
-        m_reaction[k] = m_rowDiagonal[k] * deltaV(m_constrainedMasses[k]) - m_rowRhs[k];
-    }
-    for (std::size_t j = 0; j < m_constrainedSprings.size(); ++j)
-    {
-        const ConstrainedSpring& spring = m_constrainedSprings[j];
-        if (m_pairKind[spring.spring] != OffDiagonal::First)
-        {
-            continue; // a pair's block once, at its first spring (it holds the others' too)
-        }
-        if (m_constraintOf[spring.a] >= 0)
-        {
-            m_reaction[std::size_t(m_constraintOf[spring.a])] += m_constrainedBlocks[2 * j] * deltaV(spring.b);
-        }
-        if (m_constraintOf[spring.b] >= 0)
-        {
-            m_reaction[std::size_t(m_constraintOf[spring.b])] += m_constrainedBlocks[2 * j + 1] * deltaV(spring.a);
-        }
-    }
+    parallelFor(m_constrainedMasses.size(), constrainedChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const Index i = m_constrainedMasses[k];
+                        Vec3 reaction = m_rowDiagonal[k] * deltaV(i) - m_rowRhs[k];
+                        for (std::size_t e = adjacency.offsets[i]; e < adjacency.offsets[i + 1]; ++e)
+                        {
+                            if (m_columnEntries[e].kind != OffDiagonal::First)
+                            {
+                                continue; // a pair's block once, at its first spring (it holds the others' too)
+                            }
+                            const std::size_t j = std::size_t(m_constrainedSpringOf[adjacency.entries[e].spring]);
+                            const bool first = m_columnEntries[e].first;
+                            reaction +=
+                                m_constrainedBlocks[first ? 2 * j : 2 * j + 1] * deltaV(adjacency.entries[e].other);
+                        }
+                        m_reaction[k] = reaction;
+                    }
+                });
     for (VelocityConstraint& c : constraints)
     {
         c.reaction = c.honoured() && c.mass < m_constraintOf.size() && m_constraintOf[c.mass] >= 0

@@ -109,7 +109,7 @@ private:
     /// The scale the settings' tolerance applies to in a round whose right-hand side has norm `rhs`: |b|, at most
     /// `drivingImpulse` and at least equilibriumFloor times it (see the definition for why).
     static Real residualScale(Real rhs, Real drivingImpulse);
-    void writeReactions(std::vector<VelocityConstraint>& constraints);
+    void writeReactions(const MassSpringSystem& system, std::vector<VelocityConstraint>& constraints);
     /// Splits the reaction of a mass under two constraints between them (see the definition).
     void splitSharedReactions(std::vector<VelocityConstraint>& constraints);
     /// After a solve: engages each speculative constraint whose mass the step carries through its surface, releases

@@ -85,8 +85,10 @@ MASSE_TRIANGULAR_KERNELS(Avx512, __attribute__((target("avx512f"))), blockDotsAv
 #endif
 #undef MASSE_TRIANGULAR_KERNELS
 
-/// Masses a task of the diagonal's following handles.
+/// Masses a task of the diagonal's following and of the filter handles.
 constexpr std::size_t followChunkSize = 2048;
+/// Rows a task of the copies, permutations and scalings of the solve's vectors handles: a few pages of each vector.
+constexpr std::size_t vectorChunkSize = 8192;
 
 /// The lower Cholesky factor of a diagonal block, in plain arithmetic (the same bits wherever it runs); false if the
 /// block is not positive definite.
@@ -288,20 +290,31 @@ void CholeskyPreconditioner::setFilter(const std::vector<Index>& masses, const s
 
 void CholeskyPreconditioner::apply(const Vector& r, Vector& z) const
 {
+    // Every pass below writes each row from its own inputs alone, so it runs on the pool with the bits of a loop.
     const bool filtered = m_masses && !m_masses->empty();
     const Vector* input = &r;
     if (filtered || m_followed)
     {
-        m_filtered = r;
+        m_filtered.resize(r.size());
+        parallelFor(std::size_t(r.size()), vectorChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        const auto count = Eigen::Index(end - begin);
+                        m_filtered.segment(Eigen::Index(begin), count) = r.segment(Eigen::Index(begin), count);
+                    });
         input = &m_filtered;
     }
     if (filtered)
     {
-        for (std::size_t k = 0; k < m_masses->size(); ++k)
-        {
-            const Eigen::Index row = Eigen::Index(3 * (*m_masses)[k]);
-            m_filtered.segment<3>(row) = (*m_filters)[k] * r.segment<3>(row);
-        }
+        parallelFor(m_masses->size(), followChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t k = begin; k < end; ++k)
+                        {
+                            const Eigen::Index row = Eigen::Index(3 * (*m_masses)[k]);
+                            m_filtered.segment<3>(row) = (*m_filters)[k] * r.segment<3>(row);
+                        }
+                    });
     }
     if (m_followed) // R^-T on the way in
     {
@@ -330,13 +343,17 @@ void CholeskyPreconditioner::apply(const Vector& r, Vector& z) const
     }
     if (filtered)
     {
-        for (std::size_t k = 0; k < m_masses->size(); ++k)
-        {
-            const Eigen::Index row = Eigen::Index(3 * (*m_masses)[k]);
-            const Mat3& s = (*m_filters)[k];
-            const Vec3 free = s * z.segment<3>(row);
-            z.segment<3>(row) = free + (r.segment<3>(row) - s * r.segment<3>(row));
-        }
+        parallelFor(m_masses->size(), followChunkSize,
+                    [&](std::size_t begin, std::size_t end)
+                    {
+                        for (std::size_t k = begin; k < end; ++k)
+                        {
+                            const Eigen::Index row = Eigen::Index(3 * (*m_masses)[k]);
+                            const Mat3& s = (*m_filters)[k];
+                            const Vec3 free = s * z.segment<3>(row);
+                            z.segment<3>(row) = free + (r.segment<3>(row) - s * r.segment<3>(row));
+                        }
+                    });
     }
 }
 
@@ -352,9 +369,29 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     // of two to a largest entry in [1, 2) on the way in, and x back on the way out: a float's range is far narrower
     // than a double's, and a residual of 1e-40 or 1e40 would otherwise flush to zero or overflow. A power of two
     // scales every rounding with it, so where nothing would have left the float range the bits are those of no scaling.
+    // The permutations, the scaling and the largest entry run on the pool: each row is written from its own entry,
+    // and a largest does not depend on how the rows are split.
     const auto& permutation = m_permutation.indices();
-    const Eigen::Index n = b.size();
-    const Real largest = b.cwiseAbs().maxCoeff();
+    const std::size_t n = std::size_t(b.size());
+    const std::size_t chunks = chunkCount(n, vectorChunkSize);
+    m_chunkLargest.assign(chunks, 0);
+    parallelFor(n, vectorChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    Real largest = 0;
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        const Real magnitude = std::abs(b[Eigen::Index(i)]);
+                        // A NaN is taken, and kept (nothing compares greater), to be seen below.
+                        largest = magnitude > largest || std::isnan(magnitude) ? magnitude : largest;
+                    }
+                    m_chunkLargest[begin / vectorChunkSize] = largest;
+                });
+    Real largest = 0;
+    for (const Real chunkLargest : m_chunkLargest)
+    {
+        largest = chunkLargest > largest || std::isnan(chunkLargest) ? chunkLargest : largest;
+    }
     if (!(largest > 0) || !std::isfinite(largest))
     {
         x = b; // zero stays zero; a non-finite residual passes through to the run's finite check
@@ -363,10 +400,15 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     const int exponent = std::ilogb(largest);
     const Real down = std::ldexp(Real(1), -exponent);
     const Real up = std::ldexp(Real(1), exponent); // multiplying by it rounds as ldexp would, without a call an entry
-    for (Eigen::Index i = 0; i < n; ++i)
-    {
-        m_permuted[permutation[i]] = float(b[i] * down);
-    }
+    parallelFor(n, vectorChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        m_permuted[std::size_t(permutation[Eigen::Index(i)])] = float(b[Eigen::Index(i)] * down);
+                        m_scattered[i] = 0.0f;
+                    }
+                });
     const SimdPath path = activeSimdPath();
     const MassBlockRows::View rows = m_rows.view();
     float* work = m_permuted.data();
@@ -376,7 +418,6 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
             ranges.size(), [&](std::size_t k)
             { forwardBlocksOn(path, rows, work, Eigen::Index(ranges[k].begin / 3), Eigen::Index(ranges[k].end / 3)); });
     }
-    std::fill(m_scattered.begin(), m_scattered.end(), 0.0f);
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
         const std::vector<OrderRange>& ranges = *stage;
@@ -387,10 +428,14 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
                                        Eigen::Index(ranges[k].begin / 3), Eigen::Index(ranges[k].end / 3));
                   });
     }
-    for (Eigen::Index i = 0; i < n; ++i)
-    {
-        x[i] = Real(m_permuted[permutation[i]]) * up;
-    }
+    parallelFor(n, vectorChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        x[Eigen::Index(i)] = Real(m_permuted[std::size_t(permutation[Eigen::Index(i)])]) * up;
+                    }
+                });
 }
 
 } // namespace masse

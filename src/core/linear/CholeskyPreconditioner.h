@@ -107,8 +107,9 @@ private:
     const std::vector<Index>* m_masses = nullptr;
     const std::vector<Mat3>* m_filters = nullptr;
     mutable Vector m_filtered;
-    mutable std::vector<float> m_permuted;  ///< the solves' work vector, in single precision (see solveWithFactor)
-    mutable std::vector<float> m_scattered; ///< the backward solve's sums of the solved rows' entries, per column
+    mutable std::vector<float> m_permuted;    ///< the solves' work vector, in single precision (see solveWithFactor)
+    mutable std::vector<float> m_scattered;   ///< the backward solve's sums of the solved rows' entries, per column
+    mutable std::vector<Real> m_chunkLargest; ///< each chunk's largest entry of the solve's right-hand side
     std::vector<SlotMatrix<3>::Slots> m_diagonalSlots; ///< per mass, its diagonal block in the analysed pattern
     std::vector<Mat3> m_factoredBlocks; ///< per mass, C_i: the Cholesky factor of its block in the factored matrix
     std::vector<Mat3> m_following;      ///< per mass, R_i^-T = C_i C'_i^-1 (lower triangular), while m_followed
