@@ -2,8 +2,10 @@
 
 #include "core/Format.h"
 #include "core/InputError.h"
+#include "core/parallel/TaskPool.h"
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 
@@ -55,6 +57,9 @@ Real PressureSchedule::at(Real time) const
 
 namespace
 {
+/// Triangles per chunk of the load's pass over the surface: some hundred kilobytes of positions and shares.
+constexpr std::size_t trianglesPerChunk = 8192;
+
 /// The four triangles of each square of a square lattice's layer: the split along the diagonal from (row, column) to
 /// (row + 1, column + 1) and the split along the other, each wound so its normal points to +y at rest.
 std::vector<Triangle> squareTrianglesOfBothSplits(const Lattice& lattice, int layer)
@@ -112,6 +117,28 @@ PressureLoad::PressureLoad(const Lattice& lattice, PressureSchedule schedule)
             m_bottom.push_back(layer == 0 ? 1 : 0);
         }
     }
+    // Each mass's triangles, in increasing order (the gather's order in computeLoad).
+    m_cornerOffsets.assign(lattice.massCount() + 1, 0);
+    for (const Triangle& t : m_triangles)
+    {
+        for (const Index corner : t)
+        {
+            ++m_cornerOffsets[corner + 1];
+        }
+    }
+    for (std::size_t i = 0; i < lattice.massCount(); ++i)
+    {
+        m_cornerOffsets[i + 1] += m_cornerOffsets[i];
+    }
+    m_cornerTriangles.resize(m_cornerOffsets.back());
+    std::vector<std::size_t> filled(m_cornerOffsets.begin(), m_cornerOffsets.end() - 1);
+    for (std::size_t k = 0; k < m_triangles.size(); ++k)
+    {
+        for (const Index corner : m_triangles[k])
+        {
+            m_cornerTriangles[filled[corner]++] = std::uint32_t(k);
+        }
+    }
     std::vector<int> layerOf(lattice.massCount(), 0);
     for (std::size_t i = 0; i < lattice.massCount(); ++i)
     {
@@ -138,27 +165,60 @@ PressureLoad::PressureLoad(const Lattice& lattice, PressureSchedule schedule)
 
 void PressureLoad::computeLoad(const std::vector<Vec3>& x, Real pressure, std::vector<Vec3>& force) const
 {
-    force.assign(x.size(), Vec3::Zero());
-    m_sealedArea = 0;
+    // Each triangle's share on the pool, then each mass gathers its triangles' in increasing order, the order of a
+    // scatter triangle by triangle: the same bits at any thread count. Only the sealed area is summed in order after.
     const bool sealing = m_sealed.size() == x.size();
-    // -(p / L) A n / 3 per corner, with A n = (b - a) x (c - a) / 2 (triangles are wound so n is the top side).
-    for (std::size_t k = 0; k < m_triangles.size(); ++k)
+    m_share.resize(m_triangles.size());
+    m_sealedPart.resize(m_triangles.size());
+    parallelFor(m_triangles.size(), trianglesPerChunk,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t k = begin; k < end; ++k)
+                    {
+                        const Triangle& t = m_triangles[k];
+                        const Vec3 doubleArea = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+                        m_sealedPart[k] = -1; // not sealed: it carries its share
+                        if (sealing && m_sealed[t[0]] && m_sealed[t[1]] && m_sealed[t[2]])
+                        {
+                            // Weighted as the load is: a square's four triangles at half weight make up its area once.
+                            m_sealedPart[k] = m_bottom[k]
+                                                  ? Real(0.5) * m_triangleShare[k] * Real(m_layers) * doubleArea.norm()
+                                                  : Real(0);
+                            continue;
+                        }
+                        // -(p / L) A n / 3 per corner, with A n = (b - a) x (c - a) / 2 (triangles are wound so n is
+                        // the top side).
+                        m_share[k] = (-pressure * m_triangleShare[k] / Real(6)) * doubleArea;
+                    }
+                });
+    force.resize(x.size());
+    parallelFor(x.size(), massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        Vec3 sum = Vec3::Zero();
+                        for (std::size_t c = m_cornerOffsets[i]; c < m_cornerOffsets[i + 1]; ++c)
+                        {
+                            const std::size_t k = m_cornerTriangles[c];
+                            if (m_sealedPart[k] < 0)
+                            {
+                                sum += m_share[k];
+                            }
+                        }
+                        force[i] = sum;
+                    }
+                });
+    m_sealedArea = 0;
+    if (sealing)
     {
-        const Triangle& t = m_triangles[k];
-        const Vec3 doubleArea = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
-        if (sealing && m_sealed[t[0]] && m_sealed[t[1]] && m_sealed[t[2]])
+        for (const Real part : m_sealedPart)
         {
-            if (m_bottom[k])
+            if (!(part < 0))
             {
-                // Weighted as the load is: a square's four triangles at half weight make up its area once.
-                m_sealedArea += Real(0.5) * m_triangleShare[k] * Real(m_layers) * doubleArea.norm();
+                m_sealedArea += part;
             }
-            continue;
         }
-        const Vec3 share = (-pressure * m_triangleShare[k] / Real(6)) * doubleArea;
-        force[t[0]] += share;
-        force[t[1]] += share;
-        force[t[2]] += share;
     }
 }
 
@@ -167,10 +227,14 @@ void PressureLoad::apply(MassSpringSystem& system, Real pressure)
     Particles& p = system.particles;
     m_pressure = pressure;
     computeLoad(p.position, pressure, m_next);
-    for (std::size_t i = 0; i < p.size(); ++i)
-    {
-        p.externalForce[i] += m_next[i] - m_applied[i];
-    }
+    parallelFor(p.size(), massChunkSize,
+                [&](std::size_t begin, std::size_t end)
+                {
+                    for (std::size_t i = begin; i < end; ++i)
+                    {
+                        p.externalForce[i] += m_next[i] - m_applied[i];
+                    }
+                });
     m_applied.swap(m_next);
 }
 

@@ -30,6 +30,7 @@
 #include "core/StepHook.h"
 #include "core/lattice/LatticeSurface.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace masse
@@ -102,5 +103,9 @@ private:
     std::vector<Vec3> m_next;
     Real m_pressure = 0;
     mutable Real m_sealedArea = 0;
+    std::vector<std::size_t> m_cornerOffsets;     ///< mass i's triangles: m_cornerTriangles[offsets[i], offsets[i + 1])
+    std::vector<std::uint32_t> m_cornerTriangles; ///< per mass, the triangles it is a corner of, in increasing order
+    mutable std::vector<Vec3> m_share;            ///< computeLoad's work: per triangle, its load on each corner
+    mutable std::vector<Real> m_sealedPart;       ///< per triangle: its sealed area (bottom layer), 0, or -1 if loaded
 };
 } // namespace masse
