@@ -2,6 +2,7 @@
 
 #include "core/InputError.h"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -16,31 +17,78 @@ template <int B> void SlotMatrix<B>::build(std::size_t masses, const std::vector
                          std::to_string(B) + "x" + std::to_string(B) + " blocks (at most " +
                          std::to_string(maxMasses()) + ")");
     }
-    const Eigen::Index size = Eigen::Index(B * masses);
-    std::vector<Eigen::Triplet<Real, StorageIndex>> triplets;
-    triplets.reserve(std::size_t(B * B) * (masses + 2 * ends.size()));
-    auto addBlock = [&](std::size_t row, std::size_t column)
+    // Each mass's block column holds its own block and one per mass a spring joins it to, in increasing mass order:
+    // written straight into the compressed arrays (what setFromTriplets with every block makes, at a tenth of the
+    // time of sorting some three million triplets for a 128x2x128 sheet).
+    std::vector<std::size_t> first(masses + 1, 0); // mass j's joined masses: joined[first[j], first[j + 1])
+    for (std::size_t j = 0; j < masses; ++j)
     {
-        for (int c = 0; c < B; ++c)
-        {
-            for (int r = 0; r < B; ++r)
-            {
-                triplets.emplace_back(StorageIndex(B * row) + r, StorageIndex(B * column) + c, Real(0));
-            }
-        }
-    };
-    for (std::size_t i = 0; i < masses; ++i)
-    {
-        addBlock(i, i);
+        ++first[j + 1]; // its own block
     }
     for (const SpringEnds& e : ends)
     {
-        addBlock(e.a, e.b);
-        addBlock(e.b, e.a);
+        if (e.a >= masses || e.b >= masses)
+        {
+            throw std::out_of_range("SlotMatrix: a spring joins masses " + std::to_string(e.a) + " and " +
+                                    std::to_string(e.b) + " of " + std::to_string(masses));
+        }
+        ++first[std::size_t(e.a) + 1];
+        ++first[std::size_t(e.b) + 1];
     }
-    m_matrix.resize(size, size);
-    m_matrix.setFromTriplets(triplets.begin(), triplets.end());
-    m_matrix.makeCompressed();
+    for (std::size_t j = 0; j < masses; ++j)
+    {
+        first[j + 1] += first[j];
+    }
+    std::vector<Index> joined(first[masses]);
+    std::vector<std::size_t> filled(first.begin(), first.end() - 1);
+    for (std::size_t j = 0; j < masses; ++j)
+    {
+        joined[filled[j]++] = Index(j);
+    }
+    for (const SpringEnds& e : ends)
+    {
+        joined[filled[std::size_t(e.a)]++] = e.b;
+        joined[filled[std::size_t(e.b)]++] = e.a;
+    }
+    std::vector<std::size_t> distinct(masses, 0); // per mass, its distinct joined masses, sorted at the list's front
+    std::size_t blocks = 0;
+    for (std::size_t j = 0; j < masses; ++j)
+    {
+        const auto begin = joined.begin() + std::ptrdiff_t(first[j]);
+        const auto end = joined.begin() + std::ptrdiff_t(first[j + 1]);
+        std::sort(begin, end);
+        distinct[j] = std::size_t(std::unique(begin, end) - begin);
+        blocks += distinct[j];
+    }
+    if (std::size_t(B * B) * blocks > std::size_t(std::numeric_limits<StorageIndex>::max()))
+    {
+        throw InputError("the sheet's " + std::to_string(ends.size()) +
+                         " springs are too many for a sparse matrix of " + std::to_string(B) + "x" + std::to_string(B) +
+                         " blocks");
+    }
+    const Eigen::Index size = Eigen::Index(B * masses);
+    m_matrix = SparseMatrix(size, size);
+    const std::size_t entries = std::size_t(B * B) * blocks;
+    m_matrix.resizeNonZeros(Eigen::Index(entries));
+    StorageIndex* outer = m_matrix.outerIndexPtr();
+    StorageIndex* inner = m_matrix.innerIndexPtr();
+    std::fill(m_matrix.valuePtr(), m_matrix.valuePtr() + entries, Real(0));
+    StorageIndex entry = 0;
+    for (std::size_t j = 0; j < masses; ++j)
+    {
+        for (int c = 0; c < B; ++c)
+        {
+            outer[B * j + std::size_t(c)] = entry;
+            for (std::size_t k = first[j]; k < first[j] + distinct[j]; ++k)
+            {
+                for (int r = 0; r < B; ++r)
+                {
+                    inner[entry++] = StorageIndex(B * joined[k] + r);
+                }
+            }
+        }
+    }
+    outer[size] = entry;
 
     m_diagonal.resize(masses);
     for (std::size_t i = 0; i < masses; ++i)

@@ -237,3 +237,73 @@ TEST(SlotMatrix, ProductTakesIdentityRowsAsTheyAreWithTheSameBits)
     EXPECT_FALSE(std::signbit(taken[4]));
     EXPECT_EQ(taken[3], x[3]);
 }
+
+namespace
+{
+/// The pattern setFromTriplets makes from every block the matrix holds (each mass's own, both of each spring's).
+template <int B> SparseMatrix patternFromTriplets(std::size_t masses, const std::vector<SpringEnds>& ends)
+{
+    std::vector<Eigen::Triplet<Real, SparseMatrix::StorageIndex>> triplets;
+    const auto addBlock = [&](std::size_t row, std::size_t column)
+    {
+        for (int c = 0; c < B; ++c)
+        {
+            for (int r = 0; r < B; ++r)
+            {
+                triplets.emplace_back(int(B * row) + r, int(B * column) + c, Real(0));
+            }
+        }
+    };
+    for (std::size_t i = 0; i < masses; ++i)
+    {
+        addBlock(i, i);
+    }
+    for (const SpringEnds& e : ends)
+    {
+        addBlock(e.a, e.b);
+        addBlock(e.b, e.a);
+    }
+    SparseMatrix m(Eigen::Index(B * masses), Eigen::Index(B * masses));
+    m.setFromTriplets(triplets.begin(), triplets.end());
+    m.makeCompressed();
+    return m;
+}
+
+template <int B> void expectPatternOfTriplets(std::size_t masses, const std::vector<SpringEnds>& ends)
+{
+    SlotMatrix<B> matrix;
+    matrix.build(masses, ends);
+    const SparseMatrix reference = patternFromTriplets<B>(masses, ends);
+    const SparseMatrix& built = matrix.matrix();
+    ASSERT_TRUE(built.isCompressed());
+    ASSERT_EQ(built.rows(), reference.rows());
+    ASSERT_EQ(built.nonZeros(), reference.nonZeros());
+    for (Eigen::Index c = 0; c <= built.cols(); ++c)
+    {
+        EXPECT_EQ(built.outerIndexPtr()[c], reference.outerIndexPtr()[c]) << "column " << c;
+    }
+    for (Eigen::Index k = 0; k < built.nonZeros(); ++k)
+    {
+        EXPECT_EQ(built.innerIndexPtr()[k], reference.innerIndexPtr()[k]) << "entry " << k;
+        EXPECT_EQ(built.valuePtr()[k], Real(0));
+    }
+}
+} // namespace
+
+// The pattern is written straight into the compressed arrays; it must be the one Eigen builds from the blocks'
+// triplets, entry for entry: a spring listed twice, a spring from a mass to itself, a mass no spring reaches, springs
+// given in no order.
+TEST(SlotMatrix, PatternIsTheOneEigenBuildsFromTheBlocks)
+{
+    const std::vector<SpringEnds> ends = {{4, 1}, {0, 1}, {2, 3}, {1, 2}, {3, 3}, {2, 1}, {0, 4}, {5, 0}};
+    expectPatternOfTriplets<1>(7, ends);
+    expectPatternOfTriplets<3>(7, ends);
+    expectPatternOfTriplets<3>(chainMasses, chainEnds);
+    expectPatternOfTriplets<3>(3, {});
+}
+
+TEST(SlotMatrix, RefusesASpringToAMassItDoesNotHave)
+{
+    SlotMatrix<3> matrix;
+    EXPECT_THROW(matrix.build(3, {{0, 1}, {1, 3}}), std::out_of_range);
+}
