@@ -7,8 +7,10 @@
 #include "core/Format.h"
 #include "core/Simulator.h"
 #include "core/forces/Energy.h"
+#include "core/lattice/LatticeSurface.h"
 #include "core/material/MembraneStiffness.h"
 #include "core/material/PressureLoad.h"
+#include "core/parallel/TaskPool.h"
 
 #include <gtest/gtest.h>
 
@@ -104,6 +106,80 @@ TEST(PressureLoad, PositivePressurePushesTheSheetTowardItsUnderside)
     }
     load.computeLoad(stretched, 1000, force);
     EXPECT_NEAR(totalLoad(force).y(), -1000 * 0.32, 1e-9);
+}
+
+// The load is summed per mass over its triangles in increasing order, on the pool: each mass's force must have the
+// bits of a plain scatter triangle by triangle, at any thread count, and a sealed sheet's load and sealed area the same
+// bits at one thread and at three. A 70x2x70 TRiMM sheet has some 19,000 triangles, several of the pool's chunks, and
+// a crumpled shape so that no sum is exact.
+TEST(PressureLoad, LoadHasAPlainScattersBitsAtAnyThreadCount)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::TRiMM;
+    spec.countX = 70;
+    spec.layers = 2;
+    spec.countZ = 70;
+    spec.minCorner = Vec3(-0.1, 0, -0.1);
+    spec.maxCorner = Vec3(0.1, 0.004, 0.1);
+    const Lattice lattice = buildLattice(spec);
+    std::vector<Vec3> crumpled = lattice.position;
+    for (std::size_t i = 0; i < crumpled.size(); ++i)
+    {
+        const Real phase = Real(i) * Real(0.7);
+        crumpled[i] += Vec3(1e-3 * std::sin(phase), 4e-3 * std::sin(3 * phase + 1), 1e-3 * std::cos(phase));
+    }
+    const Real pressure = 31415.9;
+    std::vector<Vec3> scattered(crumpled.size(), Vec3::Zero());
+    for (int layer = 0; layer < spec.layers; ++layer)
+    {
+        for (const Triangle& t : layerTriangles(lattice, layer))
+        {
+            const Vec3 doubleArea = (crumpled[t[1]] - crumpled[t[0]]).cross(crumpled[t[2]] - crumpled[t[0]]);
+            const Vec3 share = (-pressure * (Real(1) / Real(spec.layers)) / Real(6)) * doubleArea;
+            scattered[t[0]] += share;
+            scattered[t[1]] += share;
+            scattered[t[2]] += share;
+        }
+    }
+    PressureLoad load(lattice, PressureSchedule({{0, pressure}}));
+    std::vector<Vec3> gathered;
+    for (const int threads : {1, 3})
+    {
+        TaskPool pool(threads);
+        const PoolScope scope(pool);
+        load.computeLoad(crumpled, pressure, gathered);
+        ASSERT_EQ(gathered.size(), scattered.size());
+        for (std::size_t i = 0; i < scattered.size(); ++i)
+        {
+            ASSERT_EQ(gathered[i], scattered[i]) << "mass " << i << " at " << threads << " thread(s)";
+        }
+    }
+
+    // Sealed where the bottom layer's left part touches: the same bits at one thread and at three.
+    MassSpringSystem sheet = makeSheet(lattice, SheetParams{});
+    sheet.particles.position = crumpled;
+    std::vector<int> touching(lattice.massCount(), -1);
+    for (Index i = 0; i < lattice.massCount(); ++i)
+    {
+        touching[i] = lattice.coord[i].column < 30 ? 0 : -1;
+    }
+    StepContext context;
+    context.touchingObstacle = touching;
+    load.setSealing(true);
+    load.endFrame(sheet, context, 0);
+    std::vector<Vec3> sealedLoad[2];
+    Real sealedArea[2] = {};
+    for (const int run : {0, 1})
+    {
+        TaskPool pool(run == 0 ? 1 : 3);
+        const PoolScope scope(pool);
+        load.computeLoad(crumpled, pressure, sealedLoad[run]);
+        sealedArea[run] = load.sealedArea();
+    }
+    EXPECT_GT(sealedArea[0], 0.2 * 0.2 * 0.3);
+    EXPECT_EQ(sealedArea[0], sealedArea[1]);
+    EXPECT_EQ(sealedLoad[0], sealedLoad[1]);
+    EXPECT_LT(std::abs(totalLoad(sealedLoad[0]).y()), std::abs(totalLoad(scattered).y()) * 0.8);
 }
 
 // Through the Simulator: the load is in externalForce, and where the sheet touched an obstacle in the last frame
