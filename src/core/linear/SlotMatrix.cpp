@@ -18,8 +18,8 @@ template <int B> void SlotMatrix<B>::build(std::size_t masses, const std::vector
                          std::to_string(maxMasses()) + ")");
     }
     // Each mass's block column holds its own block and one per mass a spring joins it to, in increasing mass order:
-    // written straight into the compressed arrays (what setFromTriplets with every block makes, at a tenth of the
-    // time of sorting some three million triplets for a 128x2x128 sheet).
+    // the pattern setFromTriplets makes from every block, written straight into the compressed arrays (sorting the
+    // triplets, some three million for a 128x2x128 sheet, took most of the build's time).
     std::vector<std::size_t> first(masses + 1, 0); // mass j's joined masses: joined[first[j], first[j + 1])
     for (std::size_t j = 0; j < masses; ++j)
     {
