@@ -78,6 +78,19 @@ inline MassSpringSystem paperSheet(int n, Lattice* latticeOut = nullptr)
     return sheet;
 }
 
+/// A two-layer TRiMM lattice of N x 2 x N masses over [-halfWidth, halfWidth] in x and z, its layers `thickness` apart.
+inline Lattice twoLayerTrimm(int n, Real halfWidth, Real thickness)
+{
+    LatticeSpec spec;
+    spec.structure = Structure::TRiMM;
+    spec.countX = n;
+    spec.layers = 2;
+    spec.countZ = n;
+    spec.minCorner = Vec3(-halfWidth, 0, -halfWidth);
+    spec.maxCorner = Vec3(halfWidth, thickness, halfWidth);
+    return buildLattice(spec);
+}
+
 /// The message of the InputError `action` throws, or "" if it throws none.
 inline std::string inputErrorOf(const std::function<void()>& action)
 {

@@ -382,14 +382,7 @@ TEST(ImplicitSolve, ConstrainedMassesSeeSpringsJoiningTheSameMassesOnce)
 // velocity changes and reactions, bit for bit, at one thread and at three.
 TEST(ImplicitSolve, ReactionsAreTheSameBitsAtAnyThreadCount)
 {
-    LatticeSpec spec;
-    spec.structure = Structure::TRiMM;
-    spec.countX = 40;
-    spec.layers = 2;
-    spec.countZ = 40;
-    spec.minCorner = Vec3(-0.2, 0, -0.2);
-    spec.maxCorner = Vec3(0.2, 0.004, 0.2);
-    const Lattice lattice = buildLattice(spec);
+    const Lattice lattice = twoLayerTrimm(40, 0.2, 0.004);
     struct Step
     {
         std::vector<Vec3> deltaV;

@@ -114,14 +114,8 @@ TEST(PressureLoad, PositivePressurePushesTheSheetTowardItsUnderside)
 // a crumpled shape so that no sum is exact.
 TEST(PressureLoad, LoadHasAPlainScattersBitsAtAnyThreadCount)
 {
-    LatticeSpec spec;
-    spec.structure = Structure::TRiMM;
-    spec.countX = 70;
-    spec.layers = 2;
-    spec.countZ = 70;
-    spec.minCorner = Vec3(-0.1, 0, -0.1);
-    spec.maxCorner = Vec3(0.1, 0.004, 0.1);
-    const Lattice lattice = buildLattice(spec);
+    const Lattice lattice = test::twoLayerTrimm(70, 0.1, 0.004);
+    const int layers = lattice.spec.layers;
     std::vector<Vec3> crumpled = lattice.position;
     for (std::size_t i = 0; i < crumpled.size(); ++i)
     {
@@ -130,12 +124,12 @@ TEST(PressureLoad, LoadHasAPlainScattersBitsAtAnyThreadCount)
     }
     const Real pressure = 31415.9;
     std::vector<Vec3> scattered(crumpled.size(), Vec3::Zero());
-    for (int layer = 0; layer < spec.layers; ++layer)
+    for (int layer = 0; layer < layers; ++layer)
     {
         for (const Triangle& t : layerTriangles(lattice, layer))
         {
             const Vec3 doubleArea = (crumpled[t[1]] - crumpled[t[0]]).cross(crumpled[t[2]] - crumpled[t[0]]);
-            const Vec3 share = (-pressure * (Real(1) / Real(spec.layers)) / Real(6)) * doubleArea;
+            const Vec3 share = (-pressure * (Real(1) / Real(layers)) / Real(6)) * doubleArea;
             scattered[t[0]] += share;
             scattered[t[1]] += share;
             scattered[t[2]] += share;
