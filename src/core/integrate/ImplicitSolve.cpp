@@ -342,9 +342,10 @@ void ImplicitSolve::buildPattern(const MassSpringSystem& system)
     }
     m_matrix.build(n, springs.ends());
     // A spring's two off-diagonal blocks are shared with any other spring joining the same two masses; the block
-    // above the diagonal names the pair.
-    std::vector<OffDiagonal>& offDiagonal = m_pairKind;
-    offDiagonal.assign(springs.size(), OffDiagonal::None);
+    // above the diagonal names the pair. Per spring, how it writes them: the first of the springs joining two masses
+    // writes them, the later ones add to them, so the first's blocks hold them all (None: a spring from a mass to
+    // itself). The gathers read it through m_columnEntries.
+    std::vector<OffDiagonal> offDiagonal(springs.size(), OffDiagonal::None);
     m_sharedBlocks = false;
     std::vector<bool> pairSeen(std::size_t(m_matrix.matrix().nonZeros()), false);
     for (std::size_t s = 0; s < springs.size(); ++s)

@@ -160,9 +160,6 @@ private:
         bool first; ///< i is the spring's first end (it gives the spring's kv away, the second end takes it)
     };
     std::vector<ColumnEntry> m_columnEntries;
-    /// Per spring, how it writes its pair's blocks: the first of the springs joining two masses writes them, the later
-    /// ones add to them, so the first's blocks hold them all (None: a spring from a mass to itself).
-    std::vector<OffDiagonal> m_pairKind;
     Vector m_rhs;
     Vector m_deltaV;
     std::vector<Vec3> m_heldOffset; ///< heldOffset's result, kept between steps for its capacity
