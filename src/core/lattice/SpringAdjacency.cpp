@@ -2,6 +2,9 @@
 
 #include "core/lattice/SpringTopology.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace masse
 {
 SpringAdjacency buildSpringAdjacency(const std::vector<SpringEnds>& ends, std::size_t massCount)
@@ -11,6 +14,11 @@ SpringAdjacency buildSpringAdjacency(const std::vector<SpringEnds>& ends, std::s
     adjacency.offsets.assign(massCount + 1, 0);
     for (const SpringEnds& e : ends)
     {
+        if (e.a >= massCount || e.b >= massCount)
+        {
+            throw std::out_of_range("a spring joins masses " + std::to_string(e.a) + " and " + std::to_string(e.b) +
+                                    " of " + std::to_string(massCount));
+        }
         ++adjacency.offsets[std::size_t(e.a) + 1];
         ++adjacency.offsets[std::size_t(e.b) + 1];
     }

@@ -28,6 +28,7 @@ struct SpringAdjacency
     std::size_t massCount() const { return offsets.empty() ? 0 : offsets.size() - 1; }
 };
 
-/// Builds the adjacency of `massCount` masses joined by `ends` (two linear passes, a counting sort).
+/// Builds the adjacency of `massCount` masses joined by `ends` (two linear passes, a counting sort). Throws
+/// std::out_of_range for a spring to a mass past the end.
 SpringAdjacency buildSpringAdjacency(const std::vector<SpringEnds>& ends, std::size_t massCount);
 } // namespace masse

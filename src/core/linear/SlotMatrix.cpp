@@ -21,21 +21,13 @@ template <int B> void SlotMatrix<B>::build(std::size_t masses, const std::vector
     // Each mass's block column holds its own block and one per mass a spring joins it to, in increasing mass order:
     // the pattern setFromTriplets makes from every block, written straight into the compressed arrays from the
     // springs' adjacency, without sorting nine triplets a block (some three million for a 128x2x128 sheet).
-    for (const SpringEnds& e : ends)
-    {
-        if (e.a >= masses || e.b >= masses)
-        {
-            throw std::out_of_range("SlotMatrix: a spring joins masses " + std::to_string(e.a) + " and " +
-                                    std::to_string(e.b) + " of " + std::to_string(masses));
-        }
-    }
-    const SpringAdjacency adjacency = buildSpringAdjacency(ends, masses);
+    const SpringAdjacency adjacency = buildSpringAdjacency(ends, masses); // refuses a spring to a missing mass
     std::vector<std::size_t> first(masses + 1, 0); // mass j's distinct joined masses: joined[first[j], first[j + 1])
     std::vector<Index> joined;
     joined.reserve(masses + adjacency.entries.size());
     for (std::size_t j = 0; j < masses; ++j)
     {
-        const auto begin = joined.end() - joined.begin();
+        const auto begin = std::ptrdiff_t(joined.size());
         joined.push_back(Index(j));
         for (std::size_t e = adjacency.offsets[j]; e < adjacency.offsets[j + 1]; ++e)
         {
