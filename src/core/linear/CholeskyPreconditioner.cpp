@@ -451,7 +451,7 @@ void CholeskyPreconditioner::solveWithFactor(const Vector& b, Vector& x) const
     }
     // The backward solve asks for its blocks ahead where the factor streams from memory (prefetchBlockValues); a
     // factor that stays in the cache needs no prefetching, which would only cost its instructions.
-    const Eigen::Index prefetchAhead = double(m_rows.liveEntries()) > cachedFactorValues ? prefetchBlocks : 0;
+    const Eigen::Index prefetchAhead = prefetchesFactor() ? prefetchBlocks : 0;
     for (auto stage = m_stages.rbegin(); stage != m_stages.rend(); ++stage)
     {
         const std::vector<OrderRange>& ranges = *stage;

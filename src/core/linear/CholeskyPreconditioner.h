@@ -78,6 +78,9 @@ public:
             std::clamp((double(m_factor.lower().nonZeros()) - cachedFactorValues) / cachedFactorValues, 0.0, 1.0);
         return (cachedCostPerUpdate - (cachedCostPerUpdate - streamedCostPerUpdate) * streamed) * updatesPerEntry();
     }
+    /// Whether the backward solve asks for the factor's values ahead of its reads: where more values are live than
+    /// cachedFactorValues, and the factor no longer stays in the cache from one application to the next.
+    bool prefetchesFactor() const { return double(m_rows.liveEntries()) > cachedFactorValues; }
     /// Values of the factor up to which it counts as cached (see refreshCost); from twice as many, as streamed.
     static constexpr double cachedFactorValues = 8e6;
     /// Iterations a refresh is worth per update of an entry, for a cached factor and for a streamed one.
