@@ -4,6 +4,7 @@
 #include "FacePlaneDistance.h"
 #include "FacePlanesOfEight.h"
 #include "NearestOnFrontFaces.h"
+#include "NearestOnTrianglesOfEight.h"
 
 #include "core/InputError.h"
 #include "core/contact/ClosestPointOnTriangle.h"
@@ -88,7 +89,12 @@ struct TriangleTest
         {
             return;
         }
-        const Vec3 nearest = closestPointOnTriangle(localCentre, a, b, c);
+        take(closestPointOnTriangle(localCentre, a, b, c), a, b, c, triangleIndex);
+    }
+
+    /// The rest of test() for a triangle that passed its tests, given its nearest point to the centre.
+    void take(const Vec3& nearest, const Vec3& a, const Vec3& b, const Vec3& c, int triangleIndex) const
+    {
         const Vec3 offset = localCentre - nearest;
         const Real gap = offset.norm();
         if (kept != nullptr && gap <= keepWithin)
@@ -122,15 +128,54 @@ struct TriangleTest
     }
 };
 
-/// Bullet's triangle walk handing each triangle to a TriangleTest.
+/// Bullet's triangle walk listing the triangles it hands over, in its order. Their corners are the geometry's
+/// triangleCorners, which hold the bits the walk hands over (ObstacleGeometry.h).
 struct TriangleCollector : btTriangleCallback
 {
-    const TriangleTest* test;
-    void processTriangle(btVector3* triangle, int /*partId*/, int triangleIndex) override
+    std::vector<std::int32_t>* triangles;
+    void processTriangle(btVector3* /*triangle*/, int /*partId*/, int triangleIndex) override
     {
-        test->test(toVec3(triangle[0]), toVec3(triangle[1]), toVec3(triangle[2]), triangleIndex);
+        triangles->push_back(std::int32_t(triangleIndex));
     }
 };
+
+/// Runs `test` on the listed triangles of a mesh, in the list's order: eight at a time on the AVX-512 path
+/// (NearestOnTrianglesOfEight.h, the same bits), one at a time otherwise.
+void testTriangles(const TriangleTest& test, const ObstacleGeometry& geometry, const std::int32_t* triangles,
+                   std::size_t count)
+{
+    const std::vector<std::array<Vec3, 3>>& corners = geometry.triangleCorners;
+    std::size_t k = 0;
+    if (nearestOnTrianglesOfEightAvailable())
+    {
+        NearestOnTrianglesOfEight eight;
+        for (; k < count; k += 8)
+        {
+            const int lanes = int(std::min<std::size_t>(8, count - k));
+            nearestOnTrianglesOfEight(corners, geometry.triangleNormals, triangles + k, lanes, test.localCentre,
+                                      test.rejectBeyond, eight);
+            for (int lane = 0; lane < lanes; ++lane)
+            {
+                const std::int32_t triangle = triangles[k + std::size_t(lane)];
+                const std::array<Vec3, 3>& abc = corners[std::size_t(triangle)];
+                if ((eight.near >> lane & 1) != 0)
+                {
+                    test.take(Vec3(eight.nearestX[lane], eight.nearestY[lane], eight.nearestZ[lane]), abc[0], abc[1],
+                              abc[2], triangle);
+                }
+                else if ((eight.degenerate >> lane & 1) != 0)
+                {
+                    test.test(abc[0], abc[1], abc[2], triangle);
+                }
+            }
+        }
+    }
+    for (; k < count; ++k)
+    {
+        const std::array<Vec3, 3>& abc = corners[std::size_t(triangles[k])];
+        test.test(abc[0], abc[1], abc[2], triangles[k]);
+    }
+}
 
 /// Sweep result that also remembers which triangle of a mesh was hit.
 struct SweepCollector : btCollisionWorld::ClosestConvexResultCallback
@@ -372,16 +417,17 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     {
         test.rejectBeyond = reach + Real(1e-9) * reach + Real(1e-12);
         const Real moved = (local - nearby->centre).norm();
-        for (std::int32_t k = 0; k < nearby->count; ++k)
+        std::int32_t near = 0; // the kept triangles before the first that is too far to be near
+        while (near < nearby->count && !(Real(nearby->entry[std::size_t(near)].distance) - moved > test.rejectBeyond))
         {
-            if (Real(nearby->entry[std::size_t(k)].distance) - moved > test.rejectBeyond)
-            {
-                break;
-            }
-            const auto triangle = std::size_t(nearby->entry[std::size_t(k)].triangle);
-            const std::array<Vec3, 3>& corners = obstacle.geometry.triangleCorners[triangle];
-            test.test(corners[0], corners[1], corners[2], int(triangle));
+            ++near;
         }
+        std::array<std::int32_t, NearbyTriangles::capacity> triangles{};
+        for (std::int32_t k = 0; k < near; ++k)
+        {
+            triangles[std::size_t(k)] = nearby->entry[std::size_t(k)].triangle;
+        }
+        testTriangles(test, obstacle.geometry, triangles.data(), std::size_t(near));
     }
     else
     {
@@ -396,11 +442,14 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
             test.keepWithin = extent;
         }
         test.rejectBeyond = extent + Real(1e-9) * extent + Real(1e-12);
+        thread_local std::vector<std::int32_t> walked;
+        walked.clear();
         TriangleCollector collector;
-        collector.test = &test;
+        collector.triangles = &walked;
         const auto& mesh = static_cast<const btBvhTriangleMeshShape&>(*obstacle.geometry.shape);
         const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(
             &collector, toBullet(local - Vec3::Constant(extent)), toBullet(local + Vec3::Constant(extent)));
+        testTriangles(test, obstacle.geometry, walked.data(), walked.size());
     }
     // The nearest triangle's plane, and up to two more from triangles the centre lies over (a crease of a concave
     // mould, where one plane would let the sphere sink into the other face): there the closest point is inside the
