@@ -417,17 +417,19 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     {
         test.rejectBeyond = reach + Real(1e-9) * reach + Real(1e-12);
         const Real moved = (local - nearby->centre).norm();
-        std::int32_t near = 0; // the kept triangles before the first that is too far to be near
-        while (near < nearby->count && !(Real(nearby->entry[std::size_t(near)].distance) - moved > test.rejectBeyond))
-        {
-            ++near;
-        }
+        // The kept triangles before the first that is too far to be near (they are in increasing distance).
         std::array<std::int32_t, NearbyTriangles::capacity> triangles{};
-        for (std::int32_t k = 0; k < near; ++k)
+        std::size_t near = 0;
+        for (; near < std::size_t(nearby->count); ++near)
         {
-            triangles[std::size_t(k)] = nearby->entry[std::size_t(k)].triangle;
+            const NearbyTriangles::Entry& entry = nearby->entry[near];
+            if (Real(entry.distance) - moved > test.rejectBeyond)
+            {
+                break;
+            }
+            triangles[near] = entry.triangle;
         }
-        testTriangles(test, obstacle.geometry, triangles.data(), std::size_t(near));
+        testTriangles(test, obstacle.geometry, triangles.data(), near);
     }
     else
     {

@@ -23,15 +23,35 @@ MASSE_AVX512 inline __m512d dot(const Columns& u, const Columns& v)
     return simd::dot(u, v.x, v.y, v.z);
 }
 
-/// The lanes where `condition` holds and no earlier case has taken the lane.
-MASSE_AVX512 inline __mmask8 takes(__mmask8 open, __mmask8 condition)
+/// closestPointWeights' weights of the three corners, lane by lane, as its cases give them, and the lanes no case has
+/// taken yet.
+struct Weights
 {
-    return __mmask8(open & condition);
+    __m512d a;
+    __m512d b;
+    __m512d c;
+    __mmask8 open;
+};
+
+/// The scalar code's `if (condition) return (wa, wb, wc);`: the open lanes where `condition` holds take those weights
+/// and are closed to the later cases.
+MASSE_AVX512 inline void take(Weights& w, __mmask8 condition, __m512d wa, __m512d wb, __m512d wc)
+{
+    const auto lanes = __mmask8(w.open & condition);
+    w.a = _mm512_mask_mov_pd(w.a, lanes, wa);
+    w.b = _mm512_mask_mov_pd(w.b, lanes, wb);
+    w.c = _mm512_mask_mov_pd(w.c, lanes, wc);
+    w.open = __mmask8(w.open & ~lanes);
 }
 
+/// The scalar code's a <= b and a >= b, lane by lane (false where either is NaN, as there).
 MASSE_AVX512 inline __mmask8 atMost(__m512d a, __m512d b)
 {
     return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ);
+}
+MASSE_AVX512 inline __mmask8 atLeast(__m512d a, __m512d b)
+{
+    return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ);
 }
 
 /// The zero-masking forms of min and max on all lanes: GCC 12's plain _mm512_min_pd and _mm512_max_pd merge into an
@@ -108,75 +128,45 @@ MASSE_AVX512 void nearestOnTrianglesOfEightAvx512(const std::vector<std::array<V
     const Columns ac = difference(c, a);
     const __m512d d1 = dot(ab, ap);
     const __m512d d2 = dot(ac, ap);
-    __m512d wa = one;
-    __m512d wb = zero;
-    __m512d wc = zero;
-    __mmask8 open = passed;
-    open &= __mmask8(~(atMost(d1, zero) & atMost(d2, zero))); // vertex a: (1, 0, 0)
+    Weights w{zero, zero, zero, passed};
+    take(w, atMost(d1, zero) & atMost(d2, zero), one, zero, zero); // vertex a
 
     const Columns bp = difference(p, b);
     const __m512d d3 = dot(ab, bp);
     const __m512d d4 = dot(ac, bp);
-    const __mmask8 vertexB = takes(open, _mm512_cmp_pd_mask(d3, zero, _CMP_GE_OQ) & atMost(d4, d3));
-    wa = _mm512_mask_mov_pd(wa, vertexB, zero);
-    wb = _mm512_mask_mov_pd(wb, vertexB, one);
-    open &= __mmask8(~vertexB);
+    take(w, atLeast(d3, zero) & atMost(d4, d3), zero, one, zero); // vertex b
 
     const __m512d vc = _mm512_sub_pd(_mm512_mul_pd(d1, d4), _mm512_mul_pd(d3, d2));
-    const __mmask8 edgeAB = takes(open, atMost(vc, zero) & _mm512_cmp_pd_mask(d1, zero, _CMP_GE_OQ) & atMost(d3, zero));
-    {
-        const __m512d v = _mm512_div_pd(d1, _mm512_sub_pd(d1, d3));
-        wa = _mm512_mask_mov_pd(wa, edgeAB, _mm512_sub_pd(one, v));
-        wb = _mm512_mask_mov_pd(wb, edgeAB, v);
-    }
-    open &= __mmask8(~edgeAB);
+    const __m512d vAB = _mm512_div_pd(d1, _mm512_sub_pd(d1, d3));
+    take(w, atMost(vc, zero) & atLeast(d1, zero) & atMost(d3, zero), _mm512_sub_pd(one, vAB), vAB, zero); // edge ab
 
     const Columns cp = difference(p, c);
     const __m512d d5 = dot(ab, cp);
     const __m512d d6 = dot(ac, cp);
-    const __mmask8 vertexC = takes(open, _mm512_cmp_pd_mask(d6, zero, _CMP_GE_OQ) & atMost(d5, d6));
-    wa = _mm512_mask_mov_pd(wa, vertexC, zero);
-    wc = _mm512_mask_mov_pd(wc, vertexC, one);
-    open &= __mmask8(~vertexC);
+    take(w, atLeast(d6, zero) & atMost(d5, d6), zero, zero, one); // vertex c
 
     const __m512d vb = _mm512_sub_pd(_mm512_mul_pd(d5, d2), _mm512_mul_pd(d1, d6));
-    const __mmask8 edgeAC = takes(open, atMost(vb, zero) & _mm512_cmp_pd_mask(d2, zero, _CMP_GE_OQ) & atMost(d6, zero));
-    {
-        const __m512d w = _mm512_div_pd(d2, _mm512_sub_pd(d2, d6));
-        wa = _mm512_mask_mov_pd(wa, edgeAC, _mm512_sub_pd(one, w));
-        wc = _mm512_mask_mov_pd(wc, edgeAC, w);
-    }
-    open &= __mmask8(~edgeAC);
+    const __m512d wAC = _mm512_div_pd(d2, _mm512_sub_pd(d2, d6));
+    take(w, atMost(vb, zero) & atLeast(d2, zero) & atMost(d6, zero), _mm512_sub_pd(one, wAC), zero, wAC); // edge ac
 
     const __m512d va = _mm512_sub_pd(_mm512_mul_pd(d3, d6), _mm512_mul_pd(d5, d4));
     const __m512d d43 = _mm512_sub_pd(d4, d3);
     const __m512d d56 = _mm512_sub_pd(d5, d6);
-    const __mmask8 edgeBC = takes(open, atMost(va, zero) & _mm512_cmp_pd_mask(d43, zero, _CMP_GE_OQ) &
-                                            _mm512_cmp_pd_mask(d56, zero, _CMP_GE_OQ));
-    {
-        const __m512d w = _mm512_div_pd(d43, _mm512_add_pd(d43, d56));
-        wa = _mm512_mask_mov_pd(wa, edgeBC, zero);
-        wb = _mm512_mask_mov_pd(wb, edgeBC, _mm512_sub_pd(one, w));
-        wc = _mm512_mask_mov_pd(wc, edgeBC, w);
-    }
-    open &= __mmask8(~edgeBC);
+    const __m512d wBC = _mm512_div_pd(d43, _mm512_add_pd(d43, d56));
+    take(w, atMost(va, zero) & atLeast(d43, zero) & atLeast(d56, zero), zero, _mm512_sub_pd(one, wBC), wBC); // edge bc
 
     const __m512d sum = _mm512_add_pd(_mm512_add_pd(va, vb), vc);
-    const __mmask8 degenerate = takes(open, _mm512_cmp_pd_mask(sum, zero, _CMP_NGT_UQ));
-    open &= __mmask8(~degenerate);
-    {
-        const __m512d denominator = _mm512_div_pd(one, sum);
-        const __m512d v = _mm512_mul_pd(vb, denominator);
-        const __m512d w = _mm512_mul_pd(vc, denominator);
-        wa = _mm512_mask_mov_pd(wa, open, _mm512_sub_pd(_mm512_sub_pd(one, v), w));
-        wb = _mm512_mask_mov_pd(wb, open, v);
-        wc = _mm512_mask_mov_pd(wc, open, w);
-    }
+    const auto degenerate = __mmask8(w.open & _mm512_cmp_pd_mask(sum, zero, _CMP_NGT_UQ));
+    w.open = __mmask8(w.open & ~degenerate);
+    const __m512d denominator = _mm512_div_pd(one, sum);
+    const __m512d v = _mm512_mul_pd(vb, denominator);
+    const __m512d wFace = _mm512_mul_pd(vc, denominator);
+    take(w, __mmask8(0xFF), _mm512_sub_pd(_mm512_sub_pd(one, v), wFace), v, wFace); // the face
 
     // closestPointOnTriangle's w.x() a + w.y() b + w.z() c, coordinate by coordinate.
-    _mm512_store_pd(out.nearestX, weighted(wa, wb, wc, a.x, b.x, c.x));
-    _mm512_store_pd(out.nearestY, weighted(wa, wb, wc, a.y, b.y, c.y));
-    _mm512_store_pd(out.nearestZ, weighted(wa, wb, wc, a.z, b.z, c.z));
+    _mm512_store_pd(out.nearestX, weighted(w.a, w.b, w.c, a.x, b.x, c.x));
+    _mm512_store_pd(out.nearestY, weighted(w.a, w.b, w.c, a.y, b.y, c.y));
+    _mm512_store_pd(out.nearestZ, weighted(w.a, w.b, w.c, a.z, b.z, c.z));
     out.degenerate = degenerate;
     out.near = __mmask8(passed & ~degenerate);
 }

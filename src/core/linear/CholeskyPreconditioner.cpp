@@ -13,16 +13,15 @@ namespace masse
 {
 namespace
 {
-
 /// How many blocks ahead of the one it solves the backward solve asks for a block's values (prefetchBlockValues):
 /// a block takes some 200 ns to solve at 128x2x128, a read from memory some 100 ns.
 constexpr Eigen::Index prefetchBlocks = 2;
 
 /// Asks the memory for block `block`'s values before the backward solve reaches it. The backward solve walks the
 /// blocks from the last down, each block's values read upwards, so its reads jump back at every block: a factor that
-/// no longer fits in the cache (128x2x128) then waits on memory for each block, and its backward solve took twice as
-/// long as its forward one, which reads the same values upwards throughout. A block's runs are laid out one after
-/// another. Reads nothing into the arithmetic: the bits are the same.
+/// no longer fits in the cache (128x2x128) would wait on memory for each block, and the backward solve would take
+/// twice as long as the forward one, which reads the same values upwards throughout. A block's runs are laid out one
+/// after another. Reads nothing into the arithmetic: the bits are the same.
 [[gnu::always_inline]] inline void prefetchBlockValues(const MassBlockRows::View& rows, Eigen::Index block)
 {
     const auto first = rows.blockRuns[block];
