@@ -62,6 +62,12 @@ struct NearTriangle
     int triangle;
 };
 
+/// Nearer first, ties by triangle: the order that picks a mass's planes, whatever order the triangles come in.
+bool nearer(const NearTriangle& a, const NearTriangle& b)
+{
+    return a.distance < b.distance || (a.distance == b.distance && a.triangle < b.triangle);
+}
+
 /// Tests one triangle of a mesh against a sphere, in the mesh's own frame (the sphere's centre is taken there; the few
 /// answers kept are turned back into the world by the caller). On a finely faceted mould (a rounded rim in many facets)
 /// most triangles a walk hands over are beyond the search sphere, so two cheap tests turn them away before the nearest
@@ -73,11 +79,21 @@ struct TriangleTest
     Vec3 localCentre;
     Real radius;
     Real searchDistance;
-    Real keepWithin;                          // m from the centre: a triangle nearer is listed in `kept`
-    Real rejectBeyond;                        // the larger of keepWithin and radius + searchDistance, with a margin
-    const std::vector<Vec3>* triangleNormals; // unit normal of each triangle, mesh frame
-    std::vector<NearTriangle>* found;         // the triangles within the search distance of the sphere's surface
-    NearbyTriangles* kept;                    // or null; count set to -1 once more than its capacity are near
+    Real keepWithin;   // m from the centre: a triangle nearer is listed in `kept`
+    Real rejectBeyond; // the larger of keepWithin and radius + searchDistance, with a margin
+    const ObstacleGeometry* geometry;
+    /// Of the triangles within the search distance of the sphere's surface: the nearest (triangle -1 before the
+    /// first), and the others the centre lies over (see closestFeatures), the only ones that can give a plane.
+    NearTriangle* nearest;
+    std::vector<NearTriangle>* overFace;
+    NearbyTriangles* kept; // or null; count set to -1 once more than its capacity are near
+
+    /// Whether the centre lies over the triangle's face: the direction from its nearest point is the face's normal.
+    bool liesOver(const NearTriangle& entry) const
+    {
+        const int face = geometry->triangleFace[std::size_t(entry.triangle)];
+        return std::abs(geometry->faces[std::size_t(face)].normal.dot(entry.normal)) > 0.99;
+    }
 
     void test(const Vec3& a, const Vec3& b, const Vec3& c, int triangleIndex) const
     {
@@ -85,18 +101,21 @@ struct TriangleTest
                                  .cwiseMax(localCentre - a.cwiseMax(b).cwiseMax(c))
                                  .cwiseMax(Real(0));
         if (outside.squaredNorm() > rejectBeyond * rejectBeyond ||
-            std::abs((*triangleNormals)[std::size_t(triangleIndex)].dot(localCentre - a)) > rejectBeyond)
+            std::abs(geometry->triangleNormals[std::size_t(triangleIndex)].dot(localCentre - a)) > rejectBeyond)
         {
             return;
         }
-        take(closestPointOnTriangle(localCentre, a, b, c), a, b, c, triangleIndex);
+        const Vec3 point = closestPointOnTriangle(localCentre, a, b, c);
+        const Vec3 offset = localCentre - point;
+        const Real gap = offset.norm();
+        take(point, gap, offset / gap, a, b, c, triangleIndex);
     }
 
-    /// The rest of test() for a triangle that passed its tests, given its nearest point to the centre.
-    void take(const Vec3& nearest, const Vec3& a, const Vec3& b, const Vec3& c, int triangleIndex) const
+    /// The rest of test() for a triangle that passed its tests, given its nearest point to the centre, their distance
+    /// `gap` and the direction from the point to the centre (`direction`, used only where `gap` is above rounding).
+    void take(const Vec3& point, Real gap, const Vec3& direction, const Vec3& a, const Vec3& b, const Vec3& c,
+              int triangleIndex) const
     {
-        const Vec3 offset = localCentre - nearest;
-        const Real gap = offset.norm();
         if (kept != nullptr && gap <= keepWithin)
         {
             kept->add(triangleIndex, gap);
@@ -112,7 +131,7 @@ struct TriangleTest
         Vec3 localNormal;
         if (gap > onTriangle)
         {
-            localNormal = offset / gap;
+            localNormal = direction;
         }
         else
         {
@@ -124,7 +143,19 @@ struct TriangleTest
             }
             localNormal = face / length;
         }
-        found->push_back(NearTriangle{gap - radius, localNormal, nearest, triangleIndex});
+        const NearTriangle entry{gap - radius, localNormal, point, triangleIndex};
+        if (nearest->triangle < 0 || nearer(entry, *nearest))
+        {
+            if (nearest->triangle >= 0 && liesOver(*nearest))
+            {
+                overFace->push_back(*nearest);
+            }
+            *nearest = entry;
+        }
+        else if (liesOver(entry))
+        {
+            overFace->push_back(entry);
+        }
     }
 };
 
@@ -160,8 +191,9 @@ void testTriangles(const TriangleTest& test, const ObstacleGeometry& geometry, c
                 const std::array<Vec3, 3>& abc = corners[std::size_t(triangle)];
                 if ((eight.near >> lane & 1) != 0)
                 {
-                    test.take(Vec3(eight.nearestX[lane], eight.nearestY[lane], eight.nearestZ[lane]), abc[0], abc[1],
-                              abc[2], triangle);
+                    test.take(Vec3(eight.nearestX[lane], eight.nearestY[lane], eight.nearestZ[lane]), eight.gap[lane],
+                              Vec3(eight.directionX[lane], eight.directionY[lane], eight.directionZ[lane]), abc[0],
+                              abc[1], abc[2], triangle);
                 }
                 else if ((eight.degenerate >> lane & 1) != 0)
                 {
@@ -401,16 +433,18 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
     // and frame. A mass whose triangles were kept (NearbyTriangles.h) and which has not left their sphere tests those
     // alone; otherwise Bullet walks the mesh's tree for the triangles whose boxes meet the search box, grown by the
     // kept sphere's margin when they are to be kept.
-    thread_local std::vector<NearTriangle> found;
-    found.clear();
+    thread_local std::vector<NearTriangle> overFace;
+    overFace.clear();
+    NearTriangle nearest{0, Vec3::Zero(), Vec3::Zero(), -1};
     const Vec3 local = toLocal * (centre - obstacle.pose.position);
     const Real reach = radius + std::max(searchDistance, Real(0));
     TriangleTest test;
     test.localCentre = local;
     test.radius = radius;
     test.searchDistance = searchDistance;
-    test.triangleNormals = &obstacle.geometry.triangleNormals;
-    test.found = &found;
+    test.geometry = &obstacle.geometry;
+    test.nearest = &nearest;
+    test.overFace = &overFace;
     test.kept = nullptr;
     test.keepWithin = 0;
     if (nearby != nullptr && nearby->covers(local, reach))
@@ -452,31 +486,28 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
         const_cast<btBvhTriangleMeshShape&>(mesh).processAllTriangles(
             &collector, toBullet(local - Vec3::Constant(extent)), toBullet(local + Vec3::Constant(extent)));
         testTriangles(test, obstacle.geometry, walked.data(), walked.size());
+        if (nearby != nullptr)
+        {
+            nearby->sort();
+        }
     }
     // The nearest triangle's plane, and up to two more from triangles the centre lies over (a crease of a concave
     // mould, where one plane would let the sphere sink into the other face): there the closest point is inside the
     // triangle, so the contact normal is its face's. A farther triangle whose nearest point is on its rim gives no
     // plane: at a convex edge its plane, tangent at the edge and fixed for the frame, lies above the nearer face away
     // from the edge, so a mass sliding down that face would be thrown off it each substep (a glassy 40x2x40 PET sheet
-    // on the pyramid mesh would gain 154 J in one step that way). Only the nearest and the triangles the centre lies
-    // over are put in order (nearest first, ties by triangle): sorting every triangle in the search box would take 9%
-    // of a vacuum-forming run. All in the mesh's frame; the planes kept are turned into the world.
-    if (found.empty())
+    // on the pyramid mesh would gain 154 J in one step that way). So the test keeps only the nearest and the triangles
+    // the centre lies over, which are put in order (nearest first, ties by triangle): listing and sorting every
+    // triangle in the search box would take a tenth of a vacuum-forming run. All in the mesh's frame; the planes kept
+    // are turned into the world.
+    if (nearest.triangle < 0)
     {
         return;
     }
-    const auto nearer = [](const NearTriangle& a, const NearTriangle& b)
-    { return a.distance < b.distance || (a.distance == b.distance && a.triangle < b.triangle); };
-    const auto overFace = [&](const NearTriangle& entry)
+    std::sort(overFace.begin(), overFace.end(), nearer);
+    for (std::size_t k = 0; k <= overFace.size() && out.size() < 3; ++k)
     {
-        const int face = obstacle.geometry.triangleFace[std::size_t(entry.triangle)];
-        return std::abs(obstacle.geometry.faces[std::size_t(face)].normal.dot(entry.normal)) > 0.99;
-    };
-    std::iter_swap(found.begin(), std::min_element(found.begin(), found.end(), nearer));
-    const auto overFaceEnd = std::partition(found.begin() + 1, found.end(), overFace);
-    std::sort(found.begin() + 1, overFaceEnd, nearer);
-    for (auto entry = found.begin(); entry != overFaceEnd && out.size() < 3; ++entry)
-    {
+        const NearTriangle* entry = k == 0 ? &nearest : &overFace[k - 1];
         const Vec3 normal = toVec3(transform.getBasis() * toBullet(entry->normal));
         bool distinct = true;
         for (const Closest& kept : out)

@@ -15,6 +15,7 @@
 
 #include "core/Types.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -46,7 +47,8 @@ struct NearbyTriangles
     };
     std::array<Entry, capacity> entry{};
 
-    /// Lists a triangle at distance `gap` from `centre` (count -1 once more than the capacity were listed).
+    /// Lists a triangle at distance `gap` from `centre` (count -1 once more than the capacity were listed); sort()
+    /// puts the list in order once it is complete.
     void add(std::int32_t triangleIndex, Real gap)
     {
         if (count < 0)
@@ -64,17 +66,21 @@ struct NearbyTriangles
         {
             lower = std::nextafter(lower, -std::numeric_limits<float>::infinity());
         }
-        // Insertion in distance order (ties by triangle, so the list does not depend on the walk's order).
-        std::int32_t k = count;
-        while (k > 0 &&
-               (entry[std::size_t(k - 1)].distance > lower ||
-                (entry[std::size_t(k - 1)].distance == lower && entry[std::size_t(k - 1)].triangle > triangleIndex)))
-        {
-            entry[std::size_t(k)] = entry[std::size_t(k - 1)];
-            --k;
-        }
-        entry[std::size_t(k)] = {lower, triangleIndex};
+        entry[std::size_t(count)] = {lower, triangleIndex};
         ++count;
+    }
+
+    /// Puts the listed triangles in distance order, ties by triangle, so the list does not depend on the walk's
+    /// order. Once, after the walk: inserting each in place would move some n^2/4 entries, a walk near a finely
+    /// faceted rim lists dozens.
+    void sort()
+    {
+        if (count > 1)
+        {
+            std::sort(entry.begin(), entry.begin() + count,
+                      [](const Entry& a, const Entry& b)
+                      { return a.distance < b.distance || (a.distance == b.distance && a.triangle < b.triangle); });
+        }
     }
 
     /// Whether the kept triangles hold every triangle within `searchRadius` of `localCentre`. The margin covers the

@@ -164,9 +164,19 @@ MASSE_AVX512 void nearestOnTrianglesOfEightAvx512(const std::vector<std::array<V
     take(w, __mmask8(0xFF), _mm512_sub_pd(_mm512_sub_pd(one, v), wFace), v, wFace); // the face
 
     // closestPointOnTriangle's w.x() a + w.y() b + w.z() c, coordinate by coordinate.
-    _mm512_store_pd(out.nearestX, weighted(w.a, w.b, w.c, a.x, b.x, c.x));
-    _mm512_store_pd(out.nearestY, weighted(w.a, w.b, w.c, a.y, b.y, c.y));
-    _mm512_store_pd(out.nearestZ, weighted(w.a, w.b, w.c, a.z, b.z, c.z));
+    const Columns nearest{weighted(w.a, w.b, w.c, a.x, b.x, c.x), weighted(w.a, w.b, w.c, a.y, b.y, c.y),
+                          weighted(w.a, w.b, w.c, a.z, b.z, c.z)};
+    _mm512_store_pd(out.nearestX, nearest.x);
+    _mm512_store_pd(out.nearestY, nearest.y);
+    _mm512_store_pd(out.nearestZ, nearest.z);
+    // TriangleTest::take's offset, its norm (Eigen's: the square root of (x x + y y) + z z; zero-masking, as in
+    // minimum()) and its direction.
+    const Columns offset = difference(p, nearest);
+    const __m512d gap = _mm512_maskz_sqrt_pd(__mmask8(0xFF), dot(offset, offset));
+    _mm512_store_pd(out.gap, gap);
+    _mm512_store_pd(out.directionX, _mm512_div_pd(offset.x, gap));
+    _mm512_store_pd(out.directionY, _mm512_div_pd(offset.y, gap));
+    _mm512_store_pd(out.directionZ, _mm512_div_pd(offset.z, gap));
     out.degenerate = degenerate;
     out.near = __mmask8(passed & ~degenerate);
 }

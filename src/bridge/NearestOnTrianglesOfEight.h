@@ -28,6 +28,13 @@ struct NearestOnTrianglesOfEight
     alignas(64) Real nearestX[8];
     alignas(64) Real nearestY[8];
     alignas(64) Real nearestZ[8];
+    /// The distance from the centre to the nearest point, (centre - nearest).norm(), and that offset over it (its
+    /// direction, not finite where the distance is 0): the scalar code's bits, computed for the eight because most
+    /// triangles that pass the tests lie within the search and need both.
+    alignas(64) Real gap[8];
+    alignas(64) Real directionX[8];
+    alignas(64) Real directionY[8];
+    alignas(64) Real directionZ[8];
 };
 
 /// Whether nearestOnTrianglesOfEight runs here: the AVX-512 path is active (SimdPath.h) and the build has the kernel.

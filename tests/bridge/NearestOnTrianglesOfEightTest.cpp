@@ -1,6 +1,6 @@
 // The eight-lane nearest points on a mesh's triangles (bridge/NearestOnTrianglesOfEight.h) against the scalar code
-// they replace in detection (TriangleTest's box and plane tests, then closestPointOnTriangle), lane by lane and bit for
-// bit.
+// they replace in detection (TriangleTest's box and plane tests, closestPointOnTriangle, the distance and direction to
+// the centre), lane by lane and bit for bit.
 
 #include "support/TestSystems.h"
 
@@ -68,6 +68,20 @@ int expectScalarBits(const std::vector<std::array<Vec3, 3>>& corners, const std:
                     sameBits(eight.nearestZ[lane], expected.z()))
             << "triangle " << t << ": (" << eight.nearestX[lane] << ", " << eight.nearestY[lane] << ", "
             << eight.nearestZ[lane] << ") against (" << expected.transpose() << ")";
+        // TriangleTest::take's distance and direction from the point to the centre.
+        const Vec3 offset = p - expected;
+        const Real gap = offset.norm();
+        EXPECT_TRUE(sameBits(eight.gap[lane], gap))
+            << "triangle " << t << ": " << eight.gap[lane] << " against " << gap;
+        if (gap > 0)
+        {
+            const Vec3 direction = offset / gap;
+            EXPECT_TRUE(sameBits(eight.directionX[lane], direction.x()) &&
+                        sameBits(eight.directionY[lane], direction.y()) &&
+                        sameBits(eight.directionZ[lane], direction.z()))
+                << "triangle " << t << ": direction (" << eight.directionX[lane] << ", " << eight.directionY[lane]
+                << ", " << eight.directionZ[lane] << ") against (" << direction.transpose() << ")";
+        }
         ++compared;
     }
     return compared;
@@ -77,7 +91,8 @@ int expectScalarBits(const std::vector<std::array<Vec3, 3>>& corners, const std:
 // Random triangles (some thin, some collinear, some a point) against centres anywhere around them, on their corners,
 // edges and faces exactly, with search radii from a fraction of the triangle to all of it, one to eight lanes a call;
 // and the vacuum cup's mould with centres near its vertices. Every lane: turned away exactly when the scalar tests turn
-// it away, and otherwise the scalar nearest point's bits (a degenerate triangle is left to the scalar code).
+// it away, and otherwise the bits of the scalar nearest point, its distance and its direction (a degenerate triangle is
+// left to the scalar code).
 TEST(NearestOnTrianglesOfEight, EachLaneHasTheScalarCodesBits)
 {
     if (!simdPathSupported(SimdPath::Avx512))
