@@ -108,13 +108,12 @@ struct TriangleTest
         const Vec3 point = closestPointOnTriangle(localCentre, a, b, c);
         const Vec3 offset = localCentre - point;
         const Real gap = offset.norm();
-        take(point, gap, offset / gap, a, b, c, triangleIndex);
+        take(point, gap, offset / gap, triangleIndex);
     }
 
     /// The rest of test() for a triangle that passed its tests, given its nearest point to the centre, their distance
     /// `gap` and the direction from the point to the centre (`direction`, used only where `gap` is above rounding).
-    void take(const Vec3& point, Real gap, const Vec3& direction, const Vec3& a, const Vec3& b, const Vec3& c,
-              int triangleIndex) const
+    void take(const Vec3& point, Real gap, const Vec3& direction, int triangleIndex) const
     {
         if (kept != nullptr && gap <= keepWithin)
         {
@@ -125,23 +124,17 @@ struct TriangleTest
             return;
         }
         // A centre on the triangle, to the rounding of its nearest point (a sheet laid on a mesh's face), has no offset
-        // to point along, or one whose direction is rounding alone: the face's own normal (outward for a mesh wound
-        // outward) stands in, as EPA's answer would.
+        // to point along, or one whose direction is rounding alone: the triangle's own unit normal (outward for a mesh
+        // wound outward; zero for a triangle with no area, which gives no plane) stands in, as EPA's answer would.
         const Real onTriangle = Real(1e-9) * radius + Real(1e-12) * localCentre.cwiseAbs().maxCoeff();
-        Vec3 localNormal;
-        if (gap > onTriangle)
+        Vec3 localNormal = direction;
+        if (!(gap > onTriangle))
         {
-            localNormal = direction;
-        }
-        else
-        {
-            const Vec3 face = (b - a).cross(c - a);
-            const Real length = face.norm();
-            if (!(length > 0))
+            localNormal = geometry->triangleNormals[std::size_t(triangleIndex)];
+            if (localNormal == Vec3::Zero())
             {
                 return;
             }
-            localNormal = face / length;
         }
         const NearTriangle entry{gap - radius, localNormal, point, triangleIndex};
         if (nearest->triangle < 0 || nearer(entry, *nearest))
@@ -188,15 +181,14 @@ void testTriangles(const TriangleTest& test, const ObstacleGeometry& geometry, c
             for (int lane = 0; lane < lanes; ++lane)
             {
                 const std::int32_t triangle = triangles[k + std::size_t(lane)];
-                const std::array<Vec3, 3>& abc = corners[std::size_t(triangle)];
                 if ((eight.near >> lane & 1) != 0)
                 {
                     test.take(Vec3(eight.nearestX[lane], eight.nearestY[lane], eight.nearestZ[lane]), eight.gap[lane],
-                              Vec3(eight.directionX[lane], eight.directionY[lane], eight.directionZ[lane]), abc[0],
-                              abc[1], abc[2], triangle);
+                              Vec3(eight.directionX[lane], eight.directionY[lane], eight.directionZ[lane]), triangle);
                 }
                 else if ((eight.degenerate >> lane & 1) != 0)
                 {
+                    const std::array<Vec3, 3>& abc = corners[std::size_t(triangle)];
                     test.test(abc[0], abc[1], abc[2], triangle);
                 }
             }
@@ -452,7 +444,7 @@ void BulletEnvironment::closestFeatures(int index, const Vec3& centre, Real radi
         test.rejectBeyond = reach + Real(1e-9) * reach + Real(1e-12);
         const Real moved = (local - nearby->centre).norm();
         // The kept triangles before the first that is too far to be near (they are in increasing distance).
-        std::array<std::int32_t, NearbyTriangles::capacity> triangles{};
+        std::array<std::int32_t, NearbyTriangles::capacity> triangles; // the first `near` are written below
         std::size_t near = 0;
         for (; near < std::size_t(nearby->count); ++near)
         {

@@ -228,7 +228,8 @@ void makeMesh(const ObstacleShape& shape, ObstacleGeometry& g)
             g.triangles->addTriangle(toBullet(a), toBullet(b), toBullet(c));
             g.triangleFace.push_back(int(f));
             g.triangleCorners.push_back({toVec3(toBullet(a)), toVec3(toBullet(b)), toVec3(toBullet(c))});
-            const Vec3 cross = (b - a).cross(c - a);
+            const std::array<Vec3, 3>& corners = g.triangleCorners.back();
+            const Vec3 cross = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
             g.triangleNormals.push_back(cross.norm() > 0 ? Vec3(cross.normalized()) : Vec3::Zero());
         }
         g.faces.push_back(std::move(face));

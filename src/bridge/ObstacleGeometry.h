@@ -37,8 +37,10 @@ struct ObstacleGeometry
     bool convex = true;
     std::vector<Vec3> vertices; ///< local frame
     std::vector<Face> faces;
-    std::vector<int> triangleFace;     ///< mesh only: the face of each Bullet triangle
-    std::vector<Vec3> triangleNormals; ///< mesh only: each Bullet triangle's own unit normal (zero if degenerate)
+    std::vector<int> triangleFace; ///< mesh only: the face of each Bullet triangle
+    /// mesh only: each Bullet triangle's own unit normal, (b - a) x (c - a) of its triangleCorners normalised (zero if
+    /// degenerate); contact detection takes it for a centre on the triangle, with those bits
+    std::vector<Vec3> triangleNormals;
     /// mesh only: each Bullet triangle's corners, read back through btScalar as a triangle walk hands them over (the
     /// same bits whatever Bullet's precision)
     std::vector<std::array<Vec3, 3>> triangleCorners;
