@@ -27,8 +27,8 @@ struct NearbyTriangles
 {
     /// Triangles kept at most; a mass with more near it walks the tree every frame (a mould's finely faceted rim
     /// within a small sheet's search sphere, or a fast mass's wide search). While the vacuum cup's sheet is drawn down
-    /// (its first 20 frames at 64x2x64), room for 48 left 36% of its queries walking the tree (30% with room for
-    /// 96), and detection took some 30% longer; the list's unused room is never read.
+    /// (its first 20 frames at 64x2x64), 30% of its queries walk the tree; with room for 48, 36% would, and detection
+    /// would take some 30% longer. The list's unused room is never read.
     static constexpr int capacity = 96;
     /// The kept sphere's radius is the search radius plus this many contact radii. A larger margin lets a moving
     /// mass keep its triangles for longer, but every query then tests more of them: on the cup and the tray, margins
