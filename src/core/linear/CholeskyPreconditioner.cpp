@@ -203,15 +203,7 @@ void CholeskyPreconditioner::analyse(const SparseMatrix& a, const DissectionOrde
                 SparseMatrix::StorageIndex(3 * position) + c;
         }
     }
-    m_permutedSources = findPermutedSources(
-        a,
-        [&](const SparseMatrix& m)
-        {
-            SparseMatrix full;
-            full = m.selfadjointView<Eigen::Lower>().twistedBy(m_permutation);
-            return full;
-        },
-        m_permutedMatrix);
+    m_permutedSources = fullSymmetricPermutation(a, m_permutation.indices().data(), m_permutedMatrix);
     gatherPermutedValues(a, m_permutedSources, m_permutedMatrix);
     m_factor.analyse(m_permutedMatrix, m_stages);
     // Following needs each mass's whole 3x3 block in the pattern (the implicit matrix has it; a matrix whose

@@ -99,18 +99,18 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     const auto forEachShared = [&](const auto& visit)
     {
         forEachStrictlyLower(lower, 0, lower.cols(),
-                             [&](StorageIndex row, StorageIndex column, std::size_t)
+                             [&](StorageIndex row, StorageIndex column, std::size_t k)
                              {
                                  if (blockRowOf(row, column) < 0)
                                  {
-                                     visit(std::size_t(row) / 3, column);
+                                     visit(std::size_t(row) / 3, column, k);
                                  }
                              });
     };
     m_blockRuns.assign(blocks + 1, 0);
     std::vector<StorageIndex> lastColumn(blocks, -joinGap - 1); // per block, its last shared column so far
     forEachShared(
-        [&](std::size_t block, StorageIndex column)
+        [&](std::size_t block, StorageIndex column, std::size_t)
         {
             const StorageIndex last = lastColumn[block];
             if (column - last > joinGap)
@@ -127,28 +127,30 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
     m_runColumn.resize(runCount);
     m_runLength.resize(runCount);
     m_runStart.resize(runCount + 1);
-    // Lay the runs out: a block's runs in increasing column, the blocks in order.
+    // Lay the runs out: a block's runs in increasing column, the blocks in order. Each shared entry's run is noted in
+    // its place until the runs' lengths, which lay their values out, are known.
+    m_place.assign(std::size_t(lower.outerIndexPtr()[lower.cols()]), noPlace);
     std::vector<StorageIndex> nextRun(m_blockRuns.begin(), m_blockRuns.end() - 1); // per block, its next run
     lastColumn.assign(blocks, -joinGap - 1);
     forEachShared(
-        [&](std::size_t block, StorageIndex column)
+        [&](std::size_t block, StorageIndex column, std::size_t k)
         {
             const StorageIndex last = lastColumn[block];
-            if (column == last)
+            if (column != last)
             {
-                return;
+                if (column - last > joinGap)
+                {
+                    const std::size_t run = std::size_t(nextRun[block]++);
+                    m_runColumn[run] = column;
+                    m_runLength[run] = 1;
+                }
+                else
+                {
+                    m_runLength[std::size_t(nextRun[block]) - 1] += column - last;
+                }
+                lastColumn[block] = column;
             }
-            if (column - last > joinGap)
-            {
-                const std::size_t run = std::size_t(nextRun[block]++);
-                m_runColumn[run] = column;
-                m_runLength[run] = 1;
-            }
-            else
-            {
-                m_runLength[std::size_t(nextRun[block]) - 1] += column - last;
-            }
-            lastColumn[block] = column;
+            m_place[k] = std::uint32_t(nextRun[block] - 1);
         });
     m_runStart[0] = 0;
     for (std::size_t r = 0; r < runCount; ++r)
@@ -162,14 +164,13 @@ void MassBlockRows::assignLowerRows(const SparseMatrix& lower)
         throw std::invalid_argument("MassBlockRows: a factor of " + std::to_string(m_values.size()) +
                                     " stored values is too large for its places' 31 bits");
     }
-    m_place.assign(std::size_t(lower.outerIndexPtr()[lower.cols()]), noPlace);
-    // Each entry's place is its own, found from its block's runs alone: columns in chunks on the pool.
+    // Each entry's place is its own, from its run (or its block): columns in chunks on the pool.
     parallelFor(std::size_t(lower.cols()), placeColumnsPerChunk,
                 [&](std::size_t begin, std::size_t end)
                 {
                     forEachStrictlyLower(lower, Eigen::Index(begin), Eigen::Index(end),
                                          [&](StorageIndex row, StorageIndex column, std::size_t k)
-                                         { m_place[k] = placeOf(row, column); });
+                                         { m_place[k] = placeOf(row, column, m_place[k]); });
                 });
     refillLowerRows(lower);
 }
@@ -301,7 +302,7 @@ void MassBlockRows::gatherLiveRuns()
                 });
 }
 
-std::uint32_t MassBlockRows::placeOf(StorageIndex row, StorageIndex column) const
+std::uint32_t MassBlockRows::placeOf(StorageIndex row, StorageIndex column, std::uint32_t run) const
 {
     const std::size_t block = std::size_t(row) / 3;
     const int rowOfBlock = int(row % 3);
@@ -310,12 +311,6 @@ std::uint32_t MassBlockRows::placeOf(StorageIndex row, StorageIndex column) cons
     {
         // Row 1's one in-block entry multiplies row 0's result; row 2's two, rows 0 and 1's.
         return inBlockPlaces + std::uint32_t(3 * block + std::size_t(rowOfBlock == 1 ? 0 : 1 + blockRow));
-    }
-    // The runs of the pattern laid out hold every shared column of the block.
-    auto run = std::size_t(m_blockRuns[block]);
-    while (column - m_runColumn[run] >= m_runLength[run])
-    {
-        ++run;
     }
     return std::uint32_t(std::size_t(m_runStart[run]) +
                          runValueOffset(m_runLength[run], rowOfBlock, column - m_runColumn[run]));

@@ -102,8 +102,8 @@ public:
 
 private:
     /// Where L(row, column) (of the pattern laid out) is kept: an index into m_values, or inBlockPlaces plus one into
-    /// m_inBlock.
-    std::uint32_t placeOf(StorageIndex row, StorageIndex column) const;
+    /// m_inBlock. `run` is the shared run that holds it (read only for an entry outside the mass's own block).
+    std::uint32_t placeOf(StorageIndex row, StorageIndex column, std::uint32_t run) const;
     /// m_live from the laid-out runs and their values.
     void gatherLiveRuns();
     /// Writes `half`, the factor's stored entry k rounded, to its place (m_place[k]).

@@ -9,6 +9,7 @@
 
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <stdexcept>
 #include <vector>
 
@@ -37,6 +38,139 @@ PermutedSources findPermutedSources(const Eigen::SparseMatrix<Real>& a, const Pe
     for (std::size_t k = 0; k < sources.size(); ++k)
     {
         sources[k] = Eigen::SparseMatrix<Real>::StorageIndex(permuted.valuePtr()[k]);
+    }
+    return sources;
+}
+
+/// `permuted` = P A P^T in full (both triangles) from A's lower triangle, the diagonal included, where row and column i
+/// of A become `newIndex[i]`, and for each of its values the index of a's value it copies. The pattern is Eigen's
+/// `permuted = a.selfadjointView<Eigen::Lower>().twistedBy(P)`, each column's rows in increasing order, entry for
+/// entry, so a factorisation reading it does its sums in the same order; Eigen builds it with its values through a
+/// row-major copy, this the pattern alone in two counting passes: each value bucketed by its row, then the rows, in
+/// increasing order, dealt out to their columns.
+inline PermutedSources fullSymmetricPermutation(const Eigen::SparseMatrix<Real>& a,
+                                                const Eigen::SparseMatrix<Real>::StorageIndex* newIndex,
+                                                Eigen::SparseMatrix<Real>& permuted)
+{
+    using StorageIndex = Eigen::SparseMatrix<Real>::StorageIndex;
+    if (!a.isCompressed() || a.rows() != a.cols())
+    {
+        throw std::logic_error("fullSymmetricPermutation: the matrix is not square and compressed");
+    }
+    const std::size_t n = std::size_t(a.cols());
+    const StorageIndex* outer = a.outerIndexPtr();
+    const StorageIndex* inner = a.innerIndexPtr();
+    // Each lower value (i, j) is the entry (newIndex[i], newIndex[j]) and, off the diagonal, its mirror: a column of
+    // the result has as many entries as the row of the same number.
+    std::vector<StorageIndex> start(n + 1, 0);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
+        {
+            const auto i = std::size_t(inner[k]);
+            if (i >= j)
+            {
+                ++start[std::size_t(newIndex[j]) + 1];
+                if (i != j)
+                {
+                    ++start[std::size_t(newIndex[i]) + 1];
+                }
+            }
+        }
+    }
+    for (std::size_t c = 0; c < n; ++c)
+    {
+        start[c + 1] += start[c];
+    }
+    const std::size_t count = std::size_t(start[n]);
+    std::vector<StorageIndex> rowColumn(count);
+    PermutedSources rowSource(count);
+    std::vector<StorageIndex> next(start.begin(), start.end() - 1);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
+        {
+            const auto i = std::size_t(inner[k]);
+            if (i < j)
+            {
+                continue;
+            }
+            const StorageIndex row = newIndex[i];
+            const StorageIndex column = newIndex[j];
+            StorageIndex at = next[std::size_t(row)]++;
+            rowColumn[std::size_t(at)] = column;
+            rowSource[std::size_t(at)] = k;
+            if (i != j)
+            {
+                at = next[std::size_t(column)]++;
+                rowColumn[std::size_t(at)] = row;
+                rowSource[std::size_t(at)] = k;
+            }
+        }
+    }
+    permuted.resize(a.rows(), a.cols());
+    permuted.resizeNonZeros(Eigen::Index(count));
+    std::copy(start.begin(), start.end(), permuted.outerIndexPtr());
+    PermutedSources sources(count);
+    std::copy(start.begin(), start.end() - 1, next.begin());
+    for (std::size_t row = 0; row < n; ++row)
+    {
+        for (StorageIndex e = start[row]; e < start[row + 1]; ++e)
+        {
+            const StorageIndex at = next[std::size_t(rowColumn[std::size_t(e)])]++;
+            permuted.innerIndexPtr()[at] = StorageIndex(row);
+            sources[std::size_t(at)] = rowSource[std::size_t(e)];
+        }
+    }
+    return sources;
+}
+
+/// `upper` = A's upper triangle, the diagonal included, from its lower one, and for each of its values the index of
+/// a's value it copies: Eigen's `upper.selfadjointView<Eigen::Upper>() = a.selfadjointView<Eigen::Lower>()`, each
+/// column's rows in increasing order, entry for entry (a transposition by counting).
+inline PermutedSources upperFromLower(const Eigen::SparseMatrix<Real>& a, Eigen::SparseMatrix<Real>& upper)
+{
+    using StorageIndex = Eigen::SparseMatrix<Real>::StorageIndex;
+    if (!a.isCompressed() || a.rows() != a.cols())
+    {
+        throw std::logic_error("upperFromLower: the matrix is not square and compressed");
+    }
+    const std::size_t n = std::size_t(a.cols());
+    const StorageIndex* outer = a.outerIndexPtr();
+    const StorageIndex* inner = a.innerIndexPtr();
+    std::vector<StorageIndex> start(n + 1, 0);
+    for (std::size_t j = 0; j < n; ++j)
+    {
+        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
+        {
+            if (std::size_t(inner[k]) >= j)
+            {
+                ++start[std::size_t(inner[k]) + 1];
+            }
+        }
+    }
+    for (std::size_t c = 0; c < n; ++c)
+    {
+        start[c + 1] += start[c];
+    }
+    const std::size_t count = std::size_t(start[n]);
+    upper.resize(a.rows(), a.cols());
+    upper.resizeNonZeros(Eigen::Index(count));
+    std::copy(start.begin(), start.end(), upper.outerIndexPtr());
+    PermutedSources sources(count);
+    std::vector<StorageIndex> next(start.begin(), start.end() - 1);
+    for (std::size_t j = 0; j < n; ++j) // each column of the result gets its rows j in increasing order
+    {
+        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
+        {
+            const auto i = std::size_t(inner[k]);
+            if (i >= j)
+            {
+                const StorageIndex at = next[i]++;
+                upper.innerIndexPtr()[at] = StorageIndex(j);
+                sources[std::size_t(at)] = k;
+            }
+        }
     }
     return sources;
 }

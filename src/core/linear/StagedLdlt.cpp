@@ -485,13 +485,25 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     // Eigen's factorisation reads the upper triangle it makes from the full matrix; the same expression here gives
     // the same entries in the same order, which fixes the order of each row's updates and so the bits.
     assignUpper(permuted);
-    // The elimination tree and L's column counts (Eigen's analyzePattern_preordered).
+    // The elimination tree and L's column counts (Eigen's analyzePattern_preordered), and of each column's entries
+    // those in the separators' rows (the stages after the first).
     m_parent.assign(std::size_t(n), -1);
     m_columnCount.assign(std::size_t(n), 0);
+    std::vector<std::uint8_t> separatorRow(std::size_t(n), 0);
+    for (std::size_t stage = 1; stage < m_stages.size(); ++stage)
+    {
+        for (const OrderRange& range : m_stages[stage])
+        {
+            std::fill(separatorRow.begin() + std::ptrdiff_t(range.begin),
+                      separatorRow.begin() + std::ptrdiff_t(range.end), std::uint8_t(1));
+        }
+    }
+    std::vector<StorageIndex> separatorEntries(std::size_t(n), 0);
     std::vector<StorageIndex> tags(std::size_t(n), 0);
     for (StorageIndex k = 0; k < n; ++k)
     {
         tags[std::size_t(k)] = k;
+        const bool inSeparator = separatorRow[std::size_t(k)] != 0;
         for (SparseMatrix::InnerIterator it(m_upper, k); it; ++it)
         {
             StorageIndex i = StorageIndex(it.index());
@@ -503,6 +515,15 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
                 }
                 ++m_columnCount[std::size_t(i)];
                 tags[std::size_t(i)] = k;
+                if (inSeparator)
+                {
+                    ++separatorEntries[std::size_t(i)];
+                }
+                else if (separatorEntries[std::size_t(i)] > 0)
+                {
+                    // analyseSeparators places the separators' entries after the others in each column.
+                    throw std::logic_error("StagedLdlt: a row of the first stage below a separator's in the factor");
+                }
             }
         }
     }
@@ -525,11 +546,11 @@ void StagedLdlt::analyse(const SparseMatrix& permuted, const std::vector<std::ve
     {
         m_columnsShareRows[m] = sharesRowsWithNext(3 * m) && sharesRowsWithNext(3 * m + 1);
     }
-    analyseSeparators();
+    analyseSeparators(separatorEntries);
     analyseMasses();
 }
 
-void StagedLdlt::analyseSeparators()
+void StagedLdlt::analyseSeparators(const std::vector<StorageIndex>& separatorEntries)
 {
     const StorageIndex n = StorageIndex(m_upper.rows());
     const StorageIndex* start = m_lower.outerIndexPtr();
@@ -560,10 +581,17 @@ void StagedLdlt::analyseSeparators()
     {
         return;
     }
-    // Every row's pattern in elimination order, to find where each of its entries goes in L (a column's entries come
-    // in increasing row), keeping the separators' rows' entries; a separator's rows are consecutive, and each is
-    // blocked once its last row is reached.
-    std::vector<StorageIndex> filled(std::size_t(n), 0);
+    // The separators' rows' patterns in elimination order, to find where each of their entries goes in L: a column's
+    // entries come in increasing row, those of the first stage's rows before the separators' (a column's rows are its
+    // ancestors in the elimination tree: its own leaf's rows, numbered before the separators above it, and those
+    // separators'), so a separator's entry in column c is at the column's start plus its entries in the first stage's
+    // rows plus those in the separators' rows before. A separator's rows are consecutive, and each is blocked once its
+    // last row is reached.
+    std::vector<StorageIndex> filled(static_cast<std::size_t>(n));
+    for (std::size_t c = 0; c < std::size_t(n); ++c)
+    {
+        filled[c] = m_columnCount[c] - separatorEntries[c];
+    }
     std::vector<long long> mark(std::size_t(n), -1);
     std::vector<StorageIndex> pattern(static_cast<std::size_t>(n));
     std::vector<StorageIndex> firstInSeparator(std::size_t(n), -1); // per column: its first entry in the separator
@@ -577,8 +605,12 @@ void StagedLdlt::analyseSeparators()
     for (StorageIndex k = 0; k < n; ++k)
     {
         const std::ptrdiff_t which = separatorOf[std::size_t(k)];
-        Separator* separator = which < 0 ? nullptr : &m_separators[std::size_t(which)];
-        if (separator && k == separator->begin)
+        if (which < 0)
+        {
+            continue;
+        }
+        Separator* separator = &m_separators[std::size_t(which)];
+        if (k == separator->begin)
         {
             ownStart.assign(1, 0);
             ownColumn.clear();
@@ -590,10 +622,6 @@ void StagedLdlt::analyseSeparators()
         {
             const StorageIndex column = pattern[std::size_t(t)];
             const StorageIndex position = start[column] + filled[std::size_t(column)]++;
-            if (!separator)
-            {
-                continue;
-            }
             if (column < separator->begin)
             {
                 belowColumn.push_back(column);
@@ -608,10 +636,6 @@ void StagedLdlt::analyseSeparators()
             {
                 ownColumn.push_back(column);
             }
-        }
-        if (!separator)
-        {
-            continue;
         }
         belowStart.push_back(belowColumn.size());
         ownStart.push_back(ownColumn.size());
@@ -744,20 +768,11 @@ StorageIndex StagedLdlt::rowPattern(StorageIndex k, long long visit, long long* 
 
 void StagedLdlt::assignUpper(const SparseMatrix& permuted)
 {
-    // Eigen's expression, with its identity permutation: the same entries in the same order as Eigen's factorisation
-    // reads (see analyse). Found once; each factorisation gathers the values.
+    // The upper triangle Eigen's factorisation makes from the full matrix: the same entries in the same order (see
+    // analyse). Found once; each factorisation gathers the values.
     if (m_upperSources.empty())
     {
-        const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, StorageIndex> identity;
-        m_upperSources = findPermutedSources(
-            permuted,
-            [&](const SparseMatrix& m)
-            {
-                SparseMatrix upper(m.rows(), m.cols());
-                upper.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>().twistedBy(identity);
-                return upper;
-            },
-            m_upper);
+        m_upperSources = upperFromLower(permuted, m_upper);
     }
     gatherPermutedValues(permuted, m_upperSources, m_upper);
 }

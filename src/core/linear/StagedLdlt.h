@@ -123,8 +123,9 @@ private:
     void analyseMasses();
     /// The separators of stage `stage` (see the file comment); false if a pivot is zero.
     bool factorSeparators(std::size_t stage);
-    /// The separators' patterns and blocks, after the elimination tree and L's column starts.
-    void analyseSeparators();
+    /// The separators' patterns and blocks, after the elimination tree and L's column starts; `separatorEntries` holds
+    /// each column's entries in the separators' rows.
+    void analyseSeparators(const std::vector<StorageIndex>& separatorEntries);
     /// Row k's pattern in topological order, Eigen's way (an elimination-tree walk from each entry of A's column
     /// k): written to pattern[top, n), top returned. `mark` holds `visit` for the rows reached.
     StorageIndex rowPattern(StorageIndex k, long long visit, long long* mark, StorageIndex* pattern) const;

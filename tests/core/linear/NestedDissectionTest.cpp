@@ -811,6 +811,92 @@ TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
     uncompressed.uncompress();
     SparseMatrix unused;
     EXPECT_THROW(findPermutedSources(uncompressed, full, unused), std::logic_error);
+    EXPECT_THROW(fullSymmetricPermutation(uncompressed, permutation.indices().data(), unused), std::logic_error);
+    EXPECT_THROW(upperFromLower(uncompressed, unused), std::logic_error);
+}
+
+namespace
+{
+/// Whether two compressed matrices have the same pattern, entry for entry, and the same sources for their values.
+void expectSamePermutation(const SparseMatrix& made, const PermutedSources& madeSources, const SparseMatrix& eigens,
+                           const PermutedSources& eigensSources)
+{
+    ASSERT_EQ(made.rows(), eigens.rows());
+    ASSERT_EQ(made.nonZeros(), eigens.nonZeros());
+    ASSERT_EQ(madeSources, eigensSources);
+    for (Eigen::Index c = 0; c <= eigens.cols(); ++c)
+    {
+        ASSERT_EQ(made.outerIndexPtr()[c], eigens.outerIndexPtr()[c]) << "column " << c;
+    }
+    for (Eigen::Index k = 0; k < eigens.nonZeros(); ++k)
+    {
+        ASSERT_EQ(made.innerIndexPtr()[k], eigens.innerIndexPtr()[k]) << "entry " << k;
+    }
+}
+} // namespace
+
+TEST(PermutedValues, CountingPermutationsMakeEigensPatternsEntryForEntry)
+{
+    // The implicit matrix's pattern in the nested dissection's order, and a matrix whose pattern is not symmetric
+    // (only its lower triangle is read) under a random permutation, with empty columns and a missing diagonal.
+    const MassSpringSystem sheet = paperSheet(8);
+    const SparseMatrix springs = springMatrix(sheet, 3);
+    const RowPermutation dissected = rowPermutation(
+        nestedDissection(sheet.particles.position, sheet.springs, CholeskyPreconditioner::parallelDepth), 3);
+    constexpr Eigen::Index n = 40;
+    std::vector<Eigen::Triplet<Real>> triplets;
+    std::uint32_t state = 12345;
+    const auto next = [&state] { return state = state * 1664525u + 1013904223u; };
+    for (Eigen::Index j = 0; j < n; ++j)
+    {
+        for (Eigen::Index i = 0; i < n; ++i)
+        {
+            if (j % 7 != 3 && next() % 5 == 0 && (i != j || j % 4 != 0))
+            {
+                triplets.emplace_back(i, j, Real(1));
+            }
+        }
+    }
+    SparseMatrix scattered(n, n);
+    scattered.setFromTriplets(triplets.begin(), triplets.end());
+    scattered.makeCompressed();
+    RowPermutation shuffled(n);
+    shuffled.setIdentity();
+    for (Eigen::Index i = n - 1; i > 0; --i)
+    {
+        std::swap(shuffled.indices()[i], shuffled.indices()[Eigen::Index(next() % std::uint32_t(i + 1))]);
+    }
+    for (const auto& [a, permutation] :
+         {std::pair<const SparseMatrix*, const RowPermutation*>{&springs, &dissected}, {&scattered, &shuffled}})
+    {
+        SparseMatrix eigensFull;
+        const PermutedSources eigensFullSources = findPermutedSources(
+            *a,
+            [&](const SparseMatrix& m)
+            {
+                SparseMatrix permuted;
+                permuted = m.selfadjointView<Eigen::Lower>().twistedBy(*permutation);
+                return permuted;
+            },
+            eigensFull);
+        SparseMatrix full;
+        const PermutedSources fullSources = fullSymmetricPermutation(*a, permutation->indices().data(), full);
+        expectSamePermutation(full, fullSources, eigensFull, eigensFullSources);
+
+        SparseMatrix eigensUpper;
+        const PermutedSources eigensUpperSources = findPermutedSources(
+            *a,
+            [&](const SparseMatrix& m)
+            {
+                SparseMatrix triangle(m.rows(), m.cols());
+                triangle.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>();
+                return triangle;
+            },
+            eigensUpper);
+        SparseMatrix upper;
+        const PermutedSources upperSources = upperFromLower(*a, upper);
+        expectSamePermutation(upper, upperSources, eigensUpper, eigensUpperSources);
+    }
 }
 
 namespace
