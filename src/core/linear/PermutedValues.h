@@ -1,8 +1,8 @@
 #pragma once
 /// Eigen's symmetric permutations (a matrix's lower triangle, renumbered, written out in full or as one triangle) copy
 /// each value to one or two places, and build a new matrix every time. A refresh of the same pattern needs only the
-/// copies: where each value of the result comes from is found once, by permuting a matrix whose values are their own
-/// indices, and each refresh then gathers the values over ranges, without allocating (the same bits: copies only).
+/// copies: where each value of the result comes from is found once, with the result's pattern (Eigen's, entry for
+/// entry), and each refresh then gathers the values over ranges, without allocating (the same bits: copies only).
 
 #include "core/Types.h"
 #include "core/parallel/TaskPool.h"
@@ -16,31 +16,6 @@
 namespace masse
 {
 using PermutedSources = std::vector<Eigen::SparseMatrix<Real>::StorageIndex>;
-
-/// `permuted` = permute(a), and for each of its values the index of a's value it copies. `a` is compressed, with
-/// fewer values than double counts exactly.
-template <class Permute>
-PermutedSources findPermutedSources(const Eigen::SparseMatrix<Real>& a, const Permute& permute,
-                                    Eigen::SparseMatrix<Real>& permuted)
-{
-    if (!a.isCompressed())
-    {
-        throw std::logic_error("findPermutedSources: the matrix is not compressed");
-    }
-    Eigen::SparseMatrix<Real> indices = a;
-    for (Eigen::Index k = 0; k < indices.nonZeros(); ++k)
-    {
-        indices.valuePtr()[k] = Real(k);
-    }
-    permuted = permute(indices);
-    permuted.makeCompressed();
-    PermutedSources sources(std::size_t(permuted.nonZeros()));
-    for (std::size_t k = 0; k < sources.size(); ++k)
-    {
-        sources[k] = Eigen::SparseMatrix<Real>::StorageIndex(permuted.valuePtr()[k]);
-    }
-    return sources;
-}
 
 /// `permuted` = P A P^T in full (both triangles) from A's lower triangle, the diagonal included, where row and column i
 /// of A become `newIndex[i]`, and for each of its values the index of a's value it copies. The pattern is Eigen's

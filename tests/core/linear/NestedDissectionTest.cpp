@@ -764,9 +764,38 @@ TEST(StagedLdlt, FlushesTheFillBelowSinglePrecisionsNormalsToZero)
     EXPECT_TRUE(subnormal(smallest * 0.5f));
 }
 
+namespace
+{
+/// Eigen's own permutation as the reference: `permuted` = permute(a), and for each of its values the index of a's value
+/// it copies, found by permuting a matrix whose values are their own indices. `a` is compressed, with fewer values than
+/// double counts exactly.
+template <class Permute>
+PermutedSources findPermutedSources(const Eigen::SparseMatrix<Real>& a, const Permute& permute,
+                                    Eigen::SparseMatrix<Real>& permuted)
+{
+    if (!a.isCompressed())
+    {
+        throw std::logic_error("findPermutedSources: the matrix is not compressed");
+    }
+    Eigen::SparseMatrix<Real> indices = a;
+    for (Eigen::Index k = 0; k < indices.nonZeros(); ++k)
+    {
+        indices.valuePtr()[k] = Real(k);
+    }
+    permuted = permute(indices);
+    permuted.makeCompressed();
+    PermutedSources sources(std::size_t(permuted.nonZeros()));
+    for (std::size_t k = 0; k < sources.size(); ++k)
+    {
+        sources[k] = Eigen::SparseMatrix<Real>::StorageIndex(permuted.valuePtr()[k]);
+    }
+    return sources;
+}
+} // namespace
+
 // A refresh gathers the permuted matrix's values through maps found once (PermutedValues.h): for new values on the
 // same pattern, the gathered matrix is Eigen's permutation of them, every value bit for bit, in full and as the upper
-// triangle; an uncompressed matrix, whose value indices would not be its entries', is refused.
+// triangle; an uncompressed matrix is refused.
 TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
 {
     const MassSpringSystem sheet = paperSheet(8);
@@ -780,22 +809,25 @@ TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
         permuted = m.selfadjointView<Eigen::Lower>().twistedBy(permutation);
         return permuted;
     };
-    auto upper = [&](const SparseMatrix& m)
+    auto upper = [&](const SparseMatrix& m) // of the permuted matrix, as StagedLdlt's factorisation reads it
     {
+        const SparseMatrix permuted = full(m);
         SparseMatrix triangle(m.rows(), m.cols());
-        triangle.selfadjointView<Eigen::Upper>() = m.selfadjointView<Eigen::Lower>().twistedBy(permutation);
+        triangle.selfadjointView<Eigen::Upper>() = permuted.selfadjointView<Eigen::Lower>();
         return triangle;
     };
+    // As the Cholesky preconditioner and its factorisation use them: the full permuted matrix from A, and its upper
+    // triangle from that.
     SparseMatrix fullGathered;
     SparseMatrix upperGathered;
-    const PermutedSources fullSources = findPermutedSources(a, full, fullGathered);
-    const PermutedSources upperSources = findPermutedSources(a, upper, upperGathered);
+    const PermutedSources fullSources = fullSymmetricPermutation(a, permutation.indices().data(), fullGathered);
+    const PermutedSources upperSources = upperFromLower(fullGathered, upperGathered);
     for (Eigen::Index k = 0; k < a.nonZeros(); ++k) // new values, the same pattern
     {
         a.valuePtr()[k] = std::sin(Real(k) * 0.37) * Real(1 + k % 5);
     }
     gatherPermutedValues(a, fullSources, fullGathered);
-    gatherPermutedValues(a, upperSources, upperGathered);
+    gatherPermutedValues(fullGathered, upperSources, upperGathered);
     for (const auto& [gathered, expected] :
          {std::pair<const SparseMatrix*, SparseMatrix>{&fullGathered, full(a)}, {&upperGathered, upper(a)}})
     {
@@ -810,7 +842,6 @@ TEST(PermutedValues, GatherIsEigensSymmetricPermutation)
     SparseMatrix uncompressed = a;
     uncompressed.uncompress();
     SparseMatrix unused;
-    EXPECT_THROW(findPermutedSources(uncompressed, full, unused), std::logic_error);
     EXPECT_THROW(fullSymmetricPermutation(uncompressed, permutation.indices().data(), unused), std::logic_error);
     EXPECT_THROW(upperFromLower(uncompressed, unused), std::logic_error);
 }
