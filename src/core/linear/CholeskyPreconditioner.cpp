@@ -94,20 +94,6 @@ constexpr Eigen::Index prefetchBlocks = 2;
 {
     blockScatter(m, block, x, w, floatFromHalf);
 }
-#if defined(__x86_64__) && defined(__GNUC__)
-[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) void
-blockDotsAvx2(const MassBlockRows::View& m, Eigen::Index block, const float* x, float s[3])
-{
-    blockDots(
-        m, block, x, [](std::uint16_t half) __attribute__((target("avx2,f16c"))) { return _cvtsh_ss(half); }, s);
-}
-[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) void
-blockScatterAvx2(const MassBlockRows::View& m, Eigen::Index block, const float x[3], float* w)
-{
-    blockScatter(
-        m, block, x, w, [](std::uint16_t half) __attribute__((target("avx2,f16c"))) { return _cvtsh_ss(half); });
-}
-#endif
 MASSE_TRIANGULAR_KERNELS(Default, , blockDotsDefault, blockScatterDefault)
 #if defined(__x86_64__) && defined(__GNUC__)
 MASSE_TRIANGULAR_KERNELS(Avx2, __attribute__((target("avx2,f16c"))), blockDotsAvx2, blockScatterAvx2)

@@ -33,6 +33,7 @@
 
 #include <Eigen/SparseCore>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -159,10 +160,10 @@ inline std::size_t runValueOffset(MassBlockRows::StorageIndex length, int row, M
 
 /// For block b, s[l] = sum over its row l's shared entries of value * x[column], in single precision and in a fixed
 /// order whoever calls it and on any vector width: per row 16 running sums, entry t of a run going to sum t mod 16
-/// (one AVX-512 register), then sum k + sum k+8 for each k < 8, added pairwise (the entries past the last full group
-/// of 16 are added one by one; blockDotsAvx512 adds them under a mask). `toFloat` reads a half exactly (floatFromHalf,
-/// or F16C's instruction). Inlined into each SIMD path's copy of the caller (see SimdPath.h): only the instruction set
-/// differs.
+/// (one AVX-512 register, two AVX2 ones), then sum k + sum k+8 for each k < 8, added pairwise (the entries past the
+/// last full group of 16 are added one by one; blockDotsAvx2 and blockDotsAvx512 add them under a mask). `toFloat`
+/// reads a half exactly (floatFromHalf). The default path's kernel; the vector paths have their own below, with these
+/// bits.
 template <class ToFloat>
 [[gnu::always_inline]] inline void blockDots(const MassBlockRows::View& m, Eigen::Index block, const float* x,
                                              const ToFloat& toFloat, float s[3])
@@ -227,6 +228,117 @@ template <class ToFloat>
     }
 }
 #if defined(__x86_64__) && defined(__GNUC__)
+/// Eight halves from v as floats (F16C).
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) __m256 halvesAvx2(const std::uint16_t* v)
+{
+    return _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(v)));
+}
+
+/// The lanes below `count` (0 to 8) of an AVX2 vector, as a mask of all-ones lanes.
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) __m256i lanesBelowAvx2(int count)
+{
+    return _mm256_cmpgt_epi32(_mm256_set1_epi32(count), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+}
+
+/// blockDots with AVX2, the same bits: a row's sixteen sums in two vectors of eight, each group of sixteen entries
+/// added to them in two halves, and a run's last entries (fewer than sixteen) added under a mask, the sums past the
+/// run's end kept as they were (a blend, not + 0, which would turn a -0 into +0). The halves are read eight at a time
+/// even at a run's end, no further than blockDotsAvx512 reads (MassBlockRows::valuePadding); x is read under the mask.
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) void
+blockDotsAvx2(const MassBlockRows::View& m, Eigen::Index block, const float* x, float s[3])
+{
+    __m256 sum[3][2];
+    for (auto& row : sum)
+    {
+        row[0] = _mm256_setzero_ps();
+        row[1] = _mm256_setzero_ps();
+    }
+    for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
+    {
+        const MassBlockRows::StorageIndex length = m.runLength[run];
+        const std::uint16_t* values = m.values + m.runStart[run];
+        const float* xs = x + m.runColumn[run];
+        MassBlockRows::StorageIndex t = 0;
+        for (; t + 16 <= length; t += 16)
+        {
+            const __m256 xLow = _mm256_loadu_ps(xs + t);
+            const __m256 xHigh = _mm256_loadu_ps(xs + t + 8);
+            const std::uint16_t* group = values + 3 * t;
+            for (int row = 0; row < 3; ++row)
+            {
+                sum[row][0] = _mm256_add_ps(sum[row][0], _mm256_mul_ps(halvesAvx2(group + 16 * row), xLow));
+                sum[row][1] = _mm256_add_ps(sum[row][1], _mm256_mul_ps(halvesAvx2(group + 16 * row + 8), xHigh));
+            }
+        }
+        if (t < length)
+        {
+            const int rest = int(length - t);
+            const std::uint16_t* tail = values + 3 * t;
+            for (int half = 0; half < 2 && 8 * half < rest; ++half)
+            {
+                const __m256i mask = lanesBelowAvx2(std::min(rest - 8 * half, 8));
+                const __m256 xv = _mm256_maskload_ps(xs + t + 8 * half, mask);
+                for (int row = 0; row < 3; ++row)
+                {
+                    const __m256 product = _mm256_mul_ps(halvesAvx2(tail + row * rest + 8 * half), xv);
+                    sum[row][half] = _mm256_blendv_ps(sum[row][half], _mm256_add_ps(sum[row][half], product),
+                                                      _mm256_castsi256_ps(mask));
+                }
+            }
+        }
+    }
+    for (int row = 0; row < 3; ++row)
+    {
+        alignas(32) float p[8];
+        _mm256_store_ps(p, _mm256_add_ps(sum[row][0], sum[row][1]));
+        s[row] = ((p[0] + p[1]) + (p[2] + p[3])) + ((p[4] + p[5]) + (p[6] + p[7]));
+    }
+}
+
+/// blockScatter with AVX2, the same bits: eight entries of w at a time, a run's last few under a mask (which neither
+/// reads nor writes past the run).
+[[gnu::always_inline]] inline __attribute__((target("avx2,f16c"))) void
+blockScatterAvx2(const MassBlockRows::View& m, Eigen::Index block, const float x[3], float* w)
+{
+    const __m256 x0 = _mm256_set1_ps(x[0]);
+    const __m256 x1 = _mm256_set1_ps(x[1]);
+    const __m256 x2 = _mm256_set1_ps(x[2]);
+    for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
+    {
+        const MassBlockRows::StorageIndex length = m.runLength[run];
+        const std::uint16_t* values = m.values + m.runStart[run];
+        float* ws = w + m.runColumn[run];
+        MassBlockRows::StorageIndex t = 0;
+        for (; t + 16 <= length; t += 16)
+        {
+            const std::uint16_t* group = values + 3 * t;
+            for (int half = 0; half < 2; ++half)
+            {
+                __m256 sum = _mm256_loadu_ps(ws + t + 8 * half);
+                sum = _mm256_add_ps(sum, _mm256_mul_ps(halvesAvx2(group + 8 * half), x0));
+                sum = _mm256_add_ps(sum, _mm256_mul_ps(halvesAvx2(group + 16 + 8 * half), x1));
+                sum = _mm256_add_ps(sum, _mm256_mul_ps(halvesAvx2(group + 32 + 8 * half), x2));
+                _mm256_storeu_ps(ws + t + 8 * half, sum);
+            }
+        }
+        if (t < length)
+        {
+            const int rest = int(length - t);
+            const std::uint16_t* tail = values + 3 * t;
+            for (int half = 0; half < 2 && 8 * half < rest; ++half)
+            {
+                const __m256i mask = lanesBelowAvx2(std::min(rest - 8 * half, 8));
+                float* at = ws + t + 8 * half;
+                __m256 sum = _mm256_maskload_ps(at, mask);
+                sum = _mm256_add_ps(sum, _mm256_mul_ps(halvesAvx2(tail + 8 * half), x0));
+                sum = _mm256_add_ps(sum, _mm256_mul_ps(halvesAvx2(tail + rest + 8 * half), x1));
+                sum = _mm256_add_ps(sum, _mm256_mul_ps(halvesAvx2(tail + 2 * rest + 8 * half), x2));
+                _mm256_maskstore_ps(at, mask, sum);
+            }
+        }
+    }
+}
+
 /// Sixteen halves from v as floats, those outside `mask` zero. The zero-masking form: GCC 12's plain _mm512_cvtph_ps
 /// merges into an "undefined" vector, which its own -Wmaybe-uninitialized reports.
 [[gnu::always_inline]] inline __attribute__((target("avx512f"))) __m512 halvesAvx512(__mmask16 mask,

@@ -33,7 +33,23 @@ __attribute__((target("avx512f"))) void blockScatterOnAvx512(const MassBlockRows
 {
     blockScatterAvx512(m, block, x, w);
 }
+/// The AVX2 kernels compiled for AVX2 and F16C.
+__attribute__((target("avx2,f16c"))) void blockDotsOnAvx2(const MassBlockRows::View& m, Eigen::Index block,
+                                                          const float* x, float s[3])
+{
+    blockDotsAvx2(m, block, x, s);
+}
+__attribute__((target("avx2,f16c"))) void blockScatterOnAvx2(const MassBlockRows::View& m, Eigen::Index block,
+                                                             const float x[3], float* w)
+{
+    blockScatterAvx2(m, block, x, w);
+}
 #endif
+
+bool avx2()
+{
+    return simdPathSupported(SimdPath::Avx2);
+}
 
 bool avx512()
 {
@@ -107,9 +123,9 @@ MassBlockRows::SparseMatrix randomLower(Eigen::Index masses, std::uint64_t seed,
 // as two. Mass 60's rows 180 and 182 have entries at columns 0-2, then joinGap after the last (joined), then
 // joinGap + 1 after that (a new run), then a lone entry two columns on (joined); row 181 has all but the last, so its
 // value there is a stored zero: two runs. Each row's sum (blockDots) and each column's scattered sum (blockScatter),
-// by the default path's arithmetic and the AVX-512 one's where the processor has it, are the exact sums of the row's
-// and the column's own entries: the values and x are small integers and halves, so every sum is exact, and a stored
-// zero adds nothing. The block's own entries are kept apart, and no other block has a run.
+// by the default path's arithmetic and the AVX2 and AVX-512 ones' where the processor has them, are the exact sums of
+// the row's and the column's own entries: the values and x are small integers and halves, so every sum is exact, and a
+// stored zero adds nothing. The block's own entries are kept apart, and no other block has a run.
 TEST(MassBlockRows, ABlocksRowsShareRunsThroughStoredZeros)
 {
     const Eigen::Index masses = 70;
@@ -188,6 +204,14 @@ TEST(MassBlockRows, ABlocksRowsShareRunsThroughStoredZeros)
     blockScatter(view, block, solved, w.data(), floatFromHalf);
     EXPECT_EQ(w, expected);
 #if defined(__x86_64__) && defined(__GNUC__)
+    if (avx2())
+    {
+        blockDotsOnAvx2(view, block, x.data(), s);
+        EXPECT_EQ(std::vector<float>(s, s + 3), std::vector<float>(exact, exact + 3));
+        std::vector<float> wAvx2(static_cast<std::size_t>(n), 0.0f);
+        blockScatterOnAvx2(view, block, solved, wAvx2.data());
+        EXPECT_EQ(wAvx2, expected);
+    }
     if (avx512())
     {
         blockDotsOnAvx512(view, block, x.data(), s);
@@ -317,6 +341,7 @@ TEST(MassBlockRows, TheSolvesLeaveOutAllZeroGroupsWithTheSameBits)
     const std::vector<float> x = randomVector(std::size_t(3 * masses), 9);
     std::vector<float> wLaidOut(x.size(), 0.0f);
     std::vector<float> wLive(x.size(), 0.0f);
+    std::vector<float> wLiveAvx2(x.size(), 0.0f);
     std::vector<float> wLiveAvx512(x.size(), 0.0f);
     for (Eigen::Index block = masses - 1; block >= 0; --block)
     {
@@ -328,6 +353,12 @@ TEST(MassBlockRows, TheSolvesLeaveOutAllZeroGroupsWithTheSameBits)
         blockScatter(laidOut, block, x.data() + 3 * block, wLaidOut.data(), floatFromHalf);
         blockScatter(live, block, x.data() + 3 * block, wLive.data(), floatFromHalf);
 #if defined(__x86_64__) && defined(__GNUC__)
+        if (avx2())
+        {
+            blockDotsOnAvx2(live, block, x.data(), sLive.data());
+            ASSERT_EQ(bitsOf(sLive), bitsOf(sLaidOut)) << "block " << block << ", AVX2";
+            blockScatterOnAvx2(live, block, x.data() + 3 * block, wLiveAvx2.data());
+        }
         if (avx512())
         {
             blockDotsOnAvx512(live, block, x.data(), sLive.data());
@@ -337,20 +368,24 @@ TEST(MassBlockRows, TheSolvesLeaveOutAllZeroGroupsWithTheSameBits)
 #endif
     }
     EXPECT_EQ(bitsOf(wLive), bitsOf(wLaidOut));
+    if (avx2())
+    {
+        EXPECT_EQ(bitsOf(wLiveAvx2), bitsOf(wLaidOut));
+    }
     if (avx512())
     {
         EXPECT_EQ(bitsOf(wLiveAvx512), bitsOf(wLaidOut));
     }
 }
 
-// The AVX-512 kernels give the default path's bits on a random matrix and vector, runs of every length: each block's
-// three sums, and the sums every block scatters into the columns below it, in the backward solve's order.
-TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
+// The AVX2 and AVX-512 kernels give the default path's bits on a random matrix and vector, runs of every length: each
+// block's three sums, and the sums every block scatters into the columns below it, in the backward solve's order.
+TEST(MassBlockRows, TheVectorKernelsGiveTheDefaultPathsBits)
 {
-    if (!avx512())
+    if (!avx2())
     {
-        // Skipped without AVX-512: there is no second path to compare (the default path is checked exactly above).
-        GTEST_SKIP() << "this processor has no AVX-512";
+        // Skipped without AVX2: there is no second path to compare (the default path is checked exactly above).
+        GTEST_SKIP() << "this processor has no AVX2";
     }
 #if defined(__x86_64__) && defined(__GNUC__)
     const Eigen::Index masses = 150;
@@ -360,19 +395,29 @@ TEST(MassBlockRows, TheAvx512KernelsGiveTheDefaultPathsBits)
     const MassBlockRows::View view = rows.view();
     const std::vector<float> x = randomVector(std::size_t(3 * masses), 3);
     std::vector<float> wDefault(x.size(), 0.0f);
+    std::vector<float> wAvx2(x.size(), 0.0f);
     std::vector<float> wAvx512(x.size(), 0.0f);
     for (Eigen::Index block = masses - 1; block >= 0; --block)
     {
-        float sDefault[3];
-        float sAvx512[3];
-        blockDots(view, block, x.data(), floatFromHalf, sDefault);
-        blockDotsOnAvx512(view, block, x.data(), sAvx512);
-        ASSERT_EQ(std::vector<float>(sDefault, sDefault + 3), std::vector<float>(sAvx512, sAvx512 + 3))
-            << "block " << block;
+        std::vector<float> sDefault(3);
+        std::vector<float> sVector(3);
+        blockDots(view, block, x.data(), floatFromHalf, sDefault.data());
+        blockDotsOnAvx2(view, block, x.data(), sVector.data());
+        ASSERT_EQ(bitsOf(sVector), bitsOf(sDefault)) << "block " << block << ", AVX2";
+        if (avx512())
+        {
+            blockDotsOnAvx512(view, block, x.data(), sVector.data());
+            ASSERT_EQ(bitsOf(sVector), bitsOf(sDefault)) << "block " << block << ", AVX-512";
+            blockScatterOnAvx512(view, block, x.data() + 3 * block, wAvx512.data());
+        }
         blockScatter(view, block, x.data() + 3 * block, wDefault.data(), floatFromHalf);
-        blockScatterOnAvx512(view, block, x.data() + 3 * block, wAvx512.data());
+        blockScatterOnAvx2(view, block, x.data() + 3 * block, wAvx2.data());
     }
-    EXPECT_EQ(wDefault, wAvx512);
+    EXPECT_EQ(bitsOf(wAvx2), bitsOf(wDefault));
+    if (avx512())
+    {
+        EXPECT_EQ(bitsOf(wAvx512), bitsOf(wDefault));
+    }
 #endif
 }
 
