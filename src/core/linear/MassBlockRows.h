@@ -213,17 +213,29 @@ template <class ToFloat>
 [[gnu::always_inline]] inline void blockScatter(const MassBlockRows::View& m, Eigen::Index block, const float x[3],
                                                 float* w, const ToFloat& toFloat)
 {
+    constexpr int lanes = 16;
     for (auto run = m.blockRuns[block]; run < m.blockRuns[block + 1]; ++run)
     {
         const MassBlockRows::StorageIndex length = m.runLength[run];
+        const MassBlockRows::StorageIndex full = length / lanes * lanes;
         const std::uint16_t* values = m.values + m.runStart[run];
         float* ws = w + m.runColumn[run];
-        for (MassBlockRows::StorageIndex t = 0; t < length; ++t)
+        // The values as runValueOffset lays them out: the three rows' groups of sixteen, then their last entries.
+        for (MassBlockRows::StorageIndex t = 0; t < full; t += lanes)
         {
-            const float v0 = toFloat(values[runValueOffset(length, 0, t)]);
-            const float v1 = toFloat(values[runValueOffset(length, 1, t)]);
-            const float v2 = toFloat(values[runValueOffset(length, 2, t)]);
-            ws[t] = ((ws[t] + v0 * x[0]) + v1 * x[1]) + v2 * x[2];
+            const std::uint16_t* group = values + 3 * t;
+            for (int lane = 0; lane < lanes; ++lane)
+            {
+                ws[t + lane] = ((ws[t + lane] + toFloat(group[lane]) * x[0]) + toFloat(group[lanes + lane]) * x[1]) +
+                               toFloat(group[2 * lanes + lane]) * x[2];
+            }
+        }
+        const MassBlockRows::StorageIndex rest = length - full;
+        const std::uint16_t* tail = values + 3 * full;
+        for (MassBlockRows::StorageIndex lane = 0; lane < rest; ++lane)
+        {
+            ws[full + lane] = ((ws[full + lane] + toFloat(tail[lane]) * x[0]) + toFloat(tail[rest + lane]) * x[1]) +
+                              toFloat(tail[2 * rest + lane]) * x[2];
         }
     }
 }
