@@ -1,9 +1,9 @@
 #pragma once
-/// The nearest points of eight triangles of a mesh obstacle to one sphere's centre at once, on the AVX-512 path: the
-/// box and plane tests that turn a far triangle away, then closestPointOnTriangle (ClosestPointOnTriangle.h) on the
-/// triangles they let through. A mass whose triangles are kept from the frame before (NearbyTriangles.h) tests some
-/// ten of them a query, most of which pass both tests, so the nearest point, one triangle at a time, is most of a
-/// forming scene's contact detection.
+/// The nearest points of eight triangles of a mesh obstacle to one sphere's centre at once, on the AVX-512 path (the
+/// AVX2 one takes them four at a time): the box and plane tests that turn a far triangle away, then
+/// closestPointOnTriangle (ClosestPointOnTriangle.h) on the triangles they let through. A mass whose triangles are kept
+/// from the frame before (NearbyTriangles.h) tests some ten of them a query, most of which pass both tests, so the
+/// nearest point, one triangle at a time, is most of a forming scene's contact detection.
 ///
 /// Each lane does the scalar code's IEEE operations in its order, with its branches as masks (the Voronoi regions
 /// tested in the scalar code's order, the first that holds taking the lane), so each lane's nearest point has the bits
@@ -37,7 +37,8 @@ struct NearestOnTrianglesOfEight
     alignas(64) Real directionZ[8];
 };
 
-/// Whether nearestOnTrianglesOfEight runs here: the AVX-512 path is active (SimdPath.h) and the build has the kernel.
+/// Whether nearestOnTrianglesOfEight runs here: the AVX2 or the AVX-512 path is active (SimdPath.h) and the build has
+/// the kernel.
 bool nearestOnTrianglesOfEightAvailable();
 
 /// For the triangles triangles[0..count) (count from 1 to 8) of a mesh with the given corners and unit normals (mesh

@@ -86,6 +86,9 @@ int expectScalarBits(const std::vector<std::array<Vec3, 3>>& corners, const std:
     }
     return compared;
 }
+
+/// The test below on the active path.
+void expectEachLaneHasTheScalarCodesBits();
 } // namespace
 
 // Random triangles (some thin, some collinear, some a point) against centres anywhere around them, on their corners,
@@ -95,13 +98,27 @@ int expectScalarBits(const std::vector<std::array<Vec3, 3>>& corners, const std:
 // left to the scalar code).
 TEST(NearestOnTrianglesOfEight, EachLaneHasTheScalarCodesBits)
 {
-    if (!simdPathSupported(SimdPath::Avx512))
+    if (!simdPathSupported(SimdPath::Avx2))
     {
-        // Skipped without AVX-512: the eight-at-once test exists only on that path.
-        GTEST_SKIP() << "this processor has no AVX-512";
+        // Skipped without AVX2: the eight-at-once test exists only on the AVX2 and AVX-512 paths.
+        GTEST_SKIP() << "this processor has no AVX2";
     }
     const test::SimdPathGuard guard;
-    setSimdPath(SimdPath::Avx512);
+    for (const SimdPath path : {SimdPath::Avx2, SimdPath::Avx512})
+    {
+        if (simdPathSupported(path))
+        {
+            SCOPED_TRACE(simdPathName(path));
+            setSimdPath(path);
+            expectEachLaneHasTheScalarCodesBits();
+        }
+    }
+}
+
+namespace
+{
+void expectEachLaneHasTheScalarCodesBits()
+{
     ASSERT_TRUE(nearestOnTrianglesOfEightAvailable());
 
     std::mt19937_64 random(20261207);
@@ -187,3 +204,4 @@ TEST(NearestOnTrianglesOfEight, EachLaneHasTheScalarCodesBits)
     }
     EXPECT_GT(mouldCompared, 0);
 }
+} // namespace
