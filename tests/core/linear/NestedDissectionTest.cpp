@@ -897,9 +897,11 @@ TEST(PermutedValues, CountingPermutationsMakeEigensPatternsEntryForEntry)
     {
         std::swap(shuffled.indices()[i], shuffled.indices()[Eigen::Index(next() % std::uint32_t(i + 1))]);
     }
-    for (const auto& [a, permutation] :
+    for (const auto& matrixAndPermutation :
          {std::pair<const SparseMatrix*, const RowPermutation*>{&springs, &dissected}, {&scattered, &shuffled}})
     {
+        const SparseMatrix* a = matrixAndPermutation.first; // named, not bound: clang 14 captures no bindings
+        const RowPermutation* permutation = matrixAndPermutation.second;
         SparseMatrix eigensFull;
         const PermutedSources eigensFullSources = findPermutedSources(
             *a,
