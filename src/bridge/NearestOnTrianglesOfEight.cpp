@@ -193,7 +193,6 @@ MASSE_AVX512 void nearestOnTrianglesOfEightAvx512(const LaneValues& lanes, int c
 // (min, max, compares and square roots are the same instructions four lanes wide; a mask is a vector of all-ones
 // lanes, a masked move a blend, |x| the sign bit cleared), so each lane has the AVX-512 kernel's bits, the scalar
 // code's.
-#define MASSE_AVX2 __attribute__((target("avx2")))
 
 struct Columns4
 {
@@ -337,7 +336,6 @@ MASSE_AVX2 void nearestOnTrianglesOfFourAvx2(const LaneValues& lanes, int first,
     out.near =
         std::uint8_t(out.near | unsigned(_mm256_movemask_pd(_mm256_andnot_pd(degenerate, passed))) << unsigned(first));
 }
-#undef MASSE_AVX2
 } // namespace
 #endif
 

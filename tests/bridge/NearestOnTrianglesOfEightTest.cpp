@@ -87,36 +87,7 @@ int expectScalarBits(const std::vector<std::array<Vec3, 3>>& corners, const std:
     return compared;
 }
 
-/// The test below on the active path.
-void expectEachLaneHasTheScalarCodesBits();
-} // namespace
-
-// Random triangles (some thin, some collinear, some a point) against centres anywhere around them, on their corners,
-// edges and faces exactly, with search radii from a fraction of the triangle to all of it, one to eight lanes a call;
-// and the vacuum cup's mould with centres near its vertices. Every lane: turned away exactly when the scalar tests turn
-// it away, and otherwise the bits of the scalar nearest point, its distance and its direction (a degenerate triangle is
-// left to the scalar code).
-TEST(NearestOnTrianglesOfEight, EachLaneHasTheScalarCodesBits)
-{
-    if (!simdPathSupported(SimdPath::Avx2))
-    {
-        // Skipped without AVX2: the eight-at-once test exists only on the AVX2 and AVX-512 paths.
-        GTEST_SKIP() << "this processor has no AVX2";
-    }
-    const test::SimdPathGuard guard;
-    for (const SimdPath path : {SimdPath::Avx2, SimdPath::Avx512})
-    {
-        if (simdPathSupported(path))
-        {
-            SCOPED_TRACE(simdPathName(path));
-            setSimdPath(path);
-            expectEachLaneHasTheScalarCodesBits();
-        }
-    }
-}
-
-namespace
-{
+/// The checks of the test below, on the active path.
 void expectEachLaneHasTheScalarCodesBits()
 {
     ASSERT_TRUE(nearestOnTrianglesOfEightAvailable());
@@ -205,3 +176,27 @@ void expectEachLaneHasTheScalarCodesBits()
     EXPECT_GT(mouldCompared, 0);
 }
 } // namespace
+
+// Random triangles (some thin, some collinear, some a point) against centres anywhere around them, on their corners,
+// edges and faces exactly, with search radii from a fraction of the triangle to all of it, one to eight lanes a call;
+// and the vacuum cup's mould with centres near its vertices. Every lane: turned away exactly when the scalar tests turn
+// it away, and otherwise the bits of the scalar nearest point, its distance and its direction (a degenerate triangle is
+// left to the scalar code).
+TEST(NearestOnTrianglesOfEight, EachLaneHasTheScalarCodesBits)
+{
+    if (!simdPathSupported(SimdPath::Avx2))
+    {
+        // Skipped without AVX2: the eight-at-once test exists only on the AVX2 and AVX-512 paths.
+        GTEST_SKIP() << "this processor has no AVX2";
+    }
+    const test::SimdPathGuard guard;
+    for (const SimdPath path : {SimdPath::Avx2, SimdPath::Avx512})
+    {
+        if (simdPathSupported(path))
+        {
+            SCOPED_TRACE(simdPathName(path));
+            setSimdPath(path);
+            expectEachLaneHasTheScalarCodesBits();
+        }
+    }
+}

@@ -15,6 +15,8 @@
 #include <cstdint>
 #define MASSE_SIMD_COLUMNS 1
 #define MASSE_AVX512 __attribute__((target("avx512f")))
+/// The AVX2 path's own four-lane kernels (mesh contact) carry this one.
+#define MASSE_AVX2 __attribute__((target("avx2")))
 
 namespace masse::simd
 {

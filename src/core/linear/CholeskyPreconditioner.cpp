@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <vector>
 
 namespace masse
 {
@@ -82,22 +81,6 @@ constexpr Eigen::Index prefetchBlocks = 2;
             scatter(rows, m, xm, w);                                                                                   \
         }                                                                                                              \
     }
-
-/// floatFromHalf of every binary16 pattern (256 KB), for the default path's solves: they read one half per value of
-/// the factor, and a lookup costs less than the bit arithmetic, with the same floats.
-const float* halfFloats()
-{
-    static const std::vector<float> table = []
-    {
-        std::vector<float> floats(std::size_t(1) << 16);
-        for (std::size_t bits = 0; bits < floats.size(); ++bits)
-        {
-            floats[bits] = floatFromHalf(std::uint16_t(bits));
-        }
-        return floats;
-    }();
-    return table.data();
-}
 
 // The vector paths have kernels of their own (MassBlockRows.h: a run's last few entries under a mask, the halves read
 // by F16C's instruction); the default path reads the halves from halfFloats. All exact.

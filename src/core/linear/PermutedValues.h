@@ -10,12 +10,44 @@
 #include <Eigen/SparseCore>
 
 #include <algorithm>
+#include <numeric>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace masse
 {
 using PermutedSources = std::vector<Eigen::SparseMatrix<Real>::StorageIndex>;
+
+namespace detail
+{
+/// Throws unless `a` is square and compressed (its value indices are then its entries'), naming `function`.
+inline void requireSquareCompressed(const Eigen::SparseMatrix<Real>& a, const char* function)
+{
+    if (!a.isCompressed() || a.rows() != a.cols())
+    {
+        throw std::logic_error(std::string(function) + ": the matrix is not square and compressed");
+    }
+}
+
+/// Calls visit(i, j, k) for each entry (i, j) of a's lower triangle, the diagonal included, k its value's index:
+/// column by column, each column's rows in storage order.
+template <class Visit> void forEachLowerEntry(const Eigen::SparseMatrix<Real>& a, const Visit& visit)
+{
+    const auto* outer = a.outerIndexPtr();
+    const auto* inner = a.innerIndexPtr();
+    for (std::size_t j = 0; j < std::size_t(a.cols()); ++j)
+    {
+        for (auto k = outer[j]; k < outer[j + 1]; ++k)
+        {
+            if (std::size_t(inner[k]) >= j)
+            {
+                visit(std::size_t(inner[k]), j, k);
+            }
+        }
+    }
+}
+} // namespace detail
 
 /// `permuted` = P A P^T in full (both triangles) from A's lower triangle, the diagonal included, where row and column i
 /// of A become `newIndex[i]`, and for each of its values the index of a's value it copies. The pattern is Eigen's
@@ -28,61 +60,40 @@ inline PermutedSources fullSymmetricPermutation(const Eigen::SparseMatrix<Real>&
                                                 Eigen::SparseMatrix<Real>& permuted)
 {
     using StorageIndex = Eigen::SparseMatrix<Real>::StorageIndex;
-    if (!a.isCompressed() || a.rows() != a.cols())
-    {
-        throw std::logic_error("fullSymmetricPermutation: the matrix is not square and compressed");
-    }
+    detail::requireSquareCompressed(a, "fullSymmetricPermutation");
     const std::size_t n = std::size_t(a.cols());
-    const StorageIndex* outer = a.outerIndexPtr();
-    const StorageIndex* inner = a.innerIndexPtr();
     // Each lower value (i, j) is the entry (newIndex[i], newIndex[j]) and, off the diagonal, its mirror: a column of
     // the result has as many entries as the row of the same number.
     std::vector<StorageIndex> start(n + 1, 0);
-    for (std::size_t j = 0; j < n; ++j)
-    {
-        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
-        {
-            const auto i = std::size_t(inner[k]);
-            if (i >= j)
-            {
-                ++start[std::size_t(newIndex[j]) + 1];
-                if (i != j)
-                {
-                    ++start[std::size_t(newIndex[i]) + 1];
-                }
-            }
-        }
-    }
-    for (std::size_t c = 0; c < n; ++c)
-    {
-        start[c + 1] += start[c];
-    }
+    detail::forEachLowerEntry(a,
+                              [&](std::size_t i, std::size_t j, StorageIndex)
+                              {
+                                  ++start[std::size_t(newIndex[j]) + 1];
+                                  if (i != j)
+                                  {
+                                      ++start[std::size_t(newIndex[i]) + 1];
+                                  }
+                              });
+    std::partial_sum(start.begin(), start.end(), start.begin());
     const std::size_t count = std::size_t(start[n]);
     std::vector<StorageIndex> rowColumn(count);
     PermutedSources rowSource(count);
     std::vector<StorageIndex> next(start.begin(), start.end() - 1);
-    for (std::size_t j = 0; j < n; ++j)
-    {
-        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
-        {
-            const auto i = std::size_t(inner[k]);
-            if (i < j)
-            {
-                continue;
-            }
-            const StorageIndex row = newIndex[i];
-            const StorageIndex column = newIndex[j];
-            StorageIndex at = next[std::size_t(row)]++;
-            rowColumn[std::size_t(at)] = column;
-            rowSource[std::size_t(at)] = k;
-            if (i != j)
-            {
-                at = next[std::size_t(column)]++;
-                rowColumn[std::size_t(at)] = row;
-                rowSource[std::size_t(at)] = k;
-            }
-        }
-    }
+    detail::forEachLowerEntry(a,
+                              [&](std::size_t i, std::size_t j, StorageIndex k)
+                              {
+                                  const StorageIndex row = newIndex[i];
+                                  const StorageIndex column = newIndex[j];
+                                  StorageIndex at = next[std::size_t(row)]++;
+                                  rowColumn[std::size_t(at)] = column;
+                                  rowSource[std::size_t(at)] = k;
+                                  if (i != j)
+                                  {
+                                      at = next[std::size_t(column)]++;
+                                      rowColumn[std::size_t(at)] = row;
+                                      rowSource[std::size_t(at)] = k;
+                                  }
+                              });
     permuted.resize(a.rows(), a.cols());
     permuted.resizeNonZeros(Eigen::Index(count));
     std::copy(start.begin(), start.end(), permuted.outerIndexPtr());
@@ -106,47 +117,25 @@ inline PermutedSources fullSymmetricPermutation(const Eigen::SparseMatrix<Real>&
 inline PermutedSources upperFromLower(const Eigen::SparseMatrix<Real>& a, Eigen::SparseMatrix<Real>& upper)
 {
     using StorageIndex = Eigen::SparseMatrix<Real>::StorageIndex;
-    if (!a.isCompressed() || a.rows() != a.cols())
-    {
-        throw std::logic_error("upperFromLower: the matrix is not square and compressed");
-    }
+    detail::requireSquareCompressed(a, "upperFromLower");
     const std::size_t n = std::size_t(a.cols());
-    const StorageIndex* outer = a.outerIndexPtr();
-    const StorageIndex* inner = a.innerIndexPtr();
     std::vector<StorageIndex> start(n + 1, 0);
-    for (std::size_t j = 0; j < n; ++j)
-    {
-        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
-        {
-            if (std::size_t(inner[k]) >= j)
-            {
-                ++start[std::size_t(inner[k]) + 1];
-            }
-        }
-    }
-    for (std::size_t c = 0; c < n; ++c)
-    {
-        start[c + 1] += start[c];
-    }
+    detail::forEachLowerEntry(a, [&](std::size_t i, std::size_t, StorageIndex) { ++start[i + 1]; });
+    std::partial_sum(start.begin(), start.end(), start.begin());
     const std::size_t count = std::size_t(start[n]);
     upper.resize(a.rows(), a.cols());
     upper.resizeNonZeros(Eigen::Index(count));
     std::copy(start.begin(), start.end(), upper.outerIndexPtr());
     PermutedSources sources(count);
     std::vector<StorageIndex> next(start.begin(), start.end() - 1);
-    for (std::size_t j = 0; j < n; ++j) // each column of the result gets its rows j in increasing order
-    {
-        for (StorageIndex k = outer[j]; k < outer[j + 1]; ++k)
-        {
-            const auto i = std::size_t(inner[k]);
-            if (i >= j)
-            {
-                const StorageIndex at = next[i]++;
-                upper.innerIndexPtr()[at] = StorageIndex(j);
-                sources[std::size_t(at)] = k;
-            }
-        }
-    }
+    // Each column of the result gets its rows j in increasing order, the order the columns of a are walked in.
+    detail::forEachLowerEntry(a,
+                              [&](std::size_t i, std::size_t j, StorageIndex k)
+                              {
+                                  const StorageIndex at = next[i]++;
+                                  upper.innerIndexPtr()[at] = StorageIndex(j);
+                                  sources[std::size_t(at)] = k;
+                              });
     return sources;
 }
 
